@@ -1,0 +1,178 @@
+//! The one trait every force implements.
+//!
+//! A [`Force`] is a *family* of elements of the same kind (all stretching springs, all hinges,
+//! gravity on all nodes …). Each element acts on a fixed *stencil* of global DOFs of the same
+//! size `k`. For every stencil the force writes a dense local force vector `f` (length `k`)
+//! and, when it has them, the local Jacobians `∂f/∂q` and `∂f/∂v` (`k × k`, row-major:
+//! entry `[a k + b]` is `∂f_a/∂q_b`). The assembler scatters these blocks into the global
+//! sparse system through indices computed once, so adding a force never touches the stepper.
+
+use rayon::prelude::*;
+
+/// What the stepper passes to a force: the trial configuration and velocity.
+#[derive(Debug, Clone, Copy)]
+pub struct EvalInput<'a> {
+    /// Generalised coordinates `q` (m for positions, rad for twists).
+    pub q: &'a [f64],
+    /// Generalised velocities `v = (q − q_n)/dt` (m/s, rad/s).
+    pub v: &'a [f64],
+    /// Time at the end of the step (s).
+    pub t: f64,
+}
+
+/// Which Jacobians a force provides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct JacobianKind {
+    /// The force depends on positions (`∂f/∂q` blocks are written).
+    pub dq: bool,
+    /// The force depends on velocities (`∂f/∂v` blocks are written).
+    pub dv: bool,
+    /// Both Jacobians are symmetric (true for conservative forces and isotropic drag).
+    pub symmetric: bool,
+}
+
+impl JacobianKind {
+    /// A conservative elastic force: symmetric `∂f/∂q`, no velocity dependence.
+    pub const ELASTIC: Self = Self {
+        dq: true,
+        dv: false,
+        symmetric: true,
+    };
+    /// A constant force: no Jacobian at all.
+    pub const CONSTANT: Self = Self {
+        dq: false,
+        dv: false,
+        symmetric: true,
+    };
+}
+
+/// Dense local output of a force: one block per stencil.
+#[derive(Debug, Clone, Default)]
+pub struct LocalBlocks {
+    /// Stencil size `k`.
+    pub k: usize,
+    /// Number of stencils.
+    pub n: usize,
+    /// Local forces, `n × k`.
+    pub f: Vec<f64>,
+    /// Local `∂f/∂q`, `n × k × k` (empty if not provided).
+    pub dfdq: Vec<f64>,
+    /// Local `∂f/∂v`, `n × k × k` (empty if not provided).
+    pub dfdv: Vec<f64>,
+}
+
+/// One stencil's mutable output.
+pub struct BlockMut<'a> {
+    /// Stencil index.
+    pub index: usize,
+    /// Local force (length `k`).
+    pub f: &'a mut [f64],
+    /// Local `∂f/∂q` (`k × k`, row-major) or empty.
+    pub dfdq: &'a mut [f64],
+    /// Local `∂f/∂v` (`k × k`, row-major) or empty.
+    pub dfdv: &'a mut [f64],
+}
+
+impl LocalBlocks {
+    /// Buffers for `n` stencils of size `k` with the given Jacobians.
+    pub fn new(k: usize, n: usize, kind: JacobianKind) -> Self {
+        Self {
+            k,
+            n,
+            f: vec![0.0; n * k],
+            dfdq: if kind.dq { vec![0.0; n * k * k] } else { Vec::new() },
+            dfdv: if kind.dv { vec![0.0; n * k * k] } else { Vec::new() },
+        }
+    }
+
+    /// Visit every block in parallel (rayon). Blocks are *not* zeroed: the closure must
+    /// overwrite all of `f`, `dfdq` and `dfdv`.
+    pub fn par_for_each<F>(&mut self, func: F)
+    where
+        F: Fn(BlockMut<'_>) + Sync + Send,
+    {
+        let k = self.k;
+        let kk = k * k;
+        let has_q = !self.dfdq.is_empty();
+        let has_v = !self.dfdv.is_empty();
+        let n = self.n;
+        // Chunk all three arrays consistently; missing Jacobians get empty slices.
+        let fq = &mut self.dfdq;
+        let fv = &mut self.dfdv;
+        let f = &mut self.f;
+        if n == 0 {
+            return;
+        }
+        const MIN_PAR: usize = 256;
+        let body = |(i, (f, (q, v))): (usize, (&mut [f64], (&mut [f64], &mut [f64])))| {
+            func(BlockMut {
+                index: i,
+                f,
+                dfdq: q,
+                dfdv: v,
+            })
+        };
+        match (has_q, has_v) {
+            (true, true) => f
+                .par_chunks_mut(k)
+                .zip(fq.par_chunks_mut(kk).zip(fv.par_chunks_mut(kk)))
+                .enumerate()
+                .with_min_len(MIN_PAR)
+                .for_each(body),
+            (true, false) => f
+                .par_chunks_mut(k)
+                .zip(fq.par_chunks_mut(kk))
+                .enumerate()
+                .with_min_len(MIN_PAR)
+                .for_each(|(i, (f, q))| body((i, (f, (q, &mut [][..]))))),
+            (false, true) => f
+                .par_chunks_mut(k)
+                .zip(fv.par_chunks_mut(kk))
+                .enumerate()
+                .with_min_len(MIN_PAR)
+                .for_each(|(i, (f, v))| body((i, (f, (&mut [][..], v))))),
+            (false, false) => f
+                .par_chunks_mut(k)
+                .enumerate()
+                .with_min_len(MIN_PAR)
+                .for_each(|(i, f)| body((i, (f, (&mut [][..], &mut [][..]))))),
+        }
+    }
+}
+
+/// A family of force elements. See the module docs for the contract.
+pub trait Force: Send + Sync {
+    /// Short name for diagnostics (e.g. `"rod-stretch"`).
+    fn name(&self) -> &str;
+    /// Number of DOFs in every stencil.
+    fn stencil_size(&self) -> usize;
+    /// Global DOF indices of all stencils, flattened (`stencil_size()` per stencil).
+    fn stencils(&self) -> &[usize];
+    /// Which Jacobians [`Force::evaluate`] writes.
+    fn jacobian_kind(&self) -> JacobianKind;
+    /// Overwrite `out` with the local forces (and Jacobians) of every stencil.
+    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks);
+    /// Potential energy (J) at `q` when the force is conservative, else `None`.
+    fn energy(&self, _q: &[f64]) -> Option<f64> {
+        None
+    }
+    /// Called once per accepted time step with the new configuration, so that elements
+    /// with history (DER reference frames) can update it. Not called for rejected steps.
+    fn commit(&mut self, _q: &[f64]) {}
+    /// Scale applied to external loads (gravity, point loads) by load-stepping solvers;
+    /// elastic and drag forces ignore it.
+    fn set_load_scale(&mut self, _scale: f64) {}
+    /// Number of stencils.
+    fn n_stencils(&self) -> usize {
+        let k = self.stencil_size();
+        if k == 0 {
+            0
+        } else {
+            self.stencils().len() / k
+        }
+    }
+    /// Fresh output buffers for this force.
+    fn new_blocks(&self) -> LocalBlocks {
+        LocalBlocks::new(self.stencil_size(), self.n_stencils(), self.jacobian_kind())
+    }
+}

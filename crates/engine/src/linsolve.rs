@@ -1,0 +1,142 @@
+//! Sparse linear solves of the Newton system with faer.
+//!
+//! The symbolic analysis (fill-reducing ordering, elimination tree, supernodes) is done once
+//! per pattern; each Newton iteration only refactorises numerically into preallocated
+//! storage. When every force reports a symmetric Jacobian, a supernodal LLᵀ (Cholesky) is
+//! tried first; if the matrix is not positive definite (e.g. a buckling rod with a large
+//! time step) the solver falls back to LU with partial pivoting for that iteration.
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymmetricOrdering,
+};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+
+use crate::error::{EngineError, StepError};
+
+/// Which factorisation solved the last system.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Factorization {
+    /// Supernodal Cholesky LLᵀ (symmetric positive definite).
+    Llt,
+    /// Supernodal LU with partial pivoting.
+    Lu,
+}
+
+/// Reusable sparse solver for one fixed pattern.
+pub struct LinearSolver {
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    llt: Option<(SymbolicCholesky<usize>, Vec<f64>)>,
+    lu_sym: Option<SymbolicLu<usize>>,
+    lu_num: NumericLu<usize, f64>,
+    mem: MemBuffer,
+    /// Parallelism handed to faer.
+    pub par: Par,
+    /// Factorisation used by the last successful solve.
+    pub last: Factorization,
+}
+
+impl LinearSolver {
+    /// Analyse the pattern (CSC, sorted rows, no duplicates). `symmetric` enables LLᵀ.
+    pub fn new(
+        n: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        symmetric: bool,
+    ) -> Result<Self, EngineError> {
+        let par = if n > 20_000 {
+            Par::rayon(0)
+        } else {
+            Par::Seq
+        };
+        let mut s = Self {
+            n,
+            col_ptr: col_ptr.to_vec(),
+            row_idx: row_idx.to_vec(),
+            llt: None,
+            lu_sym: None,
+            lu_num: NumericLu::new(),
+            mem: MemBuffer::new(StackReq::EMPTY),
+            par,
+            last: Factorization::Lu,
+        };
+        // SAFETY: the assembler builds a valid CSC pattern (monotone col_ptr, sorted unique
+        // in-range row indices).
+        let sym = unsafe {
+            SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx)
+        };
+        let mut req = StackReq::EMPTY;
+        if symmetric {
+            let chol = factorize_symbolic_cholesky(
+                sym,
+                Side::Lower,
+                SymmetricOrdering::Amd,
+                CholeskySymbolicParams::default(),
+            )
+            .map_err(|e| EngineError::Symbolic(format!("{e:?}")))?;
+            req = req
+                .or(chol.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
+                .or(chol.solve_in_place_scratch::<f64>(1, par));
+            let vals = vec![0.0; chol.len_val()];
+            s.llt = Some((chol, vals));
+        }
+        // LU analysis is cheap relative to a run; doing it up front keeps the Newton loop free
+        // of allocation even when LLᵀ falls back.
+        let lu = factorize_symbolic_lu(sym, LuSymbolicParams::default())
+            .map_err(|e| EngineError::Symbolic(format!("{e:?}")))?;
+        req = req
+            .or(lu.factorize_numeric_lu_scratch::<f64>(par, Default::default()))
+            .or(lu.solve_in_place_scratch::<f64>(1, par));
+        s.lu_sym = Some(lu);
+        s.mem = MemBuffer::new(req);
+        Ok(s)
+    }
+
+    /// Solve `A x = b` in place (`rhs` holds `b` on entry, `x` on exit).
+    pub fn solve(&mut self, values: &[f64], rhs: &mut [f64]) -> Result<Factorization, StepError> {
+        let n = self.n;
+        if n == 0 {
+            return Ok(self.last);
+        }
+        // SAFETY: the same valid pattern as in `new`.
+        let sym = unsafe {
+            SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
+        };
+        let a = SparseColMatRef::new(sym, values);
+        let stack = MemStack::new(&mut self.mem);
+        if let Some((chol, lvals)) = self.llt.as_mut() {
+            let ok = chol
+                .factorize_numeric_llt::<f64>(
+                    lvals,
+                    a,
+                    Side::Lower,
+                    LltRegularization::default(),
+                    self.par,
+                    stack,
+                    Default::default(),
+                )
+                .is_ok();
+            if ok {
+                let llt = LltRef::new(chol, lvals);
+                let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+                llt.solve_in_place_with_conj(Conj::No, x, self.par, stack);
+                self.last = Factorization::Llt;
+                return Ok(Factorization::Llt);
+            }
+        }
+        let lu_sym = self.lu_sym.as_ref().expect("LU analysed in new()");
+        let lu = lu_sym
+            .factorize_numeric_lu::<f64>(&mut self.lu_num, a, self.par, stack, Default::default())
+            .map_err(|e| StepError::Linear(format!("{e:?}")))?;
+        let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        lu.solve_in_place_with_conj(Conj::No, x, self.par, stack);
+        self.last = Factorization::Lu;
+        Ok(Factorization::Lu)
+    }
+}

@@ -1,0 +1,106 @@
+//! A model: DOF layout, lumped masses, fixed DOFs and forces; and the state it evolves.
+use crate::dof::DofLayout;
+use crate::error::EngineError;
+use crate::force::Force;
+
+/// Dynamic state: configuration, velocity and time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Generalised coordinates (see [`DofLayout`]).
+    pub q: Vec<f64>,
+    /// Generalised velocities.
+    pub v: Vec<f64>,
+    /// Time (s).
+    pub t: f64,
+}
+
+impl State {
+    /// State at rest at configuration `q`, time 0.
+    pub fn at_rest(q: Vec<f64>) -> Self {
+        let n = q.len();
+        Self {
+            q,
+            v: vec![0.0; n],
+            t: 0.0,
+        }
+    }
+}
+
+/// Everything the stepper needs: masses, constraints and forces.
+pub struct Model {
+    /// DOF layout.
+    pub layout: DofLayout,
+    /// Lumped mass per DOF: kg for positions, kg·m² for twist angles.
+    pub mass: Vec<f64>,
+    /// `fixed[d]` is true when DOF `d` is prescribed (kept at its value, zero velocity).
+    pub fixed: Vec<bool>,
+    /// All force families.
+    pub forces: Vec<Box<dyn Force>>,
+}
+
+impl Model {
+    /// An empty model (no mass, nothing fixed, no forces).
+    pub fn new(layout: DofLayout) -> Self {
+        let n = layout.len();
+        Self {
+            layout,
+            mass: vec![0.0; n],
+            fixed: vec![false; n],
+            forces: Vec::new(),
+        }
+    }
+    /// Number of DOFs.
+    pub fn n_dofs(&self) -> usize {
+        self.layout.len()
+    }
+    /// Add a force family.
+    pub fn add_force(&mut self, f: impl Force + 'static) {
+        self.forces.push(Box::new(f));
+    }
+    /// Add a point mass `m` (kg) to node `i`.
+    pub fn add_node_mass(&mut self, i: usize, m: f64) {
+        for k in 0..3 {
+            self.mass[3 * i + k] += m;
+        }
+    }
+    /// Clamp all three coordinates of node `i`.
+    pub fn fix_node(&mut self, i: usize) {
+        for k in 0..3 {
+            self.fixed[3 * i + k] = true;
+        }
+    }
+    /// Mass of node `i` (kg).
+    pub fn node_mass(&self, i: usize) -> f64 {
+        self.mass[3 * i]
+    }
+    /// Total translational mass (kg).
+    pub fn total_mass(&self) -> f64 {
+        (0..self.layout.n_nodes).map(|i| self.node_mass(i)).sum()
+    }
+    /// Check that every force's stencils are in range and every free DOF has mass.
+    pub fn validate(&self, need_mass: bool) -> Result<(), EngineError> {
+        let n = self.n_dofs();
+        for f in &self.forces {
+            if let Some(&d) = f.stencils().iter().find(|&&d| d >= n) {
+                return Err(EngineError::DofOutOfRange {
+                    force: f.name().to_string(),
+                    dof: d,
+                    n,
+                });
+            }
+        }
+        if need_mass {
+            for d in 0..n {
+                let m = self.mass[d];
+                if !self.fixed[d] && !(m > 0.0 && m.is_finite()) {
+                    return Err(EngineError::NonPositiveMass { dof: d, mass: m });
+                }
+            }
+        }
+        Ok(())
+    }
+    /// Total potential energy of the conservative forces (J).
+    pub fn energy(&self, q: &[f64]) -> f64 {
+        self.forces.iter().filter_map(|f| f.energy(q)).sum()
+    }
+}

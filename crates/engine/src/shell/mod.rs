@@ -1,0 +1,1 @@
+//! Discrete shells (hinge model). Elements are added by the shell modules.

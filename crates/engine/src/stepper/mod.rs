@@ -1,0 +1,8 @@
+//! Time stepping and static equilibrium, both built on one Newton–Raphson core.
+mod implicit_euler;
+mod newton;
+mod statics;
+
+pub use implicit_euler::ImplicitEuler;
+pub use newton::{NewtonOptions, StepReport};
+pub use statics::StaticSolver;

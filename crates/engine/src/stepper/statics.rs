@@ -1,0 +1,57 @@
+//! Static equilibrium `F(q) = 0` by Newton–Raphson with load stepping: external loads
+//! (forces that honour [`crate::Force::set_load_scale`]) are ramped from `1/n` to 1 in `n`
+//! increments, each solved from the previous equilibrium. Elements with history (DER
+//! reference frames) are committed after every increment, like a quasi-static time step.
+
+use super::newton::{NewtonCore, NewtonOptions, StepReport, Target};
+use crate::error::{EngineError, StepError};
+use crate::model::{Model, State};
+
+/// Static solver for one model.
+pub struct StaticSolver {
+    core: NewtonCore,
+    zeros: Vec<f64>,
+}
+
+impl StaticSolver {
+    /// Analyse the model's pattern. Masses are not needed.
+    pub fn new(model: &Model, opts: NewtonOptions) -> Result<Self, EngineError> {
+        model.validate(false)?;
+        Ok(Self {
+            core: NewtonCore::new(model, opts)?,
+            zeros: vec![0.0; model.n_dofs()],
+        })
+    }
+
+    /// Solve for equilibrium in `load_steps` increments, starting from `state.q`. Returns the
+    /// reports of the increments. On failure `state` holds the last converged increment.
+    pub fn solve(
+        &mut self,
+        model: &mut Model,
+        state: &mut State,
+        load_steps: usize,
+    ) -> Result<Vec<StepReport>, StepError> {
+        let steps = load_steps.max(1);
+        let mut reports = Vec::with_capacity(steps);
+        let mut q = state.q.clone();
+        for i in 1..=steps {
+            let s = i as f64 / steps as f64;
+            for f in model.forces.iter_mut() {
+                f.set_load_scale(s);
+            }
+            let target = Target {
+                c_m: 0.0,
+                c_v: 0.0,
+                q_tilde: &self.zeros,
+                q_n: &self.zeros,
+                t: state.t,
+            };
+            reports.push(self.core.solve(model, &mut q, &target)?);
+            state.q.copy_from_slice(&q);
+            for f in model.forces.iter_mut() {
+                f.commit(&state.q);
+            }
+        }
+        Ok(reports)
+    }
+}
