@@ -80,8 +80,16 @@ impl LocalBlocks {
             k,
             n,
             f: vec![0.0; n * k],
-            dfdq: if kind.dq { vec![0.0; n * k * k] } else { Vec::new() },
-            dfdv: if kind.dv { vec![0.0; n * k * k] } else { Vec::new() },
+            dfdq: if kind.dq {
+                vec![0.0; n * k * k]
+            } else {
+                Vec::new()
+            },
+            dfdv: if kind.dv {
+                vec![0.0; n * k * k]
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -104,7 +112,8 @@ impl LocalBlocks {
             return;
         }
         const MIN_PAR: usize = 256;
-        let body = |(i, (f, (q, v))): (usize, (&mut [f64], (&mut [f64], &mut [f64])))| {
+        type Item<'a> = (usize, (&'a mut [f64], (&'a mut [f64], &'a mut [f64])));
+        let body = |(i, (f, (q, v))): Item<'_>| {
             func(BlockMut {
                 index: i,
                 f,
@@ -164,12 +173,10 @@ pub trait Force: Send + Sync {
     fn set_load_scale(&mut self, _scale: f64) {}
     /// Number of stencils.
     fn n_stencils(&self) -> usize {
-        let k = self.stencil_size();
-        if k == 0 {
-            0
-        } else {
-            self.stencils().len() / k
-        }
+        self.stencils()
+            .len()
+            .checked_div(self.stencil_size())
+            .unwrap_or(0)
     }
     /// Fresh output buffers for this force.
     fn new_blocks(&self) -> LocalBlocks {

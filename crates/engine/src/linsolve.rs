@@ -50,11 +50,7 @@ impl LinearSolver {
         row_idx: &[usize],
         symmetric: bool,
     ) -> Result<Self, EngineError> {
-        let par = if n > 20_000 {
-            Par::rayon(0)
-        } else {
-            Par::Seq
-        };
+        let par = if n > 20_000 { Par::rayon(0) } else { Par::Seq };
         let mut s = Self {
             n,
             col_ptr: col_ptr.to_vec(),
@@ -68,9 +64,7 @@ impl LinearSolver {
         };
         // SAFETY: the assembler builds a valid CSC pattern (monotone col_ptr, sorted unique
         // in-range row indices).
-        let sym = unsafe {
-            SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx)
-        };
+        let sym = unsafe { SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx) };
         let mut req = StackReq::EMPTY;
         if symmetric {
             let chol = factorize_symbolic_cholesky(

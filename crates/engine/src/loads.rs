@@ -13,7 +13,10 @@ pub struct Gravity {
 impl Gravity {
     /// Gravity on nodes `nodes` with masses `masses` (kg).
     pub fn new(nodes: &[usize], masses: &[f64], g: [f64; 3]) -> Self {
-        let stencils = nodes.iter().flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+        let stencils = nodes
+            .iter()
+            .flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect();
         let weights = masses
             .iter()
             .map(|&m| [m * g[0], m * g[1], m * g[2]])
@@ -81,7 +84,10 @@ impl PointForces {
     /// Force `forces[j]` on node `nodes[j]`.
     pub fn new(nodes: &[usize], forces: &[[f64; 3]]) -> Self {
         Self {
-            stencils: nodes.iter().flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]).collect(),
+            stencils: nodes
+                .iter()
+                .flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2])
+                .collect(),
             forces: forces.to_vec(),
             scale: 1.0,
         }

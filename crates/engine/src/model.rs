@@ -92,7 +92,7 @@ impl Model {
         if need_mass {
             for d in 0..n {
                 let m = self.mass[d];
-                if !self.fixed[d] && !(m > 0.0 && m.is_finite()) {
+                if !(self.fixed[d] || m > 0.0 && m.is_finite()) {
                     return Err(EngineError::NonPositiveMass { dof: d, mass: m });
                 }
             }

@@ -128,7 +128,8 @@ impl NewtonCore {
         } else {
             None
         };
-        self.assembler.assemble(model, &input, &mut self.force, values);
+        self.assembler
+            .assemble(model, &input, &mut self.force, values);
         let mut norm2 = 0.0;
         for (r, &d) in self.assembler.dof_of.iter().enumerate() {
             let x = tg.c_m * model.mass[d] * (q[d] - tg.q_tilde[d]) - self.force[d];
@@ -141,7 +142,8 @@ impl NewtonCore {
     fn inf_norm(&self) -> (f64, usize) {
         let mut worst = (0.0, 0);
         for (r, &x) in self.residual.iter().enumerate() {
-            if !(x.abs() <= worst.0) {
+            // NaN compares false, so a NaN residual is always reported as the worst.
+            if x.is_nan() || x.abs() > worst.0 {
                 worst = (x.abs(), self.assembler.dof_of[r]);
             }
         }

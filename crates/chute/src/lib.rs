@@ -1,0 +1,1 @@
+//! chute: parachute scenarios, builders, metrics, outputs and the command line.
