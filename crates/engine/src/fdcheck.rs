@@ -10,7 +10,15 @@ use crate::force::{EvalInput, Force};
 pub fn dense_eval(force: &dyn Force, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let n = q.len();
     let mut blocks = force.new_blocks();
-    force.evaluate(&EvalInput { q, v, t: 0.0 }, &mut blocks);
+    force.evaluate(
+        &EvalInput {
+            q,
+            v,
+            t: 0.0,
+            jacobian: true,
+        },
+        &mut blocks,
+    );
     let k = force.stencil_size();
     let mut f = vec![0.0; n];
     let mut kq = vec![0.0; n * n];

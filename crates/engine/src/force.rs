@@ -18,6 +18,9 @@ pub struct EvalInput<'a> {
     pub v: &'a [f64],
     /// Time at the end of the step (s).
     pub t: f64,
+    /// Whether the Jacobian blocks are wanted. When false, elements may skip computing them
+    /// (the assembler will not read them); the force vector must always be written.
+    pub jacobian: bool,
 }
 
 /// Which Jacobians a force provides.

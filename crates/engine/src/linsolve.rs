@@ -12,7 +12,9 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
     SymmetricOrdering,
 };
-use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
+use faer::sparse::linalg::lu::{
+    factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
@@ -38,8 +40,9 @@ pub struct LinearSolver {
     mem: MemBuffer,
     /// Parallelism handed to faer.
     pub par: Par,
-    /// Factorisation used by the last successful solve.
+    /// Factorisation held (or used last).
     pub last: Factorization,
+    valid: bool,
 }
 
 impl LinearSolver {
@@ -61,6 +64,7 @@ impl LinearSolver {
             mem: MemBuffer::new(StackReq::EMPTY),
             par,
             last: Factorization::Lu,
+            valid: false,
         };
         // SAFETY: the assembler builds a valid CSC pattern (monotone col_ptr, sorted unique
         // in-range row indices).
@@ -92,10 +96,13 @@ impl LinearSolver {
         Ok(s)
     }
 
-    /// Solve `A x = b` in place (`rhs` holds `b` on entry, `x` on exit).
-    pub fn solve(&mut self, values: &[f64], rhs: &mut [f64]) -> Result<Factorization, StepError> {
+    /// Factorise `A` (values in the pattern given to [`LinearSolver::new`]). On success the
+    /// factors are kept for any number of [`LinearSolver::solve`] calls.
+    pub fn factor(&mut self, values: &[f64]) -> Result<Factorization, StepError> {
         let n = self.n;
+        self.valid = false;
         if n == 0 {
+            self.valid = true;
             return Ok(self.last);
         }
         // SAFETY: the same valid pattern as in `new`.
@@ -117,20 +124,54 @@ impl LinearSolver {
                 )
                 .is_ok();
             if ok {
-                let llt = LltRef::new(chol, lvals);
-                let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
-                llt.solve_in_place_with_conj(Conj::No, x, self.par, stack);
                 self.last = Factorization::Llt;
+                self.valid = true;
                 return Ok(Factorization::Llt);
             }
         }
         let lu_sym = self.lu_sym.as_ref().expect("LU analysed in new()");
-        let lu = lu_sym
+        lu_sym
             .factorize_numeric_lu::<f64>(&mut self.lu_num, a, self.par, stack, Default::default())
             .map_err(|e| StepError::Linear(format!("{e:?}")))?;
-        let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
-        lu.solve_in_place_with_conj(Conj::No, x, self.par, stack);
         self.last = Factorization::Lu;
+        self.valid = true;
         Ok(Factorization::Lu)
+    }
+
+    /// Whether factors from a successful [`LinearSolver::factor`] are held.
+    pub fn has_factors(&self) -> bool {
+        self.valid
+    }
+
+    /// Forget the factors (e.g. after `dt` changed).
+    pub fn invalidate(&mut self) {
+        self.valid = false;
+    }
+
+    /// Solve `A x = b` in place with the current factors (`rhs` holds `b` on entry, `x` on
+    /// exit).
+    pub fn solve(&mut self, rhs: &mut [f64]) {
+        let n = self.n;
+        assert!(self.valid, "solve() without factors");
+        if n == 0 {
+            return;
+        }
+        let stack = MemStack::new(&mut self.mem);
+        let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        match self.last {
+            Factorization::Llt => {
+                let (chol, lvals) = self.llt.as_ref().expect("LLT factors");
+                LltRef::new(chol, lvals).solve_in_place_with_conj(Conj::No, x, self.par, stack);
+            }
+            Factorization::Lu => {
+                let lu_sym = self.lu_sym.as_ref().expect("LU analysed in new()");
+                LuRef::new_unchecked(lu_sym, &self.lu_num).solve_in_place_with_conj(
+                    Conj::No,
+                    x,
+                    self.par,
+                    stack,
+                );
+            }
+        }
     }
 }

@@ -38,6 +38,11 @@ impl ImplicitEuler {
         self.core.assembler.nnz()
     }
 
+    /// `‖R‖∞` before the first and after every iteration of the last step (N).
+    pub fn residual_history(&self) -> &[f64] {
+        &self.core.history
+    }
+
     /// Newton options in force.
     pub fn options(&self) -> &NewtonOptions {
         &self.core.opts
