@@ -43,6 +43,11 @@ impl ImplicitEuler {
         &self.core.opts
     }
 
+    /// `‖R‖∞` (N) of every Newton iterate of the last step, the predictor first.
+    pub fn residual_history(&self) -> &[f64] {
+        &self.core.history
+    }
+
     /// Advance `state` by `dt`. On error the state and the forces' history are unchanged,
     /// so the caller may retry with a smaller `dt`.
     pub fn step(

@@ -69,6 +69,10 @@ pub(crate) struct NewtonCore {
     delta: Vec<f64>,
     q_trial: Vec<f64>,
     v: Vec<f64>,
+    /// `‖R‖∞` of every iterate of the last solve, the starting guess first (diagnostics:
+    /// convergence-order tests). Capacity `max_iterations + 1` is reserved up front, so
+    /// recording never allocates.
+    pub history: Vec<f64>,
 }
 
 /// The target of one Newton solve.
@@ -100,6 +104,7 @@ impl NewtonCore {
             delta: vec![0.0; assembler.n_free],
             q_trial: vec![0.0; n],
             v: vec![0.0; n],
+            history: Vec::with_capacity(opts.max_iterations + 1),
             assembler,
             solver,
             opts,
@@ -159,6 +164,7 @@ impl NewtonCore {
         tg: &Target<'_>,
     ) -> Result<StepReport, StepError> {
         let mut report = StepReport::default();
+        self.history.clear();
         let mut norm = self.residual_at(model, q, tg, true);
         let (r0, _) = self.inf_norm();
         let tol = self.force_tol_abs + self.opts.force_tol_rel * r0;
@@ -171,6 +177,7 @@ impl NewtonCore {
                 });
             }
             report.residual = rinf;
+            self.history.push(rinf);
             if rinf <= tol {
                 return Ok(report);
             }
@@ -225,6 +232,7 @@ impl NewtonCore {
             let (rinf, _) = self.inf_norm();
             if alpha * dmax <= self.opts.step_tol && rinf <= 1e3 * tol {
                 report.residual = rinf;
+                self.history.push(rinf);
                 return Ok(report);
             }
         }
