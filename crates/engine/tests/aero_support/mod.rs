@@ -90,3 +90,29 @@ impl Sheet {
 pub fn tanh_law(v_t: f64, g: f64, t: f64) -> f64 {
     v_t * (g * t / v_t).tanh()
 }
+
+use engine::{ImplicitEuler, Model, NewtonOptions, State};
+
+/// Mass-weighted mean velocity of all nodes (m/s).
+pub fn mean_velocity(model: &Model, state: &State) -> [f64; 3] {
+    let mut p = [0.0; 3];
+    let n = model.layout.n_nodes;
+    for i in 0..n {
+        for k in 0..3 {
+            p[k] += model.mass[3 * i + k] * state.v[3 * i + k];
+        }
+    }
+    p.map(|x| x / model.total_mass())
+}
+
+/// Step `model` from `state` with `dt` for `steps` steps; return `(t, mean velocity)` after
+/// every step.
+pub fn run(model: &mut Model, state: &mut State, dt: f64, steps: usize) -> Vec<(f64, [f64; 3])> {
+    let mut stepper = ImplicitEuler::new(model, NewtonOptions::default()).unwrap();
+    let mut out = Vec::with_capacity(steps);
+    for _ in 0..steps {
+        stepper.step(model, state, dt).unwrap();
+        out.push((state.t, mean_velocity(model, state)));
+    }
+    out
+}
