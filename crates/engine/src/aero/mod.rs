@@ -33,7 +33,8 @@ use crate::force::{EvalInput, Force};
 /// Resultant (vector sum over nodes) of the translational forces of `force` at `(q, v)`
 /// (N): every stencil entry on a node coordinate `3i + k` (`i < layout.n_nodes`) adds to
 /// component `k`; twist DOFs (generalised moments, N·m) are skipped, which is why the layout
-/// is needed. Allocates its own buffers: meant for observers, not the Newton loop.
+/// is needed. Evaluated at t = 0 (drag does not depend on time). Allocates its own buffers:
+/// meant for observers, not the Newton loop.
 pub fn resultant(force: &dyn Force, layout: &DofLayout, q: &[f64], v: &[f64]) -> [f64; 3] {
     let mut blocks = force.new_blocks();
     force.evaluate(&EvalInput { q, v, t: 0.0 }, &mut blocks);
