@@ -1,1 +1,57 @@
-//! Aerodynamic drag elements.
+//! Aerodynamic drag elements (all implement [`Force`]).
+//!
+//! - [`NodeDrag`]: quadratic drag on rod nodes with rest projected areas (report §II.A);
+//! - [`TriangleDrag`]: quadratic normal + tangential drag on shell triangles (report §II.D),
+//!   exact Jacobians in positions and velocities;
+//! - [`PressureDrag`]: the DisMech peer's per-node normal pressure law on triangles;
+//! - [`LinearDrag`]: linear (Stokes-like) drag for low Reynolds numbers;
+//! - [`Fluid`], [`reynolds`] and [`DragRegime`]: which law applies;
+//! - [`resultant`]: the total force of any element family (for observers).
+//!
+//! Drag acts on the velocity relative to the wind, `v − U∞`. Speeds in the quadratic laws are
+//! regularised, `|u|_ε = √(|u|² + ε²)` ([`DEFAULT_EPSILON`]), so Jacobians exist at rest.
+//! See `docs/aero.md`.
+
+mod fluid;
+mod geometry;
+mod linear;
+mod pressure;
+mod quadratic;
+mod regularize;
+mod triangle;
+
+pub use fluid::{reynolds, DragRegime, Fluid};
+pub use linear::{stokes_sphere, LinearDrag};
+pub use pressure::PressureDrag;
+pub use quadratic::NodeDrag;
+pub use regularize::{reg_norm, DEFAULT_EPSILON};
+pub use triangle::TriangleDrag;
+
+use crate::dof::DofLayout;
+use crate::force::{EvalInput, Force};
+
+/// Resultant (vector sum over nodes) of the translational forces of `force` at `(q, v)`
+/// (N): every stencil entry on a node coordinate `3i + k` (`i < layout.n_nodes`) adds to
+/// component `k`; twist DOFs (generalised moments, N·m) are skipped, which is why the layout
+/// is needed. Evaluated at t = 0 (drag does not depend on time). Allocates its own buffers:
+/// meant for observers, not the Newton loop.
+pub fn resultant(force: &dyn Force, layout: &DofLayout, q: &[f64], v: &[f64]) -> [f64; 3] {
+    let mut blocks = force.new_blocks();
+    force.evaluate(
+        &EvalInput {
+            q,
+            v,
+            t: 0.0,
+            jacobian: false,
+        },
+        &mut blocks,
+    );
+    let n_pos = 3 * layout.n_nodes;
+    let mut total = [0.0; 3];
+    for (&d, &f) in force.stencils().iter().zip(&blocks.f) {
+        if d < n_pos {
+            total[d % 3] += f;
+        }
+    }
+    total
+}

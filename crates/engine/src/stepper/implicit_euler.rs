@@ -38,14 +38,14 @@ impl ImplicitEuler {
         self.core.assembler.nnz()
     }
 
-    /// `‖R‖∞` before the first and after every iteration of the last step (N).
-    pub fn residual_history(&self) -> &[f64] {
-        &self.core.history
-    }
-
     /// Newton options in force.
     pub fn options(&self) -> &NewtonOptions {
         &self.core.opts
+    }
+
+    /// `‖R‖∞` (N) of every Newton iterate of the last step, the predictor first.
+    pub fn residual_history(&self) -> &[f64] {
+        &self.core.history
     }
 
     /// Advance `state` by `dt`. On error the state and the forces' history are unchanged,

@@ -23,6 +23,11 @@ impl StaticSolver {
         })
     }
 
+    /// `‖R‖∞` (N) of every Newton iterate of the last load increment, the start first.
+    pub fn residual_history(&self) -> &[f64] {
+        &self.core.history
+    }
+
     /// Solve for equilibrium in `load_steps` increments, starting from `state.q`. Returns the
     /// reports of the increments. On failure `state` holds the last converged increment.
     pub fn solve(

@@ -1,0 +1,118 @@
+//! Shared helpers for the aero tests: flat triangulated sheets and straight strips.
+#![allow(dead_code)]
+
+use engine::rod::Stretch;
+
+/// A flat rectangular sheet in the plane z = `z0`, normals +z.
+pub struct Sheet {
+    /// Node positions (m), 3 per node.
+    pub q: Vec<f64>,
+    /// Triangles, counter-clockwise seen from +z.
+    pub tris: Vec<[usize; 3]>,
+    /// Unique triangle edges.
+    pub edges: Vec<[usize; 2]>,
+    /// Number of nodes.
+    pub n_nodes: usize,
+}
+
+/// `nx × ny` nodes over `lx × ly` metres, each cell split into two triangles.
+pub fn sheet(nx: usize, ny: usize, lx: f64, ly: f64, z0: f64) -> Sheet {
+    let id = |i: usize, j: usize| j * nx + i;
+    let mut q = Vec::with_capacity(3 * nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let x = lx * i as f64 / (nx - 1) as f64;
+            let y = ly * j as f64 / (ny - 1) as f64;
+            q.extend_from_slice(&[x, y, z0]);
+        }
+    }
+    let mut tris = Vec::new();
+    for j in 0..ny - 1 {
+        for i in 0..nx - 1 {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            tris.push([a, b, c]);
+            tris.push([a, c, d]);
+        }
+    }
+    let mut edges: Vec<[usize; 2]> = tris
+        .iter()
+        .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+        .map(|[a, b]| [a.min(b), a.max(b)])
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    Sheet {
+        q,
+        tris,
+        edges,
+        n_nodes: nx * ny,
+    }
+}
+
+impl Sheet {
+    /// Area of triangle `t` (m²).
+    pub fn tri_area(&self, t: usize) -> f64 {
+        let p = |i: usize| {
+            let n = self.tris[t][i];
+            [self.q[3 * n], self.q[3 * n + 1], self.q[3 * n + 2]]
+        };
+        let (a, b, c) = (p(0), p(1), p(2));
+        let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let n = [
+            e1[1] * e2[2] - e1[2] * e2[1],
+            e1[2] * e2[0] - e1[0] * e2[2],
+            e1[0] * e2[1] - e1[1] * e2[0],
+        ];
+        0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+    }
+
+    /// Lumped node masses for a total mass `m` spread in proportion to area (A/3 per
+    /// triangle corner), so that a uniform drag per area gives a uniform acceleration.
+    pub fn lumped_masses(&self, m: f64) -> Vec<f64> {
+        let total: f64 = (0..self.tris.len()).map(|t| self.tri_area(t)).sum();
+        let mut masses = vec![0.0; self.n_nodes];
+        for (t, tri) in self.tris.iter().enumerate() {
+            for &i in tri {
+                masses[i] += m * self.tri_area(t) / (3.0 * total);
+            }
+        }
+        masses
+    }
+
+    /// Stiff springs (axial stiffness `k`, N) on every edge.
+    pub fn springs(&self, k: f64) -> Stretch {
+        Stretch::new("edges", &self.edges, &self.q, vec![k; self.edges.len()])
+    }
+}
+
+/// Exact terminal-velocity transient from rest, `v(t) = v_t tanh(g t / v_t)` (m/s, downwards).
+pub fn tanh_law(v_t: f64, g: f64, t: f64) -> f64 {
+    v_t * (g * t / v_t).tanh()
+}
+
+use engine::{ImplicitEuler, Model, NewtonOptions, State};
+
+/// Mass-weighted mean velocity of all nodes (m/s).
+pub fn mean_velocity(model: &Model, state: &State) -> [f64; 3] {
+    let mut p = [0.0; 3];
+    let n = model.layout.n_nodes;
+    for i in 0..n {
+        for k in 0..3 {
+            p[k] += model.mass[3 * i + k] * state.v[3 * i + k];
+        }
+    }
+    p.map(|x| x / model.total_mass())
+}
+
+/// Step `model` from `state` with `dt` for `steps` steps; return `(t, mean velocity)` after
+/// every step.
+pub fn run(model: &mut Model, state: &mut State, dt: f64, steps: usize) -> Vec<(f64, [f64; 3])> {
+    let mut stepper = ImplicitEuler::new(model, NewtonOptions::default()).unwrap();
+    let mut out = Vec::with_capacity(steps);
+    for _ in 0..steps {
+        stepper.step(model, state, dt).unwrap();
+        out.push((state.t, mean_velocity(model, state)));
+    }
+    out
+}
