@@ -140,6 +140,8 @@ pub fn velocity_plot(
             .map_err(de)?;
         chart
             .configure_mesh()
+            .label_style((FONT, 15))
+            .axis_desc_style((FONT, 18))
             .x_desc("time t (s)")
             .y_desc("vertical velocity vz (m/s)")
             .draw()
@@ -203,6 +205,8 @@ pub fn height_plot(path: &Path, t: &[f64], height: &[f64]) -> Result<(), PlotErr
             .map_err(de)?;
         chart
             .configure_mesh()
+            .label_style((FONT, 15))
+            .axis_desc_style((FONT, 18))
             .x_desc("time t (s)")
             .y_desc("extended height, max z − min z (m)")
             .draw()
@@ -232,19 +236,14 @@ fn unique_edges(triangles: &[[usize; 3]]) -> Vec<[usize; 2]> {
     out
 }
 
-/// Equal-aspect ranges for the two panels (horizontal axis x resp. y, vertical axis z):
-/// one metre spans the same number of pixels on every axis of both panels.
-fn side_view_ranges(pos: &[[f64; 3]], panel: (u32, u32)) -> Option<[(f64, f64); 3]> {
+/// Equal-aspect ranges for the two panels (horizontal axis x resp. y, vertical axis z) given
+/// the plotting-area size in pixels: one metre spans the same number of pixels on every axis of
+/// both panels, so the side views are not distorted.
+fn side_view_ranges(pos: &[[f64; 3]], plot_px: (u32, u32)) -> Option<[(f64, f64); 3]> {
     let r: Vec<(f64, f64)> = (0..3)
         .map(|c| padded_range(pos.iter().map(|p| p[c])))
         .collect::<Option<_>>()?;
-    let w = f64::from(panel.0.saturating_sub(Y_LABEL_AREA + 2 * MARGIN).max(1));
-    let h = f64::from(
-        panel
-            .1
-            .saturating_sub(X_LABEL_AREA + 2 * MARGIN + CAPTION_PX)
-            .max(1),
-    );
+    let (w, h) = (f64::from(plot_px.0.max(1)), f64::from(plot_px.1.max(1)));
     let span = |c: usize| r[c].1 - r[c].0;
     let metres_per_px = (span(0) / w).max(span(1) / w).max(span(2) / h);
     let centred = |c: usize, px: f64| {
@@ -271,16 +270,26 @@ pub fn shape_plot(
     if all.clone().any(|&i| i >= n) {
         return Err(PlotError::NoData("cell node index out of range"));
     }
-    let panel = (SHAPE_SIZE.0 / 2, SHAPE_SIZE.1 - CAPTION_PX - MARGIN);
-    let ranges = side_view_ranges(positions, panel).ok_or(PlotError::NoData("no nodes"))?;
+    if positions.is_empty() {
+        return Err(PlotError::NoData("no nodes"));
+    }
     let edges = unique_edges(triangles);
     render_atomic(path, SHAPE_SIZE, |root| {
         let root = root.titled(title, (FONT, CAPTION_PX + 4)).map_err(de)?;
-        let panels = root.split_evenly((1, 2));
-        for (k, area) in panels.iter().enumerate() {
+        for (k, panel) in root.split_evenly((1, 2)).iter().enumerate() {
             let (axis, name) = if k == 0 { (0, "x") } else { (1, "y") };
-            let mut chart = ChartBuilder::on(area)
-                .caption(format!("side view {name}–z"), (FONT, CAPTION_PX - 4))
+            let area = panel
+                .titled(&format!("side view {name}–z"), (FONT, CAPTION_PX - 4))
+                .map_err(de)?;
+            // The chart below has no caption, so its plotting area is exactly the panel minus
+            // the margins and label areas; both panels have the same size.
+            let (w, h) = area.dim_in_pixel();
+            let plot_px = (
+                w.saturating_sub(2 * MARGIN + Y_LABEL_AREA),
+                h.saturating_sub(2 * MARGIN + X_LABEL_AREA),
+            );
+            let ranges = side_view_ranges(positions, plot_px).ok_or(PlotError::NoData("nodes"))?;
+            let mut chart = ChartBuilder::on(&area)
                 .margin(MARGIN)
                 .x_label_area_size(X_LABEL_AREA)
                 .y_label_area_size(Y_LABEL_AREA)
@@ -288,6 +297,8 @@ pub fn shape_plot(
                 .map_err(de)?;
             chart
                 .configure_mesh()
+                .label_style((FONT, 15))
+                .axis_desc_style((FONT, 18))
                 .x_desc(format!("{name} (m)"))
                 .y_desc("z (m)")
                 .draw()
