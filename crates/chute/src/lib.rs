@@ -1,1 +1,4 @@
 //! chute: parachute scenarios, builders, metrics, outputs and the command line.
+
+pub mod metrics;
+pub mod output;

@@ -1,0 +1,41 @@
+//! Atomic whole-file writes: readers see either the old file or the new one, never a mix.
+
+use std::fs;
+use std::io::{self, Write};
+use std::path::Path;
+
+/// Write `bytes` to `path` atomically.
+///
+/// The bytes go to a temporary file in the same directory (a rename is only atomic within one
+/// file system), which is fsynced before being renamed over `path`; the directory is then
+/// fsynced so the rename itself survives a power loss. On error the temporary file is removed.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "path has no file name"))?;
+    // A dot prefix hides the temporary from globs such as `frames/*.vtu`.
+    let mut prefix = std::ffi::OsString::from(".");
+    prefix.push(name);
+    prefix.push(".");
+    let mut tmp = tempfile::Builder::new()
+        .prefix(&prefix)
+        .suffix(".tmp")
+        .tempfile_in(dir)?;
+    tmp.write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| e.error)?;
+    sync_dir(dir);
+    Ok(())
+}
+
+/// Best-effort fsync of a directory entry list; not every platform/file system supports
+/// opening a directory, and the data itself is already durable, so failures are ignored.
+fn sync_dir(dir: &Path) {
+    if let Ok(d) = fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+}

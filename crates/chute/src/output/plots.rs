@@ -1,0 +1,358 @@
+//! PNG plots of a run (plotters, bitmap backend, embedded DejaVu Sans font).
+//!
+//! All functions take plain slices. Each PNG is rendered into a hidden temporary file in the
+//! target directory and renamed into place, so a plot is either absent, the old one, or
+//! complete.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+/// Size of the time-series plots (pixels).
+pub const PLOT_SIZE: (u32, u32) = (1024, 640);
+/// Size of the two-panel side views (pixels).
+pub const SHAPE_SIZE: (u32, u32) = (1400, 700);
+/// Name of the velocity plot in the output directory.
+pub const VELOCITY_PNG: &str = "velocity.png";
+/// Name of the extended-height plot.
+pub const HEIGHT_PNG: &str = "height.png";
+/// Name of the final-shape plot.
+pub const SHAPE_PNG: &str = "shape.png";
+
+const FONT: &str = "sans-serif";
+/// Label areas and margin (pixels); also used to estimate the plotting area for equal aspect.
+const X_LABEL_AREA: u32 = 55;
+const Y_LABEL_AREA: u32 = 80;
+const MARGIN: u32 = 20;
+const CAPTION_PX: u32 = 26;
+
+/// Failure to produce a plot.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// File system error (creating/renaming the PNG).
+    #[error("plot I/O: {0}")]
+    Io(#[from] std::io::Error),
+    /// plotters failed to draw or encode.
+    #[error("plot drawing: {0}")]
+    Draw(String),
+    /// The embedded font could not be registered.
+    #[error("embedded font could not be registered")]
+    Font,
+    /// Nothing to plot.
+    #[error("no data to plot: {0}")]
+    NoData(&'static str),
+}
+
+fn de<E: std::fmt::Display>(e: E) -> PlotError {
+    PlotError::Draw(e.to_string())
+}
+
+/// Register the embedded DejaVu Sans as the `sans-serif` family, once per process; without it
+/// the ab_glyph backend has no font and text rendering fails on machines without fonts.
+fn ensure_font() -> Result<(), PlotError> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        let bytes: &'static [u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+        plotters::style::register_font(FONT, FontStyle::Normal, bytes).is_ok()
+    });
+    ok.then_some(()).ok_or(PlotError::Font)
+}
+
+/// Render with `draw` into a temporary PNG next to `path`, then rename it over `path`.
+fn render_atomic(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<(), PlotError>,
+) -> Result<(), PlotError> {
+    ensure_font()?;
+    let name = path
+        .file_name()
+        .ok_or(PlotError::NoData("path has no file name"))?;
+    // The `.png` extension tells plotters which encoder to use.
+    let tmp = path.with_file_name(format!(
+        ".{}.{}.tmp.png",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| {
+        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
+        root.fill(&WHITE).map_err(de)?;
+        draw(&root)?;
+        root.present().map_err(de)
+    })();
+    match result {
+        Ok(()) => Ok(std::fs::rename(&tmp, path)?),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
+/// (min, max) of the finite values, padded by 5 % (or a small absolute pad when flat).
+fn padded_range(vals: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let (lo, hi) = vals
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if lo > hi {
+        return None;
+    }
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        (0.05 * hi.abs()).max(1e-3)
+    };
+    Some((lo - pad, hi + pad))
+}
+
+fn finite_points<'a>(t: &'a [f64], y: &'a [f64]) -> impl Iterator<Item = (f64, f64)> + 'a {
+    t.iter()
+        .zip(y)
+        .map(|(&a, &b)| (a, b))
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+}
+
+/// `velocity.png`: vz(t), with the terminal velocity v_t, its ±2 % band and the time to
+/// terminal marked when given. Units: s, m/s.
+pub fn velocity_plot(
+    path: &Path,
+    t: &[f64],
+    vz: &[f64],
+    terminal_velocity: Option<f64>,
+    time_to_terminal: Option<f64>,
+) -> Result<(), PlotError> {
+    let band = terminal_velocity.map(|v| (v, crate::metrics::TERMINAL_BAND * v.abs()));
+    let (t0, t1) = padded_range(t.iter().copied()).ok_or(PlotError::NoData("empty time"))?;
+    let extra = band.into_iter().flat_map(|(v, b)| [v - b, v + b]);
+    let (y0, y1) = padded_range(vz.iter().copied().chain(extra)).ok_or(PlotError::NoData("vz"))?;
+    render_atomic(path, PLOT_SIZE, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption("Canopy vertical velocity", (FONT, CAPTION_PX))
+            .margin(MARGIN)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA)
+            .build_cartesian_2d(t0..t1, y0..y1)
+            .map_err(de)?;
+        chart
+            .configure_mesh()
+            .label_style((FONT, 15))
+            .axis_desc_style((FONT, 18))
+            .x_desc("time t (s)")
+            .y_desc("vertical velocity vz (m/s)")
+            .draw()
+            .map_err(de)?;
+        if let Some((v, b)) = band {
+            let fill = GREEN.mix(0.2).filled();
+            chart
+                .draw_series([Rectangle::new([(t0, v - b), (t1, v + b)], fill)])
+                .map_err(de)?
+                .label("±2 % band")
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], fill));
+            let style = RED.stroke_width(2);
+            chart
+                .draw_series(DashedLineSeries::new([(t0, v), (t1, v)], 10, 6, style))
+                .map_err(de)?
+                .label(format!("terminal velocity v_t = {v:.4} m/s"))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
+        }
+        if let Some(tt) = time_to_terminal {
+            let style = BLACK.stroke_width(2);
+            chart
+                .draw_series(DashedLineSeries::new([(tt, y0), (tt, y1)], 8, 6, style))
+                .map_err(de)?
+                .label(format!("time to terminal = {tt:.3} s"))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
+        }
+        let line = BLUE.stroke_width(2);
+        chart
+            .draw_series(LineSeries::new(finite_points(t, vz), line))
+            .map_err(de)?
+            .label("vz (canopy, mass-weighted)")
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], line));
+        draw_legend(&mut chart)
+    })
+}
+
+fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> Result<(), PlotError> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font((FONT, 18))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(de)
+}
+
+/// `height.png`: extended height (max z − min z over canopy nodes) against time. Units: s, m.
+pub fn height_plot(path: &Path, t: &[f64], height: &[f64]) -> Result<(), PlotError> {
+    let (t0, t1) = padded_range(t.iter().copied()).ok_or(PlotError::NoData("empty time"))?;
+    let (y0, y1) = padded_range(height.iter().copied()).ok_or(PlotError::NoData("height"))?;
+    render_atomic(path, PLOT_SIZE, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption("Canopy extended height", (FONT, CAPTION_PX))
+            .margin(MARGIN)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA)
+            .build_cartesian_2d(t0..t1, y0.min(0.0)..y1)
+            .map_err(de)?;
+        chart
+            .configure_mesh()
+            .label_style((FONT, 15))
+            .axis_desc_style((FONT, 18))
+            .x_desc("time t (s)")
+            .y_desc("extended height, max z − min z (m)")
+            .draw()
+            .map_err(de)?;
+        chart
+            .draw_series(LineSeries::new(
+                finite_points(t, height),
+                BLUE.stroke_width(2),
+            ))
+            .map_err(de)?;
+        Ok(())
+    })
+}
+
+/// Unique undirected edges of the triangles, plus the segments (kept apart for colouring).
+fn unique_edges(triangles: &[[usize; 3]]) -> Vec<[usize; 2]> {
+    let mut seen = HashSet::with_capacity(triangles.len() * 2);
+    let mut out = Vec::with_capacity(triangles.len() * 2);
+    for t in triangles {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            let key = (a.min(b), a.max(b));
+            if seen.insert(key) {
+                out.push([key.0, key.1]);
+            }
+        }
+    }
+    out
+}
+
+/// Equal-aspect ranges for the two panels (horizontal axis x resp. y, vertical axis z) given
+/// the plotting-area size in pixels: one metre spans the same number of pixels on every axis of
+/// both panels, so the side views are not distorted.
+fn side_view_ranges(pos: &[[f64; 3]], plot_px: (u32, u32)) -> Option<[(f64, f64); 3]> {
+    let r: Vec<(f64, f64)> = (0..3)
+        .map(|c| padded_range(pos.iter().map(|p| p[c])))
+        .collect::<Option<_>>()?;
+    let (w, h) = (f64::from(plot_px.0.max(1)), f64::from(plot_px.1.max(1)));
+    let span = |c: usize| r[c].1 - r[c].0;
+    let metres_per_px = (span(0) / w).max(span(1) / w).max(span(2) / h);
+    let centred = |c: usize, px: f64| {
+        let mid = 0.5 * (r[c].0 + r[c].1);
+        (
+            mid - 0.5 * metres_per_px * px,
+            mid + 0.5 * metres_per_px * px,
+        )
+    };
+    Some([centred(0, w), centred(1, w), centred(2, h)])
+}
+
+/// Two side views of the canopy: x–z (left) and y–z (right), triangle edges in blue and
+/// segments (e.g. suspension lines) in red, equal aspect ratio. Units: m.
+pub fn shape_plot(
+    path: &Path,
+    title: &str,
+    positions: &[[f64; 3]],
+    triangles: &[[usize; 3]],
+    segments: &[[usize; 2]],
+) -> Result<(), PlotError> {
+    let n = positions.len();
+    let all = triangles.iter().flatten().chain(segments.iter().flatten());
+    if all.clone().any(|&i| i >= n) {
+        return Err(PlotError::NoData("cell node index out of range"));
+    }
+    if positions.is_empty() {
+        return Err(PlotError::NoData("no nodes"));
+    }
+    let edges = unique_edges(triangles);
+    render_atomic(path, SHAPE_SIZE, |root| {
+        let root = root.titled(title, (FONT, CAPTION_PX + 4)).map_err(de)?;
+        for (k, panel) in root.split_evenly((1, 2)).iter().enumerate() {
+            let (axis, name) = if k == 0 { (0, "x") } else { (1, "y") };
+            let area = panel
+                .titled(&format!("side view {name}–z"), (FONT, CAPTION_PX - 4))
+                .map_err(de)?;
+            // The chart below has no caption, so its plotting area is exactly the panel minus
+            // the margins and label areas; both panels have the same size.
+            let (w, h) = area.dim_in_pixel();
+            let plot_px = (
+                w.saturating_sub(2 * MARGIN + Y_LABEL_AREA),
+                h.saturating_sub(2 * MARGIN + X_LABEL_AREA),
+            );
+            let ranges = side_view_ranges(positions, plot_px).ok_or(PlotError::NoData("nodes"))?;
+            let mut chart = ChartBuilder::on(&area)
+                .margin(MARGIN)
+                .x_label_area_size(X_LABEL_AREA)
+                .y_label_area_size(Y_LABEL_AREA)
+                .build_cartesian_2d(ranges[axis].0..ranges[axis].1, ranges[2].0..ranges[2].1)
+                .map_err(de)?;
+            chart
+                .configure_mesh()
+                .label_style((FONT, 15))
+                .axis_desc_style((FONT, 18))
+                .x_desc(format!("{name} (m)"))
+                .y_desc("z (m)")
+                .draw()
+                .map_err(de)?;
+            let project = |i: usize| (positions[i][axis], positions[i][2]);
+            let seg = |e: &[usize; 2], style: ShapeStyle| {
+                PathElement::new([project(e[0]), project(e[1])], style)
+            };
+            let canopy = BLUE.mix(0.7).stroke_width(1);
+            chart
+                .draw_series(edges.iter().map(|e| seg(e, canopy)))
+                .map_err(de)?;
+            let lines = RED.stroke_width(1);
+            chart
+                .draw_series(segments.iter().map(|e| seg(e, lines)))
+                .map_err(de)?;
+        }
+        Ok(())
+    })
+}
+
+/// `shape.png` in `out_dir`: the final shape at time `t_s`.
+pub fn final_shape_plot(
+    out_dir: &Path,
+    t_s: f64,
+    positions: &[[f64; 3]],
+    triangles: &[[usize; 3]],
+    segments: &[[usize; 2]],
+) -> Result<PathBuf, PlotError> {
+    let path = out_dir.join(SHAPE_PNG);
+    let title = format!("Final canopy shape (t = {t_s:.3} s)");
+    shape_plot(&path, &title, positions, triangles, segments)?;
+    Ok(path)
+}
+
+/// File name of a snapshot: `snapshot_<t>s.png`, t rounded to the millisecond with trailing
+/// zeros removed (`snapshot_2.5s.png`, `snapshot_10s.png`).
+pub fn snapshot_file_name(t_s: f64) -> String {
+    let s = format!("{t_s:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    format!("snapshot_{s}s.png")
+}
+
+/// `snapshot_<t>s.png` in `out_dir`: the side views at time `t_s` (the caller passes the
+/// positions at that time).
+pub fn snapshot_plot(
+    out_dir: &Path,
+    t_s: f64,
+    positions: &[[f64; 3]],
+    triangles: &[[usize; 3]],
+    segments: &[[usize; 2]],
+) -> Result<PathBuf, PlotError> {
+    let path = out_dir.join(snapshot_file_name(t_s));
+    let title = format!("Canopy shape at t = {t_s:.3} s");
+    shape_plot(&path, &title, positions, triangles, segments)?;
+    Ok(path)
+}

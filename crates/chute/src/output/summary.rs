@@ -1,0 +1,142 @@
+//! `summary.json`: the headline results and bookkeeping of a run, written atomically.
+
+use std::io;
+use std::path::Path;
+
+use crate::metrics::Metrics;
+
+/// Version of the `summary.json` layout; bump when a field changes meaning or is removed.
+pub const SUMMARY_VERSION: u32 = 1;
+
+/// Bookkeeping of a run that does not come from the time series.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunInfo {
+    /// Scenario name (from the scenario file).
+    pub scenario_name: String,
+    /// Whether the run reached its requested end time.
+    pub complete: bool,
+    /// Why the run stopped early (e.g. "Newton failed at t = 1.2 s"), `None` if complete.
+    pub stop_reason: Option<String>,
+    /// Simulated time reached (s).
+    pub simulated_time_s: f64,
+    /// Accepted time steps.
+    pub steps: u64,
+    /// Total Newton iterations over all steps.
+    pub newton_iterations: u64,
+    /// Wall-clock time of the run (s).
+    pub wall_time_s: f64,
+    /// Number of degrees of freedom (3 per node + 1 twist per rod edge).
+    pub dofs: usize,
+    /// Warnings raised by the run loop (they precede the metric warnings in the summary).
+    pub warnings: Vec<String>,
+}
+
+/// Contents of `summary.json`. SI units; field names carry the unit suffix. See
+/// `docs/outputs.md` for the definitions (they are those of [`crate::metrics::compute`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Summary {
+    /// Layout version ([`SUMMARY_VERSION`]).
+    pub summary_version: u32,
+    /// Scenario name.
+    pub scenario_name: String,
+    /// Whether the run reached its requested end time.
+    pub complete: bool,
+    /// Why the run stopped early; null if complete.
+    pub stop_reason: Option<String>,
+    /// Simulated time reached (s).
+    pub simulated_time_s: f64,
+    /// Mean vz over the final 20 % of the run (m/s, signed; negative = descending).
+    pub terminal_velocity_mps: f64,
+    /// Standard deviation of vz over the final window (m/s).
+    pub terminal_velocity_std_mps: f64,
+    /// Change of vz across the final window along its least-squares line (m/s).
+    pub terminal_velocity_trend_mps: f64,
+    /// Whether the final window is a steady descent.
+    pub reached_terminal: bool,
+    /// First time after which vz stays within ±2 % of v_t (s); null when not reached.
+    pub time_to_terminal_s: Option<f64>,
+    /// Start of the final window (s).
+    pub final_window_start_s: f64,
+    /// Maximum extended height over the run (m).
+    pub max_extended_height_m: f64,
+    /// Extended height at the end of the run (m).
+    pub final_extended_height_m: f64,
+    /// Total weight W of the system (N).
+    pub total_weight_n: f64,
+    /// Mean drag along z over the final window (N).
+    pub mean_drag_z_n: f64,
+    /// C_D·A_eff = 2W/(ρ v_t²) (m²); null when v_t ≈ 0.
+    pub drag_area_m2: Option<f64>,
+    /// |mean drag_z − W| / W over the final window (dimensionless).
+    pub force_balance_error: f64,
+    /// Mean [vx, vy] over the final window (m/s).
+    pub horizontal_velocity_mps: [f64; 2],
+    /// ρ |v_t| L / μ (dimensionless).
+    pub reynolds_number: f64,
+    /// Accepted time steps.
+    pub steps: u64,
+    /// Total Newton iterations.
+    pub newton_iterations: u64,
+    /// Wall-clock time (s).
+    pub wall_time_s: f64,
+    /// Degrees of freedom.
+    pub dofs: usize,
+    /// Run-loop warnings followed by metric warnings.
+    pub warnings: Vec<String>,
+}
+
+impl Summary {
+    /// Combine run bookkeeping and metrics. An incomplete run gets an extra warning so that
+    /// nobody reads its terminal velocity as final.
+    pub fn new(run: RunInfo, m: &Metrics) -> Self {
+        let mut warnings = run.warnings;
+        if !run.complete {
+            warnings.push(format!(
+                "run incomplete: {}",
+                run.stop_reason
+                    .as_deref()
+                    .unwrap_or("stopped before the end time")
+            ));
+        }
+        warnings.extend(m.warnings.iter().cloned());
+        Self {
+            summary_version: SUMMARY_VERSION,
+            scenario_name: run.scenario_name,
+            complete: run.complete,
+            stop_reason: run.stop_reason,
+            simulated_time_s: run.simulated_time_s,
+            terminal_velocity_mps: m.terminal_velocity_mps,
+            terminal_velocity_std_mps: m.terminal_velocity_std_mps,
+            terminal_velocity_trend_mps: m.terminal_velocity_trend_mps,
+            reached_terminal: m.reached_terminal,
+            time_to_terminal_s: m.time_to_terminal_s,
+            final_window_start_s: m.window_start_s,
+            max_extended_height_m: m.max_extended_height_m,
+            final_extended_height_m: m.final_extended_height_m,
+            total_weight_n: m.total_weight_n,
+            mean_drag_z_n: m.mean_drag_z_n,
+            drag_area_m2: m.drag_area_m2,
+            force_balance_error: m.force_balance_error,
+            horizontal_velocity_mps: m.horizontal_velocity_mps,
+            reynolds_number: m.reynolds_number,
+            steps: run.steps,
+            newton_iterations: run.newton_iterations,
+            wall_time_s: run.wall_time_s,
+            dofs: run.dofs,
+            warnings,
+        }
+    }
+
+    /// Pretty JSON (with a trailing newline).
+    pub fn to_json(&self) -> String {
+        // Serialising plain numbers/strings cannot fail; non-finite floats become null.
+        let mut s = serde_json::to_string_pretty(self).expect("Summary serialises");
+        s.push('\n');
+        s
+    }
+
+    /// Write `path` (normally `<out>/summary.json`) atomically.
+    pub fn write(&self, path: &Path) -> io::Result<()> {
+        super::write_atomic(path, self.to_json().as_bytes())
+    }
+}

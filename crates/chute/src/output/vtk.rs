@@ -1,0 +1,223 @@
+//! ParaView output: one ASCII VTU (XML UnstructuredGrid) per frame in `frames/`, and a
+//! `canopy.pvd` collection that indexes them by time.
+//!
+//! Each frame is written atomically and the PVD is rewritten atomically after each frame, so
+//! ParaView can open the output at any time during a run and always sees complete files.
+
+use std::fmt::Write as _;
+use std::io;
+use std::path::{Path, PathBuf};
+
+use super::write_atomic;
+
+/// VTK cell type of a 3-node triangle.
+pub const VTK_TRIANGLE: u8 = 5;
+/// VTK cell type of a 2-node line segment.
+pub const VTK_LINE: u8 = 3;
+/// Sub-directory of the output directory holding the frames.
+pub const FRAMES_DIR: &str = "frames";
+/// Name of the collection file in the output directory.
+pub const PVD_NAME: &str = "canopy.pvd";
+
+/// One mesh state to write. Cells are the triangles followed by the segments.
+#[derive(Debug, Clone, Copy)]
+pub struct Frame<'a> {
+    /// Simulated time (s).
+    pub t_s: f64,
+    /// Node positions (m).
+    pub positions: &'a [[f64; 3]],
+    /// Node velocities (m/s), point data `velocity`.
+    pub velocities: &'a [[f64; 3]],
+    /// Triangles (node indices), VTK_TRIANGLE cells.
+    pub triangles: &'a [[usize; 3]],
+    /// Line segments (node indices), e.g. suspension lines, VTK_LINE cells.
+    pub segments: &'a [[usize; 2]],
+    /// Aerodynamic drag force on each triangle (N), cell data `drag`; segments get zeros.
+    pub triangle_drag: &'a [[f64; 3]],
+}
+
+/// Writer of a frame series into one output directory.
+#[derive(Debug)]
+pub struct VtkSeries {
+    out_dir: PathBuf,
+    /// (time, file name relative to `out_dir`) of every frame written so far.
+    entries: Vec<(f64, String)>,
+}
+
+impl VtkSeries {
+    /// Prepare `out_dir/frames/` (created if missing). Nothing else is written yet.
+    pub fn new(out_dir: &Path) -> io::Result<Self> {
+        std::fs::create_dir_all(out_dir.join(FRAMES_DIR))?;
+        Ok(Self {
+            out_dir: out_dir.to_path_buf(),
+            entries: Vec::new(),
+        })
+    }
+
+    /// Number of frames written.
+    pub fn frames(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Write `frames/frame_<NNNNNN>.vtu` (numbered from 0) and rewrite `canopy.pvd`.
+    /// Returns the path of the frame. Fails with `InvalidInput` on inconsistent lengths or
+    /// out-of-range node indices, before writing anything.
+    pub fn write_frame(
+        &mut self,
+        t: f64,
+        positions: &[[f64; 3]],
+        velocities: &[[f64; 3]],
+        triangles: &[[usize; 3]],
+        segments: &[[usize; 2]],
+        triangle_drag: &[[f64; 3]],
+    ) -> io::Result<PathBuf> {
+        let frame = Frame {
+            t_s: t,
+            positions,
+            velocities,
+            triangles,
+            segments,
+            triangle_drag,
+        };
+        self.write(&frame)
+    }
+
+    /// Same as [`write_frame`](Self::write_frame), taking a [`Frame`].
+    pub fn write(&mut self, f: &Frame<'_>) -> io::Result<PathBuf> {
+        validate(f)?;
+        let name = format!("{FRAMES_DIR}/frame_{:06}.vtu", self.entries.len());
+        let path = self.out_dir.join(&name);
+        write_atomic(&path, vtu_string(f).as_bytes())?;
+        self.entries.push((f.t_s, name));
+        write_atomic(&self.out_dir.join(PVD_NAME), self.pvd_string().as_bytes())?;
+        Ok(path)
+    }
+
+    /// The collection file listing every frame written so far.
+    pub fn pvd_string(&self) -> String {
+        let mut s = String::from(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" \
+             byte_order=\"LittleEndian\">\n  <Collection>\n",
+        );
+        for (t, file) in &self.entries {
+            let _ = writeln!(
+                s,
+                "    <DataSet timestep=\"{t}\" group=\"\" part=\"0\" file=\"{file}\"/>"
+            );
+        }
+        s.push_str("  </Collection>\n</VTKFile>\n");
+        s
+    }
+}
+
+fn invalid(msg: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, msg)
+}
+
+fn validate(f: &Frame<'_>) -> io::Result<()> {
+    let n = f.positions.len();
+    if f.velocities.len() != n {
+        return Err(invalid(format!(
+            "{} velocities for {n} points",
+            f.velocities.len()
+        )));
+    }
+    if f.triangle_drag.len() != f.triangles.len() {
+        return Err(invalid(format!(
+            "{} drag vectors for {} triangles",
+            f.triangle_drag.len(),
+            f.triangles.len()
+        )));
+    }
+    let bad = f
+        .triangles
+        .iter()
+        .flatten()
+        .chain(f.segments.iter().flatten())
+        .find(|&&i| i >= n);
+    if let Some(i) = bad {
+        return Err(invalid(format!(
+            "cell node index {i} out of range ({n} points)"
+        )));
+    }
+    Ok(())
+}
+
+/// Append a DataArray of 3-vectors, one vector per line.
+fn vec3_array(s: &mut String, name: &str, indent: &str, data: impl Iterator<Item = [f64; 3]>) {
+    let _ = writeln!(
+        s,
+        "{indent}<DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"3\" \
+         format=\"ascii\">"
+    );
+    for [a, b, c] in data {
+        let _ = writeln!(s, "{indent}  {a} {b} {c}");
+    }
+    let _ = writeln!(s, "{indent}</DataArray>");
+}
+
+/// The VTU document of one frame (ASCII; `{}` prints f64 losslessly).
+pub fn vtu_string(f: &Frame<'_>) -> String {
+    let (n_pts, n_tri, n_seg) = (f.positions.len(), f.triangles.len(), f.segments.len());
+    let mut s = String::with_capacity(64 * (n_pts * 2 + n_tri * 3 + n_seg * 2) + 1024);
+    let _ = write!(
+        s,
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" \
+         byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n    \
+         <FieldData>\n      <DataArray type=\"Float64\" Name=\"TimeValue\" \
+         NumberOfTuples=\"1\" format=\"ascii\">{}</DataArray>\n    </FieldData>\n    \
+         <Piece NumberOfPoints=\"{n_pts}\" NumberOfCells=\"{}\">\n      <PointData \
+         Vectors=\"velocity\">\n",
+        f.t_s,
+        n_tri + n_seg
+    );
+    vec3_array(&mut s, "velocity", "        ", f.velocities.iter().copied());
+    s.push_str("      </PointData>\n      <CellData Vectors=\"drag\">\n");
+    let zeros = std::iter::repeat_n([0.0; 3], n_seg);
+    vec3_array(
+        &mut s,
+        "drag",
+        "        ",
+        f.triangle_drag.iter().copied().chain(zeros),
+    );
+    s.push_str("      </CellData>\n      <Points>\n");
+    vec3_array(&mut s, "Points", "        ", f.positions.iter().copied());
+    s.push_str("      </Points>\n      <Cells>\n");
+    cells(&mut s, f);
+    s.push_str("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+    s
+}
+
+/// Connectivity, offsets (end index of each cell in the connectivity) and types.
+fn cells(s: &mut String, f: &Frame<'_>) {
+    let open = |s: &mut String, ty: &str, name: &str| {
+        let _ = writeln!(
+            s,
+            "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">"
+        );
+    };
+    let close = "        </DataArray>\n";
+    open(s, "Int64", "connectivity");
+    for [a, b, c] in f.triangles {
+        let _ = writeln!(s, "          {a} {b} {c}");
+    }
+    for [a, b] in f.segments {
+        let _ = writeln!(s, "          {a} {b}");
+    }
+    s.push_str(close);
+    open(s, "Int64", "offsets");
+    let tri_offsets = (1..=f.triangles.len()).map(|i| 3 * i);
+    let end_tri = 3 * f.triangles.len();
+    let seg_offsets = (1..=f.segments.len()).map(|i| end_tri + 2 * i);
+    for o in tri_offsets.chain(seg_offsets) {
+        let _ = writeln!(s, "          {o}");
+    }
+    s.push_str(close);
+    open(s, "UInt8", "types");
+    let types = std::iter::repeat_n(VTK_TRIANGLE, f.triangles.len())
+        .chain(std::iter::repeat_n(VTK_LINE, f.segments.len()));
+    for ty in types {
+        let _ = writeln!(s, "          {ty}");
+    }
+    s.push_str(close);
+}
