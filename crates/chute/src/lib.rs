@@ -1,4 +1,6 @@
 //! chute: parachute scenarios, builders, metrics, outputs and the command line.
 
+pub mod build;
 pub mod metrics;
 pub mod output;
+pub mod runner;

@@ -95,6 +95,31 @@ pub struct Metrics {
     pub warnings: Vec<String>,
 }
 
+impl Metrics {
+    /// Metrics of a run too short to measure anything (NaN values serialise as `null`).
+    pub fn undefined(total_weight_n: f64) -> Self {
+        Self {
+            terminal_velocity_mps: f64::NAN,
+            terminal_velocity_std_mps: f64::NAN,
+            terminal_velocity_trend_mps: f64::NAN,
+            reached_terminal: false,
+            time_to_terminal_s: None,
+            max_extended_height_m: f64::NAN,
+            final_extended_height_m: f64::NAN,
+            total_weight_n,
+            mean_drag_z_n: f64::NAN,
+            force_balance_error: f64::NAN,
+            drag_area_m2: None,
+            horizontal_velocity_mps: [f64::NAN; 2],
+            reynolds_number: f64::NAN,
+            window_start_s: f64::NAN,
+            window_end_s: f64::NAN,
+            window_samples: 0,
+            warnings: Vec::new(),
+        }
+    }
+}
+
 /// Invalid input to [`compute`].
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MetricsError {
