@@ -24,6 +24,15 @@
 //! the other way round enters with sign `s = −1`: its tangent and twist angle are negated
 //! (`t → −t`, `θ → −θ`, `a1` kept, hence `m1` kept and `m2 → −m2`), as in DisMech.
 //!
+//! **Rest alignment.** The averaged directors `m_j0 + m_j1` of `bend` vanish when the two
+//! material frames differ by a half turn, and then `κ ≡ 0` (no bending stiffness). That
+//! happens at a joint between rods whose reference frames are opposed (e.g. a rod listed in
+//! the reverse direction, whose default director is then −ŷ instead of ŷ). Each element
+//! therefore measures the twist angle of `e1` from the rest alignment, `θ1 → s θ1 − m_rest`
+//! (`m_rest` the reference twist of the rest shape), so both frames coincide at rest and
+//! `τ̄ = 0`. Inside a rod `m_rest = 0` (space-parallel frames), so this changes nothing
+//! there. As in any DER, the twist across one element must stay well below π.
+//!
 //! **Hessian.** The gradient is coded once in closed form, generically over the scalar type;
 //! evaluated on dual numbers seeded on the 8 local variables `(e0, e1, θ0, θ1)` it yields the
 //! exact local Hessian, mapped to the 11 stencil DOFs by the constant map `e0 = x_i − x_{i−1}`,
@@ -125,6 +134,8 @@ struct Consts {
     inv_len: f64,
     kappa_bar: [f64; 2],
     tau_bar: f64,
+    /// Rest alignment `c = −m_rest` added to the local twist of `e1` (rad).
+    align: f64,
 }
 
 /// Energy (J) of one element.
@@ -207,6 +218,7 @@ impl BendTwist {
                     inv_len: 1.0 / el.voronoi_len,
                     kappa_bar: [0.0; 2],
                     tau_bar: 0.0,
+                    align: 0.0,
                 })
                 .collect(),
             ref_twist: vec![0.0; elems.len()],
@@ -221,11 +233,12 @@ impl BendTwist {
             q0[st[10]] = 0.0;
         }
         for i in 0..me.elems.len() {
-            let l = me.local_f64(&q0, i);
-            let m = reference_twist(&l, 0.0);
-            me.consts[i].kappa_bar = curvatures(&l);
-            me.consts[i].tau_bar = m;
+            let m = reference_twist(&me.local_f64(&q0, i), 0.0);
             me.ref_twist[i] = m;
+            me.consts[i].align = -m;
+            let l = me.local_f64(&q0, i);
+            me.consts[i].kappa_bar = curvatures(&l);
+            me.consts[i].tau_bar = l.th[1] - l.th[0] + m;
         }
         me
     }
@@ -272,7 +285,7 @@ impl BendTwist {
         };
         (
             [x[1] - x[0], x[2] - x[1]],
-            [s[0] * q[st[9]], s[1] * q[st[10]]],
+            [s[0] * q[st[9]], s[1] * q[st[10]] + self.consts[i].align],
             hist,
         )
     }
