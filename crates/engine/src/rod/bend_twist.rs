@@ -1,0 +1,377 @@
+//! The bend–twist force family of Discrete Elastic Rods (one element per pair of edges
+//! meeting at a node), with its reference-frame history.
+//!
+//! Bending and twisting share the stencil `[x_{i−1}, x_i, x_{i+1}, θ_{e0}, θ_{e1}]` (11 DOFs)
+//! and the frame history, so they are one family: per element the energy (J) is
+//!
+//! `E = ½ [EI2 (κ1 − κ̄1)² + EI1 (κ2 − κ̄2)² + GJ (τ − τ̄)²] / l̄`
+//!
+//! with `κ1`, `κ2` from `bend`, `τ` from `twist`, `EI1`/`EI2` the bending stiffnesses about
+//! the material directors `d1 = m1` / `d2 = m2` (N·m²), `GJ` the torsional stiffness (N·m²)
+//! and `l̄` the Voronoi length (m). Natural curvatures `κ̄` and twist `τ̄` are those of the rest
+//! shape with zero twist angles.
+//!
+//! **Frames within a step.** The reference frame of each edge is a function of the current
+//! edge: `a1(e) = P(u → e/|e|) a1_old`, the time-parallel transport from the tangent `u`
+//! and director `a1_old` of the last accepted configuration (the history, advanced in
+//! [`Force::commit`]). So within a step the energy is an ordinary function of `q`, and the
+//! force and Jacobian written here are its *exact* gradient and Hessian — including the twist
+//! `g_k = −(u_k × t_k)/((1 + u_k·t_k)|e_k|)` that transported frames pick up when
+//! `t_k ≠ u_k`, which the textbook DER gradient omits (it is exact only at `t_k = u_k`).
+//! Newton therefore converges quadratically and the force equals `−∇E` to round-off.
+//!
+//! **Orientation.** `e0` must point into node `i` and `e1` out of it. A network edge stored
+//! the other way round enters with sign `s = −1`: its tangent and twist angle are negated
+//! (`t → −t`, `θ → −θ`, `a1` kept, hence `m1` kept and `m2 → −m2`), as in DisMech.
+//!
+//! **Rest alignment.** The averaged directors `m_j0 + m_j1` of `bend` vanish when the two
+//! material frames differ by a half turn, and then `κ ≡ 0` (no bending stiffness). That
+//! happens at a joint between rods whose reference frames are opposed (e.g. a rod listed in
+//! the reverse direction, whose default director is then −ŷ instead of ŷ). Each element
+//! therefore measures the twist angle of `e1` from the rest alignment, `θ1 → s θ1 − m_rest`
+//! (`m_rest` the reference twist of the rest shape), so both frames coincide at rest and
+//! `τ̄ = 0`. Inside a rod `m_rest = 0` (space-parallel frames), so this changes nothing
+//! there. As in any DER, the twist across one element must stay well below π.
+//!
+//! **Hessian.** The gradient is coded once in closed form, generically over the scalar type;
+//! evaluated on dual numbers seeded on the 8 local variables `(e0, e1, θ0, θ1)` it yields the
+//! exact local Hessian, mapped to the 11 stencil DOFs by the constant map `e0 = x_i − x_{i−1}`,
+//! `e1 = x_{i+1} − x_i`, `θ_loc = s θ`.
+
+use super::bend::{curvature_gradients, curvatures};
+use super::frames::{transport, RodFrames};
+use super::scalar::{Dual, Real, G3};
+use super::twist::{reference_twist, reference_twist_gradient};
+use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::vec3::{node, V3};
+use nalgebra::SMatrix;
+
+/// One bend–twist element: two edges meeting at a node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BendTwistElement {
+    /// Nodes `[i−1, i, i+1]`: `e0 = x_i − x_{i−1}`, `e1 = x_{i+1} − x_i`.
+    pub nodes: [usize; 3],
+    /// Frame indices (edges of the family's frame list) of `e0` and `e1`.
+    pub edges: [usize; 2],
+    /// `+1` when the frame edge points like `e0` (resp. `e1`), `−1` when reversed.
+    pub signs: [f64; 2],
+    /// Bending stiffness about `d1 = m1`, paired with `κ2` (N·m²).
+    pub ei1: f64,
+    /// Bending stiffness about `d2 = m2`, paired with `κ1` (N·m²).
+    pub ei2: f64,
+    /// Torsional stiffness `GJ` (N·m²).
+    pub gj: f64,
+    /// Voronoi length `l̄` (m): half the sum of the two rest edge lengths.
+    pub voronoi_len: f64,
+}
+
+/// Local geometry of one element, generic over the scalar (`f64` or dual numbers).
+pub(crate) struct Local<T> {
+    /// Edge lengths `|e_k|` (m).
+    pub n: [T; 2],
+    /// Unit tangents.
+    pub t: [G3<T>; 2],
+    /// Reference directors `a1_k`, time-parallel transported to `t_k`.
+    pub r1: [G3<T>; 2],
+    /// Material directors `m1_k`.
+    pub m1: [G3<T>; 2],
+    /// Material directors `m2_k`.
+    pub m2: [G3<T>; 2],
+    /// Curvature binormal `κb` (dimensionless).
+    pub kb: G3<T>,
+    /// `χ = 1 + t0·t1`.
+    pub chi: T,
+    /// Frame-transport twist rates `g_k = ∂ψ_k/∂e_k` (rad/m).
+    pub g: [G3<T>; 2],
+    /// Local twist angles `θ_k` (rad).
+    pub th: [T; 2],
+}
+
+/// History of an element's two edges in local orientation: last tangents `u` and `a1`.
+struct Hist {
+    u: [V3; 2],
+    a: [V3; 2],
+}
+
+impl<T: Real> Local<T> {
+    fn new(e: [G3<T>; 2], th: [T; 2], h: &Hist) -> Self {
+        let one = T::cst(1.0);
+        let n = [e[0].norm(), e[1].norm()];
+        let t = [e[0].scale(one / n[0]), e[1].scale(one / n[1])];
+        let mut r1 = t;
+        let mut m1 = t;
+        let mut m2 = t;
+        let mut g = t;
+        for k in 0..2 {
+            let u = G3::cst(&h.u[k]);
+            r1[k] = transport(&G3::cst(&h.a[k]), &u, &t[k]);
+            let r2 = t[k].cross(&r1[k]);
+            let (s, c) = (th[k].sin(), th[k].cos());
+            m1[k] = r1[k].scale(c) + r2.scale(s);
+            m2[k] = r2.scale(c) - r1[k].scale(s);
+            g[k] = -u.cross(&t[k]).scale(one / ((u.dot(&t[k]) + 1.0) * n[k]));
+        }
+        let chi = t[0].dot(&t[1]) + 1.0;
+        let kb = t[0].cross(&t[1]).scale(T::cst(2.0) / chi);
+        Self {
+            n,
+            t,
+            r1,
+            m1,
+            m2,
+            kb,
+            chi,
+            g,
+            th,
+        }
+    }
+}
+
+/// Rest values and stiffness of one element, in the form the kernel needs.
+struct Consts {
+    ei: [f64; 2],
+    gj: f64,
+    inv_len: f64,
+    kappa_bar: [f64; 2],
+    tau_bar: f64,
+    /// Rest alignment `c = −m_rest` added to the local twist of `e1` (rad).
+    align: f64,
+}
+
+/// Energy (J) of one element.
+fn energy_of(l: &Local<f64>, m: f64, c: &Consts) -> f64 {
+    let k = curvatures(l);
+    let tau = l.th[1] - l.th[0] + m;
+    let d = [
+        k[0] - c.kappa_bar[0],
+        k[1] - c.kappa_bar[1],
+        tau - c.tau_bar,
+    ];
+    0.5 * c.inv_len * (c.ei[0] * d[0] * d[0] + c.ei[1] * d[1] * d[1] + c.gj * d[2] * d[2])
+}
+
+/// Exact gradient `∂E/∂(e0, e1, θ0, θ1)` of one element (local variables).
+fn gradient<T: Real>(l: &Local<T>, m: T, c: &Consts) -> [T; 8] {
+    let kappa = curvatures(l);
+    let cg = curvature_gradients(l, &kappa);
+    let mg = reference_twist_gradient(l);
+    let tau = l.th[1] - l.th[0] + m;
+    let c1 = (kappa[0] + (-c.kappa_bar[0])) * (c.ei[0] * c.inv_len);
+    let c2 = (kappa[1] + (-c.kappa_bar[1])) * (c.ei[1] * c.inv_len);
+    let ct = (tau + (-c.tau_bar)) * (c.gj * c.inv_len);
+    let mut out = [T::cst(0.0); 8];
+    for k in 0..2 {
+        let ge = cg.de[0][k].scale(c1) + cg.de[1][k].scale(c2) + mg[k].scale(ct);
+        out[3 * k..3 * k + 3].copy_from_slice(&ge.0);
+    }
+    out[6] = cg.dth[0][0] * c1 + cg.dth[1][0] * c2 - ct;
+    out[7] = cg.dth[0][1] * c1 + cg.dth[1][1] * c2 + ct;
+    out
+}
+
+/// Bending and twisting of a set of rods (see the module docs).
+pub struct BendTwist {
+    name: String,
+    stencils: Vec<usize>,
+    elems: Vec<BendTwistElement>,
+    consts: Vec<Consts>,
+    /// Reference twist of each element at the last accepted configuration (rad).
+    ref_twist: Vec<f64>,
+    edge_nodes: Vec<[usize; 2]>,
+    frames: RodFrames,
+}
+
+impl BendTwist {
+    /// Elements `elems` over frame edges `edge_nodes` (node pairs, oriented), whose twist
+    /// angles are the DOFs `twist_dofs` and whose first reference directors at the rest
+    /// shape `q_rest` are `a1` (unit, ⟂ to the edges). Natural curvature and twist are those
+    /// of `q_rest` with zero twist angles.
+    pub fn new(
+        name: &str,
+        elems: Vec<BendTwistElement>,
+        edge_nodes: Vec<[usize; 2]>,
+        twist_dofs: &[usize],
+        a1: Vec<V3>,
+        q_rest: &[f64],
+    ) -> Self {
+        assert_eq!(edge_nodes.len(), twist_dofs.len());
+        let tangent = edge_nodes
+            .iter()
+            .map(|&[a, b]| (node(q_rest, b) - node(q_rest, a)).normalize())
+            .collect();
+        let frames = RodFrames::new(tangent, a1);
+        let mut stencils = Vec::with_capacity(11 * elems.len());
+        for el in &elems {
+            for nd in el.nodes {
+                stencils.extend_from_slice(&[3 * nd, 3 * nd + 1, 3 * nd + 2]);
+            }
+            stencils.extend(el.edges.iter().map(|&e| twist_dofs[e]));
+        }
+        let mut me = Self {
+            name: name.to_string(),
+            stencils,
+            consts: elems
+                .iter()
+                .map(|el| Consts {
+                    ei: [el.ei2, el.ei1],
+                    gj: el.gj,
+                    inv_len: 1.0 / el.voronoi_len,
+                    kappa_bar: [0.0; 2],
+                    tau_bar: 0.0,
+                    align: 0.0,
+                })
+                .collect(),
+            ref_twist: vec![0.0; elems.len()],
+            elems,
+            edge_nodes,
+            frames,
+        };
+        let mut q0 = q_rest.to_vec();
+        for i in 0..me.elems.len() {
+            let st = &me.stencils[11 * i..11 * i + 11];
+            q0[st[9]] = 0.0;
+            q0[st[10]] = 0.0;
+        }
+        for i in 0..me.elems.len() {
+            let m = reference_twist(&me.local_f64(&q0, i), 0.0);
+            me.ref_twist[i] = m;
+            me.consts[i].align = -m;
+            let l = me.local_f64(&q0, i);
+            me.consts[i].kappa_bar = curvatures(&l);
+            me.consts[i].tau_bar = l.th[1] - l.th[0] + m;
+        }
+        me
+    }
+
+    /// The elements.
+    pub fn elements(&self) -> &[BendTwistElement] {
+        &self.elems
+    }
+    /// Reference frames at the last accepted configuration.
+    pub fn frames(&self) -> &RodFrames {
+        &self.frames
+    }
+    /// Reference twist of each element at the last accepted configuration (rad).
+    pub fn ref_twists(&self) -> &[f64] {
+        &self.ref_twist
+    }
+    /// Natural curvatures `[κ̄1, κ̄2]` of each element.
+    pub fn natural_curvatures(&self) -> Vec<[f64; 2]> {
+        self.consts.iter().map(|c| c.kappa_bar).collect()
+    }
+    /// Material curvatures `[κ1, κ2]` and twist `τ` of each element at `q`.
+    pub fn strains(&self, q: &[f64]) -> Vec<([f64; 2], f64)> {
+        (0..self.elems.len())
+            .map(|i| {
+                let l = self.local_f64(q, i);
+                let m = reference_twist(&l, self.ref_twist[i]);
+                (curvatures(&l), l.th[1] - l.th[0] + m)
+            })
+            .collect()
+    }
+
+    /// Edge vectors, local twists and local history of element `i`.
+    fn gather(&self, q: &[f64], i: usize) -> ([V3; 2], [f64; 2], Hist) {
+        let el = &self.elems[i];
+        let st = &self.stencils[11 * i..11 * i + 11];
+        let x = el.nodes.map(|n| node(q, n));
+        let s = el.signs;
+        let hist = Hist {
+            u: [
+                self.frames.tangent[el.edges[0]] * s[0],
+                self.frames.tangent[el.edges[1]] * s[1],
+            ],
+            a: [self.frames.a1[el.edges[0]], self.frames.a1[el.edges[1]]],
+        };
+        (
+            [x[1] - x[0], x[2] - x[1]],
+            [s[0] * q[st[9]], s[1] * q[st[10]] + self.consts[i].align],
+            hist,
+        )
+    }
+
+    fn local_f64(&self, q: &[f64], i: usize) -> Local<f64> {
+        let (e, th, h) = self.gather(q, i);
+        Local::new([G3::cst(&e[0]), G3::cst(&e[1])], th, &h)
+    }
+
+    /// Local force (11) and `∂f/∂q` (11×11, row-major) of element `i`.
+    fn element_blocks(&self, q: &[f64], i: usize, f: &mut [f64], dfdq: &mut [f64]) {
+        let (e, th, h) = self.gather(q, i);
+        let mut ev = [G3([Dual::<8>::cst(0.0); 3]); 2];
+        for k in 0..2 {
+            for c in 0..3 {
+                ev[k].0[c] = Dual::var(e[k][c], 3 * k + c);
+            }
+        }
+        let thd = [Dual::var(th[0], 6), Dual::var(th[1], 7)];
+        let l = Local::new(ev, thd, &h);
+        let m = reference_twist(&l, self.ref_twist[i]);
+        let g = gradient(&l, m, &self.consts[i]);
+        let s = self.elems[i].signs;
+        for c in 0..3 {
+            f[c] = g[c].v;
+            f[3 + c] = g[3 + c].v - g[c].v;
+            f[6 + c] = -g[3 + c].v;
+        }
+        f[9] = -s[0] * g[6].v;
+        f[10] = -s[1] * g[7].v;
+        if dfdq.is_empty() {
+            return;
+        }
+        let hl = SMatrix::<f64, 8, 8>::from_fn(|r, c| 0.5 * (g[r].d[c] + g[c].d[r]));
+        let mut b = SMatrix::<f64, 8, 11>::zeros();
+        for r in 0..6 {
+            b[(r, r)] = -1.0;
+            b[(r, r + 3)] = 1.0;
+        }
+        b[(6, 9)] = s[0];
+        b[(7, 10)] = s[1];
+        let k = b.transpose() * hl * b;
+        for r in 0..11 {
+            for c in 0..11 {
+                dfdq[r * 11 + c] = -k[(r, c)];
+            }
+        }
+    }
+}
+
+impl Force for BendTwist {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn stencil_size(&self) -> usize {
+        11
+    }
+    fn stencils(&self) -> &[usize] {
+        &self.stencils
+    }
+    fn jacobian_kind(&self) -> JacobianKind {
+        JacobianKind::ELASTIC
+    }
+    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
+        let q = input.q;
+        out.par_for_each(|b| self.element_blocks(q, b.index, b.f, b.dfdq));
+    }
+    fn energy(&self, q: &[f64]) -> Option<f64> {
+        let mut e = 0.0;
+        for i in 0..self.elems.len() {
+            let l = self.local_f64(q, i);
+            let m = reference_twist(&l, self.ref_twist[i]);
+            e += energy_of(&l, m, &self.consts[i]);
+        }
+        Some(e)
+    }
+    /// Advance the history: reference twists on their branch, then time-parallel transport
+    /// of every edge's reference frame to its new tangent.
+    fn commit(&mut self, q: &[f64]) {
+        for i in 0..self.elems.len() {
+            let l = self.local_f64(q, i);
+            self.ref_twist[i] = reference_twist(&l, self.ref_twist[i]);
+        }
+        for (e, &[a, b]) in self.edge_nodes.iter().enumerate() {
+            let t = (node(q, b) - node(q, a)).normalize();
+            self.frames.time_transport(e, &t);
+        }
+    }
+}
