@@ -1,1 +1,2 @@
 //! chute: parachute scenarios, builders, metrics, outputs and the command line.
+pub mod mesh;
