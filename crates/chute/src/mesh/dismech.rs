@@ -40,18 +40,19 @@ pub fn parse(text: &str, path: &str) -> Result<CanopyMesh, MeshFileError> {
             continue;
         }
         if let Some(header) = content.strip_prefix('*') {
-            section =
-                match header.trim().to_ascii_lowercase().as_str() {
-                    "nodes" => Section::Nodes,
-                    "triangles" => Section::Triangles,
-                    "edges" => Section::Edges,
-                    _ => return Err(raw.line_error(
+            section = match header.trim().to_ascii_lowercase().as_str() {
+                "nodes" => Section::Nodes,
+                "triangles" => Section::Triangles,
+                "edges" => Section::Edges,
+                _ => {
+                    return Err(raw.line_error(
                         line,
                         format!(
                             "unknown section `{content}` (expected *Nodes, *Triangles or *Edges)"
                         ),
-                    )),
-                };
+                    ))
+                }
+            };
             continue;
         }
         let fields: Vec<&str> = content

@@ -3,8 +3,8 @@
 //!
 //! - [`rectangle`]: square-ish grid cells split by diagonals alternating like a union-jack
 //!   (right isosceles triangles when the cells are square), mirror-symmetric about x = 0
-//!   and y = 0. Hinge model on it: `D_eff = k_b`, bending Poisson ratio 0 (see
-//!   `engine::shell::Lattice::UnionJack`).
+//!   and y = 0. Hinge model on it: `D_eff = ¾ k_b = (√3/2) E h³/12`, bending Poisson
+//!   ratio −1/3 (see `engine::shell::Lattice::UnionJack`).
 //! - [`hexagon`]: the equilateral triangular lattice in concentric hexagonal rings.
 //!   `D_eff = E h³/12`, bending Poisson ratio −1/3 (`Lattice::Equilateral`).
 //! - [`circle`]: the hexagon's topology with ring `k` placed on a circle of radius

@@ -67,22 +67,28 @@ impl ShellMaterial {
         self.density * self.thickness
     }
 
-    /// Effective bending stiffness `D_eff` (N·m) and bending Poisson ratio of the hinge
-    /// model on a regular `lattice`:
-    /// - equilateral: `D_eff = (√3/2) k_b = E h³/12`, `ν_b = −1/3`;
-    /// - union-jack: `D_eff = k_b = (2/√3) E h³/12`, `ν_b = 0`.
+    /// Effective bending stiffness `D_eff` (N·m) and bending Poisson ratio `ν_b` of the
+    /// hinge model on a regular `lattice`, for static (relaxed) deformations:
+    /// - equilateral: `D_eff = (√3/2) k_b = E h³/12`, `ν_b = −1/3` (one node per lattice
+    ///   cell, so nodes follow the smooth surface: no internal relaxation);
+    /// - union-jack: `D_eff = ¾ k_b = (√3/2) E h³/12`, `ν_b = −1/3`. The lattice has two
+    ///   node types (8 and 4 neighbours); their relative out-of-plane offset (a
+    ///   checkerboard) couples to the mean curvature and relaxes the affine estimate
+    ///   `D = k_b, ν_b = 0` (which is what a prescribed surface, e.g. nodes placed on a
+    ///   cylinder, sees). See `docs/shells.md`.
     pub fn effective_bending(&self, lattice: Lattice) -> (f64, f64) {
         let kb = self.hinge_stiffness();
         match lattice {
             Lattice::Equilateral => (0.5 * 3f64.sqrt() * kb, -1.0 / 3.0),
-            Lattice::UnionJack => (kb, 0.0),
+            Lattice::UnionJack => (0.75 * kb, -1.0 / 3.0),
         }
     }
 
     /// Effective in-plane (membrane) Young's modulus times thickness `(E h)_eff` (N/m) and
     /// Poisson ratio of the edge springs on a regular `lattice` (affine deformation):
     /// - equilateral: `E h`, `ν = 1/3`;
-    /// - union-jack: `(2/√3) E h`, `ν = 1/3`.
+    /// - union-jack: `(2/√3) E h`, `ν = 1/3` (every node is a centre of inversion, so a
+    ///   uniform in-plane strain causes no internal relaxation).
     pub fn effective_membrane(&self, lattice: Lattice) -> (f64, f64) {
         let eh = self.youngs_modulus * self.thickness;
         match lattice {
