@@ -260,3 +260,60 @@ fn cantilever_strip_under_self_weight() {
     // Discretisation: lumped nodal loads and the two-column clamp, O(ℓ/L) = 2.5 %.
     assert!(err < 0.10, "{delta} vs {reference}");
 }
+
+/// Stretching energy per area `Σ E_e / Σ A_e` of the affine strain `(exx, eyy)` over the
+/// edges whose midpoint lies in `inside`, edge area `A_e = (A_A + A_B)/3` (interior edges).
+fn stretch_density(m: &CanopyMesh, exx: f64, eyy: f64, inside: &dyn Fn(f64, f64) -> bool) -> f64 {
+    let tri = m.tri_mesh().unwrap();
+    let (mut energy, mut area) = (0.0, 0.0);
+    for h in &tri.hinges {
+        let [a, b] = h.edge;
+        let (pa, pb) = (m.positions[a], m.positions[b]);
+        let (dx, dy) = (pb[0] - pa[0], pb[1] - pa[1]);
+        if !inside(0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])) {
+            continue;
+        }
+        let rest = dx.hypot(dy);
+        let eps = (dx * (1.0 + exx)).hypot(dy * (1.0 + eyy)) / rest - 1.0;
+        energy += 0.5 * MAT.stretch_stiffness(rest) * eps * eps * rest;
+        area += (tri.face_areas[h.faces[0]] + tri.face_areas[h.faces[1]]) / 3.0;
+    }
+    energy / area
+}
+
+#[test]
+fn in_plane_stiffness_of_the_edge_springs() {
+    // Plane-strain modulus C11 = (Eh)_eff/(1 − ν²) from ε_xx alone, and C11 + C12 =
+    // (Eh)_eff/(1 − ν) from equibiaxial strain. ε = 1e-6 keeps the geometric nonlinearity
+    // of ε_edge at 1e-6 relative; the windows sample the edge types as in the cylinder test.
+    let eps = 1e-6;
+    let ell = 0.02;
+    let rect = generate::rectangle(1.0, 1.0, ell);
+    let w = 12.0 * ell;
+    let window = move |x: f64, y: f64| (x - ell / 4.0).abs() < w && (y - ell / 4.0).abs() < w;
+    let hex = generate::hexagon(1.0, 0.02);
+    let disc = |x: f64, y: f64| x * x + y * y < 0.25;
+    for (name, mesh, lattice, win) in [
+        (
+            "union-jack",
+            &rect,
+            Lattice::UnionJack,
+            &window as &dyn Fn(f64, f64) -> bool,
+        ),
+        ("equilateral", &hex, Lattice::Equilateral, &disc),
+    ] {
+        let (eh, nu) = MAT.effective_membrane(lattice);
+        for (exx, eyy, modulus) in [
+            (eps, 0.0, eh / (1.0 - nu * nu)),
+            (0.0, eps, eh / (1.0 - nu * nu)),
+            (eps, eps, 2.0 * eh / (1.0 - nu)),
+        ] {
+            let got = stretch_density(mesh, exx, eyy, win);
+            let expected = 0.5 * modulus * eps * eps;
+            let err = (got - expected).abs() / expected;
+            println!("membrane {name} ({exx:e}, {eyy:e}): {got:.6e} vs {expected:.6e}: {err:.2e}");
+            assert!(err < 1e-3, "{name}: {got} vs {expected}");
+        }
+    }
+    assert_eq!(MAT.effective_membrane(Lattice::Equilateral).0, 1e9 * 0.01);
+}
