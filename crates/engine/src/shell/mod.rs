@@ -1,1 +1,141 @@
-//! Discrete shells (hinge model). Elements are added by the shell modules.
+//! Discrete shells (hinge model): edge springs for stretching, dihedral-angle hinges for
+//! bending, lumped masses. See `docs/shells.md` for the derivations quoted here.
+//!
+//! - [`mesh`]: triangle-mesh topology ([`TriMesh`], [`Hinge`], [`MeshError`]);
+//! - [`dihedral`]: signed dihedral angle, exact gradient and Hessian;
+//! - [`hinge`]: the [`HingeBending`] force;
+//! - stretching reuses [`crate::rod::Stretch`] with `k_s = (√3/2) E h |ē|`.
+
+pub mod dihedral;
+pub mod hinge;
+pub mod mesh;
+
+pub use hinge::HingeBending;
+pub use mesh::{Hinge, MeshError, TriMesh};
+
+use crate::model::Model;
+use crate::rod::Stretch;
+use crate::vec3::node;
+
+/// Name of the shell stretching force family added by [`install`].
+pub const STRETCH_NAME: &str = "shell-stretch";
+/// Name of the shell bending force family added by [`install`].
+pub const BEND_NAME: &str = "shell-bend";
+
+/// Isotropic shell material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShellMaterial {
+    /// Young's modulus `E` (Pa).
+    pub youngs_modulus: f64,
+    /// Thickness `h` (m).
+    pub thickness: f64,
+    /// Density `ρ` (kg/m³).
+    pub density: f64,
+}
+
+/// Regular mesh families for which the effective continuum stiffnesses are known in
+/// closed form (leading order in edge length / curvature radius; see `docs/shells.md`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Lattice {
+    /// Equilateral triangles (the hexagon and, approximately, circle generators).
+    Equilateral,
+    /// Square cells split by diagonals alternating like a union-jack (the rectangle
+    /// generator): right isosceles triangles.
+    UnionJack,
+}
+
+impl ShellMaterial {
+    /// Edge spring stiffness `k_s = (√3/2) E h l̄` (N) for rest length `l̄` (m), so that
+    /// the edge energy is `½ k_s ε² l̄`.
+    pub fn stretch_stiffness(&self, rest_len: f64) -> f64 {
+        0.5 * 3f64.sqrt() * self.youngs_modulus * self.thickness * rest_len
+    }
+
+    /// Hinge stiffness `k_b = (2/√3) E h³/12` (N·m), the DisMech convention.
+    pub fn hinge_stiffness(&self) -> f64 {
+        2.0 / 3f64.sqrt() * self.plate_stiffness()
+    }
+
+    /// Nominal plate stiffness `D = E h³/12` (N·m), without the `1/(1 − ν²)` factor (the
+    /// hinge model has no independent Poisson ratio).
+    pub fn plate_stiffness(&self) -> f64 {
+        self.youngs_modulus * self.thickness.powi(3) / 12.0
+    }
+
+    /// Mass per area `ρ h` (kg/m²).
+    pub fn areal_density(&self) -> f64 {
+        self.density * self.thickness
+    }
+
+    /// Effective bending stiffness `D_eff` (N·m) and bending Poisson ratio `ν_b` of the
+    /// hinge model on a regular `lattice`, for static (relaxed) deformations:
+    /// - equilateral: `D_eff = (√3/2) k_b = E h³/12`, `ν_b = −1/3` (one node per lattice
+    ///   cell, so nodes follow the smooth surface: no internal relaxation);
+    /// - union-jack: `D_eff = ¾ k_b = (√3/2) E h³/12`, `ν_b = −1/3`. The lattice has two
+    ///   node types (8 and 4 neighbours); their relative out-of-plane offset (a
+    ///   checkerboard) couples to the mean curvature and relaxes the affine estimate
+    ///   `D = k_b, ν_b = 0` (which is what a prescribed surface, e.g. nodes placed on a
+    ///   cylinder, sees). See `docs/shells.md`.
+    pub fn effective_bending(&self, lattice: Lattice) -> (f64, f64) {
+        let kb = self.hinge_stiffness();
+        match lattice {
+            Lattice::Equilateral => (0.5 * 3f64.sqrt() * kb, -1.0 / 3.0),
+            Lattice::UnionJack => (0.75 * kb, -1.0 / 3.0),
+        }
+    }
+
+    /// Effective in-plane (membrane) Young's modulus times thickness `(E h)_eff` (N/m) and
+    /// Poisson ratio of the edge springs on a regular `lattice` (affine deformation):
+    /// - equilateral: `E h`, `ν = 1/3`;
+    /// - union-jack: `(2/√3) E h`, `ν = 1/3` (every node is a centre of inversion, so a
+    ///   uniform in-plane strain causes no internal relaxation).
+    pub fn effective_membrane(&self, lattice: Lattice) -> (f64, f64) {
+        let eh = self.youngs_modulus * self.thickness;
+        match lattice {
+            Lattice::Equilateral => (eh, 1.0 / 3.0),
+            Lattice::UnionJack => (2.0 / 3f64.sqrt() * eh, 1.0 / 3.0),
+        }
+    }
+}
+
+/// Add a shell on `mesh` to `model`: edge springs ([`STRETCH_NAME`]) with
+/// `k_s = (√3/2) E h |ē|`, hinges ([`BEND_NAME`]) with `k_b = (2/√3) E h³/12`, and lumped
+/// masses `ρ h A/3` per vertex of every face. Rest lengths, rest angles and areas are
+/// measured in `q_rest`. Empty families (no edges or no interior edges) are not added.
+///
+/// # Panics
+/// If the mesh has more nodes than the model or `q_rest` is too short.
+pub fn install(mesh: &TriMesh, mat: &ShellMaterial, model: &mut Model, q_rest: &[f64]) {
+    assert!(
+        mesh.n_nodes <= model.layout.n_nodes && q_rest.len() >= 3 * mesh.n_nodes,
+        "shell mesh with {} nodes does not fit the model ({} nodes, q_rest of length {})",
+        mesh.n_nodes,
+        model.layout.n_nodes,
+        q_rest.len()
+    );
+    if !mesh.edges.is_empty() {
+        let rest_len: Vec<f64> = mesh
+            .edges
+            .iter()
+            .map(|&[a, b]| (node(q_rest, b) - node(q_rest, a)).norm())
+            .collect();
+        let ks = rest_len.iter().map(|&l| mat.stretch_stiffness(l)).collect();
+        model.add_force(Stretch::with_rest_lengths(
+            STRETCH_NAME,
+            &mesh.edges,
+            rest_len,
+            ks,
+        ));
+    }
+    if !mesh.hinges.is_empty() {
+        let kb = vec![mat.hinge_stiffness(); mesh.hinges.len()];
+        model.add_force(HingeBending::new(BEND_NAME, &mesh.hinges, q_rest, kb));
+    }
+    for f in &mesh.faces {
+        let [a, b, c] = f.map(|i| node(q_rest, i));
+        let area = 0.5 * (b - a).cross(&(c - a)).norm();
+        for &i in f {
+            model.add_node_mass(i, mat.areal_density() * area / 3.0);
+        }
+    }
+}

@@ -1,0 +1,149 @@
+//! Canopy meshes: generators (rectangle, hexagon, circle), importers (DisMech text, Wavefront
+//! OBJ) and the [`CanopyMesh`] they all produce.
+//!
+//! A canopy mesh holds node positions shared by the shell triangles and the rod edges
+//! (suspension lines): a rod whose end node is a shell node is joined to the canopy there.
+//! [`CanopyMesh::rod_chains`] splits the rod-edge graph into the individual rods.
+
+pub mod dismech;
+pub mod generate;
+pub mod obj;
+mod validate;
+
+use engine::shell::{MeshError, TriMesh};
+use std::collections::BTreeMap;
+use thiserror::Error;
+
+/// A canopy: positions (m), shell triangles, rod edges and named node sets.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CanopyMesh {
+    /// Node positions (m).
+    pub positions: Vec<[f64; 3]>,
+    /// Shell triangles (0-based node indices, counter-clockwise about the normal).
+    pub faces: Vec<[usize; 3]>,
+    /// Rod edges (0-based node pairs), e.g. suspension lines.
+    pub rod_edges: Vec<[usize; 2]>,
+    /// Named node sets: generators provide "center", "rim" (boundary loop, counter-
+    /// clockwise seen from +z) and shape-specific sets ("corners", "long_edge_midpoints");
+    /// importers derive "shell", "rim", "center", "corners" and "rod".
+    pub node_sets: BTreeMap<String, Vec<usize>>,
+}
+
+/// Why a mesh file could not be read. `Display` is `path:line: message` when the problem
+/// is on a line.
+#[derive(Debug, Error)]
+pub enum MeshFileError {
+    /// The file could not be read.
+    #[error("{path}: cannot read file: {source}")]
+    Io {
+        /// File path.
+        path: String,
+        /// Underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A problem on one line (1-based).
+    #[error("{path}:{line}: {message}")]
+    Line {
+        /// File path.
+        path: String,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A problem with the file as a whole (e.g. no triangles).
+    #[error("{path}: {message}")]
+    File {
+        /// File path.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl CanopyMesh {
+    /// Number of nodes.
+    pub fn n_nodes(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Flat coordinate vector `[x0 y0 z0 x1 …]` (m).
+    pub fn q(&self) -> Vec<f64> {
+        self.positions.iter().flatten().copied().collect()
+    }
+
+    /// The engine's shell topology over all nodes (rod-only nodes get no area).
+    pub fn tri_mesh(&self) -> Result<TriMesh, MeshError> {
+        TriMesh::new(self.faces.clone(), &self.positions)
+    }
+
+    /// Nodes used by at least one triangle, ascending.
+    pub fn shell_nodes(&self) -> Vec<usize> {
+        let mask = self.shell_mask();
+        (0..self.n_nodes()).filter(|&i| mask[i]).collect()
+    }
+
+    /// A named node set, if present.
+    pub fn node_set(&self, name: &str) -> Option<&[usize]> {
+        self.node_sets.get(name).map(Vec::as_slice)
+    }
+
+    fn shell_mask(&self) -> Vec<bool> {
+        let mut m = vec![false; self.n_nodes()];
+        for f in &self.faces {
+            for &i in f {
+                if let Some(x) = m.get_mut(i) {
+                    *x = true;
+                }
+            }
+        }
+        m
+    }
+
+    /// Split the rod-edge graph into maximal chains (node lists) whose interior nodes have
+    /// rod degree 2 and are not shell nodes; chains end at nodes of degree ≠ 2 (junctions,
+    /// free ends) or at shell nodes (rod–shell joints). Closed loops without such a node
+    /// come out as chains whose first and last node coincide. Chains start at their
+    /// lowest-index end node, in edge input order, so the result is deterministic.
+    pub fn rod_chains(&self) -> Vec<Vec<usize>> {
+        let n = self.n_nodes();
+        let mut adj: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
+        for (e, &[a, b]) in self.rod_edges.iter().enumerate() {
+            if a < n && b < n {
+                adj[a].push((e, b));
+                adj[b].push((e, a));
+            }
+        }
+        let shell = self.shell_mask();
+        let is_end = |v: usize| adj[v].len() != 2 || shell[v];
+        let mut used = vec![false; self.rod_edges.len()];
+        let mut chains = Vec::new();
+        let walk = |start: usize, e0: usize, next: usize, used: &mut Vec<bool>| {
+            used[e0] = true;
+            let (mut chain, mut cur, mut prev) = (vec![start, next], next, e0);
+            while !is_end(cur) && cur != start {
+                let Some(&(e, w)) = adj[cur].iter().find(|&&(e, _)| e != prev && !used[e]) else {
+                    break;
+                };
+                used[e] = true;
+                chain.push(w);
+                (cur, prev) = (w, e);
+            }
+            chain
+        };
+        for v in (0..n).filter(|&v| is_end(v)) {
+            for &(e, w) in &adj[v] {
+                if !used[e] {
+                    chains.push(walk(v, e, w, &mut used));
+                }
+            }
+        }
+        for (e, &[a, b]) in self.rod_edges.iter().enumerate() {
+            if !used[e] && a < n && b < n {
+                chains.push(walk(a, e, b, &mut used));
+            }
+        }
+        chains
+    }
+}
