@@ -168,6 +168,11 @@ pub trait Force: Send + Sync {
     fn energy(&self, _q: &[f64]) -> Option<f64> {
         None
     }
+    /// True when [`Force::energy`] is always `Some` and the force is `−∇E` (no velocity
+    /// dependence). The Newton line search then uses the incremental potential as merit.
+    fn conservative(&self) -> bool {
+        false
+    }
     /// Called once per accepted time step with the new configuration, so that elements
     /// with history (DER reference frames) can update it. Not called for rejected steps.
     fn commit(&mut self, _q: &[f64]) {}

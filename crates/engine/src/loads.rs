@@ -59,6 +59,9 @@ impl Force for Gravity {
             }
         }
     }
+    fn conservative(&self) -> bool {
+        true
+    }
     fn energy(&self, q: &[f64]) -> Option<f64> {
         let mut e = 0.0;
         for (st, w) in self.stencils.chunks(3).zip(&self.weights) {
@@ -113,6 +116,9 @@ impl Force for PointForces {
                 f[k] = self.scale * w[k];
             }
         }
+    }
+    fn conservative(&self) -> bool {
+        true
     }
     fn energy(&self, q: &[f64]) -> Option<f64> {
         let mut e = 0.0;

@@ -353,6 +353,9 @@ impl Force for BendTwist {
         let q = input.q;
         out.par_for_each(|b| self.element_blocks(q, b.index, b.f, b.dfdq));
     }
+    fn conservative(&self) -> bool {
+        true
+    }
     fn energy(&self, q: &[f64]) -> Option<f64> {
         let mut e = 0.0;
         for i in 0..self.elems.len() {

@@ -104,6 +104,9 @@ impl Force for Stretch {
             }
         });
     }
+    fn conservative(&self) -> bool {
+        true
+    }
     fn energy(&self, q: &[f64]) -> Option<f64> {
         let mut e = 0.0;
         for (i, st) in self.stencils.chunks(6).enumerate() {

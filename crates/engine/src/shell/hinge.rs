@@ -126,6 +126,9 @@ impl Force for HingeBending {
             }
         });
     }
+    fn conservative(&self) -> bool {
+        true
+    }
     fn energy(&self, q: &[f64]) -> Option<f64> {
         Some(
             (0..self.rest_angle.len())

@@ -27,7 +27,7 @@ pub struct NewtonOptions {
     pub step_tol: f64,
     /// Backtracking line search on `‖R‖₂`.
     pub line_search: bool,
-    /// Maximum number of step halvings in the line search.
+    /// Maximum number of step halvings in the line search (down to α = 2^−n).
     pub max_backtracks: usize,
     /// Modified Newton: keep the factorised Jacobian across iterations and steps while the
     /// residual contracts by at least `reuse_contraction` per iteration; refactorise when it
@@ -84,6 +84,8 @@ pub(crate) struct NewtonCore {
     factored_for: (f64, f64),
     /// `‖R‖∞` after each iteration of the last solve (capacity reserved up front).
     pub history: Vec<f64>,
+    /// Every force has an energy (and none depends on velocity): Φ is a valid merit.
+    conservative: bool,
 }
 
 /// The target of one Newton solve.
@@ -120,6 +122,7 @@ impl NewtonCore {
             opts,
             force_tol_abs,
             factored_for: (f64::NAN, f64::NAN),
+            conservative: model.forces.iter().all(|f| f.conservative()),
             history: Vec::with_capacity(opts.max_iterations + 1),
         })
     }
@@ -240,6 +243,36 @@ impl NewtonCore {
         Ok(())
     }
 
+    /// Incremental potential `Φ(q) = ½ c_m Σ m (q − q̃)² + Σ E(q)` (J); its gradient is `R`.
+    fn merit(&self, model: &Model, q: &[f64], tg: &Target<'_>) -> f64 {
+        let inertia: f64 = self
+            .assembler
+            .dof_of
+            .iter()
+            .map(|&d| 0.5 * tg.c_m * model.mass[d] * (q[d] - tg.q_tilde[d]).powi(2))
+            .sum();
+        inertia + model.energy(q)
+    }
+
+    /// Evaluate the residual at `q + α Δq` into `q_trial` / `residual`; returns `‖R‖₂`.
+    fn try_step(
+        &mut self,
+        model: &Model,
+        q: &[f64],
+        tg: &Target<'_>,
+        alpha: f64,
+        jac: bool,
+    ) -> f64 {
+        self.q_trial.copy_from_slice(q);
+        for (r, &d) in self.assembler.dof_of.iter().enumerate() {
+            self.q_trial[d] += alpha * self.delta[r];
+        }
+        let qt = std::mem::take(&mut self.q_trial);
+        let norm = self.residual_at(model, &qt, tg, jac);
+        self.q_trial = qt;
+        norm
+    }
+
     /// One Newton update with line search from `q`; returns `(α, ‖R‖₂ at the new q, ‖Δq‖∞)`.
     /// With a reused factorisation the full step is taken (the direction is not an exact
     /// Newton direction, so backtracking on it would only waste evaluations).
@@ -271,19 +304,35 @@ impl NewtonCore {
         // The Jacobian is assembled with trial residuals only when the next iteration will
         // need it (full Newton); the first trial is almost always accepted.
         let want_jac = !self.opts.reuse_jacobian;
+        // Merit: the incremental potential Φ when every force is conservative (its gradient
+        // is R, so Newton on a stiff rod or membrane that raises ‖R‖ still decreases Φ);
+        // otherwise ½‖R‖². Directions along which Φ does not descend are taken in full.
+        let energy_merit = line_search && self.conservative;
+        let (phi0, slope) = if energy_merit {
+            let slope: f64 = self
+                .residual
+                .iter()
+                .zip(&self.delta)
+                .map(|(r, d)| r * d)
+                .sum();
+            (self.merit(model, q, tg), slope)
+        } else {
+            (0.0, 0.0)
+        };
         let mut alpha = 1.0;
         let mut cuts = 0;
         let trial = loop {
-            self.q_trial.copy_from_slice(q);
-            for (r, &d) in self.assembler.dof_of.iter().enumerate() {
-                self.q_trial[d] += alpha * self.delta[r];
-            }
-            let qt = std::mem::take(&mut self.q_trial);
-            let trial = self.residual_at(model, &qt, tg, want_jac);
-            self.q_trial = qt;
+            let trial = self.try_step(model, q, tg, alpha, want_jac);
             let accept = !line_search
-                || (trial.is_finite() && trial <= (1.0 - 1e-4 * alpha) * norm)
-                || cuts >= self.opts.max_backtracks;
+                || cuts >= self.opts.max_backtracks
+                || if energy_merit {
+                    slope >= 0.0 || {
+                        let phi = self.merit(model, &self.q_trial, tg);
+                        phi.is_finite() && phi <= phi0 + 1e-4 * alpha * slope
+                    }
+                } else {
+                    trial.is_finite() && trial <= (1.0 - 1e-4 * alpha) * norm
+                };
             if accept {
                 break trial;
             }

@@ -75,7 +75,6 @@ pub fn round(r: f64) -> impl Fn(Vec<usize>) -> RodSpec {
 pub fn static_opts() -> NewtonOptions {
     NewtonOptions {
         max_iterations: 40,
-        line_search: false,
         ..Default::default()
     }
 }
@@ -114,6 +113,9 @@ impl Force for DofForces {
         for (f, v) in out.f.iter_mut().zip(&self.values) {
             *f = self.scale * v;
         }
+    }
+    fn conservative(&self) -> bool {
+        true
     }
     fn energy(&self, q: &[f64]) -> Option<f64> {
         Some(
@@ -197,6 +199,9 @@ impl Force for PlanarEdgeMoment {
                 out.dfdq[comp[i] * 6 + 3 + comp[j]] = -v;
             }
         }
+    }
+    fn conservative(&self) -> bool {
+        true
     }
     fn energy(&self, q: &[f64]) -> Option<f64> {
         Some(-self.scale * self.moment * self.angle(q).0)
