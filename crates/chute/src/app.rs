@@ -38,9 +38,9 @@ pub struct RunOutcome {
 /// Everything that can stop a command; [`AppError::exit_code`] maps it to the process status.
 #[derive(Debug, thiserror::Error)]
 pub enum AppError {
-    /// A bad scenario (exit 2).
+    /// A bad scenario (exit 2). Boxed: it is the largest variant.
     #[error(transparent)]
-    Scenario(#[from] ScenarioError),
+    Scenario(Box<ScenarioError>),
     /// Any other bad input: output directory, study file, shard spec (exit 2).
     #[error("{0}")]
     Input(String),
@@ -64,6 +64,12 @@ pub enum AppError {
     /// A part of the application that is not built yet (exit 1).
     #[error("not implemented yet: {0}")]
     NotImplemented(&'static str),
+}
+
+impl From<ScenarioError> for AppError {
+    fn from(e: ScenarioError) -> Self {
+        AppError::Scenario(Box::new(e))
+    }
 }
 
 impl AppError {

@@ -24,8 +24,15 @@ fn load_allowing_pending_mesh(p: &Path) -> Option<Scenario> {
     match Scenario::load(p, &[]) {
         Ok(s) => Some(s),
         Err(ScenarioError::MeshMissing { path, .. }) if p.ends_with("dismech-hex-n6.toml") => {
-            assert!(path.ends_with("crates/chute/data/meshes/hexparachute_n6_python.txt"), "{path:?}");
-            eprintln!("note: {} pending its mesh file {}", p.display(), path.display());
+            assert!(
+                path.ends_with("crates/chute/data/meshes/hexparachute_n6_python.txt"),
+                "{path:?}"
+            );
+            eprintln!(
+                "note: {} pending its mesh file {}",
+                p.display(),
+                path.display()
+            );
             None
         }
         Err(e) => panic!("{}: {e}", p.display()),
@@ -38,17 +45,28 @@ fn all_bundled_scenarios_validate() {
     assert!(files.len() >= 7, "{files:?}");
     for f in &files {
         if let Some(s) = load_allowing_pending_mesh(f) {
-            assert_eq!(s.name, f.file_stem().unwrap().to_string_lossy(), "name matches file");
+            assert_eq!(
+                s.name,
+                f.file_stem().unwrap().to_string_lossy(),
+                "name matches file"
+            );
         }
     }
 }
 
 #[test]
 fn report_scenarios_have_report_values() {
-    for (file, w) in [("report-rod-20n", 20.0), ("report-rod-200n", 200.0), ("report-rod-2000n", 2000.0)] {
+    for (file, w) in [
+        ("report-rod-20n", 20.0),
+        ("report-rod-200n", 200.0),
+        ("report-rod-2000n", 2000.0),
+    ] {
         let s = Scenario::load(&repo().join(format!("scenarios/{file}.toml")), &[]).unwrap();
         assert_eq!(s.model.kind, ModelKind::Rod);
-        assert_eq!((s.canopy.span_m, s.canopy.width_m, s.canopy.thickness_m), (6.0, 3.0, 0.002));
+        assert_eq!(
+            (s.canopy.span_m, s.canopy.width_m, s.canopy.thickness_m),
+            (6.0, 3.0, 0.002)
+        );
         assert_eq!(s.canopy.nodes, 61);
         assert_eq!(s.material.youngs_modulus_pa, 55e9);
         assert_eq!(s.load.weight_n, w);
@@ -56,17 +74,26 @@ fn report_scenarios_have_report_values() {
         assert_eq!(s.fluid.drag_coefficient, 1.75);
         assert_eq!((s.time.dt_s, s.time.duration_s), (1e-3, 10.0));
     }
-    for (file, set) in [("report-shell-4-sites", SiteSet::Corners), ("report-shell-6-sites", SiteSet::CornersAndMidspan)] {
+    for (file, set) in [
+        ("report-shell-4-sites", SiteSet::Corners),
+        ("report-shell-6-sites", SiteSet::CornersAndMidspan),
+    ] {
         let s = Scenario::load(&repo().join(format!("scenarios/{file}.toml")), &[]).unwrap();
         assert_eq!(s.model.kind, ModelKind::Shell);
         assert_eq!(s.load.weight_n, 200.0);
         assert_eq!(s.load.sites, Sites::Named(set));
         assert_eq!(s.canopy.edge_length_m, 0.25);
         assert_eq!(s.fluid.tangential_drag_coefficient, 0.5);
-        assert_eq!(s.site_count(), Some(if set == SiteSet::Corners { 4 } else { 6 }));
+        assert_eq!(
+            s.site_count(),
+            Some(if set == SiteSet::Corners { 4 } else { 6 })
+        );
     }
     let s = Scenario::load(&repo().join("scenarios/round-parachute.toml"), &[]).unwrap();
-    assert_eq!((s.canopy.shape, s.load.mode), (CanopyShape::Circle, LoadMode::Payload));
+    assert_eq!(
+        (s.canopy.shape, s.load.mode),
+        (CanopyShape::Circle, LoadMode::Payload)
+    );
     assert!((8..=12).contains(&s.site_count().unwrap()));
 }
 
@@ -80,12 +107,18 @@ fn resolved_toml_round_trips_for_every_bundled_scenario() {
         std::fs::create_dir_all(&sub).unwrap();
         let copy = sub.join(f.file_name().unwrap());
         std::fs::copy(&f, &copy).unwrap();
-        let mesh = dir.path().join("crates/chute/data/meshes/hexparachute_n6_python.txt");
+        let mesh = dir
+            .path()
+            .join("crates/chute/data/meshes/hexparachute_n6_python.txt");
         std::fs::create_dir_all(mesh.parent().unwrap()).unwrap();
         std::fs::write(&mesh, "*Nodes\n").unwrap();
         let s = Scenario::load(&copy, &[]).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
         if s.canopy.shape == CanopyShape::Mesh {
-            assert_eq!(s.canopy.mesh_file.as_deref(), Some(mesh.as_path()), "resolved against the file");
+            assert_eq!(
+                s.canopy.mesh_file.as_deref(),
+                Some(mesh.as_path()),
+                "resolved against the file"
+            );
         }
         let text = s.to_toml();
         let back = Scenario::from_str_with_name(&text, "elsewhere/resolved.toml", &[])

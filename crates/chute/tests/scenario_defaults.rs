@@ -12,13 +12,28 @@ fn minimal_rod_scenario_gets_the_report_defaults() {
     let s = parse("[model]\nkind = \"rod\"\n");
     assert_eq!(s.name, "my-case", "name defaults to the file stem");
     assert_eq!(s.canopy.shape, CanopyShape::Rectangle);
-    assert_eq!((s.canopy.span_m, s.canopy.width_m, s.canopy.thickness_m), (6.0, 3.0, 0.002));
+    assert_eq!(
+        (s.canopy.span_m, s.canopy.width_m, s.canopy.thickness_m),
+        (6.0, 3.0, 0.002)
+    );
     assert_eq!(s.canopy.nodes, 61);
-    assert_eq!((s.material.youngs_modulus_pa, s.material.density_kg_m3), (55e9, 1440.0));
+    assert_eq!(
+        (s.material.youngs_modulus_pa, s.material.density_kg_m3),
+        (55e9, 1440.0)
+    );
     assert_eq!(s.load.mode, LoadMode::Force);
     assert_eq!(s.load.sites, Sites::Named(SiteSet::Ends));
-    assert_eq!((s.fluid.drag_coefficient, s.fluid.tangential_drag_coefficient), (1.75, 0.5));
-    assert_eq!((s.fluid.drag, s.fluid.shell_drag), (DragLaw::Quadratic, ShellDrag::Report));
+    assert_eq!(
+        (
+            s.fluid.drag_coefficient,
+            s.fluid.tangential_drag_coefficient
+        ),
+        (1.75, 0.5)
+    );
+    assert_eq!(
+        (s.fluid.drag, s.fluid.shell_drag),
+        (DragLaw::Quadratic, ShellDrag::Report)
+    );
     assert_eq!((s.fluid.density_kg_m3, s.fluid.gravity_mps2), (1.225, 9.81));
     assert_eq!((s.time.dt_s, s.time.duration_s), (1e-3, 10.0));
     assert_eq!(s.output.snapshots_s, vec![3.0, 6.0, 9.0]);
@@ -32,7 +47,9 @@ fn sites_default_by_model_and_shape() {
         ("shell", "circle", SiteSet::Rim),
     ];
     for (kind, shape, want) in cases {
-        let s = parse(&format!("[model]\nkind = \"{kind}\"\n[canopy]\nshape = \"{shape}\"\n"));
+        let s = parse(&format!(
+            "[model]\nkind = \"{kind}\"\n[canopy]\nshape = \"{shape}\"\n"
+        ));
         assert_eq!(s.load.sites, Sites::Named(want), "{kind} {shape}");
     }
 }
@@ -61,7 +78,9 @@ fn schema_matches_the_serde_structs() {
                 [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\n";
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("m.obj"), "").unwrap();
-    let s = Scenario::from_str_with_name(text, &dir.path().join("s.toml").display().to_string(), &[]).unwrap();
+    let s =
+        Scenario::from_str_with_name(text, &dir.path().join("s.toml").display().to_string(), &[])
+            .unwrap();
     let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();
     let mut keys = Vec::new();
     for (k, v) in &table {

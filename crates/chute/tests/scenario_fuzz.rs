@@ -12,11 +12,54 @@ const SEEDS: &[&str] = &[
 ];
 
 const TOKENS: &[&str] = &[
-    "1e-300", "-5", "2", "100000000", "0.5", "3.0", "[0, 0, 0]", "[]", "[1, 2, 3]", "\"ends\"", "\"center\"",
-    "=", "[", "]", "\"", "'", "nan", "inf", "-1e309", "1e308", "0", "-0.0", "[[1,2]]", "[[1e9, -1e9]]",
-    "[canopy]", "[load]", "[[case]]", "\n", "{", "}", "0x10", "1979-05-27", "true", "\"mesh\"", "\"rim\"",
-    "nodes = 2", "nodes = 99999999999", "span_m = 1e-300", "dt_s = 1e-300", "\\u0000", "é", ".", "#",
-    "sites = []", "sites = [[]]", "kind = \"rod\"", "shape = \"hexagon\"", "mode = \"node_mass_scale\"",
+    "1e-300",
+    "-5",
+    "2",
+    "100000000",
+    "0.5",
+    "3.0",
+    "[0, 0, 0]",
+    "[]",
+    "[1, 2, 3]",
+    "\"ends\"",
+    "\"center\"",
+    "=",
+    "[",
+    "]",
+    "\"",
+    "'",
+    "nan",
+    "inf",
+    "-1e309",
+    "1e308",
+    "0",
+    "-0.0",
+    "[[1,2]]",
+    "[[1e9, -1e9]]",
+    "[canopy]",
+    "[load]",
+    "[[case]]",
+    "\n",
+    "{",
+    "}",
+    "0x10",
+    "1979-05-27",
+    "true",
+    "\"mesh\"",
+    "\"rim\"",
+    "nodes = 2",
+    "nodes = 99999999999",
+    "span_m = 1e-300",
+    "dt_s = 1e-300",
+    "\\u0000",
+    "é",
+    ".",
+    "#",
+    "sites = []",
+    "sites = [[]]",
+    "kind = \"rod\"",
+    "shape = \"hexagon\"",
+    "mode = \"node_mass_scale\"",
 ];
 
 fn floor_boundary(s: &str, mut i: usize) -> usize {
@@ -73,7 +116,11 @@ fn mutate(text: &str, ops: &[(u8, usize, String)]) -> String {
                 if !with_eq.is_empty() {
                     let k = with_eq[pos % with_eq.len()];
                     let key = l[k].split('=').next().unwrap_or("").to_string();
-                    let tok = if *op % 8 == 5 { TOKENS[(pos / 7919) % TOKENS.len()].to_string() } else { payload.clone() };
+                    let tok = if *op % 8 == 5 {
+                        TOKENS[(pos / 7919) % TOKENS.len()].to_string()
+                    } else {
+                        payload.clone()
+                    };
                     l[k] = format!("{key}= {tok}");
                 }
                 l.join("\n")
@@ -125,7 +172,13 @@ fn mutations_reach_the_schema_and_physical_checks() {
     for _ in 0..2000 {
         let seed = SEEDS[rng.random_range(0..SEEDS.len())];
         let ops: Vec<(u8, usize, String)> = (0..rng.random_range(1..4))
-            .map(|_| (rng.random::<u8>(), rng.random::<u32>() as usize, "x".repeat(rng.random_range(0..3))))
+            .map(|_| {
+                (
+                    rng.random::<u8>(),
+                    rng.random::<u32>() as usize,
+                    "x".repeat(rng.random_range(0..3)),
+                )
+            })
             .collect();
         match Scenario::from_str_with_name(&mutate(seed, &ops), "fuzz/case.toml", &[]) {
             Ok(_) => ok += 1,
@@ -134,5 +187,8 @@ fn mutations_reach_the_schema_and_physical_checks() {
         }
     }
     eprintln!("syntax errors {syntax}, later errors {later}, accepted {ok}");
-    assert!(later >= 300 && ok >= 100, "syntax {syntax}, later {later}, ok {ok}");
+    assert!(
+        later >= 300 && ok >= 100,
+        "syntax {syntax}, later {later}, ok {ok}"
+    );
 }

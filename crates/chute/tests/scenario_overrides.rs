@@ -11,7 +11,11 @@ fn with(set: &[&str]) -> Scenario {
 
 #[test]
 fn plain_strings_and_toml_values() {
-    let s = with(&["load.mode=force", "fluid.wind_mps=[4,0,0]", "load.weight_n=20"]);
+    let s = with(&[
+        "load.mode=force",
+        "fluid.wind_mps=[4,0,0]",
+        "load.weight_n=20",
+    ]);
     assert_eq!(s.load.mode, LoadMode::Force);
     assert_eq!(s.fluid.wind_mps, [4.0, 0.0, 0.0]);
     assert_eq!(s.load.weight_n, 20.0);
@@ -41,7 +45,8 @@ fn later_overrides_win_and_sections_are_created() {
 #[test]
 fn a_value_with_an_embedded_newline_stays_one_string() {
     // Not a TOML injection of a second key: taken as a plain string, then refused as a number.
-    let e = Scenario::from_str_with_name(BASE, "b.toml", &["load.weight_n=1\nname = \"x\"".into()]).unwrap_err();
+    let e = Scenario::from_str_with_name(BASE, "b.toml", &["load.weight_n=1\nname = \"x\"".into()])
+        .unwrap_err();
     assert!(e.to_string().contains("must be a number"), "{e}");
 }
 

@@ -105,9 +105,9 @@ pub enum ScenarioError {
         /// The value given.
         value: String,
         /// The values allowed here.
-        allowed: Vec<String>,
+        allowed: &'static [&'static str],
         /// Why the set is restricted here (e.g. "for a rod model"), or empty.
-        context: String,
+        context: &'static str,
         /// Where it was written.
         origin: Origin,
     },
@@ -168,7 +168,7 @@ fn context_text(c: &str) -> String {
     }
 }
 
-fn quote_list(items: &[String]) -> String {
+fn quote_list(items: &[&str]) -> String {
     items
         .iter()
         .map(|s| format!("\"{s}\""))

@@ -354,7 +354,7 @@ fn check_value(
 fn choice(
     path: &str,
     v: &toml::Value,
-    allowed: &[&str],
+    allowed: &'static [&'static str],
     prov: &Provenance,
 ) -> Result<(), ScenarioError> {
     let s = v.as_str().ok_or_else(|| wrong(path, "a string", v, prov))?;
@@ -364,8 +364,8 @@ fn choice(
         Err(ScenarioError::BadChoice {
             key: path.to_string(),
             value: s.to_string(),
-            allowed: allowed.iter().map(|a| a.to_string()).collect(),
-            context: String::new(),
+            allowed,
+            context: "",
             origin: prov.origin(path),
         })
     }

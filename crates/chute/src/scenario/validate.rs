@@ -57,12 +57,18 @@ impl Checker<'_> {
         }
     }
 
-    fn choice(&mut self, key: &str, value: &str, allowed: &[&str], context: &str) {
+    fn choice(
+        &mut self,
+        key: &str,
+        value: &str,
+        allowed: &'static [&'static str],
+        context: &'static str,
+    ) {
         let e = ScenarioError::BadChoice {
             key: key.to_string(),
             value: value.to_string(),
-            allowed: allowed.iter().map(|s| s.to_string()).collect(),
-            context: context.to_string(),
+            allowed,
+            context,
             origin: self.prov.origin(key),
         };
         self.errors.push((self.prov.rank(key), e));
