@@ -71,6 +71,9 @@ pub struct CheckArgs {
     /// Override a scenario key (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Print the fully resolved scenario (every default filled in) as TOML instead.
+    #[arg(long)]
+    pub resolved: bool,
 }
 
 /// `chute study`.
@@ -189,6 +192,10 @@ fn print_pairs(pairs: &[(String, String)]) {
 
 fn cmd_check(a: &CheckArgs) -> Result<(), AppError> {
     let s = Scenario::load(&a.scenario, &a.set)?;
+    if a.resolved {
+        print!("{}", s.to_toml());
+        return Ok(());
+    }
     let derived = app::check(&s)?;
     println!("scenario `{}` ({}) is valid", s.name, a.scenario.display());
     print_pairs(&derived);

@@ -78,6 +78,31 @@ fn check_prints_derived_quantities() {
 }
 
 #[test]
+fn check_resolved_prints_a_scenario_that_resolves_to_itself() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = repo().join("scenarios/round-parachute.toml");
+    let o = chute(
+        dir.path(),
+        &[
+            "check",
+            f.to_str().unwrap(),
+            "--resolved",
+            "--set",
+            "load.weight_n=50",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("weight_n = 50.0") && text.contains("rim_site_count = 12"),
+        "{text}"
+    );
+    std::fs::write(dir.path().join("r.toml"), &text).unwrap();
+    let again = chute(dir.path(), &["check", "r.toml", "--resolved"]);
+    assert_eq!(stdout(&again), text);
+}
+
+#[test]
 fn every_scenario_error_class_exits_2_with_its_message() {
     let dir = tempfile::tempdir().unwrap();
     let cases: &[(&str, &[&str])] = &[
