@@ -93,21 +93,78 @@ impl AppError {
     }
 }
 
-/// Derived quantities of a scenario (name, value with units), for `chute check`.
-///
-/// For now these are the ones that follow from the scenario alone
-/// ([`Scenario::derived_quantities`]); the integrator adds those of the built model (DOFs,
-/// lumped masses).
+/// Derived quantities of a scenario (name, value with units), for `chute check`: the
+/// model is built (meshes generated or read, masses lumped) so every number is the one a run
+/// would use.
 pub fn check(s: &Scenario) -> Result<Vec<(String, String)>, AppError> {
-    Ok(s.derived_quantities())
+    let built = crate::build::build(s).map_err(|e| AppError::Input(e.to_string()))?;
+    let mut out = built.derived;
+    out.push((
+        "time steps".into(),
+        format!(
+            "{:.0} (dt = {} s, {} s)",
+            (s.time.duration_s / s.time.dt_s).ceil(),
+            s.time.dt_s,
+            s.time.duration_s
+        ),
+    ));
+    Ok(out)
 }
 
-/// Build the model, simulate, and write the output directory.
+/// The run loop's settings for scenario `s`.
+pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
+    use crate::scenario::DragLaw;
+    let snapshots_s = if s.output.snapshots_s.is_empty() {
+        [0.3, 0.6, 0.9]
+            .iter()
+            .map(|f| f * s.time.duration_s)
+            .collect()
+    } else {
+        s.output.snapshots_s.clone()
+    };
+    crate::runner::RunConfig {
+        name: s.name.clone(),
+        dt_s: s.time.dt_s,
+        min_dt_s: s.time.dt_s / 1024.0,
+        duration_s: s.time.duration_s,
+        frame_interval_s: s.output.frame_interval_s,
+        snapshots_s,
+        newton: engine::NewtonOptions {
+            max_iterations: s.time.newton_max_iterations,
+            force_tol_abs: s.time.newton_tolerance_n,
+            reuse_jacobian: true,
+            ..Default::default()
+        },
+        air_density: s.fluid.density_kg_m3,
+        air_viscosity: s.fluid.viscosity_pa_s,
+        quadratic_drag: s.fluid.drag == DragLaw::Quadratic,
+        progress,
+    }
+}
+
+/// Build the model, simulate, and write the output directory (which must exist).
 pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunOutcome, AppError> {
-    let _ = (s, opts);
-    Err(AppError::NotImplemented(
-        "the scenario builders and the run loop (`chute::app::run`)",
-    ))
+    if opts.resume.is_some() || opts.checkpoint_every_s.is_some() {
+        return Err(AppError::NotImplemented("checkpoint and resume"));
+    }
+    let mut built = crate::build::build(s).map_err(|e| AppError::Input(e.to_string()))?;
+    let resolved = opts.out_dir.join("scenario.resolved.toml");
+    crate::output::atomic::write_atomic(&resolved, s.to_toml().as_bytes())
+        .map_err(|e| AppError::io(&resolved, e))?;
+    let cfg = run_config(s, opts.progress);
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let r =
+        crate::runner::simulate(&mut built, &cfg, &opts.out_dir, &stop).map_err(|e| match e {
+            crate::runner::RunError::Io { path, source } => AppError::Io { path, source },
+            e => AppError::RunFailed(e.to_string()),
+        })?;
+    let summary = serde_json::from_str(&r.summary.to_json())
+        .map_err(|e| AppError::RunFailed(format!("summary: {e}")))?;
+    Ok(RunOutcome {
+        summary,
+        complete: r.complete,
+        message: r.stop_reason,
+    })
 }
 
 /// `chute validate`: the verification cases against analytic references.
