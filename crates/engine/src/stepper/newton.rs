@@ -48,7 +48,7 @@ impl Default for NewtonOptions {
             line_search: true,
             max_backtracks: 8,
             reuse_jacobian: false,
-            reuse_contraction: 0.25,
+            reuse_contraction: 0.5,
         }
     }
 }
