@@ -252,6 +252,9 @@ fn material_and_lines(c: &mut Checker, s: &Scenario) {
         "the lines need mass",
     );
     c.poisson("lines.poisson_ratio", l.poisson_ratio);
+    if let Some(cd) = l.drag_coefficient {
+        c.non_negative("lines.drag_coefficient", cd, "a drag coefficient");
+    }
 }
 
 /// Named site sets that make sense for this model and outline.
