@@ -1,6 +1,13 @@
-//! External loads: gravity and constant point forces. Both honour the load scale used by
-//! the static solver's load stepping.
+//! External loads: gravity, constant point forces, constant generalised forces on single
+//! DOFs and a planar end moment. All honour the load scale used by the static solver's load
+//! stepping.
 use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+
+mod dof_forces;
+mod edge_moment;
+
+pub use dof_forces::DofForces;
+pub use edge_moment::PlanarEdgeMoment;
 
 /// Gravity `f_i = m_i g` on a set of nodes (g in m/s², e.g. `[0, 0, −9.81]`).
 pub struct Gravity {
