@@ -1,7 +1,13 @@
 //! chute: parachute scenarios, builders, metrics, outputs and the command line.
 
+pub mod app;
 pub mod build;
+pub mod cli;
 pub mod mesh;
 pub mod metrics;
 pub mod output;
 pub mod runner;
+pub mod scenario;
+pub mod study;
+
+pub use app::{bench, validate};

@@ -1,0 +1,122 @@
+//! Canopy geometry: a rod strip along x, or a shell mesh (generated or imported).
+use super::BuildError;
+use crate::mesh::{self, CanopyMesh};
+use crate::scenario::{CanopyShape, ModelKind, Scenario};
+use engine::shell::{ShellMaterial, TriMesh};
+
+/// The canopy before loads and lines are added.
+pub struct Geometry {
+    /// Positions of canopy nodes and of any rod nodes from an imported mesh (m).
+    pub mesh: CanopyMesh,
+    /// Shell topology (shell model).
+    pub tri_mesh: Option<TriMesh>,
+    /// Canopy node indices.
+    pub canopy_nodes: Vec<usize>,
+    /// Rod canopy: its node chain along the span.
+    pub rod_chain: Option<Vec<usize>>,
+    /// Rod chains from an imported mesh (suspension lines).
+    pub mesh_lines: Vec<Vec<usize>>,
+    /// Flat planform area of the canopy (m²).
+    pub planform_area: f64,
+    /// Largest canopy dimension (m), the Reynolds-number length.
+    pub reference_length: f64,
+}
+
+impl Geometry {
+    /// Canopy triangles (empty for a rod canopy).
+    pub fn triangles(&self) -> Vec<[usize; 3]> {
+        self.tri_mesh
+            .as_ref()
+            .map(|t| t.faces.clone())
+            .unwrap_or_default()
+    }
+}
+
+/// The shell material of the scenario's canopy.
+pub fn shell_material(s: &Scenario) -> ShellMaterial {
+    ShellMaterial {
+        youngs_modulus: s.material.youngs_modulus_pa,
+        thickness: s.canopy.thickness_m,
+        density: s.material.density_kg_m3,
+    }
+}
+
+/// Build the canopy geometry of `s`.
+pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
+    let c = &s.canopy;
+    if s.model.kind == ModelKind::Rod {
+        let n = c.nodes;
+        let h = c.span_m / (n - 1) as f64;
+        let positions = (0..n)
+            .map(|i| [-0.5 * c.span_m + i as f64 * h, 0.0, 0.0])
+            .collect();
+        let mesh = CanopyMesh {
+            positions,
+            ..Default::default()
+        };
+        return Ok(Geometry {
+            mesh,
+            tri_mesh: None,
+            canopy_nodes: (0..n).collect(),
+            rod_chain: Some((0..n).collect()),
+            mesh_lines: Vec::new(),
+            planform_area: c.span_m * c.width_m,
+            reference_length: c.span_m,
+        });
+    }
+    let mesh = match c.shape {
+        CanopyShape::Rectangle => mesh::generate::rectangle(c.span_m, c.width_m, c.edge_length_m),
+        CanopyShape::Hexagon => mesh::generate::hexagon(c.radius_m, c.edge_length_m),
+        CanopyShape::Circle => mesh::generate::circle(c.radius_m, c.edge_length_m),
+        CanopyShape::Mesh => {
+            let path = c.mesh_file.as_ref().ok_or_else(|| {
+                BuildError::key("canopy.mesh_file", "required when shape = \"mesh\"")
+            })?;
+            read_mesh(path)?
+        }
+    };
+    if mesh.faces.is_empty() {
+        return Err(BuildError::key(
+            "canopy.mesh_file",
+            "the mesh has no triangles",
+        ));
+    }
+    let tri = mesh.tri_mesh()?;
+    let canopy_nodes = mesh.shell_nodes();
+    let mesh_lines = mesh.rod_chains();
+    let (lo, hi) = extent(&mesh, &canopy_nodes);
+    let reference_length = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    Ok(Geometry {
+        planform_area: tri.area(),
+        tri_mesh: Some(tri),
+        canopy_nodes,
+        rod_chain: None,
+        mesh_lines,
+        reference_length,
+        mesh,
+    })
+}
+
+fn read_mesh(path: &std::path::Path) -> Result<CanopyMesh, BuildError> {
+    let is_obj = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    Ok(if is_obj {
+        mesh::obj::read(path)?
+    } else {
+        mesh::dismech::read(path)?
+    })
+}
+
+/// Bounding box of `nodes`.
+pub fn extent(mesh: &CanopyMesh, nodes: &[usize]) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for &i in nodes {
+        for k in 0..3 {
+            lo[k] = lo[k].min(mesh.positions[i][k]);
+            hi[k] = hi[k].max(mesh.positions[i][k]);
+        }
+    }
+    (lo, hi)
+}

@@ -1,0 +1,354 @@
+//! The `chute` command line (clap derive): argument parsing and dispatch to [`crate::app`]
+//! and [`crate::study`]. Every error is printed as `error: <message>` on stderr and mapped to
+//! [`AppError::exit_code`]; see `docs/cli.md`.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::app::{self, AppError, RunOptions};
+use crate::scenario::Scenario;
+use crate::study::{self, Shard, Study, StudyOptions};
+
+/// Parachute flight simulator for flexible canopies (DER rods and discrete shells).
+#[derive(Debug, Parser)]
+#[command(name = "chute", version, about)]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Simulate one scenario and write its output directory.
+    Run(RunArgs),
+    /// Validate a scenario without running it; print derived quantities.
+    Check(CheckArgs),
+    /// Run a study (a list or grid of cases) in parallel; write study.csv and study.md.
+    Study(StudyArgs),
+    /// Merge finished study cases (e.g. from several shards) into study.csv and study.md.
+    Collect(CollectArgs),
+    /// Run the verification cases against analytic references.
+    Validate(ValidateArgs),
+    /// Time the solver on a ladder of mesh sizes.
+    Bench(BenchArgs),
+}
+
+/// `chute run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Scenario file (TOML).
+    pub scenario: PathBuf,
+    /// Output directory [default: runs/<scenario name>].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Override a scenario key, e.g. `--set load.weight_n=20` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Overwrite an existing, non-empty output directory.
+    #[arg(long)]
+    pub force: bool,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Write a checkpoint every S simulated seconds.
+    #[arg(long, value_name = "S")]
+    pub checkpoint_every: Option<f64>,
+    /// Resume from the checkpoint in this run directory (the default output directory).
+    #[arg(long, value_name = "DIR")]
+    pub resume: Option<PathBuf>,
+}
+
+/// `chute check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Scenario file (TOML).
+    pub scenario: PathBuf,
+    /// Override a scenario key (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Print the fully resolved scenario (every default filled in) as TOML instead.
+    #[arg(long)]
+    pub resolved: bool,
+}
+
+/// `chute study`.
+#[derive(Debug, Args)]
+pub struct StudyArgs {
+    /// Study file (TOML).
+    pub study: PathBuf,
+    /// Output directory [default: runs/<study name>].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Cases run in parallel [default: one per core].
+    #[arg(long, short, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Override a key in every case, before the case's own overrides (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Run only cases with index % N == I (0-based) [default: from SLURM_ARRAY_TASK_ID and
+    /// SLURM_ARRAY_TASK_COUNT when set].
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Re-run cases that are already complete.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `chute collect`.
+#[derive(Debug, Args)]
+pub struct CollectArgs {
+    /// Study output directories (e.g. one per shard).
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Where to write study.csv and study.md [default: the first DIR].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `chute validate`.
+#[derive(Debug, Args)]
+pub struct ValidateArgs {
+    /// Short versions of the cases.
+    #[arg(long)]
+    pub quick: bool,
+    /// Where to write the report.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print the results as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `chute bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Fewer and smaller sizes.
+    #[arg(long)]
+    pub quick: bool,
+    /// Print the timings as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Entry point of the binary: parse `std::env::args`, dispatch, print any error.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            // clap prints help/version (exit 0) and usage errors (exit 2) itself.
+            let _ = e.print();
+            return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
+        }
+    };
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| dispatch(cli)));
+    let code = match result {
+        Ok(Ok(())) => 0,
+        Ok(Err(e)) => {
+            eprintln!("error: {e}");
+            e.exit_code()
+        }
+        Err(_) => {
+            eprintln!("error: internal error (a bug in chute; please report it with the input)");
+            1
+        }
+    };
+    ExitCode::from(code.clamp(0, 255) as u8)
+}
+
+/// Run one parsed command.
+pub fn dispatch(cli: Cli) -> Result<(), AppError> {
+    match cli.command {
+        Command::Run(a) => cmd_run(&a),
+        Command::Check(a) => cmd_check(&a),
+        Command::Study(a) => cmd_study(&a),
+        Command::Collect(a) => cmd_collect(&a),
+        Command::Validate(a) => app::validate::main(&app::validate::ValidateArgs {
+            quick: a.quick,
+            out: a.out,
+            json: a.json,
+        }),
+        Command::Bench(a) => app::bench::main(&app::bench::BenchArgs {
+            quick: a.quick,
+            json: a.json,
+        }),
+    }
+}
+
+fn print_pairs(pairs: &[(String, String)]) {
+    let w = pairs
+        .iter()
+        .map(|(k, _)| k.chars().count())
+        .max()
+        .unwrap_or(0);
+    for (k, v) in pairs {
+        println!("  {k:<w$}  {v}");
+    }
+}
+
+fn cmd_check(a: &CheckArgs) -> Result<(), AppError> {
+    let s = Scenario::load(&a.scenario, &a.set)?;
+    if a.resolved {
+        print!("{}", s.to_toml());
+        return Ok(());
+    }
+    let derived = app::check(&s)?;
+    println!("scenario `{}` ({}) is valid", s.name, a.scenario.display());
+    print_pairs(&derived);
+    Ok(())
+}
+
+/// Whether a directory exists and has anything in it.
+fn non_empty_dir(dir: &Path) -> bool {
+    std::fs::read_dir(dir).is_ok_and(|mut it| it.next().is_some())
+}
+
+/// Make sure `dir` can take a run's outputs: refuse to overwrite an earlier run unless
+/// `allow_existing`, create it, and prove it writable. Returns whether it was created here.
+pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<bool, AppError> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(AppError::Input(format!(
+            "output path `{}` exists and is not a directory",
+            dir.display()
+        )));
+    }
+    if non_empty_dir(dir) && !allow_existing {
+        return Err(AppError::Input(format!(
+            "output directory `{}` already exists and is not empty; pass --force to overwrite it, or --out DIR to choose another",
+            dir.display()
+        )));
+    }
+    let created = !dir.exists();
+    std::fs::create_dir_all(dir).map_err(|e| {
+        AppError::Input(format!(
+            "cannot create output directory `{}`: {e}",
+            dir.display()
+        ))
+    })?;
+    tempfile::NamedTempFile::new_in(dir).map_err(|e| {
+        AppError::Input(format!(
+            "output directory `{}` is not writable: {e}",
+            dir.display()
+        ))
+    })?;
+    Ok(created)
+}
+
+fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
+    let s = Scenario::load(&a.scenario, &a.set)?;
+    if let Some(c) = a.checkpoint_every {
+        if !(c.is_finite() && c > 0.0) {
+            return Err(AppError::Input(format!(
+                "--checkpoint-every {c}: must be a positive number of seconds"
+            )));
+        }
+    }
+    if let Some(r) = &a.resume {
+        if !r.is_dir() {
+            return Err(AppError::Input(format!(
+                "--resume `{}`: no such run directory",
+                r.display()
+            )));
+        }
+    }
+    let out = a
+        .out
+        .clone()
+        .or_else(|| a.resume.clone())
+        .unwrap_or_else(|| Path::new("runs").join(&s.name));
+    let created = prepare_out_dir(&out, a.force || a.resume.is_some())?;
+    let opts = RunOptions {
+        out_dir: out.clone(),
+        force: a.force,
+        progress: !a.quiet && std::io::stderr().is_terminal(),
+        checkpoint_every_s: a.checkpoint_every,
+        resume: a.resume.clone(),
+    };
+    let outcome = match app::run(&s, &opts) {
+        Ok(o) => o,
+        Err(e) => {
+            // Leave no empty directory behind that would block the next attempt.
+            if created && !non_empty_dir(&out) {
+                let _ = std::fs::remove_dir(&out);
+            }
+            return Err(e);
+        }
+    };
+    println!("run `{}` → {}", s.name, out.display());
+    if let Some(obj) = outcome.summary.as_object() {
+        let pairs: Vec<(String, String)> = obj
+            .iter()
+            .map(|(k, v)| (k.clone(), v.to_string()))
+            .collect();
+        print_pairs(&pairs);
+    }
+    match (outcome.complete, outcome.message) {
+        (true, Some(m)) => {
+            eprintln!("warning: {m}");
+            Ok(())
+        }
+        (true, None) => Ok(()),
+        (false, m) => Err(AppError::RunFailed(format!(
+            "stopped before time.duration_s: {}; partial outputs are in `{}`",
+            m.unwrap_or_else(|| "no reason given".into()),
+            out.display()
+        ))),
+    }
+}
+
+fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {
+    let st = Study::load(&a.study)?;
+    let shard = match &a.shard {
+        Some(s) => Some(Shard::parse(s)?),
+        None => Shard::from_slurm(|k| std::env::var(k).ok()).transpose()?,
+    };
+    if a.jobs == Some(0) {
+        return Err(AppError::Input("--jobs must be at least 1".into()));
+    }
+    let opts = StudyOptions {
+        out_dir: a
+            .out
+            .clone()
+            .unwrap_or_else(|| Path::new("runs").join(&st.name)),
+        jobs: a.jobs,
+        set: a.set.clone(),
+        shard,
+        force: a.force,
+        verbose: true,
+    };
+    let report = study::run_study(&st, &opts)?;
+    print!("{}", report.table.to_markdown());
+    let failed = report.failures();
+    if failed > 0 {
+        return Err(AppError::RunFailed(format!(
+            "{failed} of {} case(s) failed or stopped early; see `{}/<case>/done.json`",
+            report.cases.len(),
+            opts.out_dir.display()
+        )));
+    }
+    Ok(())
+}
+
+fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
+    for d in &a.dirs {
+        if !d.is_dir() {
+            return Err(AppError::Input(format!(
+                "`{}` is not a directory",
+                d.display()
+            )));
+        }
+    }
+    let out = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
+    let table = study::collect(&a.dirs, &out)?;
+    print!("{}", table.to_markdown());
+    eprintln!(
+        "wrote {} and {}",
+        out.join("study.csv").display(),
+        out.join("study.md").display()
+    );
+    Ok(())
+}

@@ -1,0 +1,146 @@
+//! The loading pipeline: text → raw tree (+ positions) → overrides → schema check →
+//! context-dependent defaults → typed structs → validation.
+
+use std::path::{Path, PathBuf};
+
+use super::error::ScenarioError;
+use super::source::Provenance;
+use super::{overrides, schema, source, validate, Scenario};
+
+/// The absolute directory against which a scenario's relative paths resolve.
+pub fn base_dir(file: &Path) -> PathBuf {
+    let dir = file.parent().unwrap_or(Path::new(""));
+    std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf())
+}
+
+/// `a/b/../c` → `a/c` without touching the file system (the file may not exist yet, and
+/// its absence is reported with a readable path).
+fn normalize(p: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            Component::CurDir => {}
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// A directory-safe default name from a file name: its stem, other characters as `_`.
+fn default_name(file: &str) -> String {
+    let stem = Path::new(file)
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let clean: String = stem
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let clean = clean.trim_matches(|c| c == '.' || c == '_').to_string();
+    if clean.is_empty() {
+        "scenario".to_string()
+    } else {
+        clean
+    }
+}
+
+/// Run every stage on one scenario text.
+pub fn parse_scenario(
+    text: &str,
+    file: &str,
+    base: &Path,
+    overrides_: &[String],
+) -> Result<Scenario, ScenarioError> {
+    let (mut table, mut prov) = source::parse(text, file)?;
+    overrides::apply(&mut table, &mut prov, overrides_)?;
+    schema::check(&table, &prov)?;
+    let kind = get(&table, "model", "kind").and_then(|v| v.as_str().map(str::to_string));
+    let Some(kind) = kind else {
+        return Err(ScenarioError::Missing {
+            key: "model.kind".into(),
+            reason: "say which structural model to use: `[model] kind = \"rod\"` or \"shell\""
+                .into(),
+        });
+    };
+    fill_context_defaults(&mut table, &kind, &default_name(file));
+    let mut s: Scenario = toml::Value::Table(table)
+        .try_into()
+        .map_err(|e: toml::de::Error| conversion(e, &prov))?;
+    if let Some(p) = s.canopy.mesh_file.as_mut() {
+        if p.is_relative() {
+            *p = normalize(&base.join(&*p));
+        }
+    }
+    validate::validate(&s, &prov)?;
+    Ok(s)
+}
+
+/// The schema check admits only convertible trees, so this is a safety net, not a path
+/// users should see; it still names the file.
+fn conversion(e: toml::de::Error, prov: &Provenance) -> ScenarioError {
+    ScenarioError::Syntax {
+        file: prov.file.clone(),
+        line: 1,
+        col: 1,
+        message: format!("cannot convert the scenario: {}", e.message()),
+    }
+}
+
+fn get<'a>(t: &'a toml::Table, sec: &str, key: &str) -> Option<&'a toml::Value> {
+    t.get(sec)?.as_table()?.get(key)
+}
+
+fn section_mut<'a>(t: &'a mut toml::Table, sec: &str) -> &'a mut toml::Table {
+    let v = t
+        .entry(sec.to_string())
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+    if !v.is_table() {
+        *v = toml::Value::Table(toml::Table::new());
+    }
+    match v {
+        toml::Value::Table(t) => t,
+        _ => unreachable!("replaced by a table above"),
+    }
+}
+
+/// Defaults that depend on other keys, inserted into the raw tree so that the typed structs
+/// hold plain values: the name, the load sites (by model and shape) and the snapshot times.
+fn fill_context_defaults(t: &mut toml::Table, kind: &str, name: &str) {
+    if !t.contains_key("name") {
+        t.insert("name".into(), toml::Value::String(name.into()));
+    }
+    if get(t, "load", "sites").is_none() {
+        let shape = get(t, "canopy", "shape")
+            .and_then(|v| v.as_str())
+            .unwrap_or("rectangle");
+        let sites = match (kind, shape) {
+            ("rod", _) => "ends",
+            (_, "circle") => "rim",
+            (_, "mesh") => "center",
+            _ => "corners",
+        };
+        section_mut(t, "load").insert("sites".into(), toml::Value::String(sites.into()));
+    }
+    if get(t, "output", "snapshots_s").is_none() {
+        let duration = match get(t, "time", "duration_s") {
+            Some(toml::Value::Float(x)) => *x,
+            Some(toml::Value::Integer(i)) => *i as f64,
+            _ => super::Time::default().duration_s,
+        };
+        // k·d/10 rather than 0.k·d keeps round numbers exact (3·10/10 = 3, not 3.0000000000000004).
+        let snaps = [3.0, 6.0, 9.0].map(|k| toml::Value::Float(k * duration / 10.0));
+        section_mut(t, "output").insert("snapshots_s".into(), toml::Value::Array(snaps.to_vec()));
+    }
+}

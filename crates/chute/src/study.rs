@@ -1,0 +1,479 @@
+//! Studies: one base scenario run under a list (`[[case]]`) or grid (`[grid]`) of overrides,
+//! cases in parallel, each into `OUT/<case>/` with a `done.json` marker, then one table
+//! (`study.csv`, `study.md`) with a row per case. See `docs/cli.md` §study.
+
+mod table;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+use serde::Deserialize;
+
+use crate::app::{self, AppError, RunOptions, RunOutcome};
+use crate::scenario::source::line_col;
+use crate::scenario::Scenario;
+use table::read_json;
+pub use table::{collect, write_atomic, Row, Table};
+
+/// The summary metrics that become table columns, after the case name and its overrides.
+pub const METRIC_COLUMNS: &[&str] = &[
+    "terminal_velocity_mps",
+    "time_to_terminal_s",
+    "reached_terminal",
+    "max_extended_height_m",
+    "force_balance_error",
+];
+
+/// Name of the per-case marker written when a case has finished (whatever its outcome).
+pub const DONE_FILE: &str = "done.json";
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StudyFile {
+    name: Option<String>,
+    #[serde(default)]
+    description: Option<String>,
+    base: String,
+    #[serde(default)]
+    case: Vec<CaseSpec>,
+    grid: Option<toml::Table>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CaseSpec {
+    name: String,
+    #[serde(default)]
+    set: Vec<String>,
+}
+
+/// One case of a study.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Case {
+    /// 0-based position in the study (the shard selector uses it).
+    pub index: usize,
+    /// Directory-safe name; the case's output is `OUT/<name>/`.
+    pub name: String,
+    /// The case's own `--set` overrides, applied after the study-wide ones.
+    pub set: Vec<String>,
+}
+
+/// A parsed study file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Study {
+    /// Study name (default: the file stem).
+    pub name: String,
+    /// Free text, shown nowhere but kept for the reader.
+    pub description: Option<String>,
+    /// The base scenario file, resolved against the study file's directory.
+    pub base: PathBuf,
+    /// The cases, in file order (grid: key order, last key fastest).
+    pub cases: Vec<Case>,
+}
+
+fn input(msg: impl Into<String>) -> AppError {
+    AppError::Input(msg.into())
+}
+
+fn safe_name(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// A short label for a grid value in a case name: strings unquoted, arrays joined by `_`.
+fn label(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => s.clone(),
+        toml::Value::Array(a) => a.iter().map(label).collect::<Vec<_>>().join("_"),
+        other => other.to_string(),
+    }
+}
+
+/// Flatten a `[grid]` table (quoted dotted keys or nested tables) into (key, values).
+fn flatten_grid(
+    prefix: &str,
+    t: &toml::Table,
+    out: &mut Vec<(String, Vec<toml::Value>)>,
+) -> Result<(), AppError> {
+    for (k, v) in t {
+        let key = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match v {
+            toml::Value::Table(sub) => flatten_grid(&key, sub, out)?,
+            toml::Value::Array(a) if !a.is_empty() => out.push((key, a.clone())),
+            _ => {
+                return Err(input(format!(
+                    "grid key `{key}` must be a non-empty array of values"
+                )))
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The cartesian product of a grid, in key order with the last key varying fastest.
+fn grid_cases(grid: &toml::Table) -> Result<Vec<Case>, AppError> {
+    let mut axes = Vec::new();
+    flatten_grid("", grid, &mut axes)?;
+    if axes.is_empty() {
+        return Err(input("`[grid]` is empty"));
+    }
+    let total: usize = axes.iter().map(|(_, v)| v.len()).product();
+    if total > 100_000 {
+        return Err(input(format!(
+            "the grid has {total} cases; at most 100000 are allowed"
+        )));
+    }
+    let mut last_seen: BTreeMap<&str, usize> = BTreeMap::new();
+    for (k, _) in &axes {
+        *last_seen
+            .entry(k.rsplit('.').next().unwrap_or(k))
+            .or_default() += 1;
+    }
+    let mut cases = Vec::with_capacity(total);
+    for index in 0..total {
+        let (mut rest, mut parts, mut set) = (index, Vec::new(), Vec::new());
+        let mut picks = vec![0; axes.len()];
+        for (a, (_, vals)) in axes.iter().enumerate().rev() {
+            picks[a] = rest % vals.len();
+            rest /= vals.len();
+        }
+        for ((key, vals), &p) in axes.iter().zip(&picks) {
+            let short = key.rsplit('.').next().unwrap_or(key);
+            // The last key segment names the case unless two axes share it.
+            let shown = if last_seen.get(short) == Some(&1) {
+                short
+            } else {
+                key.as_str()
+            };
+            parts.push(format!("{shown}-{}", label(&vals[p])));
+            set.push(format!("{key}={}", vals[p]));
+        }
+        cases.push(Case {
+            index,
+            name: safe_name(&parts.join("_")),
+            set,
+        });
+    }
+    Ok(cases)
+}
+
+impl Study {
+    /// Read and check a study file (not yet its cases' scenarios: see [`Study::scenario`]).
+    pub fn load(path: &Path) -> Result<Study, AppError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| input(format!("cannot read study file `{}`: {e}", path.display())))?;
+        let dir = crate::scenario::source_dir(path);
+        Study::from_str(&text, &path.display().to_string(), &dir)
+    }
+
+    /// Parse study text; `base` resolves against `dir`.
+    pub fn from_str(text: &str, file: &str, dir: &Path) -> Result<Study, AppError> {
+        let f: StudyFile = toml::from_str(text).map_err(|e| {
+            let (line, col) = e.span().map_or((1, 1), |s| line_col(text, s.start));
+            input(format!("{file}:{line}:{col}: {}", e.message().trim()))
+        })?;
+        let name = f.name.unwrap_or_else(|| {
+            Path::new(file)
+                .file_stem()
+                .map_or("study".into(), |s| s.to_string_lossy().into_owned())
+        });
+        let name = safe_name(&name);
+        let mut cases = match (&f.grid, f.case.is_empty()) {
+            (Some(_), false) => {
+                return Err(input(format!(
+                    "{file}: give either `[[case]]` tables or a `[grid]`, not both"
+                )))
+            }
+            (None, true) => {
+                return Err(input(format!(
+                    "{file}: no cases: add `[[case]]` tables or a `[grid]`"
+                )))
+            }
+            (Some(g), true) => grid_cases(g).map_err(|e| input(format!("{file}: {e}")))?,
+            (None, false) => f
+                .case
+                .into_iter()
+                .enumerate()
+                .map(|(index, c)| Case {
+                    index,
+                    name: c.name,
+                    set: c.set,
+                })
+                .collect(),
+        };
+        let mut seen = std::collections::HashSet::new();
+        for c in &mut cases {
+            let ok = !c.name.is_empty() && safe_name(&c.name) == c.name && !c.name.starts_with('.');
+            if !ok {
+                return Err(input(format!(
+                    "{file}: case name `{}` names a directory: use letters, digits, '-', '_' or '.'",
+                    c.name
+                )));
+            }
+            if !seen.insert(c.name.clone()) {
+                return Err(input(format!("{file}: two cases are named `{}`", c.name)));
+            }
+        }
+        Ok(Study {
+            name,
+            description: f.description,
+            base: dir.join(&f.base),
+            cases,
+        })
+    }
+
+    /// The validated scenario of one case: the base file with the study-wide overrides, then
+    /// the case's own, and the name `<study>-<case>`.
+    pub fn scenario(&self, case: &Case, global_set: &[String]) -> Result<Scenario, AppError> {
+        let mut set: Vec<String> = global_set.to_vec();
+        set.extend(case.set.iter().cloned());
+        set.push(format!("name={}-{}", self.name, case.name));
+        Scenario::load(&self.base, &set)
+            .map_err(|e| input(format!("study `{}`, case `{}`: {e}", self.name, case.name)))
+    }
+}
+
+/// Which part of a study this process runs: cases with `index % count == index_of_shard`.
+/// Shards are 0-based, like SLURM array task ids by default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard, 0-based, `< count`.
+    pub index: usize,
+    /// Number of shards.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Parse `I/N` (0 ≤ I < N).
+    pub fn parse(s: &str) -> Result<Shard, AppError> {
+        let bad = || {
+            input(format!(
+                "invalid shard `{s}`: expected I/N with 0 ≤ I < N, e.g. `--shard 0/4`"
+            ))
+        };
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let index: usize = i.trim().parse().map_err(|_| bad())?;
+        let count: usize = n.trim().parse().map_err(|_| bad())?;
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// The shard of a SLURM array task: `SLURM_ARRAY_TASK_ID − SLURM_ARRAY_TASK_MIN` (MIN
+    /// defaults to 0) of `SLURM_ARRAY_TASK_COUNT`; `None` outside an array job. `var` reads
+    /// an environment variable (a parameter so tests need not touch the environment).
+    pub fn from_slurm(var: impl Fn(&str) -> Option<String>) -> Option<Result<Shard, AppError>> {
+        let id = var("SLURM_ARRAY_TASK_ID")?;
+        let count = var("SLURM_ARRAY_TASK_COUNT")?;
+        let min = var("SLURM_ARRAY_TASK_MIN").unwrap_or_else(|| "0".into());
+        let parse = |name: &str, v: &str| {
+            v.trim().parse::<usize>().map_err(|_| {
+                input(format!(
+                    "environment variable {name}=`{v}` is not a non-negative integer"
+                ))
+            })
+        };
+        Some((|| {
+            let (id, count, min) = (
+                parse("SLURM_ARRAY_TASK_ID", &id)?,
+                parse("SLURM_ARRAY_TASK_COUNT", &count)?,
+                parse("SLURM_ARRAY_TASK_MIN", &min)?,
+            );
+            let index = id
+                .checked_sub(min)
+                .ok_or_else(|| input("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN"))?;
+            Shard::parse(&format!("{index}/{count}")).map_err(|_| {
+                input(format!(
+                    "SLURM array task {id} (min {min}) is not one of {count} consecutive tasks; use an array without a step, or pass --shard I/N"
+                ))
+            })
+        })())
+    }
+
+    /// Whether this shard runs the case with this 0-based index.
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.count == self.index
+    }
+}
+
+/// How to run a study.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyOptions {
+    /// Output directory; cases go to `out_dir/<case>/`.
+    pub out_dir: PathBuf,
+    /// Parallel cases (default: one per core).
+    pub jobs: Option<usize>,
+    /// Overrides applied to every case, before the case's own.
+    pub set: Vec<String>,
+    /// Run only this shard of the cases.
+    pub shard: Option<Shard>,
+    /// Re-run cases whose `done.json` says complete (otherwise they are skipped).
+    pub force: bool,
+    /// Print one line per case on stderr.
+    pub verbose: bool,
+}
+
+/// What happened to one case in this invocation.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CaseStatus {
+    /// Ran to the end.
+    Complete,
+    /// Stopped early (the message says why); outputs may be partial.
+    Incomplete(String),
+    /// The runner returned an error.
+    Failed(String),
+    /// Already complete from an earlier invocation.
+    Skipped,
+}
+
+/// The result of [`run_study_with`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyReport {
+    /// Each selected case and what happened to it.
+    pub cases: Vec<(String, CaseStatus)>,
+    /// The collected table (all finished cases found in the output directory).
+    pub table: Table,
+}
+
+impl StudyReport {
+    /// Cases of this invocation that failed or stopped early.
+    pub fn failures(&self) -> usize {
+        self.cases
+            .iter()
+            .filter(|(_, s)| matches!(s, CaseStatus::Failed(_) | CaseStatus::Incomplete(_)))
+            .count()
+    }
+}
+
+/// The signature of a case runner ([`app::run`] in production, a fake in tests).
+pub type Runner<'a> = dyn Fn(&Scenario, &RunOptions) -> Result<RunOutcome, AppError> + Sync + 'a;
+
+/// Run a study with the real simulation.
+pub fn run_study(study: &Study, opts: &StudyOptions) -> Result<StudyReport, AppError> {
+    run_study_with(study, opts, &app::run)
+}
+
+/// Run a study with the given case runner: validate every selected case's scenario first
+/// (so an input error stops the study before anything runs), run them in parallel, then
+/// write `study.csv` and `study.md` from every finished case in the output directory.
+pub fn run_study_with(
+    study: &Study,
+    opts: &StudyOptions,
+    runner: &Runner,
+) -> Result<StudyReport, AppError> {
+    let selected: Vec<&Case> = study
+        .cases
+        .iter()
+        .filter(|c| opts.shard.is_none_or(|s| s.contains(c.index)))
+        .collect();
+    let scenarios = selected
+        .iter()
+        .map(|c| study.scenario(c, &opts.set))
+        .collect::<Result<Vec<_>, _>>()?;
+    std::fs::create_dir_all(&opts.out_dir).map_err(|e| AppError::io(&opts.out_dir, e))?;
+    let jobs = opts
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .build()
+        .map_err(|e| AppError::RunFailed(format!("cannot start {jobs} worker threads: {e}")))?;
+    let statuses: Vec<Result<CaseStatus, AppError>> = pool.install(|| {
+        selected
+            .par_iter()
+            .zip(scenarios.par_iter())
+            .map(|(case, scenario)| run_case(study, case, scenario, opts, runner))
+            .collect()
+    });
+    let mut cases = Vec::new();
+    for (case, status) in selected.iter().zip(statuses) {
+        cases.push((case.name.clone(), status?));
+    }
+    let table = collect(std::slice::from_ref(&opts.out_dir), &opts.out_dir)?;
+    Ok(StudyReport { cases, table })
+}
+
+fn run_case(
+    study: &Study,
+    case: &Case,
+    scenario: &Scenario,
+    opts: &StudyOptions,
+    runner: &Runner,
+) -> Result<CaseStatus, AppError> {
+    let dir = opts.out_dir.join(&case.name);
+    let done = dir.join(DONE_FILE);
+    let previously_complete = read_json(&done).is_some_and(|d| d["status"] == "complete");
+    if previously_complete && !opts.force {
+        if opts.verbose {
+            eprintln!("case {}: already complete, skipped", case.name);
+        }
+        return Ok(CaseStatus::Skipped);
+    }
+    std::fs::create_dir_all(&dir).map_err(|e| AppError::io(&dir, e))?;
+    match std::fs::remove_file(&done) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(AppError::io(&done, e)),
+        _ => {}
+    }
+    let run_opts = RunOptions {
+        out_dir: dir.clone(),
+        force: true,
+        progress: false,
+        checkpoint_every_s: None,
+        resume: None,
+    };
+    let started = std::time::Instant::now();
+    let status = match runner(scenario, &run_opts) {
+        Ok(o) if o.complete => CaseStatus::Complete,
+        Ok(o) => CaseStatus::Incomplete(o.message.unwrap_or_else(|| "stopped early".into())),
+        Err(e) => CaseStatus::Failed(e.to_string()),
+    };
+    let (word, message) = match &status {
+        CaseStatus::Complete | CaseStatus::Skipped => ("complete", None),
+        CaseStatus::Incomplete(m) => ("incomplete", Some(m.clone())),
+        CaseStatus::Failed(m) => ("failed", Some(m.clone())),
+    };
+    let overrides: Vec<[String; 2]> = case.set.iter().filter_map(|s| split_override(s)).collect();
+    let marker = serde_json::json!({
+        "study": study.name,
+        "case": case.name,
+        "index": case.index,
+        "overrides": overrides,
+        "status": word,
+        "message": message,
+        "wall_time_s": started.elapsed().as_secs_f64(),
+    });
+    write_atomic(&done, format!("{marker:#}\n").as_bytes())?;
+    if opts.verbose {
+        eprintln!(
+            "case {}: {word}{}",
+            case.name,
+            message.map_or(String::new(), |m| format!(": {m}"))
+        );
+    }
+    Ok(status)
+}
+
+fn split_override(s: &str) -> Option<[String; 2]> {
+    let (k, v) = s.split_once('=')?;
+    let v = v.trim();
+    // Show strings unquoted in the table.
+    let v = v
+        .strip_prefix('"')
+        .and_then(|x| x.strip_suffix('"'))
+        .unwrap_or(v);
+    Some([k.trim().to_string(), v.to_string()])
+}

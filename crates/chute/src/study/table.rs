@@ -1,0 +1,186 @@
+//! The study table: gathering finished cases from `done.json` and `summary.json`, and
+//! writing `study.csv` and `study.md` atomically.
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use super::{DONE_FILE, METRIC_COLUMNS};
+use crate::app::AppError;
+use crate::scenario::derived::sig4;
+
+pub(crate) fn read_json(path: &Path) -> Option<serde_json::Value> {
+    serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()
+}
+
+/// Write a file atomically: a temporary file in the same directory, then a rename, so a
+/// reader (or a concurrent shard) never sees half a file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), AppError> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let mut tmp = tempfile::NamedTempFile::new_in(&dir).map_err(|e| AppError::io(&dir, e))?;
+    tmp.write_all(bytes)
+        .map_err(|e| AppError::io(tmp.path(), e))?;
+    tmp.persist(path).map_err(|e| AppError::io(path, e.error))?;
+    Ok(())
+}
+
+/// One table row: a finished case.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// Case index in its study (orders the rows).
+    pub index: usize,
+    /// Case name.
+    pub case: String,
+    /// The case's overridden values, by key.
+    pub overrides: BTreeMap<String, String>,
+    /// The metric columns, by name, as text (empty when absent).
+    pub metrics: BTreeMap<String, String>,
+    /// `done.json` says complete and `summary.json` exists.
+    pub complete: bool,
+}
+
+/// The study table: the override columns (in order of first appearance) and the rows.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Table {
+    /// Override keys, one column each.
+    pub override_keys: Vec<String>,
+    /// Rows ordered by case index, then name.
+    pub rows: Vec<Row>,
+}
+
+fn metric_text(v: Option<&serde_json::Value>) -> String {
+    match v {
+        Some(serde_json::Value::Number(n)) => n.to_string(),
+        Some(serde_json::Value::Bool(b)) => b.to_string(),
+        Some(serde_json::Value::String(s)) => s.clone(),
+        _ => String::new(),
+    }
+}
+
+fn read_row(case_dir: &Path) -> Option<Row> {
+    let done = read_json(&case_dir.join(DONE_FILE))?;
+    let summary = read_json(&case_dir.join("summary.json"));
+    let case = done["case"].as_str().map(str::to_string).or_else(|| {
+        case_dir
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+    })?;
+    let overrides = done["overrides"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|kv| Some((kv[0].as_str()?.to_string(), kv[1].as_str()?.to_string())))
+                .collect()
+        })
+        .unwrap_or_default();
+    let metrics = METRIC_COLUMNS
+        .iter()
+        .map(|k| {
+            (
+                k.to_string(),
+                metric_text(summary.as_ref().and_then(|s| s.get(*k))),
+            )
+        })
+        .collect();
+    Some(Row {
+        index: done["index"].as_u64().map_or(usize::MAX, |i| i as usize),
+        case,
+        overrides,
+        metrics,
+        complete: done["status"] == "complete" && summary.is_some(),
+    })
+}
+
+/// Gather every finished case (`<dir>/<case>/done.json`) of the given study output
+/// directories (e.g. one per shard) and write `study.csv` and `study.md` into `out`.
+/// A case found twice keeps its last occurrence.
+pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
+    let mut by_name: BTreeMap<String, Row> = BTreeMap::new();
+    for dir in dirs {
+        let entries = std::fs::read_dir(dir).map_err(|e| AppError::io(dir, e))?;
+        let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+        paths.sort();
+        for p in paths.into_iter().filter(|p| p.is_dir()) {
+            if let Some(row) = read_row(&p) {
+                by_name.insert(row.case.clone(), row);
+            }
+        }
+    }
+    let mut rows: Vec<Row> = by_name.into_values().collect();
+    rows.sort_by(|a, b| (a.index, &a.case).cmp(&(b.index, &b.case)));
+    let mut override_keys: Vec<String> = Vec::new();
+    for r in &rows {
+        for k in r.overrides.keys() {
+            if !override_keys.contains(k) {
+                override_keys.push(k.clone());
+            }
+        }
+    }
+    let table = Table {
+        override_keys,
+        rows,
+    };
+    std::fs::create_dir_all(out).map_err(|e| AppError::io(out, e))?;
+    write_atomic(&out.join("study.csv"), table.to_csv()?.as_bytes())?;
+    write_atomic(&out.join("study.md"), table.to_markdown().as_bytes())?;
+    Ok(table)
+}
+
+impl Table {
+    /// Column headers: case, override keys, metrics, complete.
+    pub fn headers(&self) -> Vec<String> {
+        let mut h = vec!["case".to_string()];
+        h.extend(self.override_keys.iter().cloned());
+        h.extend(METRIC_COLUMNS.iter().map(|s| s.to_string()));
+        h.push("complete".into());
+        h
+    }
+
+    fn cells(&self, r: &Row, fmt: impl Fn(&str) -> String) -> Vec<String> {
+        let mut c = vec![r.case.clone()];
+        c.extend(
+            self.override_keys
+                .iter()
+                .map(|k| r.overrides.get(k).cloned().unwrap_or_default()),
+        );
+        c.extend(
+            METRIC_COLUMNS
+                .iter()
+                .map(|k| fmt(r.metrics.get(*k).map_or("", |s| s.as_str()))),
+        );
+        c.push(r.complete.to_string());
+        c
+    }
+
+    /// The table as CSV, numbers at full precision.
+    pub fn to_csv(&self) -> Result<String, AppError> {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        let err = |e: csv::Error| AppError::RunFailed(format!("cannot format study.csv: {e}"));
+        w.write_record(self.headers()).map_err(err)?;
+        for r in &self.rows {
+            w.write_record(self.cells(r, str::to_string)).map_err(err)?;
+        }
+        let bytes = w
+            .into_inner()
+            .map_err(|e| AppError::RunFailed(format!("cannot format study.csv: {e}")))?;
+        Ok(String::from_utf8_lossy(&bytes).into_owned())
+    }
+
+    /// The table as Markdown, numbers to 4 significant digits, missing values as "—".
+    pub fn to_markdown(&self) -> String {
+        let short = |s: &str| match s.parse::<f64>() {
+            _ if s.is_empty() => "—".to_string(),
+            Ok(x) if s != "true" && s != "false" => sig4(x),
+            _ => s.to_string(),
+        };
+        let h = self.headers();
+        let mut md = format!("| {} |\n|{}\n", h.join(" | "), "---|".repeat(h.len()));
+        for r in &self.rows {
+            md.push_str(&format!("| {} |\n", self.cells(r, short).join(" | ")));
+        }
+        md
+    }
+}

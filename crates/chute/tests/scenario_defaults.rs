@@ -1,0 +1,96 @@
+//! Defaults: the report's values, and the context-dependent ones (name, sites, snapshots).
+
+use chute::scenario::schema;
+use chute::scenario::{CanopyShape, DragLaw, LoadMode, Scenario, ShellDrag, SiteSet, Sites};
+
+fn parse(text: &str) -> Scenario {
+    Scenario::from_str_with_name(text, "dir/my-case.toml", &[]).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn minimal_rod_scenario_gets_the_report_defaults() {
+    let s = parse("[model]\nkind = \"rod\"\n");
+    assert_eq!(s.name, "my-case", "name defaults to the file stem");
+    assert_eq!(s.canopy.shape, CanopyShape::Rectangle);
+    assert_eq!(
+        (s.canopy.span_m, s.canopy.width_m, s.canopy.thickness_m),
+        (6.0, 3.0, 0.002)
+    );
+    assert_eq!(s.canopy.nodes, 61);
+    assert_eq!(
+        (s.material.youngs_modulus_pa, s.material.density_kg_m3),
+        (55e9, 1440.0)
+    );
+    assert_eq!(s.load.mode, LoadMode::Force);
+    assert_eq!(s.load.sites, Sites::Named(SiteSet::Ends));
+    assert_eq!(
+        (
+            s.fluid.drag_coefficient,
+            s.fluid.tangential_drag_coefficient
+        ),
+        (1.75, 0.5)
+    );
+    assert_eq!(
+        (s.fluid.drag, s.fluid.shell_drag),
+        (DragLaw::Quadratic, ShellDrag::Report)
+    );
+    assert_eq!((s.fluid.density_kg_m3, s.fluid.gravity_mps2), (1.225, 9.81));
+    assert_eq!((s.time.dt_s, s.time.duration_s), (1e-3, 10.0));
+    assert_eq!(s.output.snapshots_s, vec![3.0, 6.0, 9.0]);
+}
+
+#[test]
+fn sites_default_by_model_and_shape() {
+    let cases = [
+        ("shell", "rectangle", SiteSet::Corners),
+        ("shell", "hexagon", SiteSet::Corners),
+        ("shell", "circle", SiteSet::Rim),
+    ];
+    for (kind, shape, want) in cases {
+        let s = parse(&format!(
+            "[model]\nkind = \"{kind}\"\n[canopy]\nshape = \"{shape}\"\n"
+        ));
+        assert_eq!(s.load.sites, Sites::Named(want), "{kind} {shape}");
+    }
+}
+
+#[test]
+fn snapshots_follow_the_duration_and_explicit_ones_are_kept() {
+    let s = parse("[model]\nkind = \"rod\"\n[time]\nduration_s = 2\n");
+    assert_eq!(s.output.snapshots_s, vec![0.6, 1.2, 1.8]);
+    let s = parse("[model]\nkind = \"rod\"\n[output]\nsnapshots_s = [1, 2.5]\n");
+    assert_eq!(s.output.snapshots_s, vec![1.0, 2.5]);
+}
+
+#[test]
+fn awkward_file_names_give_safe_default_names() {
+    let s = Scenario::from_str_with_name("[model]\nkind = \"rod\"\n", "<string>", &[]).unwrap();
+    assert_eq!(s.name, "string");
+    let s = Scenario::from_str_with_name("[model]\nkind = \"rod\"\n", "a b/c d.toml", &[]).unwrap();
+    assert_eq!(s.name, "c_d");
+}
+
+/// The key table used for "unknown key" and type checks names exactly the serde fields:
+/// a scenario with every optional key set serialises to exactly the schema's keys.
+#[test]
+fn schema_matches_the_serde_structs() {
+    let text = "[model]\nkind = \"shell\"\n[canopy]\nshape = \"mesh\"\nmesh_file = \"m.obj\"\n\
+                [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\n";
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("m.obj"), "").unwrap();
+    let s =
+        Scenario::from_str_with_name(text, &dir.path().join("s.toml").display().to_string(), &[])
+            .unwrap();
+    let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();
+    let mut keys = Vec::new();
+    for (k, v) in &table {
+        match v.as_table() {
+            Some(t) => keys.extend(t.keys().map(|kk| format!("{k}.{kk}"))),
+            None => keys.push(k.clone()),
+        }
+    }
+    keys.sort();
+    let mut want = schema::all_keys();
+    want.sort();
+    assert_eq!(keys, want);
+}
