@@ -144,12 +144,14 @@ pub fn triangle(m: f64, fluid: &Fluid) -> (Model, State) {
 }
 
 /// Result of a fall from rest.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct FallResult {
     /// Max over the run of `|v_z − v_exact(t)| / v_t`.
     pub max_rel_error: f64,
     /// Final descent speed (m/s, positive down).
     pub final_speed: f64,
+    /// `(t, descent speed)` after every step (s, m/s).
+    pub series: Vec<(f64, f64)>,
 }
 
 /// Drop `body` from rest in still air and step it with `dt` until `t_end` (s).
@@ -169,5 +171,6 @@ pub fn fall(body: Body, dt: f64, t_end: f64) -> Result<FallResult, RefError> {
     Ok(FallResult {
         max_rel_error,
         final_speed,
+        series: series.iter().map(|&(t, v)| (t, -v[2])).collect(),
     })
 }
