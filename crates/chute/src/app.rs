@@ -180,6 +180,8 @@ pub mod validate {
         pub out: Option<PathBuf>,
         /// Print the table as JSON on stdout.
         pub json: bool,
+        /// Only the cases whose name contains this text.
+        pub case: Option<String>,
     }
 
     /// Run the verification suite, print the table (or JSON) on stdout and write the
@@ -189,12 +191,20 @@ pub mod validate {
             quick: args.quick,
             json: args.json,
             out: args.out.clone(),
-            filter: None,
+            filter: args.case.clone(),
         };
         if let Some(dir) = &args.out {
             std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
         }
         let checks = crate::validate::run_suite(&opts);
+        if let Some(dir) = &args.out {
+            let path = dir.join("validation_table.md");
+            crate::output::atomic::write_atomic(
+                &path,
+                crate::validate::markdown(&checks).as_bytes(),
+            )
+            .map_err(|e| AppError::io(&path, e))?;
+        }
         if args.json {
             let text = serde_json::to_string_pretty(&checks)
                 .map_err(|e| AppError::RunFailed(format!("JSON: {e}")))?;

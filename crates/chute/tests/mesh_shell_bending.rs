@@ -37,7 +37,7 @@ fn cylinder_bending_energy_matches_plate_theory() {
 
 #[test]
 fn simply_supported_plate_under_pressure() {
-    // Navier series for a simply supported square plate: w_c = 0.00406 q a⁴/D (independent
+    // Navier series for a simply supported square plate: w_c = 0.0040624 q a⁴/D (independent
     // of ν). The union-jack lattice is isotropic in bending with D_eff = ¾ k_b (relaxed).
     // Small load: w_c ≈ 1e-3 h, so membrane (geometric) effects ~ (w/h)² are negligible.
     let a = 1.0f64;

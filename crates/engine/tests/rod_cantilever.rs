@@ -129,3 +129,14 @@ fn end_torque_twists_without_bending() {
     assert!(err.abs() < 1e-6);
     assert!(moved < 1e-12);
 }
+
+/// The shooting solution of the elastica reproduces Bisshopp & Drucker's table to its five
+/// digits (half a unit of the last digit, 5e-6, plus the table's own rounding: 1e-5).
+#[test]
+fn elastica_shooting_matches_the_table() {
+    for (alpha, w_ref, u_ref) in BISSHOPP_DRUCKER {
+        let (w, u) = engine::reference::cantilever::elastica_exact(alpha);
+        println!("α = {alpha}: w/L = {w:.7} ({w_ref}), (L−x)/L = {u:.7} ({u_ref})");
+        assert!((w - w_ref).abs() < 1e-5 && (u - u_ref).abs() < 1e-5);
+    }
+}

@@ -155,17 +155,48 @@ pub fn run_suite(opts: &ValidateOptions) -> Vec<Check> {
         all.extend(checks);
     }
     if let Some(dir) = &opts.out {
-        if let Err(e) = convergence::write_all(dir, opts.quick) {
-            all.push(Check::failed("convergence-studies", &e));
+        let start = Instant::now();
+        match convergence::write_all(dir, opts.quick) {
+            Ok(mut checks) => {
+                let wall = start.elapsed().as_secs_f64();
+                checks.iter_mut().for_each(|c| c.wall_s = wall);
+                all.extend(checks);
+            }
+            Err(e) => all.push(Check::failed("convergence-studies", &e)),
         }
     }
     all
 }
 
+/// Render the checks as a Markdown table (`|` inside cells escaped), with the pass count.
+pub fn markdown(checks: &[Check]) -> String {
+    let esc = |t: &str| t.replace('|', "\\|");
+    let mut s = String::from(
+        "| case | quantity | reference | simulated | rel. error | tol. | pass | source |\n\
+         |---|---|---|---|---|---|---|---|\n",
+    );
+    for c in checks {
+        s += &format!(
+            "| {} | {} | {:.6e} | {:.6e} | {:.2e} | {:.1e} | {} | {} |\n",
+            c.name,
+            esc(&c.quantity),
+            c.reference,
+            c.simulated,
+            c.rel_error,
+            c.tolerance,
+            if c.pass { "ok" } else { "**FAIL**" },
+            esc(&c.source)
+        );
+    }
+    let failed = checks.iter().filter(|c| !c.pass).count();
+    s += &format!("\n{} passed, {} failed.\n", checks.len() - failed, failed);
+    s
+}
+
 /// Render the checks as a fixed-width table.
 pub fn table(checks: &[Check]) -> String {
     let mut s = format!(
-        "{:<28} {:<40} {:>13} {:>13} {:>9} {:>8}  {:<4}  {}\n",
+        "{:<28} {:<56} {:>13} {:>13} {:>9} {:>8}  {:<4}  {}\n",
         "case", "quantity", "reference", "simulated", "rel.err", "tol", "pass", "source"
     );
     for c in checks {
