@@ -280,6 +280,12 @@ pub fn simulate(
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
+    for t in &snaps[snap_idx..] {
+        warnings.push(format!(
+            "snapshot at {t} s not drawn: the run ended at {:.6} s",
+            state.t
+        ));
+    }
     ts.finish().map_err(io_err(&ts_path))?;
     let complete = stop_reason.is_none();
     // The final state is always drawn and written, whether or not the run completed.

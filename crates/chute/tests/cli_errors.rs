@@ -212,14 +212,35 @@ fn run_refuses_to_overwrite_and_checks_writability() {
             "--force",
         ],
     );
-    // With --force the run proceeds (to the not-yet-built simulation) and the old files stay
-    // untouched by the command line itself.
-    let o = chute(dir.path(), &["run", "s.toml", "--force", "--quiet"]);
-    assert_error(&o, 1, &["not implemented yet"]);
-    assert!(dir.path().join("runs/t/summary.json").exists());
-    // A fresh directory is created, and removed again when the run produced nothing.
-    let o = chute(dir.path(), &["run", "s.toml", "--out", "fresh"]);
-    assert_error(&o, 1, &["not implemented yet"]);
+    // With --force the run proceeds and replaces the old summary.
+    let short = [
+        "--set",
+        "time.duration_s=0.004",
+        "--set",
+        "canopy.edge_length_m=1",
+    ];
+    let mut args = vec!["run", "s.toml", "--force", "--quiet"];
+    args.extend(short);
+    let o = chute(dir.path(), &args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(dir.path().join("runs/t/summary.json")).unwrap();
+    assert!(summary.contains("terminal_velocity_mps"), "{summary}");
+    // A fresh directory is created, and removed again when the run produced nothing (here the
+    // builder rejects lines shorter than the distance from a corner to the payload).
+    let o = chute(
+        dir.path(),
+        &[
+            "run",
+            "s.toml",
+            "--out",
+            "fresh",
+            "--set",
+            "load.mode=payload",
+            "--set",
+            "lines.length_m=1",
+        ],
+    );
+    assert_error(&o, 2, &["lines.length_m"]);
     assert!(!dir.path().join("fresh").exists());
     // Not a directory / not creatable.
     std::fs::write(dir.path().join("afile"), "").unwrap();
@@ -268,29 +289,26 @@ fn run_refuses_an_unwritable_directory() {
 #[test]
 fn study_runs_cases_and_reports_failures_with_exit_3() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("base.toml"), HEAD).unwrap();
+    // Short, coarse runs; case 30 N asks for lines shorter than the corner distance, so the
+    // builder rejects it and the study reports one failed case.
+    let base = format!(
+        "{HEAD}[canopy]\nedge_length_m = 1.0\n[time]\nduration_s = 0.004\n[load]\nmode = \"payload\"\n[lines]\nlength_m = 4.0\n"
+    );
+    std::fs::write(dir.path().join("base.toml"), base).unwrap();
     std::fs::write(
         dir.path().join("st.toml"),
-        "base = \"base.toml\"\n[grid]\n\"load.weight_n\" = [10, 20, 30]\n",
+        "base = \"base.toml\"\n[[case]]\nname = \"weight_n-10\"\nset = [\"load.weight_n=10\"]\n[[case]]\nname = \"weight_n-20\"\nset = [\"load.weight_n=20\"]\n[[case]]\nname = \"weight_n-30\"\nset = [\"load.weight_n=30\", \"lines.length_m=1\"]\n",
     )
     .unwrap();
-    // Until the run loop exists every case fails honestly; the table still lists them.
     let o = chute(
         dir.path(),
         &["study", "st.toml", "--jobs", "2", "--out", "o"],
     );
-    assert_error(&o, 3, &["3 of 3 case(s) failed"]);
+    assert_error(&o, 3, &["1 of 3 case(s) failed"]);
     let csv = std::fs::read_to_string(dir.path().join("o/study.csv")).unwrap();
-    assert!(
-        csv.starts_with("case,load.weight_n,terminal_velocity_mps"),
-        "{csv}"
-    );
+    assert!(csv.starts_with("case,load.weight_n,"), "{csv}");
     assert_eq!(csv.lines().count(), 4, "{csv}");
-    assert!(
-        stdout(&o).contains("| weight_n-20 | 20 |"),
-        "{}",
-        stdout(&o)
-    );
+    assert!(stdout(&o).contains("| weight_n-20 |"), "{}", stdout(&o));
     // Shard from SLURM variables: task 1 of 2 runs only case index 1.
     let o = Command::new(env!("CARGO_BIN_EXE_chute"))
         .args(["study", "st.toml", "--out", "slurm"])
@@ -300,7 +318,7 @@ fn study_runs_cases_and_reports_failures_with_exit_3() {
         .env_remove("SLURM_ARRAY_TASK_MIN")
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let done: Vec<bool> = ["weight_n-10", "weight_n-20", "weight_n-30"]
         .iter()
         .map(|c| dir.path().join("slurm").join(c).join("done.json").exists())

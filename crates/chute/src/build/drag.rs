@@ -94,9 +94,10 @@ pub fn install(
             la.push(2.0 * s.lines.radius_m * l);
         }
     }
-    if !ln.is_empty() && f.drag == DragLaw::Quadratic {
+    let cd_lines = s.lines.drag_coefficient.unwrap_or(cd);
+    if !ln.is_empty() && f.drag == DragLaw::Quadratic && cd_lines > 0.0 {
         out.forces.push(model.forces.len());
-        model.add_force(NodeDrag::new(&ln, &la, cd, &fluid));
+        model.add_force(NodeDrag::new(&ln, &la, cd_lines, &fluid));
     }
     out
 }

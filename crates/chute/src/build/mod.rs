@@ -36,6 +36,7 @@ mod drag;
 mod load;
 mod sites;
 
+use crate::scenario::derived::sig4;
 use crate::scenario::{ModelKind, Scenario};
 use engine::loads::Gravity;
 use engine::{DofLayout, Model, State};
@@ -136,25 +137,28 @@ fn derived(s: &Scenario, b: &Built, geo: &Geometry) -> Vec<(String, String)> {
         ),
         ("canopy nodes".into(), b.canopy_nodes.len().to_string()),
         (
-            "canopy planform area".into(),
-            format!("{:.4} m²", geo.planform_area),
+            "planform area".into(),
+            format!("{} m²", sig4(geo.planform_area)),
         ),
         (
             "canopy weight".into(),
-            format!("{:.3} N", b.canopy_weight_n),
-        ),
-        ("total weight".into(), format!("{:.3} N", b.total_weight_n)),
-        (
-            "flat C_D·A".into(),
-            format!("{:.4} m²", b.flat_drag_area_m2),
+            format!("{} N", sig4(b.canopy_weight_n)),
         ),
         (
-            "flat-canopy terminal velocity √(2W/(ρ C_D A))".into(),
-            format!("{v_flat:.4} m/s"),
+            "total weight".into(),
+            format!("{} N", sig4(b.total_weight_n)),
+        ),
+        (
+            "flat-canopy C_D·A".into(),
+            format!("{} m²", sig4(b.flat_drag_area_m2)),
+        ),
+        (
+            "flat-canopy terminal speed √(2W/(ρ C_D A))".into(),
+            format!("{} m/s", sig4(v_flat)),
         ),
         (
             "Reynolds number at that speed".into(),
-            format!("{re:.3e} (L = {:.3} m)", b.reference_length_m),
+            format!("{} (L = {} m)", sig4(re), sig4(b.reference_length_m)),
         ),
     ];
     if s.model.kind == ModelKind::Rod {
@@ -165,23 +169,23 @@ fn derived(s: &Scenario, b: &Built, geo: &Geometry) -> Vec<(String, String)> {
         );
         d.push((
             "strip bending stiffness EI = E w h³/12".into(),
-            format!("{:.4e} N·m²", e * w * h.powi(3) / 12.0),
+            format!("{} N·m²", sig4(e * w * h.powi(3) / 12.0)),
         ));
         d.push((
             "strip axial stiffness EA".into(),
-            format!("{:.4e} N", e * w * h),
+            format!("{} N", sig4(e * w * h)),
         ));
     } else {
         let m = canopy::shell_material(s);
         d.push((
-            "plate bending stiffness D = E h³/12".into(),
-            format!("{:.4e} N·m", m.plate_stiffness()),
+            "hinge plate stiffness D = E h³/12".into(),
+            format!("{} N·m", sig4(m.plate_stiffness())),
         ));
         d.push((
             "membrane stiffness E h".into(),
             format!(
-                "{:.4e} N/m",
-                s.material.youngs_modulus_pa * s.canopy.thickness_m
+                "{} N/m",
+                sig4(s.material.youngs_modulus_pa * s.canopy.thickness_m)
             ),
         ));
     }

@@ -244,6 +244,10 @@ pub struct Lines {
     pub poisson_ratio: f64,
     /// Density (kg/m³). Default 1440.
     pub density_kg_m3: f64,
+    /// Drag coefficient of the lines' isotropic node drag (−); default `fluid.drag_coefficient`;
+    /// 0 disables line drag (e.g. to compare with a peer code that has none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drag_coefficient: Option<f64>,
 }
 
 impl Default for Lines {
@@ -255,6 +259,7 @@ impl Default for Lines {
             youngs_modulus_pa: 55e9,
             poisson_ratio: 0.36,
             density_kg_m3: 1440.0,
+            drag_coefficient: None,
         }
     }
 }

@@ -84,6 +84,7 @@ pub const SCHEMA: &[(&str, &[(&str, Kind)])] = &[
             ("youngs_modulus_pa", Kind::Float),
             ("poisson_ratio", Kind::Float),
             ("density_kg_m3", Kind::Float),
+            ("drag_coefficient", Kind::Float),
         ],
     ),
     (

@@ -61,11 +61,16 @@ impl Force for LinearDrag {
     }
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
         let v = input.v;
-        out.par_for_each(|b| {
+        out.par_for_each(input.jacobian, |b| {
             let i = b.index;
             let c = self.coeff[i];
             for r in 0..3 {
                 b.f[r] = -c * (v[self.stencils[3 * i + r]] - self.wind[r]);
+            }
+            if b.dfdv.is_empty() {
+                return;
+            }
+            for r in 0..3 {
                 for s in 0..3 {
                     b.dfdv[3 * r + s] = if r == s { -c } else { 0.0 };
                 }

@@ -81,7 +81,7 @@ impl Force for PressureDrag {
     }
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
         let (q, v) = (input.q, input.v);
-        out.par_for_each(|b| {
+        out.par_for_each(input.jacobian, |b| {
             let st = &self.stencils[9 * b.index..9 * b.index + 9];
             let k = self.coeff[b.index];
             let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
@@ -89,6 +89,7 @@ impl Force for PressureDrag {
             let a = nv.norm();
             b.dfdq.fill(0.0);
             b.dfdv.fill(0.0);
+            let jac = !b.dfdq.is_empty();
             if a < f64::MIN_POSITIVE {
                 // A collapsed triangle has no normal; it carries no drag.
                 b.f.fill(0.0);
@@ -107,6 +108,11 @@ impl Force for PressureDrag {
                 let df_dnvec = df_dnhat * dn_dn;
                 for r in 0..3 {
                     b.f[3 * i + r] = f[r];
+                }
+                if !jac {
+                    continue;
+                }
+                for r in 0..3 {
                     for c in 0..3 {
                         b.dfdv[(3 * i + r) * 9 + 3 * i + c] = dv[(r, c)];
                     }

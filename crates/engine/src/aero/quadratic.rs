@@ -70,7 +70,7 @@ impl Force for NodeDrag {
     }
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
         let v = input.v;
-        out.par_for_each(|b| {
+        out.par_for_each(input.jacobian, |b| {
             let i = b.index;
             let st = &self.stencils[3 * i..3 * i + 3];
             let u = stencil_vec(v, st, 0) - self.wind;
@@ -78,6 +78,11 @@ impl Force for NodeDrag {
             let c = self.coeff[i];
             for r in 0..3 {
                 b.f[r] = -c * g[r];
+            }
+            if b.dfdv.is_empty() {
+                return;
+            }
+            for r in 0..3 {
                 for s in 0..3 {
                     b.dfdv[3 * r + s] = -c * dg[(r, s)];
                 }

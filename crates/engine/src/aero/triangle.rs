@@ -81,6 +81,21 @@ fn triangle_drag(n: &V3, u: &V3, c_n: f64, c_t: f64, eps: f64) -> TriDrag {
     }
 }
 
+/// Drag on a triangle alone (no derivatives): the force path of [`triangle_drag`], used when
+/// the Newton iteration reuses its Jacobian.
+fn triangle_drag_force(n: &V3, u: &V3, c_n: f64, c_t: f64, eps: f64) -> V3 {
+    let a2 = n.norm_squared();
+    if a2 < f64::MIN_POSITIVE {
+        return V3::zeros();
+    }
+    let a = a2.sqrt();
+    let p = n.dot(u);
+    let w = reg_norm(u, eps);
+    let f_n = -(c_n / (a2 * a * w)) * p.powi(3) * n;
+    let ut = u - (p / a2) * n;
+    f_n - c_t * a * reg_norm(&ut, eps) * ut
+}
+
 impl TriangleDrag {
     /// Drag on `triangles` (node triples) with normal and tangential drag coefficients
     /// `cd_normal`, `cd_tangential` and the fluid's density and wind.
@@ -151,10 +166,24 @@ impl Force for TriangleDrag {
     }
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
         let (q, v) = (input.q, input.v);
-        out.par_for_each(|b| {
+        out.par_for_each(input.jacobian, |b| {
             let st = &self.stencils[9 * b.index..9 * b.index + 9];
             let (x, n, u) = self.kinematics(q, v, st);
+            if b.dfdq.is_empty() {
+                let f = triangle_drag_force(&n, &u, self.c_n, self.c_t, self.epsilon);
+                for an in 0..3 {
+                    for r in 0..3 {
+                        b.f[3 * an + r] = f[r] / 3.0;
+                    }
+                }
+                return;
+            }
             let d = triangle_drag(&n, &u, self.c_n, self.c_t, self.epsilon);
+            for an in 0..3 {
+                for r in 0..3 {
+                    b.f[3 * an + r] = d.f[r] / 3.0;
+                }
+            }
             let dn = area_vector_jacobians(&x);
             let dv = d.dfdu / 9.0;
             for bn in 0..3 {
@@ -167,11 +196,6 @@ impl Force for TriangleDrag {
                             b.dfdv[idx] = dv[(r, c)];
                         }
                     }
-                }
-            }
-            for an in 0..3 {
-                for r in 0..3 {
-                    b.f[3 * an + r] = d.f[r] / 3.0;
                 }
             }
         });

@@ -351,7 +351,9 @@ impl Force for BendTwist {
     }
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
         let q = input.q;
-        out.par_for_each(|b| self.element_blocks(q, b.index, b.f, b.dfdq));
+        out.par_for_each(input.jacobian, |b| {
+            self.element_blocks(q, b.index, b.f, b.dfdq)
+        });
     }
     fn conservative(&self) -> bool {
         true

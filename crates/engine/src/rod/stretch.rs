@@ -80,7 +80,7 @@ impl Force for Stretch {
     }
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
         let q = input.q;
-        out.par_for_each(|b| {
+        out.par_for_each(input.jacobian, |b| {
             let i = b.index;
             let st = &self.stencils[6 * i..6 * i + 6];
             let (k, rest) = (self.stiffness[i], self.rest_len[i]);
@@ -90,6 +90,9 @@ impl Force for Stretch {
             for c in 0..3 {
                 b.f[c] = -f1[c];
                 b.f[3 + c] = f1[c];
+            }
+            if b.dfdq.is_empty() {
+                return;
             }
             let tt = outer(&t, &t);
             let h: M3 = tt * (k / rest) + (M3::identity() - tt) * (k * eps / l);

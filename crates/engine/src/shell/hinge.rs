@@ -8,7 +8,7 @@
 //! For a shell, `k_b = (2/√3) E h³/12`; see [`super::ShellMaterial`] for the effective
 //! plate stiffness this gives on each mesh type.
 
-use super::dihedral::{angle, angle_grad_hess};
+use super::dihedral::{angle, angle_grad, angle_grad_hess};
 use super::mesh::Hinge;
 use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
 use crate::vec3::{node, V3};
@@ -107,17 +107,24 @@ impl Force for HingeBending {
     }
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
         let q = input.q;
-        let with_jac = !out.dfdq.is_empty();
-        out.par_for_each(|b| {
+        out.par_for_each(input.jacobian, |b| {
             let i = b.index;
             let x = positions(q, &self.stencils[12 * i..12 * i + 12]);
-            let (theta, g, h) = angle_grad_hess(&x);
             let k = self.stiffness[i];
+            if b.dfdq.is_empty() {
+                let (theta, g) = angle_grad(&x);
+                let d = wrap_angle(theta - self.rest_angle[i]);
+                for a in 0..12 {
+                    b.f[a] = -k * d * g[a];
+                }
+                return;
+            }
+            let (theta, g, h) = angle_grad_hess(&x);
             let d = wrap_angle(theta - self.rest_angle[i]);
             for a in 0..12 {
                 b.f[a] = -k * d * g[a];
             }
-            if with_jac {
+            {
                 for r in 0..12 {
                     for c in 0..12 {
                         b.dfdq[r * 12 + c] = -k * (g[r] * g[c] + d * h[(r, c)]);

@@ -48,7 +48,7 @@ impl Default for NewtonOptions {
             line_search: true,
             max_backtracks: 8,
             reuse_jacobian: false,
-            reuse_contraction: 0.25,
+            reuse_contraction: 0.5,
         }
     }
 }
@@ -223,9 +223,12 @@ impl NewtonCore {
             self.history.push(rinf_new);
             // A reused Jacobian that no longer contracts the residual fast is refreshed at the
             // new iterate (its values must then be assembled there).
+            // Past half the iteration budget, fall back to full Newton: a stale Jacobian that
+            // still contracts slowly would otherwise exhaust the budget.
             fresh = !self.opts.reuse_jacobian
-                || (reused && rinf_new > self.opts.reuse_contraction * rinf);
-            if fresh && reused {
+                || (reused && rinf_new > self.opts.reuse_contraction * rinf)
+                || report.iterations >= self.opts.max_iterations / 2;
+            if fresh && self.opts.reuse_jacobian {
                 norm = self.residual_at(model, q, tg, true);
             }
             if alpha * dmax <= self.opts.step_tol && rinf_new <= 1e3 * tol {
