@@ -174,9 +174,9 @@ pub fn no_spin(quick: bool) -> CaseResult {
 
 /// The DisMech peer's hexagonal parachute (n = 6 mesh, its parameters, its cos² pressure
 /// drag `shell_drag = "pressure"`), against its reported ≈ 2.08 m/s descent. The peer's
-/// run is itself 3 s at dt = 10 ms, and the models may differ in the joints (the peer pins
-/// the line–canopy joints) and in the mesh-derived masses; the tolerance 10 % is for that
-/// model difference, not for our discretisation (measured −3.9 %).
+/// run is itself 3 s at dt = 10 ms, and the models may differ in details (joints, lumped
+/// masses), and the peer reports neither its averaging window nor its Newton tolerance;
+/// the tolerance 10 % is for that, not for our discretisation (measured −1.3 %).
 /// A second check runs the report's law (cos³ normal drag, `shell_drag = "report"`): a
 /// canopy whose facets tilt by θ then loses drag by cos θ more, so it falls faster, and the
 /// check against the peer number is looser (25 %, order of magnitude; see docs/validation.md).
