@@ -255,8 +255,9 @@ pub fn simulate(
                 )?;
                 if let Some(bar) = &bar {
                     bar.set_position((state.t / cfg.duration_s * 1000.0) as u64);
+                    let rate = steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);
                     bar.set_message(format!(
-                        "t = {:.3} s, {} Newton it/step",
+                        "t = {:.3} s, {rate:.0} steps/s, {} Newton it/step",
                         state.t, rep.iterations
                     ));
                 }

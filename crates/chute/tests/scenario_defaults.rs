@@ -75,7 +75,8 @@ fn awkward_file_names_give_safe_default_names() {
 #[test]
 fn schema_matches_the_serde_structs() {
     let text = "[model]\nkind = \"shell\"\n[canopy]\nshape = \"mesh\"\nmesh_file = \"m.obj\"\n\
-                [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\n";
+                [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\n\
+                [lines]\ndrag_coefficient = 1.0\n";
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("m.obj"), "").unwrap();
     let s =
