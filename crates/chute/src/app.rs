@@ -1,9 +1,8 @@
 //! The interface between the command line and the simulation: `check` and `run` a scenario,
 //! and the `validate` / `bench` entry points.
 //!
-//! The builders and the run loop are written by the integrator; until then `run`,
-//! `validate::main` and `bench::main` return [`AppError::NotImplemented`] rather than fake
-//! results. `check` already reports the quantities that follow from the scenario alone.
+//! `bench::main` returns [`AppError::NotImplemented`] until the benchmark ladder lands;
+//! `validate::main` runs [`crate::validate`].
 
 use std::path::PathBuf;
 
@@ -181,14 +180,42 @@ pub mod validate {
         pub out: Option<PathBuf>,
         /// Print the table as JSON on stdout.
         pub json: bool,
+        /// Only the cases whose name contains this text.
+        pub case: Option<String>,
     }
 
-    /// Run the verification suite; `Err(ValidationFailed)` when any case fails.
+    /// Run the verification suite, print the table (or JSON) on stdout and write the
+    /// convergence studies when `out` is given; `Err(ValidationFailed)` when any check fails.
     pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
-        let _ = args;
-        Err(AppError::NotImplemented(
-            "the verification suite (`chute::validate::main`)",
-        ))
+        let opts = crate::validate::ValidateOptions {
+            quick: args.quick,
+            json: args.json,
+            out: args.out.clone(),
+            filter: args.case.clone(),
+        };
+        if let Some(dir) = &args.out {
+            std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
+        }
+        let checks = crate::validate::run_suite(&opts);
+        if let Some(dir) = &args.out {
+            let path = dir.join("validation_table.md");
+            crate::output::atomic::write_atomic(
+                &path,
+                crate::validate::markdown(&checks).as_bytes(),
+            )
+            .map_err(|e| AppError::io(&path, e))?;
+        }
+        if args.json {
+            let text = serde_json::to_string_pretty(&checks)
+                .map_err(|e| AppError::RunFailed(format!("JSON: {e}")))?;
+            println!("{text}");
+        } else {
+            print!("{}", crate::validate::table(&checks));
+        }
+        match checks.iter().filter(|c| !c.pass).count() {
+            0 => Ok(()),
+            failed => Err(AppError::ValidationFailed { failed }),
+        }
     }
 }
 

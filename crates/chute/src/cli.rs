@@ -122,6 +122,9 @@ pub struct ValidateArgs {
     /// Print the results as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Only the cases whose name contains this text (e.g. `elastica`).
+    #[arg(long, value_name = "TEXT")]
+    pub case: Option<String>,
 }
 
 /// `chute bench`.
@@ -171,6 +174,7 @@ pub fn dispatch(cli: Cli) -> Result<(), AppError> {
             quick: a.quick,
             out: a.out,
             json: a.json,
+            case: a.case,
         }),
         Command::Bench(a) => app::bench::main(&app::bench::BenchArgs {
             quick: a.quick,

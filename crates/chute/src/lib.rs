@@ -9,5 +9,6 @@ pub mod output;
 pub mod runner;
 pub mod scenario;
 pub mod study;
+pub mod validate;
 
-pub use app::{bench, validate};
+pub use app::bench;

@@ -24,6 +24,7 @@ pub mod force;
 pub mod linsolve;
 pub mod loads;
 pub mod model;
+pub mod reference;
 pub mod rod;
 pub mod shell;
 pub mod stepper;

@@ -1,6 +1,13 @@
-//! External loads: gravity and constant point forces, both a [`ConstantForces`] family.
-//! They honour the load scale used by the static solver's load stepping.
+//! External loads: gravity and constant point forces (both a [`ConstantForces`] family),
+//! constant generalised forces on single DOFs and a planar end moment. All honour the load
+//! scale used by the static solver's load stepping.
 use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+
+mod dof_forces;
+mod edge_moment;
+
+pub use dof_forces::DofForces;
+pub use edge_moment::PlanarEdgeMoment;
 
 /// Constant forces `f_j` (N) on nodes, scaled by the load factor `s`:
 /// energy `E = −s Σ f_j · x_j`, force `s f_j`, no Jacobian.

@@ -5,7 +5,7 @@
 //! h = 1e-6 on O(1) coordinates have truncation error O(h²) ≈ 1e-12 and round-off
 //! O(1e-16/h) ≈ 1e-10, so a correct Jacobian passes with orders of magnitude to spare, while
 //! any missing term (e.g. ∂n̂/∂x, or a factor 2) shows up as an O(1) error.
-mod aero_support;
+use engine::reference::sheet;
 
 use engine::aero::{Fluid, LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
 use engine::fdcheck::{check_force, dense_eval};
@@ -26,7 +26,7 @@ fn windy(rng: &mut StdRng) -> Fluid {
 /// A 3 × 3-node sheet (8 triangles) with every node displaced by up to ±0.4 of the 1 m
 /// spacing in each direction: triangles are sheared, tilted and stretched.
 fn deformed_sheet(rng: &mut StdRng) -> (Vec<f64>, Vec<[usize; 3]>) {
-    let s = aero_support::sheet(3, 3, 2.0, 2.0, 0.0);
+    let s = sheet::sheet(3, 3, 2.0, 2.0, 0.0);
     let q =
         s.q.iter()
             .map(|&x| x + rng.random_range(-0.4..0.4))
@@ -163,7 +163,7 @@ fn pressure_drag_jacobians_match_fd_including_reversal() {
     for _ in 0..20 {
         let fluid = windy(&mut rng);
         let (q, tris) = deformed_sheet(&mut rng);
-        let rest = aero_support::sheet(3, 3, 2.0, 2.0, 0.0);
+        let rest = sheet::sheet(3, 3, 2.0, 2.0, 0.0);
         let drag = PressureDrag::new(&tris, &rest.q, 1.75, &fluid);
         let v = random_v(&mut rng, q.len(), 10.0);
         assert_fd(&drag, &q, &v, H, "pressure drag");

@@ -2,7 +2,7 @@
 //! flow, the cos³ (TriangleDrag) and cos² (PressureDrag) angle laws, the regularisation at
 //! rest, the resultant helper and the Reynolds number. These are exact identities, so the
 //! tolerance is round-off (1e-12 relative).
-mod aero_support;
+use engine::reference::sheet;
 
 use engine::aero::{
     resultant, reynolds, stokes_sphere, DragRegime, Fluid, NodeDrag, PressureDrag, TriangleDrag,
@@ -22,7 +22,7 @@ fn close(a: [f64; 3], b: [f64; 3]) -> bool {
 /// The 2 × 1 m sheet (4 triangles, area 2 m²) in the plane z = 0 moving with uniform
 /// velocity `vel` in still air: the resultant of TriangleDrag with coefficients (cn, ct).
 fn sheet_drag(cn: f64, ct: f64, vel: [f64; 3]) -> [f64; 3] {
-    let s = aero_support::sheet(3, 2, 2.0, 1.0, 0.0);
+    let s = sheet::sheet(3, 2, 2.0, 1.0, 0.0);
     let drag = TriangleDrag::new(&s.tris, cn, ct, &Fluid::air());
     let v: Vec<f64> = (0..s.n_nodes).flat_map(|_| vel).collect();
     resultant(&drag, &DofLayout::new(s.n_nodes, 0), &s.q, &v)
@@ -77,7 +77,7 @@ fn pressure_drag_follows_cos_squared_law_with_rest_area() {
     // Per-node law with the undeformed area: stretch the sheet by 2 in x (area doubles);
     // the force must still use A₀ and be normal-only: −½ρC_D A₀ |u|² cos²θ sign(cos θ) n̂.
     let rho = Fluid::air().density;
-    let rest = aero_support::sheet(3, 2, 2.0, 1.0, 0.0);
+    let rest = sheet::sheet(3, 2, 2.0, 1.0, 0.0);
     let drag = PressureDrag::new(&rest.tris, &rest.q, 1.75, &Fluid::air());
     let q: Vec<f64> = rest
         .q

@@ -1,10 +1,9 @@
 //! Linear (Stokes-like) drag: the exponential transient `v(t) = v_t (1 − e^{−c t/m})` and the
 //! terminal velocity `v_t = m g / Σc`.
-mod aero_support;
 
-use aero_support::run;
 use engine::aero::{Fluid, LinearDrag};
 use engine::loads::Gravity;
+use engine::reference::falling::run;
 use engine::rod::Stretch;
 use engine::{DofLayout, Model, State};
 
@@ -21,7 +20,7 @@ fn single_node_transient_is_backward_euler_of_the_exponential() {
     model.add_force(LinearDrag::new(&[0], &[c], &Fluid::air()));
     let mut state = State::at_rest(vec![0.0; 3]);
     let steps = 2000; // 10 time constants
-    let series = run(&mut model, &mut state, dt, steps);
+    let series = run(&mut model, &mut state, dt, steps).unwrap();
     let (mut v_be, mut max_err) = (0.0f64, 0.0f64);
     for &(t, v) in &series {
         // The problem is linear, so Newton solves it exactly: the discrete recurrence
@@ -68,7 +67,7 @@ fn strip_with_uneven_coefficients_reaches_total_mass_over_total_coefficient() {
     let total_c = drag.total_coefficient();
     model.add_force(drag);
     let mut state = State::at_rest(q);
-    run(&mut model, &mut state, 1e-2, 800);
+    run(&mut model, &mut state, 1e-2, 800).unwrap();
     let vt = masses.iter().sum::<f64>() * G / total_c;
     for i in 0..n {
         let vz = state.v[3 * i + 2];

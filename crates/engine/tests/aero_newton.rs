@@ -1,7 +1,7 @@
 //! Newton converges quadratically on a drag-dominated step, because the drag Jacobians are
 //! exact (including ∂n̂/∂x and the projected area); dropping ∂F/∂x of the drag, as a
 //! simplified Jacobian would, degrades it to linear convergence.
-mod aero_support;
+use engine::reference::sheet;
 
 use engine::aero::{Fluid, TriangleDrag};
 use engine::force::{EvalInput, Force, JacobianKind, LocalBlocks};
@@ -42,7 +42,7 @@ impl Force for NoDq {
 /// dominates the weight (≈ 10 N).
 fn model(exact: bool) -> (Model, State) {
     let mut rng = StdRng::seed_from_u64(7);
-    let s = aero_support::sheet(3, 3, 1.0, 1.0, 0.0);
+    let s = sheet::sheet(3, 3, 1.0, 1.0, 0.0);
     let q: Vec<f64> =
         s.q.chunks(3)
             .flat_map(|p| {

@@ -3,13 +3,8 @@
 //! Drag acts on `v − U∞`, so the only steady state has zero horizontal relative velocity,
 //! and backward Euler's fixed point is that steady state exactly; the test checks that the
 //! transient has decayed to within 0.5 %.
-mod aero_support;
-
-use aero_support::run;
-use engine::aero::{Fluid, NodeDrag, TriangleDrag};
-use engine::loads::Gravity;
-use engine::rod::Stretch;
-use engine::{DofLayout, Model, State};
+use engine::aero::Fluid;
+use engine::reference::falling::{run, strip, triangle};
 
 const G: f64 = 9.81;
 const WIND: f64 = 5.0;
@@ -27,24 +22,9 @@ fn strip_with_node_drag_drifts_with_the_wind() {
     // with |u| ≥ v_t = 3 m/s once falling, i.e. at a rate ≥ g/v_t ≈ 3.3 /s; 4 s give
     // e^{-13}, so 0.5 % is met with a wide margin and can fail only if the wind is ignored.
     let fluid = windy();
-    let (n, h, width, m, cd) = (6, 0.2, 1.0, 0.98, 1.75);
-    let q: Vec<f64> = (0..n).flat_map(|i| [i as f64 * h, 0.0, 0.0]).collect();
-    let areas: Vec<f64> = (0..n)
-        .map(|i| width * if i == 0 || i == n - 1 { h / 2.0 } else { h })
-        .collect();
-    let total: f64 = areas.iter().sum();
-    let masses: Vec<f64> = areas.iter().map(|a| m * a / total).collect();
-    let mut model = Model::new(DofLayout::new(n, 0));
-    for (i, &mi) in masses.iter().enumerate() {
-        model.add_node_mass(i, mi);
-    }
-    let nodes: Vec<usize> = (0..n).collect();
-    let edges: Vec<[usize; 2]> = (0..n - 1).map(|i| [i, i + 1]).collect();
-    model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -G]));
-    model.add_force(Stretch::new("strip", &edges, &q, vec![1e5; n - 1]));
-    model.add_force(NodeDrag::new(&nodes, &areas, cd, &fluid));
-    let mut state = State::at_rest(q);
-    let series = run(&mut model, &mut state, 1e-3, 4000);
+    // 6 nodes over 1 m, width 1 m, 0.98 kg, C_D = 1.75.
+    let (mut model, mut state) = strip(6, 1.0, 1.0, 0.98, 0.0, &fluid);
+    let series = run(&mut model, &mut state, 1e-3, 4000).unwrap();
     let v = series.last().unwrap().1;
     eprintln!("strip: v = {v:?}");
     assert!((v[0] / WIND - 1.0).abs() < 5e-3, "v_x = {}", v[0]);
@@ -66,18 +46,8 @@ fn horizontal_sheet_with_triangle_drag_drifts_with_the_wind() {
     // triangle of springs is rigid, and equal nodal shares keep it from rotating.
     let fluid = windy();
     let (m, area) = (0.98, 0.5);
-    let q = vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
-    let mut model = Model::new(DofLayout::new(3, 0));
-    for i in 0..3 {
-        model.add_node_mass(i, m / 3.0);
-    }
-    let nodes = [0, 1, 2];
-    let edges = [[0, 1], [1, 2], [2, 0]];
-    model.add_force(Gravity::new(&nodes, &[m / 3.0; 3], [0.0, 0.0, -G]));
-    model.add_force(Stretch::new("edges", &edges, &q, vec![1e5; 3]));
-    model.add_force(TriangleDrag::new(&[[0, 1, 2]], 1.75, 0.5, &fluid));
-    let mut state = State::at_rest(q);
-    run(&mut model, &mut state, 0.05, 12000);
+    let (mut model, mut state) = triangle(m, &fluid);
+    run(&mut model, &mut state, 0.05, 12000).unwrap();
     let v: [f64; 3] = std::array::from_fn(|k| state.v[k]);
     let k = 0.5 * fluid.density * 0.5 * area / m;
     let tail = WIND / (1.0 + k * WIND * 600.0);

@@ -1,10 +1,9 @@
 //! The rod-network builder: masses, Voronoi lengths, joints, pins, closed rods, directors,
 //! clamps and input validation.
-mod rod_common;
 use engine::loads::PointForces;
+use engine::reference::cantilever::static_opts;
 use engine::rod::{BendTwist, RodNetwork, RodSpec, Section};
 use engine::{DofLayout, Model, State, StaticSolver};
-use rod_common::static_opts;
 
 fn line_q(n: usize, l: f64, n_twists: usize) -> Vec<f64> {
     let mut q = vec![0.0; 3 * n + n_twists];

@@ -356,3 +356,92 @@ pub fn snapshot_plot(
     shape_plot(&path, &title, positions, triangles, segments)?;
     Ok(path)
 }
+
+/// One curve of a [`loglog_plot`]: legend label and `(x, y)` points (positive values).
+pub struct LogLogSeries<'a> {
+    /// Legend label.
+    pub label: String,
+    /// Points `(x, y)`; non-positive or non-finite points are skipped.
+    pub points: &'a [(f64, f64)],
+    /// Draw dashed (e.g. a reference slope) instead of solid with markers.
+    pub dashed: bool,
+}
+
+/// A log–log plot (e.g. error against step size for a convergence study). Units are those
+/// of the caller's axis descriptions.
+pub fn loglog_plot(
+    path: &Path,
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    series: &[LogLogSeries<'_>],
+) -> Result<(), PlotError> {
+    let ok = |&(x, y): &(f64, f64)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite();
+    let all: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .filter(ok)
+        .collect();
+    let range = |f: fn(&(f64, f64)) -> f64| {
+        let (lo, hi) = all
+            .iter()
+            .map(f)
+            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+        (lo / 1.5, hi * 1.5)
+    };
+    if all.is_empty() {
+        return Err(PlotError::NoData("no positive points"));
+    }
+    let ((x0, x1), (y0, y1)) = (range(|p| p.0), range(|p| p.1));
+    render_atomic(path, PLOT_SIZE, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, (FONT, CAPTION_PX))
+            .margin(MARGIN)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA)
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(de)?;
+        chart
+            .configure_mesh()
+            .label_style((FONT, 15))
+            .axis_desc_style((FONT, 18))
+            .x_desc(x_desc)
+            .y_desc(y_desc)
+            // Few labels: log axes otherwise label every minor tick and the labels overlap.
+            .x_labels(6)
+            .y_labels(6)
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .x_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()
+            .map_err(de)?;
+        let colours = [BLUE, RED, GREEN, MAGENTA, BLACK];
+        for (i, s) in series.iter().enumerate() {
+            let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(ok).collect();
+            let style = colours[i % colours.len()].stroke_width(2);
+            if s.dashed {
+                chart
+                    .draw_series(DashedLineSeries::new(pts, 10, 6, style))
+                    .map_err(de)?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
+            } else {
+                chart
+                    .draw_series(LineSeries::new(pts.iter().copied(), style))
+                    .map_err(de)?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
+                chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 4, style.filled())))
+                    .map_err(de)?;
+            }
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerRight)
+            .label_font((FONT, 18))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(de)
+    })
+}

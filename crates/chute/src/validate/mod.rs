@@ -8,7 +8,9 @@
 //! case's references by 1.5 so tests can prove that a wrong reference makes the command fail.
 
 mod cases;
-mod convergence;
+pub mod convergence;
+pub mod shell_cases;
+mod system;
 
 use serde::Serialize;
 use std::time::Instant;
@@ -46,8 +48,36 @@ impl Check {
         simulated: f64,
         tolerance: f64,
     ) -> Self {
-        let reference = if broken(name) { 1.5 * reference } else { reference };
+        let reference = match (broken(name), reference == 0.0) {
+            (true, false) => 1.5 * reference,
+            (true, true) => 1.0,
+            (false, _) => reference,
+        };
         let rel_error = ((simulated - reference) / reference).abs();
+        Self {
+            name: name.into(),
+            quantity: quantity.into(),
+            reference,
+            source: source.into(),
+            simulated,
+            rel_error,
+            tolerance,
+            pass: rel_error <= tolerance && simulated.is_finite(),
+            wall_s: 0.0,
+        }
+    }
+    /// A check of a dimensionless quantity whose exact value is zero (a symmetry): the
+    /// error is `|simulated|` itself, i.e. relative to the scale the quantity was divided
+    /// by (stated in `quantity`).
+    pub fn near_zero(
+        name: &str,
+        quantity: &str,
+        source: &str,
+        simulated: f64,
+        tolerance: f64,
+    ) -> Self {
+        let reference = if broken(name) { 1.0 } else { 0.0 };
+        let rel_error = (simulated - reference).abs();
         Self {
             name: name.into(),
             quantity: quantity.into(),
@@ -116,7 +146,8 @@ pub fn run_suite(opts: &ValidateOptions) -> Vec<Check> {
             }
         }
         let start = Instant::now();
-        let mut checks = (case.run)(opts.quick).unwrap_or_else(|e| vec![Check::failed(case.name, &e)]);
+        let mut checks =
+            (case.run)(opts.quick).unwrap_or_else(|e| vec![Check::failed(case.name, &e)]);
         let wall = start.elapsed().as_secs_f64();
         for c in &mut checks {
             c.wall_s = wall;
@@ -124,17 +155,48 @@ pub fn run_suite(opts: &ValidateOptions) -> Vec<Check> {
         all.extend(checks);
     }
     if let Some(dir) = &opts.out {
-        if let Err(e) = convergence::write_all(dir, opts.quick) {
-            all.push(Check::failed("convergence-studies", &e));
+        let start = Instant::now();
+        match convergence::write_all(dir, opts.quick) {
+            Ok(mut checks) => {
+                let wall = start.elapsed().as_secs_f64();
+                checks.iter_mut().for_each(|c| c.wall_s = wall);
+                all.extend(checks);
+            }
+            Err(e) => all.push(Check::failed("convergence-studies", &e)),
         }
     }
     all
 }
 
+/// Render the checks as a Markdown table (`|` inside cells escaped), with the pass count.
+pub fn markdown(checks: &[Check]) -> String {
+    let esc = |t: &str| t.replace('|', "\\|");
+    let mut s = String::from(
+        "| case | quantity | reference | simulated | rel. error | tol. | pass | source |\n\
+         |---|---|---|---|---|---|---|---|\n",
+    );
+    for c in checks {
+        s += &format!(
+            "| {} | {} | {:.6e} | {:.6e} | {:.2e} | {:.1e} | {} | {} |\n",
+            c.name,
+            esc(&c.quantity),
+            c.reference,
+            c.simulated,
+            c.rel_error,
+            c.tolerance,
+            if c.pass { "ok" } else { "**FAIL**" },
+            esc(&c.source)
+        );
+    }
+    let failed = checks.iter().filter(|c| !c.pass).count();
+    s += &format!("\n{} passed, {} failed.\n", checks.len() - failed, failed);
+    s
+}
+
 /// Render the checks as a fixed-width table.
 pub fn table(checks: &[Check]) -> String {
     let mut s = format!(
-        "{:<28} {:<40} {:>13} {:>13} {:>9} {:>8}  {:<4}  {}\n",
+        "{:<28} {:<56} {:>13} {:>13} {:>9} {:>8}  {:<4}  {}\n",
         "case", "quantity", "reference", "simulated", "rel.err", "tol", "pass", "source"
     );
     for c in checks {

@@ -1,7 +1,6 @@
-//! Shared helpers for the aero tests: flat triangulated sheets and straight strips.
-#![allow(dead_code)]
-
-use engine::rod::Stretch;
+//! Flat rectangular triangulated sheets with stiff edge springs: rigid bodies for the drag
+//! references and test meshes for the drag laws.
+use crate::rod::Stretch;
 
 /// A flat rectangular sheet in the plane z = `z0`, normals +z.
 pub struct Sheet {
@@ -84,35 +83,4 @@ impl Sheet {
     pub fn springs(&self, k: f64) -> Stretch {
         Stretch::new("edges", &self.edges, &self.q, vec![k; self.edges.len()])
     }
-}
-
-/// Exact terminal-velocity transient from rest, `v(t) = v_t tanh(g t / v_t)` (m/s, downwards).
-pub fn tanh_law(v_t: f64, g: f64, t: f64) -> f64 {
-    v_t * (g * t / v_t).tanh()
-}
-
-use engine::{ImplicitEuler, Model, NewtonOptions, State};
-
-/// Mass-weighted mean velocity of all nodes (m/s).
-pub fn mean_velocity(model: &Model, state: &State) -> [f64; 3] {
-    let mut p = [0.0; 3];
-    let n = model.layout.n_nodes;
-    for i in 0..n {
-        for k in 0..3 {
-            p[k] += model.mass[3 * i + k] * state.v[3 * i + k];
-        }
-    }
-    p.map(|x| x / model.total_mass())
-}
-
-/// Step `model` from `state` with `dt` for `steps` steps; return `(t, mean velocity)` after
-/// every step.
-pub fn run(model: &mut Model, state: &mut State, dt: f64, steps: usize) -> Vec<(f64, [f64; 3])> {
-    let mut stepper = ImplicitEuler::new(model, NewtonOptions::default()).unwrap();
-    let mut out = Vec::with_capacity(steps);
-    for _ in 0..steps {
-        stepper.step(model, state, dt).unwrap();
-        out.push((state.t, mean_velocity(model, state)));
-    }
-    out
 }

@@ -1,0 +1,199 @@
+//! Whole-parachute cases through the application: scenario text → [`crate::build::build`]
+//! → [`crate::runner::simulate`] (outputs written to a temporary directory). `--quick`
+//! shortens the runs or coarsens the meshes; each check's quantity text says which.
+use super::Check;
+use crate::build::{build, Built};
+use crate::output::summary::Summary;
+use crate::scenario::Scenario;
+use engine::ImplicitEuler;
+use std::sync::atomic::AtomicBool;
+
+const ROD_200N: &str = include_str!("../../../../scenarios/report-rod-200n.toml");
+const SHELL_4: &str = include_str!("../../../../scenarios/report-shell-4-sites.toml");
+const HEX_N6: &str = include_str!("../../../../scenarios/dismech-hex-n6.toml");
+/// Where the bundled scenarios live, so that their relative `mesh_file` paths resolve.
+const SCENARIO_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios");
+
+type CaseResult = Result<Vec<Check>, String>;
+
+/// Parse a bundled scenario with overrides (no snapshots: shortened runs would put the
+/// bundled snapshot times past their end).
+fn scenario(text: &str, file: &str, overrides: &[&str]) -> Result<Scenario, String> {
+    let mut all = vec!["output.snapshots_s=[]".to_string()];
+    all.extend(overrides.iter().map(|s| s.to_string()));
+    Scenario::from_str_with_name(text, &format!("{SCENARIO_DIR}/{file}"), &all)
+        .map_err(|e| e.to_string())
+}
+
+/// Build and simulate `s`, writing its outputs to a temporary directory (VTK frames and
+/// snapshots off: only the summary is needed).
+fn simulate(s: &Scenario) -> Result<(Summary, Built), String> {
+    let mut built = build(s).map_err(|e| e.to_string())?;
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let mut cfg = crate::app::run_config(s, false);
+    cfg.frame_interval_s = 0.0;
+    cfg.snapshots_s.clear();
+    let stop = AtomicBool::new(false);
+    let r =
+        crate::runner::simulate(&mut built, &cfg, dir.path(), &stop).map_err(|e| e.to_string())?;
+    if !r.complete {
+        return Err(format!(
+            "run stopped early: {}",
+            r.stop_reason.unwrap_or_default()
+        ));
+    }
+    Ok((r.summary, built))
+}
+
+/// The report's rod canopy (6 m × 3 m Kevlar strip, 200 N at the ends). Rod drag is
+/// isotropic per node, `A_k = 2 r_d l̄_k`, so whatever the bent shape the steady descent
+/// balances the total weight with `½ ρ C_D A v²`, `A = Σ A_k` = 18 m² (span × width): the
+/// reference is exact for the steady state, and backward Euler's fixed point is that state.
+/// What remains is the transient in the final 20 % window (from 4 s in the quick run): the
+/// descent-speed deficit decays like e^(−2 g t/v_t) ≈ e^(−13) and the strip's bending
+/// oscillation is damped by drag and backward Euler; 1e-3 bounds both with a wide margin
+/// (measured ~5e-7) yet fails for any drag-area or weight error.
+pub fn rod_canopy(quick: bool) -> CaseResult {
+    let (over, what): (&[&str], &str) = if quick {
+        (&["time.duration_s=5"], "5 s run (quick)")
+    } else {
+        (&[], "10 s run")
+    };
+    let s = scenario(ROD_200N, "report-rod-200n.toml", over)?;
+    let (sum, built) = simulate(&s)?;
+    let area = s.canopy.span_m * s.canopy.width_m;
+    let vt = (2.0 * built.total_weight_n
+        / (s.fluid.density_kg_m3 * s.fluid.drag_coefficient * area))
+        .sqrt();
+    let name = "rod-canopy-terminal";
+    Ok(vec![
+        Check::new(
+            name,
+            &format!("terminal descent speed (m/s), {what}"),
+            vt,
+            "√(2W/(ρ C_D A)), A = span × width",
+            -sum.terminal_velocity_mps,
+            1e-3,
+        ),
+        Check::new(
+            name,
+            &format!("mean drag_z / total weight, {what}"),
+            1.0,
+            "steady descent: drag = weight",
+            sum.mean_drag_z_n / sum.total_weight_n,
+            1e-3,
+        ),
+    ])
+}
+
+/// The report's shell canopy (200 N on the 4 corners). Whatever the shape, a steady
+/// descent has drag = weight; the check bounds what is left of the transient (the canopy
+/// folds and breathes) in the mean over the final 20 % window: 2 %.
+pub fn shell_force_balance(quick: bool) -> CaseResult {
+    let (over, what): (&[&str], &str) = if quick {
+        (
+            &["canopy.edge_length_m=0.5", "time.duration_s=5"],
+            "ℓ = 0.5 m, 5 s (quick)",
+        )
+    } else {
+        (&[], "ℓ = 0.25 m, 10 s")
+    };
+    let s = scenario(SHELL_4, "report-shell-4-sites.toml", over)?;
+    let (sum, _) = simulate(&s)?;
+    Ok(vec![Check::new(
+        "shell-canopy-force-balance",
+        &format!("mean drag_z / total weight, {what}"),
+        1.0,
+        "steady descent: drag = weight",
+        sum.mean_drag_z_n / sum.total_weight_n,
+        0.02,
+    )])
+}
+
+/// A canopy symmetric under reflections in x and y, loaded symmetrically, in still air: it
+/// must neither drift nor spin. The union-jack rectangle is symmetric under both mirror
+/// planes, so the horizontal momentum and the angular momentum about the vertical axis
+/// stay zero up to round-off, unless an element breaks the symmetry (an ordering bias in
+/// the assembly, a one-sided drag term). Checked as dimensionless ratios to the descent
+/// speed `|v_z|`: the horizontal drift speed and the rim speed of the spin, `|ω_z| R` (R
+/// the largest node distance from the axis); round-off after a few thousand steps is
+/// ≲ 1e-10, so 1e-6 leaves room only for round-off growth.
+pub fn no_spin(quick: bool) -> CaseResult {
+    let duration = if quick { 2.0 } else { 5.0 };
+    let d = format!("time.duration_s={duration}");
+    let s = scenario(
+        SHELL_4,
+        "report-shell-4-sites.toml",
+        &["canopy.edge_length_m=0.5", &d],
+    )?;
+    let mut built = build(&s).map_err(|e| e.to_string())?;
+    let cfg = crate::app::run_config(&s, false);
+    let mut stepper = ImplicitEuler::new(&built.model, cfg.newton).map_err(|e| e.to_string())?;
+    let mut state = built.state.clone();
+    let steps = (duration / cfg.dt_s).round() as usize;
+    for _ in 0..steps {
+        stepper
+            .step(&mut built.model, &mut state, cfg.dt_s)
+            .map_err(|e| e.to_string())?;
+    }
+    let m = &built.model;
+    let n = m.layout.n_nodes;
+    let mass: f64 = (0..n).map(|i| m.node_mass(i)).sum();
+    let mean =
+        |k: usize, v: &[f64]| (0..n).map(|i| m.node_mass(i) * v[3 * i + k]).sum::<f64>() / mass;
+    let (cx, cy) = (mean(0, &state.q), mean(1, &state.q));
+    let (vx, vy, vz) = (mean(0, &state.v), mean(1, &state.v), mean(2, &state.v));
+    let (mut lz, mut iz, mut rmax) = (0.0, 0.0, 0.0f64);
+    for i in 0..n {
+        let (x, y) = (state.q[3 * i] - cx, state.q[3 * i + 1] - cy);
+        let (u, w) = (state.v[3 * i] - vx, state.v[3 * i + 1] - vy);
+        lz += m.node_mass(i) * (x * w - y * u);
+        iz += m.node_mass(i) * (x * x + y * y);
+        rmax = rmax.max(x.hypot(y));
+    }
+    let what = format!("ℓ = 0.5 m, {duration} s");
+    let name = "symmetric-canopy-no-spin";
+    let src = "mirror symmetry: zero by construction";
+    Ok(vec![
+        Check::near_zero(
+            name,
+            &format!("horizontal speed / |v_z|, {what}"),
+            src,
+            vx.hypot(vy) / vz.abs(),
+            1e-6,
+        ),
+        Check::near_zero(
+            name,
+            &format!("spin |ω_z| R / |v_z|, {what}"),
+            src,
+            (lz / iz).abs() * rmax / vz.abs(),
+            1e-6,
+        ),
+    ])
+}
+
+/// The DisMech peer's hexagonal parachute (n = 6 mesh, its parameters, its cos² pressure
+/// drag `shell_drag = "pressure"`), against its reported ≈ 2.08 m/s descent. The peer's
+/// run is itself 3 s at dt = 10 ms, and the models may differ in details (joints, lumped
+/// masses), and the peer reports neither its averaging window nor its Newton tolerance;
+/// the tolerance 10 % is for that, not for our discretisation (measured −1.3 %).
+/// A second check runs the report's law (cos³ normal drag, `shell_drag = "report"`): a
+/// canopy whose facets tilt by θ then loses drag by cos θ more, so it falls faster, and the
+/// check against the peer number is looser (25 %, order of magnitude; see docs/validation.md).
+pub fn dismech_hex(_quick: bool) -> CaseResult {
+    let mut out = Vec::new();
+    for (law, tol) in [("pressure", 0.10), ("report", 0.25)] {
+        let o = format!("fluid.shell_drag=\"{law}\"");
+        let s = scenario(HEX_N6, "dismech-hex-n6.toml", &[&o])?;
+        let (sum, _) = simulate(&s)?;
+        out.push(Check::new(
+            &format!("dismech-hex-n6-{law}"),
+            &format!("terminal descent speed (m/s), shell_drag = {law}, 3 s"),
+            2.08,
+            "DisMech hexparachute (peer code), reported",
+            -sum.terminal_velocity_mps,
+            tol,
+        ));
+    }
+    Ok(out)
+}
