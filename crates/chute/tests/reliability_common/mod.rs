@@ -36,7 +36,8 @@ pub fn shell(duration: f64) -> Scenario {
 /// A test-only force acting on one DOF. It is zero (so it leaves every result unchanged)
 /// except that, once the trial time reaches `at_s`:
 /// - it sets `stop` (a deterministic stand-in for Ctrl-C), and
-/// - its first `nan_evals` evaluations return NaN (a blow-up the run loop must recover from).
+/// - its first `nan_evals` evaluations from then on return NaN, whatever the time of later
+///   trials (a blow-up that persists while the run loop retries with smaller steps).
 pub struct Trigger {
     dof: [usize; 1],
     pub at_s: f64,
@@ -44,6 +45,7 @@ pub struct Trigger {
     pub set_stop: bool,
     pub nan_evals: usize,
     pub evals_after: Arc<AtomicUsize>,
+    triggered: AtomicBool,
 }
 
 impl Trigger {
@@ -55,6 +57,7 @@ impl Trigger {
             set_stop: false,
             nan_evals: 0,
             evals_after: Arc::new(AtomicUsize::new(0)),
+            triggered: AtomicBool::new(false),
         }
     }
 }
@@ -75,9 +78,12 @@ impl Force for Trigger {
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
         out.f[0] = 0.0;
         if input.t >= self.at_s {
+            self.triggered.store(true, Ordering::SeqCst);
             if self.set_stop {
                 self.stop.store(true, Ordering::SeqCst);
             }
+        }
+        if self.triggered.load(Ordering::SeqCst) {
             if self.evals_after.fetch_add(1, Ordering::SeqCst) < self.nan_evals {
                 out.f[0] = f64::NAN;
             }
