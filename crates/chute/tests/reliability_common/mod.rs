@@ -83,10 +83,10 @@ impl Force for Trigger {
                 self.stop.store(true, Ordering::SeqCst);
             }
         }
-        if self.triggered.load(Ordering::SeqCst) {
-            if self.evals_after.fetch_add(1, Ordering::SeqCst) < self.nan_evals {
-                out.f[0] = f64::NAN;
-            }
+        if self.triggered.load(Ordering::SeqCst)
+            && self.evals_after.fetch_add(1, Ordering::SeqCst) < self.nan_evals
+        {
+            out.f[0] = f64::NAN;
         }
     }
 }
