@@ -112,7 +112,7 @@ fn sigterm_leaves_a_checkpoint_and_the_resumed_run_equals_the_uninterrupted_one(
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 
     let args = run_args("part", dur, &["--checkpoint-every", "0.1"]);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_chute"))
+    let child = Command::new(env!("CARGO_BIN_EXE_chute"))
         .args(&args)
         .current_dir(tmp.path())
         .stdout(Stdio::null())
