@@ -4,7 +4,15 @@
 //! non-finite value is rejected (state unchanged), `dt` is halved and the step retried;
 //! after [`GROW_AFTER`] consecutive successes `dt` doubles back towards the scenario's `dt`.
 //! Below `min_dt` the run stops: the summary is marked incomplete with the reason, and the
-//! time series and frames written so far stay valid.
+//! time series and frames written so far stay valid, and `checkpoint.bin` holds the last good
+//! state.
+//!
+//! Checkpoints and determinism: every [`SYNC_STEPS`] nominal steps of simulated time the loop
+//! drops the stepper's reused factorisation (a *sync point*, in every run, checkpointing or
+//! not). Checkpoints are taken only at sync points (except the last-good-state one of a failed
+//! run), and a resumed stepper starts without a factorisation too, so a resumed run is
+//! bit-identical to an uninterrupted one. A stop request (Ctrl-C / SIGTERM via [`STOP`])
+//! writes the last sync point's checkpoint and ends with valid partial outputs.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
