@@ -142,27 +142,88 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
 }
 
 /// Build the model, simulate, and write the output directory (which must exist).
+///
+/// With `opts.resume` the run continues from `checkpoint.bin` in that directory (which must
+/// be `opts.out_dir`); the scenario must resolve to the one the checkpoint was written with,
+/// except for `time.duration_s` (a run may be extended). With `opts.checkpoint_every_s` a
+/// checkpoint is written periodically. The process-wide [`crate::runner::STOP`] flag (set by
+/// the Ctrl-C / SIGTERM handler of the binary) stops the run gracefully.
 pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunOutcome, AppError> {
-    if opts.resume.is_some() || opts.checkpoint_every_s.is_some() {
-        return Err(AppError::NotImplemented("checkpoint and resume"));
-    }
     let mut built = crate::build::build(s).map_err(|e| AppError::Input(e.to_string()))?;
+    let scenario_toml = s.to_toml();
+    let resume = match &opts.resume {
+        Some(dir) => Some(load_checkpoint(dir, &opts.out_dir, &scenario_toml)?),
+        None => None,
+    };
     let resolved = opts.out_dir.join("scenario.resolved.toml");
-    crate::output::atomic::write_atomic(&resolved, s.to_toml().as_bytes())
+    crate::output::atomic::write_atomic(&resolved, scenario_toml.as_bytes())
         .map_err(|e| AppError::io(&resolved, e))?;
     let cfg = run_config(s, opts.progress);
-    let stop = std::sync::atomic::AtomicBool::new(false);
-    let r =
-        crate::runner::simulate(&mut built, &cfg, &opts.out_dir, &stop).map_err(|e| match e {
+    let ctl = crate::runner::RunControl {
+        stop: &crate::runner::STOP,
+        checkpoint_every_s: opts.checkpoint_every_s,
+        resume,
+        scenario_toml,
+    };
+    let r = crate::runner::simulate_with(&mut built, &cfg, &opts.out_dir, &ctl).map_err(
+        |e| match e {
             crate::runner::RunError::Io { path, source } => AppError::Io { path, source },
+            crate::runner::RunError::Checkpoint(m) => AppError::Input(format!("checkpoint: {m}")),
             e => AppError::RunFailed(e.to_string()),
-        })?;
+        },
+    )?;
     let summary = serde_json::from_str(&r.summary.to_json())
         .map_err(|e| AppError::RunFailed(format!("summary: {e}")))?;
     Ok(RunOutcome {
         summary,
         complete: r.complete,
         message: r.stop_reason,
+    })
+}
+
+/// Read the checkpoint of run directory `dir` and check it belongs to this scenario.
+fn load_checkpoint(
+    dir: &std::path::Path,
+    out_dir: &std::path::Path,
+    scenario_toml: &str,
+) -> Result<crate::checkpoint::Checkpoint, AppError> {
+    let same_dir = match (dir.canonicalize(), out_dir.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if !same_dir {
+        return Err(AppError::Input(format!(
+            "--resume `{}` continues that run in place; --out `{}` must be the same directory or omitted",
+            dir.display(),
+            out_dir.display()
+        )));
+    }
+    let c = crate::checkpoint::Checkpoint::read(dir)
+        .map_err(|e| AppError::Input(format!("cannot resume from `{}`: {e}", dir.display())))?;
+    if let Some((_, was, now)) = scenario_difference(&c.scenario_toml, scenario_toml) {
+        return Err(AppError::Input(format!(
+            "cannot resume from `{}`: the scenario differs from the checkpoint's : `{was}` (checkpoint) vs `{now}` (now); only time.duration_s may change",
+            dir.display()
+        )));
+    }
+    Ok(c)
+}
+
+/// First differing line (1-based, checkpoint's text, current text) of two resolved scenarios,
+/// ignoring `duration_s` lines (a resumed run may be extended or shortened).
+pub fn scenario_difference(was: &str, now: &str) -> Option<(usize, String, String)> {
+    let keep = |l: &&str| !l.trim_start().starts_with("duration_s");
+    let a: Vec<&str> = was.lines().filter(keep).collect();
+    let b: Vec<&str> = now.lines().filter(keep).collect();
+    (0..a.len().max(b.len())).find_map(|i| {
+        let (x, y) = (a.get(i).copied(), b.get(i).copied());
+        (x != y).then(|| {
+            (
+                i + 1,
+                x.unwrap_or("<end>").to_string(),
+                y.unwrap_or("<end>").to_string(),
+            )
+        })
     })
 }
 

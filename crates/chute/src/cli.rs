@@ -233,13 +233,39 @@ pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<bool, AppErro
             dir.display()
         ))
     })?;
-    tempfile::NamedTempFile::new_in(dir).map_err(|e| {
+    // A probe with some real bytes, synced: creating an empty file can succeed on a full
+    // file system, writing data cannot.
+    let probe = || -> std::io::Result<()> {
+        use std::io::Write;
+        let mut f = tempfile::NamedTempFile::new_in(dir)?;
+        f.write_all(&[0u8; 64 * 1024])?;
+        f.as_file().sync_all()
+    };
+    probe().map_err(|e| {
         AppError::Input(format!(
             "output directory `{}` is not writable: {e}",
             dir.display()
         ))
     })?;
     Ok(created)
+}
+
+/// Route Ctrl-C / SIGTERM / SIGHUP to [`crate::runner::STOP`]: runs stop at their next step
+/// with a checkpoint and valid partial outputs. A second signal exits at once (status 130).
+fn install_stop_handler() {
+    use std::sync::atomic::Ordering;
+    static INSTALLED: std::sync::Once = std::sync::Once::new();
+    INSTALLED.call_once(|| {
+        let r = ctrlc::set_handler(|| {
+            if crate::runner::STOP.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+            eprintln!("\nstopping: writing a checkpoint and partial outputs (signal again to abort)");
+        });
+        if let Err(e) = r {
+            eprintln!("warning: cannot catch Ctrl-C/SIGTERM ({e}); an interrupted run keeps only its last checkpoint");
+        }
+    });
 }
 
 fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
@@ -265,6 +291,7 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
         .or_else(|| a.resume.clone())
         .unwrap_or_else(|| Path::new("runs").join(&s.name));
     let created = prepare_out_dir(&out, a.force || a.resume.is_some())?;
+    install_stop_handler();
     let opts = RunOptions {
         out_dir: out.clone(),
         force: a.force,
@@ -297,8 +324,10 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
         }
         (true, None) => Ok(()),
         (false, m) => Err(AppError::RunFailed(format!(
-            "stopped before time.duration_s: {}; partial outputs are in `{}`",
+            "stopped before time.duration_s: {}; partial outputs and a checkpoint are in `{}` (continue with `chute run {} --resume {}` and the same --set options)",
             m.unwrap_or_else(|| "no reason given".into()),
+            out.display(),
+            a.scenario.display(),
             out.display()
         ))),
     }
@@ -324,6 +353,7 @@ fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {
         force: a.force,
         verbose: true,
     };
+    install_stop_handler();
     let report = study::run_study(&st, &opts)?;
     print!("{}", report.table.to_markdown());
     let failed = report.failures();

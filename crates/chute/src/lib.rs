@@ -2,6 +2,7 @@
 
 pub mod app;
 pub mod build;
+pub mod checkpoint;
 pub mod cli;
 pub mod mesh;
 pub mod metrics;

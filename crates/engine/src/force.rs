@@ -180,6 +180,25 @@ pub trait Force: Send + Sync {
     /// Called once per accepted time step with the new configuration, so that elements
     /// with history (DER reference frames) can update it. Not called for rejected steps.
     fn commit(&mut self, _q: &[f64]) {}
+    /// The history that [`Force::commit`] advances, flattened to numbers, for checkpoints:
+    /// restoring it with [`Force::restore_history`] on a freshly built force must make every
+    /// later evaluation bit-identical. Empty for forces without history.
+    fn history(&self) -> Vec<f64> {
+        Vec::new()
+    }
+    /// Restore a history produced by [`Force::history`] on an identically built force.
+    /// Errors (with a reason) when `h` has the wrong length for this force.
+    fn restore_history(&mut self, h: &[f64]) -> Result<(), String> {
+        if h.is_empty() {
+            Ok(())
+        } else {
+            Err(format!(
+                "{}: has no history, got {} values",
+                self.name(),
+                h.len()
+            ))
+        }
+    }
     /// Scale applied to external loads (gravity, point loads) by load-stepping solvers;
     /// elastic and drag forces ignore it.
     fn set_load_scale(&mut self, _scale: f64) {}

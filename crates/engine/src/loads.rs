@@ -24,7 +24,10 @@ impl ConstantForces {
         assert_eq!(nodes.len(), forces.len());
         Self {
             name,
-            stencils: nodes.iter().flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]).collect(),
+            stencils: nodes
+                .iter()
+                .flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2])
+                .collect(),
             forces: forces.to_vec(),
             scale: 1.0,
         }

@@ -141,6 +141,17 @@ impl TimeSeriesWriter {
         })
     }
 
+    /// Continue an existing file that already holds the header and `rows` data rows (and
+    /// nothing after them: see `checkpoint::truncate_timeseries`), appending from its end.
+    pub fn append_to(path: &Path, rows: u64) -> io::Result<Self> {
+        let file = std::fs::OpenOptions::new().append(true).open(path)?;
+        Ok(Self {
+            file,
+            buf: Vec::with_capacity(FLUSH_THRESHOLD_BYTES + 1024),
+            rows,
+        })
+    }
+
     /// Append one row; it reaches the file at the latest on the next [`flush`](Self::flush).
     pub fn push(&mut self, s: &Sample) -> io::Result<()> {
         s.write_row(&mut self.buf);

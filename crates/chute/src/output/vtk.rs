@@ -54,6 +54,37 @@ impl VtkSeries {
         })
     }
 
+    /// Continue a series whose first frames, at `times` (s), are already in
+    /// `out_dir/frames/` (resume from a checkpoint). Frame files numbered from `times.len()`
+    /// on are left from an interrupted run; they are removed so the directory only ever holds
+    /// frames the PVD lists (later frames are rewritten with the same names).
+    pub fn resume(out_dir: &Path, times: &[f64]) -> io::Result<Self> {
+        let mut me = Self::new(out_dir)?;
+        me.entries = times
+            .iter()
+            .enumerate()
+            .map(|(i, &t)| (t, format!("{FRAMES_DIR}/frame_{i:06}.vtu")))
+            .collect();
+        for entry in std::fs::read_dir(out_dir.join(FRAMES_DIR))? {
+            let name = entry?.file_name();
+            let index = name
+                .to_str()
+                .and_then(|n| n.strip_prefix("frame_"))
+                .and_then(|n| n.strip_suffix(".vtu"))
+                .and_then(|n| n.parse::<usize>().ok());
+            if index.is_some_and(|i| i >= times.len()) {
+                std::fs::remove_file(out_dir.join(FRAMES_DIR).join(name))?;
+            }
+        }
+        write_atomic(&out_dir.join(PVD_NAME), me.pvd_string().as_bytes())?;
+        Ok(me)
+    }
+
+    /// Times (s) of the frames written so far, in order.
+    pub fn times(&self) -> Vec<f64> {
+        self.entries.iter().map(|(t, _)| *t).collect()
+    }
+
     /// Number of frames written.
     pub fn frames(&self) -> usize {
         self.entries.len()

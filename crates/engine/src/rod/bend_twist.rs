@@ -379,4 +379,31 @@ impl Force for BendTwist {
             self.frames.time_transport(e, &t);
         }
     }
+    /// `[ref_twist…, (tangent, a1) per edge…]`: everything `commit` advances.
+    fn history(&self) -> Vec<f64> {
+        let mut h = self.ref_twist.clone();
+        h.reserve(6 * self.frames.tangent.len());
+        for (t, a) in self.frames.tangent.iter().zip(&self.frames.a1) {
+            h.extend_from_slice(t.as_slice());
+            h.extend_from_slice(a.as_slice());
+        }
+        h
+    }
+    fn restore_history(&mut self, h: &[f64]) -> Result<(), String> {
+        let (n_el, n_e) = (self.ref_twist.len(), self.frames.tangent.len());
+        if h.len() != n_el + 6 * n_e {
+            return Err(format!(
+                "{}: history of {} values, expected {} ({n_el} elements, {n_e} edges)",
+                self.name,
+                h.len(),
+                n_el + 6 * n_e
+            ));
+        }
+        self.ref_twist.copy_from_slice(&h[..n_el]);
+        for (e, c) in h[n_el..].chunks_exact(6).enumerate() {
+            self.frames.tangent[e] = V3::new(c[0], c[1], c[2]);
+            self.frames.a1[e] = V3::new(c[3], c[4], c[5]);
+        }
+        Ok(())
+    }
 }

@@ -48,6 +48,15 @@ impl ImplicitEuler {
         &self.core.history
     }
 
+    /// Drop the held factorisation so that the next step starts with a fresh Jacobian.
+    ///
+    /// With modified Newton (`reuse_jacobian`) the bits of a step depend on which Jacobian is
+    /// held; a stepper built afresh (e.g. on resume from a checkpoint) holds none. Calling this
+    /// at the same deterministic points in every run makes those runs bit-identical from there.
+    pub fn invalidate_factorization(&mut self) {
+        self.core.solver.invalidate();
+    }
+
     /// Advance `state` by `dt`. On error the state and the forces' history are unchanged,
     /// so the caller may retry with a smaller `dt`.
     pub fn step(

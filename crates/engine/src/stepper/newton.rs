@@ -71,7 +71,7 @@ pub struct StepReport {
 /// Shared Newton machinery and all its preallocated buffers.
 pub(crate) struct NewtonCore {
     pub assembler: Assembler,
-    solver: LinearSolver,
+    pub(crate) solver: LinearSolver,
     pub opts: NewtonOptions,
     force_tol_abs: f64,
     values: Vec<f64>,

@@ -1,0 +1,328 @@
+//! Checkpoints: everything a run needs to continue bit-for-bit from a saved point.
+//!
+//! A checkpoint (`checkpoint.bin` in the run directory) holds the engine state (q, v, t), the
+//! history of every force ([`engine::Force::history`]: DER reference frames and reference
+//! twists), the run loop's counters and schedules (dt, success streak, step and iteration
+//! counts, next frame, snapshot and sync indices, warnings) and the number of rows of
+//! `timeseries.csv` at that state. The in-memory decimated series is not stored: on resume it
+//! is rebuilt by re-reading those rows, which `{}` formatting wrote with exact round-trip
+//! precision, so it is bit-identical to the one the uninterrupted run holds.
+//!
+//! File format (little-endian): the magic `CHUTECKP`, a format version (u32), the fields in
+//! the order of [`Checkpoint::encode`] (u64 lengths before vectors and UTF-8 strings, f64 as
+//! IEEE-754 bits), and an FNV-1a-64 checksum of all preceding bytes. Files are written
+//! atomically, so a checkpoint is either the previous one or the new one, never a mix; a
+//! truncated or corrupted file is rejected with a clear error.
+
+use std::io::{self, BufRead};
+use std::path::{Path, PathBuf};
+
+use crate::output::timeseries::Sample;
+use crate::output::write_atomic;
+
+/// File name of the checkpoint inside a run directory.
+pub const FILE_NAME: &str = "checkpoint.bin";
+const MAGIC: &[u8; 8] = b"CHUTECKP";
+/// Version of the binary layout; bump on any change.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// A saved point of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Checkpoint {
+    /// The resolved scenario TOML the run was started with (resume checks it matches).
+    pub scenario_toml: String,
+    /// Whether the point is a sync point (factorisation refreshed there in every run), so
+    /// that resuming from it reproduces the uninterrupted run bit for bit.
+    pub synced: bool,
+    /// Simulated time (s).
+    pub t: f64,
+    /// Generalised coordinates (m, rad).
+    pub q: Vec<f64>,
+    /// Generalised velocities (m/s, rad/s).
+    pub v: Vec<f64>,
+    /// [`engine::Force::history`] of every force of the model, in model order.
+    pub histories: Vec<Vec<f64>>,
+    /// Current time step (s), possibly reduced after failures.
+    pub dt: f64,
+    /// Consecutive accepted steps since the last failure or regrowth.
+    pub streak: u32,
+    /// Accepted steps so far.
+    pub steps: u64,
+    /// Newton iterations so far.
+    pub newton_iterations: u64,
+    /// Wall-clock time spent so far (s).
+    pub wall_time_s: f64,
+    /// Data rows of `timeseries.csv` at this state (the header not counted).
+    pub ts_rows: u64,
+    /// Times of the VTK frames written so far (s).
+    pub frame_times: Vec<f64>,
+    /// Time of the next VTK frame (s).
+    pub next_frame: f64,
+    /// Index of the next snapshot to draw (into the sorted snapshot times).
+    pub snap_idx: u64,
+    /// Index `k` of the next sync point, at simulated time `k · sync interval`.
+    pub next_sync: u64,
+    /// Run-loop warnings so far.
+    pub warnings: Vec<String>,
+}
+
+/// Why a checkpoint could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckpointError {
+    /// Reading or writing failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: io::Error,
+    },
+    /// The file is not a valid checkpoint.
+    #[error("{}: not a valid chute checkpoint: {reason}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// 64-bit FNV-1a: a cheap checksum that catches truncation and bit rot (not tampering).
+fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+struct Enc(Vec<u8>);
+
+impl Enc {
+    fn u64(&mut self, x: u64) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn f64(&mut self, x: f64) {
+        self.u64(x.to_bits());
+    }
+    fn f64s(&mut self, v: &[f64]) {
+        self.u64(v.len() as u64);
+        v.iter().for_each(|&x| self.f64(x));
+    }
+    fn str(&mut self, s: &str) {
+        self.u64(s.len() as u64);
+        self.0.extend_from_slice(s.as_bytes());
+    }
+}
+
+struct Dec<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl Dec<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8], String> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.b.len());
+        let end = end.ok_or_else(|| format!("truncated at byte {}", self.at))?;
+        let s = &self.b[self.at..end];
+        self.at = end;
+        Ok(s)
+    }
+    fn u64(&mut self) -> Result<u64, String> {
+        let mut a = [0u8; 8];
+        a.copy_from_slice(self.take(8)?);
+        Ok(u64::from_le_bytes(a))
+    }
+    fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_bits(self.u64()?))
+    }
+    /// A length, checked against the bytes left so a corrupted length cannot allocate.
+    fn len(&mut self, item_bytes: usize) -> Result<usize, String> {
+        let n = self.u64()?;
+        let left = (self.b.len() - self.at) as u64;
+        if n.saturating_mul(item_bytes as u64) > left {
+            return Err(format!("length {n} at byte {} exceeds the file", self.at));
+        }
+        Ok(n as usize)
+    }
+    fn f64s(&mut self) -> Result<Vec<f64>, String> {
+        let n = self.len(8)?;
+        (0..n).map(|_| self.f64()).collect()
+    }
+    fn str(&mut self) -> Result<String, String> {
+        let n = self.len(1)?;
+        String::from_utf8(self.take(n)?.to_vec()).map_err(|e| e.to_string())
+    }
+}
+
+impl Checkpoint {
+    /// The binary form (see the module docs).
+    pub fn encode(&self) -> Vec<u8> {
+        let mut e = Enc(Vec::with_capacity(64 + 8 * (self.q.len() + self.v.len())));
+        e.0.extend_from_slice(MAGIC);
+        e.0.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+        e.str(&self.scenario_toml);
+        e.u64(u64::from(self.synced));
+        e.f64(self.t);
+        e.f64s(&self.q);
+        e.f64s(&self.v);
+        e.u64(self.histories.len() as u64);
+        self.histories.iter().for_each(|h| e.f64s(h));
+        e.f64(self.dt);
+        e.u64(u64::from(self.streak));
+        e.u64(self.steps);
+        e.u64(self.newton_iterations);
+        e.f64(self.wall_time_s);
+        e.u64(self.ts_rows);
+        e.f64s(&self.frame_times);
+        e.f64(self.next_frame);
+        e.u64(self.snap_idx);
+        e.u64(self.next_sync);
+        e.u64(self.warnings.len() as u64);
+        self.warnings.iter().for_each(|w| e.str(w));
+        let sum = fnv1a(&e.0);
+        e.u64(sum);
+        e.0
+    }
+
+    /// Parse the binary form; the error says what is wrong.
+    pub fn decode(bytes: &[u8]) -> Result<Self, String> {
+        if bytes.len() < 20 || &bytes[..8] != MAGIC {
+            return Err("missing the CHUTECKP header".into());
+        }
+        let (body, sum) = bytes.split_at(bytes.len() - 8);
+        let mut s = [0u8; 8];
+        s.copy_from_slice(sum);
+        if fnv1a(body) != u64::from_le_bytes(s) {
+            return Err("checksum mismatch (truncated or corrupted file)".into());
+        }
+        let mut v = [0u8; 4];
+        v.copy_from_slice(&body[8..12]);
+        let version = u32::from_le_bytes(v);
+        if version != FORMAT_VERSION {
+            return Err(format!(
+                "format version {version}, this chute reads version {FORMAT_VERSION}"
+            ));
+        }
+        let mut d = Dec { b: body, at: 12 };
+        let scenario_toml = d.str()?;
+        let synced = d.u64()? != 0;
+        let t = d.f64()?;
+        let (q, v) = (d.f64s()?, d.f64s()?);
+        let n_hist = d.len(8)?;
+        let histories = (0..n_hist).map(|_| d.f64s()).collect::<Result<_, _>>()?;
+        let dt = d.f64()?;
+        let streak = u32::try_from(d.u64()?).map_err(|e| e.to_string())?;
+        let (steps, newton_iterations) = (d.u64()?, d.u64()?);
+        let wall_time_s = d.f64()?;
+        let ts_rows = d.u64()?;
+        let frame_times = d.f64s()?;
+        let next_frame = d.f64()?;
+        let (snap_idx, next_sync) = (d.u64()?, d.u64()?);
+        let n_warn = d.len(8)?;
+        let warnings = (0..n_warn).map(|_| d.str()).collect::<Result<_, _>>()?;
+        if d.at != body.len() {
+            return Err(format!("{} unexpected trailing bytes", body.len() - d.at));
+        }
+        Ok(Self {
+            scenario_toml,
+            synced,
+            t,
+            q,
+            v,
+            histories,
+            dt,
+            streak,
+            steps,
+            newton_iterations,
+            wall_time_s,
+            ts_rows,
+            frame_times,
+            next_frame,
+            snap_idx,
+            next_sync,
+            warnings,
+        })
+    }
+
+    /// Write `dir/checkpoint.bin` atomically.
+    pub fn write(&self, dir: &Path) -> Result<(), CheckpointError> {
+        let path = dir.join(FILE_NAME);
+        write_atomic(&path, &self.encode()).map_err(|source| CheckpointError::Io { path, source })
+    }
+
+    /// Read `dir/checkpoint.bin`.
+    pub fn read(dir: &Path) -> Result<Self, CheckpointError> {
+        let path = dir.join(FILE_NAME);
+        let bytes = std::fs::read(&path).map_err(|source| CheckpointError::Io {
+            path: path.clone(),
+            source,
+        })?;
+        Self::decode(&bytes).map_err(|reason| CheckpointError::Invalid { path, reason })
+    }
+
+    /// Check that this checkpoint fits a model of `n_dofs` DOFs and `n_forces` forces.
+    pub fn check_shape(&self, n_dofs: usize, n_forces: usize) -> Result<(), String> {
+        if self.q.len() != n_dofs || self.v.len() != n_dofs {
+            return Err(format!(
+                "the checkpoint has {} DOFs, the model {n_dofs}",
+                self.q.len()
+            ));
+        }
+        if self.histories.len() != n_forces {
+            return Err(format!(
+                "the checkpoint has {} force families, the model {n_forces}",
+                self.histories.len()
+            ));
+        }
+        if self.q.iter().chain(&self.v).any(|x| !x.is_finite()) || !self.t.is_finite() {
+            return Err("the checkpoint state is not finite".into());
+        }
+        Ok(())
+    }
+}
+
+/// Cut `timeseries.csv` back to its header and first `rows` data rows (a run interrupted
+/// after its checkpoint wrote more), and return those rows' samples so the in-memory series
+/// can be rebuilt. Errors if the file has fewer rows or a malformed one.
+pub fn truncate_timeseries(path: &Path, rows: u64) -> Result<Vec<Sample>, CheckpointError> {
+    let invalid = |reason: String| CheckpointError::Invalid {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let io_err = |source| CheckpointError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(io_err)?;
+    let mut reader = io::BufReader::new(file);
+    let mut line = String::new();
+    let mut keep: u64 = 0;
+    let mut text = String::new();
+    for i in 0..=rows {
+        line.clear();
+        let n = reader.read_line(&mut line).map_err(io_err)?;
+        if n == 0 || !line.ends_with('\n') {
+            return Err(invalid(format!(
+                "has {} complete rows, the checkpoint needs {rows}",
+                i.saturating_sub(1)
+            )));
+        }
+        keep += n as u64;
+        text.push_str(&line);
+    }
+    let mut rdr = csv::Reader::from_reader(text.as_bytes());
+    let samples = rdr
+        .deserialize::<Sample>()
+        .enumerate()
+        .map(|(i, r)| r.map_err(|e| invalid(format!("row {}: {e}", i + 1))))
+        .collect::<Result<Vec<_>, _>>()?;
+    let f = std::fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .map_err(io_err)?;
+    f.set_len(keep).map_err(io_err)?;
+    f.sync_all().map_err(io_err)?;
+    Ok(samples)
+}
