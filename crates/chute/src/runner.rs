@@ -284,11 +284,7 @@ impl Run {
         // With --force over an earlier run: its frames and checkpoint must not be mistaken for
         // this run's (resuming needs matching rows and frames).
         let vtk = VtkSeries::resume(out_dir, &[]).map_err(io_err(out_dir))?;
-        let stale = out_dir.join(checkpoint::FILE_NAME);
-        match std::fs::remove_file(&stale) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io_err(&stale)(e)),
-            _ => {}
-        }
+        remove_stale_outputs(out_dir)?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk);
         let s0 = run.obs.sample(built, &run.state, 0, cfg.dt_s);
         run.ts.push(&s0).map_err(io_err(&ts_path))?;
@@ -559,4 +555,28 @@ fn progress_bar(cfg: &RunConfig) -> Option<indicatif::ProgressBar> {
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     Some(bar)
+}
+
+/// Remove an earlier run's checkpoint, plots and summary (with `--force`), so that nothing in
+/// the directory can be mistaken for this run's output.
+fn remove_stale_outputs(out_dir: &Path) -> Result<(), RunError> {
+    let fixed = [
+        checkpoint::FILE_NAME,
+        "summary.json",
+        "velocity.png",
+        "height.png",
+        "shape.png",
+    ];
+    let snapshots = std::fs::read_dir(out_dir)
+        .map_err(io_err(out_dir))?
+        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+        .filter(|n| n.starts_with("snapshot_") && n.ends_with(".png"));
+    for name in fixed.iter().map(|s| s.to_string()).chain(snapshots) {
+        let stale = out_dir.join(&name);
+        match std::fs::remove_file(&stale) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io_err(&stale)(e)),
+            _ => {}
+        }
+    }
+    Ok(())
 }
