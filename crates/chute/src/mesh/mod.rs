@@ -62,6 +62,19 @@ pub enum MeshFileError {
     },
 }
 
+/// Read `path` (lossy UTF-8) and hand its text and display name to `parse`.
+fn read_with(
+    path: &std::path::Path,
+    parse: fn(&str, &str) -> Result<CanopyMesh, MeshFileError>,
+) -> Result<CanopyMesh, MeshFileError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|source| MeshFileError::Io {
+        path: name.clone(),
+        source,
+    })?;
+    parse(&String::from_utf8_lossy(&bytes), &name)
+}
+
 impl CanopyMesh {
     /// Number of nodes.
     pub fn n_nodes(&self) -> usize {

@@ -12,13 +12,7 @@ use std::path::Path;
 
 /// Read an OBJ file. Errors name the file and line.
 pub fn read(path: impl AsRef<Path>) -> Result<CanopyMesh, MeshFileError> {
-    let path = path.as_ref();
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| MeshFileError::Io {
-        path: name.clone(),
-        source,
-    })?;
-    parse(&String::from_utf8_lossy(&bytes), &name)
+    super::read_with(path.as_ref(), parse)
 }
 
 /// Parse OBJ text; `path` is only used in error messages.
