@@ -192,24 +192,5 @@ pub mod validate {
     }
 }
 
-/// `chute bench`: timings on a ladder of mesh sizes.
-pub mod bench {
-    use super::AppError;
-
-    /// Arguments of `chute bench`.
-    #[derive(Debug, Clone, PartialEq, Default)]
-    pub struct BenchArgs {
-        /// Fewer and smaller sizes.
-        pub quick: bool,
-        /// Print the timings as JSON on stdout.
-        pub json: bool,
-    }
-
-    /// Run the benchmark ladder.
-    pub fn main(args: &BenchArgs) -> Result<(), AppError> {
-        let _ = args;
-        Err(AppError::NotImplemented(
-            "the benchmark ladder (`chute::bench::main`)",
-        ))
-    }
-}
+/// `chute bench`: timings on a ladder of mesh sizes (implemented in [`crate::bench`]).
+pub use crate::bench;

@@ -1,6 +1,8 @@
 //! chute: parachute scenarios, builders, metrics, outputs and the command line.
 
 pub mod app;
+pub mod bench;
+pub mod bench_plot;
 pub mod build;
 pub mod cli;
 pub mod mesh;
@@ -10,4 +12,4 @@ pub mod runner;
 pub mod scenario;
 pub mod study;
 
-pub use app::{bench, validate};
+pub use app::validate;
