@@ -99,6 +99,28 @@ impl LinearSolver {
     /// Factorise `A` (values in the pattern given to [`LinearSolver::new`]). On success the
     /// factors are kept for any number of [`LinearSolver::solve`] calls.
     pub fn factor(&mut self, values: &[f64]) -> Result<Factorization, StepError> {
+        self.factor_with(values, values)
+    }
+
+    /// Factorise with LLᵀ of the symmetric matrix whose lower triangle is in `spd` when the
+    /// solver was built with `symmetric`, else (or if that matrix is not positive definite)
+    /// with LU of `full`. `spd` = `full` is the exact path; `spd` = `½ (A + Aᵀ)` makes LLᵀ
+    /// an approximation of a non-symmetric `A` (for modified Newton).
+    pub fn factor_with(&mut self, spd: &[f64], full: &[f64]) -> Result<Factorization, StepError> {
+        self.factor_impl(Some(spd), full)
+    }
+
+    /// Factorise `A` by LU even when LLᵀ is available (e.g. after the symmetric
+    /// approximation of a non-symmetric `A` failed to contract).
+    pub fn factor_lu(&mut self, values: &[f64]) -> Result<Factorization, StepError> {
+        self.factor_impl(None, values)
+    }
+
+    fn factor_impl(
+        &mut self,
+        spd: Option<&[f64]>,
+        full: &[f64],
+    ) -> Result<Factorization, StepError> {
         let n = self.n;
         self.valid = false;
         if n == 0 {
@@ -109,13 +131,14 @@ impl LinearSolver {
         let sym = unsafe {
             SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
         };
-        let a = SparseColMatRef::new(sym, values);
+        let a = SparseColMatRef::new(sym, full);
         let stack = MemStack::new(&mut self.mem);
-        if let Some((chol, lvals)) = self.llt.as_mut() {
+        if let (Some((chol, lvals)), Some(spd)) = (self.llt.as_mut(), spd) {
+            let a_spd = SparseColMatRef::new(sym, spd);
             let ok = chol
                 .factorize_numeric_llt::<f64>(
                     lvals,
-                    a,
+                    a_spd,
                     Side::Lower,
                     LltRegularization::default(),
                     self.par,
