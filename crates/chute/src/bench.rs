@@ -175,10 +175,12 @@ pub struct CaseResult {
     pub share_factor: f64,
     /// Share in triangular solves.
     pub share_solve: f64,
-    /// Whether the factorisations were Cholesky (no LU fallback).
+    /// Whether every factorisation was Cholesky LLᵀ.
     pub cholesky: bool,
-    /// Factorisations that ended in LU (LLᵀ not available or not positive definite).
+    /// Factorisations by LU (exact non-symmetric J: the symmetric approximation's fallback).
     pub lu_factorizations: u64,
+    /// Factorisations by LBLᵀ (symmetric matrix not positive definite).
+    pub lblt_factorizations: u64,
     /// Failed steps retried as two half steps during the timed run (the run loop's policy;
     /// their cost is included in `ms_per_step`, which stays per step of the nominal `dt`).
     pub halvings: usize,
@@ -313,8 +315,9 @@ pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
         share_merit: share(tm.merit_s),
         share_factor: share(tm.factor_s),
         share_solve: share(tm.solve_s),
-        cholesky: tm.factorizations > 0 && tm.lu_factorizations == 0,
+        cholesky: tm.factorizations > 0 && tm.lu_factorizations == 0 && tm.lblt_factorizations == 0,
         lu_factorizations: tm.lu_factorizations,
+        lblt_factorizations: tm.lblt_factorizations,
         halvings: retries,
         peak_rss_mib: peak_rss_mib(),
         t_end_s: built.state.t,

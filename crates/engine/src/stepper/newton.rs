@@ -98,8 +98,10 @@ pub struct Timings {
     pub jacobian_evaluations: u64,
     /// Numeric factorisations.
     pub factorizations: u64,
-    /// Of those, factorisations that ended in LU (LLᵀ unavailable or not positive definite).
+    /// Of those, LU factorisations (non-symmetric J, exact path or approximation fallback).
     pub lu_factorizations: u64,
+    /// Of those, LBLᵀ factorisations (symmetric matrix not positive definite).
+    pub lblt_factorizations: u64,
     /// Newton iterations (linear solves).
     pub iterations: u64,
     /// Newton solves (time steps, or load steps in statics).
@@ -339,11 +341,12 @@ impl NewtonCore {
         } else {
             self.solver.factor_lu(&self.values)
         };
-        self.approx_held = approx && matches!(fac, Ok(Factorization::Llt));
+        self.approx_held = approx && matches!(fac, Ok(Factorization::Llt | Factorization::Lblt));
         self.timings.factor_s += t0.elapsed().as_secs_f64();
         let fac = fac?;
         self.timings.factorizations += 1;
         self.timings.lu_factorizations += u64::from(fac == Factorization::Lu);
+        self.timings.lblt_factorizations += u64::from(fac == Factorization::Lblt);
         self.factored_for = (tg.c_m, tg.c_v);
         report.used_cholesky = fac == Factorization::Llt;
         report.factorizations += 1;
