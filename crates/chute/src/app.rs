@@ -1,9 +1,8 @@
 //! The interface between the command line and the simulation: `check` and `run` a scenario,
 //! and the `validate` / `bench` entry points.
 //!
-//! The builders and the run loop are written by the integrator; until then `run`,
-//! `validate::main` and `bench::main` return [`AppError::NotImplemented`] rather than fake
-//! results. `check` already reports the quantities that follow from the scenario alone.
+//! `validate::main` returns [`AppError::NotImplemented`] until the verification suite is
+//! written, rather than fake results; `bench` lives in [`crate::bench`].
 
 use std::path::PathBuf;
 
