@@ -1,6 +1,8 @@
 //! chute: parachute scenarios, builders, metrics, outputs and the command line.
 
 pub mod app;
+pub mod bench;
+pub mod bench_plot;
 pub mod build;
 pub mod checkpoint;
 pub mod cli;
@@ -11,5 +13,3 @@ pub mod runner;
 pub mod scenario;
 pub mod study;
 pub mod validate;
-
-pub use app::bench;

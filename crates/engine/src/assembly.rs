@@ -43,6 +43,9 @@ pub struct Assembler {
     pub blocks: Vec<LocalBlocks>,
     /// Whether every force reports a symmetric Jacobian.
     pub symmetric: bool,
+    /// `transpose[k]` = value index of the mirror entry `(c, r)` of entry `k = (r, c)` (the
+    /// pattern is structurally symmetric: every stencil couples all its DOFs both ways).
+    pub transpose: Vec<u32>,
 }
 
 impl Assembler {
@@ -123,7 +126,14 @@ impl Assembler {
             maps.push(map);
             blocks.push(f.new_blocks());
         }
+        let mut transpose = vec![0u32; row_idx.len()];
+        for c in 0..n_free {
+            for k in col_ptr[c]..col_ptr[c + 1] {
+                transpose[k] = find(c, row_idx[k]);
+            }
+        }
         Self {
+            transpose,
             n_free,
             free_of,
             dof_of,
@@ -133,6 +143,13 @@ impl Assembler {
             maps,
             blocks,
             symmetric,
+        }
+    }
+
+    /// Write the symmetric part `½ (J + Jᵀ)` of `values` into `sym`.
+    pub fn symmetric_part(&self, values: &[f64], sym: &mut [f64]) {
+        for ((s, &v), &t) in sym.iter_mut().zip(values).zip(&self.transpose) {
+            *s = 0.5 * (v + values[t as usize]);
         }
     }
 

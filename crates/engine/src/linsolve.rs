@@ -3,14 +3,19 @@
 //! The symbolic analysis (fill-reducing ordering, elimination tree, supernodes) is done once
 //! per pattern; each Newton iteration only refactorises numerically into preallocated
 //! storage. When every force reports a symmetric Jacobian, a supernodal LLᵀ (Cholesky) is
-//! tried first; if the matrix is not positive definite (e.g. a buckling rod with a large
-//! time step) the solver falls back to LU with partial pivoting for that iteration.
+//! tried first; if the matrix is not positive definite (e.g. a buckling rod or a compressed
+//! membrane with a large time step) the same symbolic structure is factorised as LBLᵀ
+//! (Bunch–Kaufman pivoting within supernodes), which needs no more memory. LU with partial
+//! pivoting is only used for non-symmetric matrices; its symbolic analysis and storage are
+//! created on first use (at 100k DOFs they are gigabytes, so they are not reserved up
+//! front).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
-    SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, IntranodeLbltRef, LltRef,
+    SymbolicCholesky, SymmetricOrdering,
 };
 use faer::sparse::linalg::lu::{
     factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu,
@@ -27,6 +32,8 @@ pub enum Factorization {
     Llt,
     /// Supernodal LU with partial pivoting.
     Lu,
+    /// Symmetric indefinite LBLᵀ (Bunch–Kaufman within supernodes) on the LLᵀ structure.
+    Lblt,
 }
 
 /// Reusable sparse solver for one fixed pattern.
@@ -35,9 +42,13 @@ pub struct LinearSolver {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     llt: Option<(SymbolicCholesky<usize>, Vec<f64>)>,
+    /// LBLᵀ extras: sub-diagonal of B and the pivoting permutation (forward, inverse).
+    lblt: (Vec<f64>, Vec<usize>, Vec<usize>),
     lu_sym: Option<SymbolicLu<usize>>,
     lu_num: NumericLu<usize, f64>,
     mem: MemBuffer,
+    /// Scratch needed by the LLᵀ / LBLᵀ paths (LU's is added when LU is first needed).
+    req: StackReq,
     /// Parallelism handed to faer.
     pub par: Par,
     /// Factorisation held (or used last).
@@ -59,9 +70,11 @@ impl LinearSolver {
             col_ptr: col_ptr.to_vec(),
             row_idx: row_idx.to_vec(),
             llt: None,
+            lblt: (Vec::new(), Vec::new(), Vec::new()),
             lu_sym: None,
             lu_num: NumericLu::new(),
             mem: MemBuffer::new(StackReq::EMPTY),
+            req: StackReq::EMPTY,
             par,
             last: Factorization::Lu,
             valid: false,
@@ -80,42 +93,95 @@ impl LinearSolver {
             .map_err(|e| EngineError::Symbolic(format!("{e:?}")))?;
             req = req
                 .or(chol.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
+                .or(chol.factorize_numeric_intranode_lblt_scratch::<f64>(par, Default::default()))
                 .or(chol.solve_in_place_scratch::<f64>(1, par));
             let vals = vec![0.0; chol.len_val()];
             s.llt = Some((chol, vals));
+            s.lblt = (vec![0.0; n], vec![0; n], vec![0; n]);
+        } else {
+            s.ensure_lu()?;
         }
-        // LU analysis is cheap relative to a run; doing it up front keeps the Newton loop free
-        // of allocation even when LLᵀ falls back.
+        s.req = req;
+        s.mem = MemBuffer::new(req.or(s.lu_scratch()));
+        Ok(s)
+    }
+
+    /// Analyse the LU structure if not done yet (allocates once).
+    fn ensure_lu(&mut self) -> Result<(), EngineError> {
+        if self.lu_sym.is_some() {
+            return Ok(());
+        }
+        // SAFETY: the same valid pattern as in `new`.
+        let sym = unsafe {
+            SymbolicSparseColMatRef::new_unchecked(
+                self.n,
+                self.n,
+                &self.col_ptr,
+                None,
+                &self.row_idx,
+            )
+        };
         let lu = factorize_symbolic_lu(sym, LuSymbolicParams::default())
             .map_err(|e| EngineError::Symbolic(format!("{e:?}")))?;
-        req = req
-            .or(lu.factorize_numeric_lu_scratch::<f64>(par, Default::default()))
-            .or(lu.solve_in_place_scratch::<f64>(1, par));
-        s.lu_sym = Some(lu);
-        s.mem = MemBuffer::new(req);
-        Ok(s)
+        self.lu_sym = Some(lu);
+        Ok(())
+    }
+
+    fn lu_scratch(&self) -> StackReq {
+        self.lu_sym.as_ref().map_or(StackReq::EMPTY, |lu| {
+            lu.factorize_numeric_lu_scratch::<f64>(self.par, Default::default())
+                .or(lu.solve_in_place_scratch::<f64>(1, self.par))
+        })
     }
 
     /// Factorise `A` (values in the pattern given to [`LinearSolver::new`]). On success the
     /// factors are kept for any number of [`LinearSolver::solve`] calls.
     pub fn factor(&mut self, values: &[f64]) -> Result<Factorization, StepError> {
+        self.factor_with(values, values)
+    }
+
+    /// Factorise with LLᵀ of the symmetric matrix whose lower triangle is in `spd` when the
+    /// solver was built with `symmetric`, else (or if that matrix is not positive definite)
+    /// with LU of `full`. `spd` = `full` is the exact path; `spd` = `½ (A + Aᵀ)` makes LLᵀ
+    /// an approximation of a non-symmetric `A` (for modified Newton).
+    pub fn factor_with(&mut self, spd: &[f64], full: &[f64]) -> Result<Factorization, StepError> {
+        self.factor_impl(Some(spd), full)
+    }
+
+    /// Factorise `A` by LU even when LLᵀ is available (e.g. after the symmetric
+    /// approximation of a non-symmetric `A` failed to contract).
+    pub fn factor_lu(&mut self, values: &[f64]) -> Result<Factorization, StepError> {
+        self.factor_impl(None, values)
+    }
+
+    fn factor_impl(
+        &mut self,
+        spd: Option<&[f64]>,
+        full: &[f64],
+    ) -> Result<Factorization, StepError> {
         let n = self.n;
         self.valid = false;
         if n == 0 {
             self.valid = true;
             return Ok(self.last);
         }
+        if (self.llt.is_none() || spd.is_none()) && self.lu_sym.is_none() {
+            self.ensure_lu()
+                .map_err(|e| StepError::Linear(e.to_string()))?;
+            self.mem = MemBuffer::new(self.req.or(self.lu_scratch()));
+        }
         // SAFETY: the same valid pattern as in `new`.
         let sym = unsafe {
             SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
         };
-        let a = SparseColMatRef::new(sym, values);
-        let stack = MemStack::new(&mut self.mem);
-        if let Some((chol, lvals)) = self.llt.as_mut() {
+        let a = SparseColMatRef::new(sym, full);
+        if let (Some((chol, lvals)), Some(spd)) = (self.llt.as_mut(), spd) {
+            let a_spd = SparseColMatRef::new(sym, spd);
+            let stack = MemStack::new(&mut self.mem);
             let ok = chol
                 .factorize_numeric_llt::<f64>(
                     lvals,
-                    a,
+                    a_spd,
                     Side::Lower,
                     LltRegularization::default(),
                     self.par,
@@ -123,13 +189,29 @@ impl LinearSolver {
                     Default::default(),
                 )
                 .is_ok();
-            if ok {
-                self.last = Factorization::Llt;
-                self.valid = true;
-                return Ok(Factorization::Llt);
-            }
+            self.last = if ok {
+                Factorization::Llt
+            } else {
+                let (sub, fwd, inv) = &mut self.lblt;
+                let stack = MemStack::new(&mut self.mem);
+                chol.factorize_numeric_intranode_lblt::<f64>(
+                    lvals,
+                    sub,
+                    fwd,
+                    inv,
+                    a_spd,
+                    Side::Lower,
+                    self.par,
+                    stack,
+                    Default::default(),
+                );
+                Factorization::Lblt
+            };
+            self.valid = true;
+            return Ok(self.last);
         }
-        let lu_sym = self.lu_sym.as_ref().expect("LU analysed in new()");
+        let stack = MemStack::new(&mut self.mem);
+        let lu_sym = self.lu_sym.as_ref().expect("LU analysed above");
         lu_sym
             .factorize_numeric_lu::<f64>(&mut self.lu_num, a, self.par, stack, Default::default())
             .map_err(|e| StepError::Linear(format!("{e:?}")))?;
@@ -163,8 +245,19 @@ impl LinearSolver {
                 let (chol, lvals) = self.llt.as_ref().expect("LLT factors");
                 LltRef::new(chol, lvals).solve_in_place_with_conj(Conj::No, x, self.par, stack);
             }
+            Factorization::Lblt => {
+                let (chol, lvals) = self.llt.as_ref().expect("LBLT factors");
+                let (sub, fwd, inv) = &self.lblt;
+                let perm = PermRef::new_checked(fwd, inv, n);
+                IntranodeLbltRef::new(chol, lvals, sub, perm).solve_in_place_with_conj(
+                    Conj::No,
+                    x,
+                    self.par,
+                    stack,
+                );
+            }
             Factorization::Lu => {
-                let lu_sym = self.lu_sym.as_ref().expect("LU analysed in new()");
+                let lu_sym = self.lu_sym.as_ref().expect("LU analysed before factor");
                 LuRef::new_unchecked(lu_sym, &self.lu_num).solve_in_place_with_conj(
                     Conj::No,
                     x,

@@ -62,7 +62,7 @@ fn ensure_font() -> Result<(), PlotError> {
 }
 
 /// Render with `draw` into a temporary PNG next to `path`, then rename it over `path`.
-fn render_atomic(
+pub(crate) fn render_atomic(
     path: &Path,
     size: (u32, u32),
     draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<(), PlotError>,

@@ -297,6 +297,16 @@ impl BendTwist {
 
     /// Local force (11) and `∂f/∂q` (11×11, row-major) of element `i`.
     fn element_blocks(&self, q: &[f64], i: usize, f: &mut [f64], dfdq: &mut [f64]) {
+        let s = self.elems[i].signs;
+        if dfdq.is_empty() {
+            // Force only (modified-Newton trial residuals): the same closed-form gradient in
+            // plain f64, ~8× cheaper than carrying 8 dual components through it.
+            let l = self.local_f64(q, i);
+            let m = reference_twist(&l, self.ref_twist[i]);
+            let g = gradient(&l, m, &self.consts[i]);
+            write_force(&g, s, f);
+            return;
+        }
         let (e, th, h) = self.gather(q, i);
         let mut ev = [G3([Dual::<8>::cst(0.0); 3]); 2];
         for k in 0..2 {
@@ -308,17 +318,7 @@ impl BendTwist {
         let l = Local::new(ev, thd, &h);
         let m = reference_twist(&l, self.ref_twist[i]);
         let g = gradient(&l, m, &self.consts[i]);
-        let s = self.elems[i].signs;
-        for c in 0..3 {
-            f[c] = g[c].v;
-            f[3 + c] = g[3 + c].v - g[c].v;
-            f[6 + c] = -g[3 + c].v;
-        }
-        f[9] = -s[0] * g[6].v;
-        f[10] = -s[1] * g[7].v;
-        if dfdq.is_empty() {
-            return;
-        }
+        write_force(&g, s, f);
         let hl = SMatrix::<f64, 8, 8>::from_fn(|r, c| 0.5 * (g[r].d[c] + g[c].d[r]));
         let mut b = SMatrix::<f64, 8, 11>::zeros();
         for r in 0..6 {
@@ -334,6 +334,18 @@ impl BendTwist {
             }
         }
     }
+}
+
+/// Local force (11) from the gradient `g = ∂E/∂(e₀, e₁, θ₀, θ₁)` (J/m, J/rad): nodes get
+/// `−∂E/∂x` through `e₀ = x₁ − x₀`, `e₁ = x₂ − x₁`; twists through the edge signs `s`.
+fn write_force<T: Real>(g: &[T; 8], s: [f64; 2], f: &mut [f64]) {
+    for c in 0..3 {
+        f[c] = g[c].val();
+        f[3 + c] = g[3 + c].val() - g[c].val();
+        f[6 + c] = -g[3 + c].val();
+    }
+    f[9] = -s[0] * g[6].val();
+    f[10] = -s[1] * g[7].val();
 }
 
 impl Force for BendTwist {

@@ -5,7 +5,7 @@
 //! of angular frequency ω loses amplitude by the factor `1/√(1 + (ω dt)²)` per step, which is
 //! the numerical damping users see at large `dt` (tested exactly).
 
-use super::newton::{NewtonCore, NewtonOptions, StepReport, Target};
+use super::newton::{NewtonCore, NewtonOptions, StepReport, Target, Timings};
 use crate::error::{EngineError, StepError};
 use crate::model::{Model, State};
 
@@ -41,6 +41,17 @@ impl ImplicitEuler {
     /// Newton options in force.
     pub fn options(&self) -> &NewtonOptions {
         &self.core.opts
+    }
+
+    /// Phase timings and counts accumulated since construction or the last
+    /// [`ImplicitEuler::reset_timings`].
+    pub fn timings(&self) -> &Timings {
+        &self.core.timings
+    }
+
+    /// Zero the accumulated [`Timings`] (e.g. after a benchmark's warm-up).
+    pub fn reset_timings(&mut self) {
+        self.core.timings = Timings::default();
     }
 
     /// `‖R‖∞` (N) of every Newton iterate of the last step, the predictor first.

@@ -1,0 +1,401 @@
+//! `chute bench`: timings of implicit-Euler steps on a ladder of model sizes.
+//!
+//! Cases (see [`ladder`]): DER rods of 100, 1k, 10k nodes (the report's Kevlar strip), the
+//! report's rectangular shell canopy at ≈ 250, 1k, 4k, 16k and 33k nodes (≈ 100k DOFs), and
+//! the DisMech peer's hexagonal parachutes `dismech-hex-n6` / `dismech-hex-n12`.
+//!
+//! Every case runs in its own child process (this executable re-run with
+//! `CHUTE_BENCH_CASE=<name>`), so its peak resident memory (`VmHWM` of `/proc/self/status`)
+//! is its own and not the high-water mark of a larger case run earlier. The child builds the
+//! model, takes `warmup` untimed steps, zeroes the stepper's [`engine::Timings`], then times
+//! `steps` steps and prints one JSON object.
+//!
+//! Why a warm-up: a canopy released flat and at rest first falls almost rigidly, so the
+//! constant-velocity predictor nearly solves the first steps and they cost one cheap Newton
+//! iteration each; timing them would flatter the solver. After the warm-up the loads have
+//! bent the canopy and drag has built up, which is the regime of most of a flight. The
+//! peer-comparison cases instead time the peer's whole run (300 steps of 1e-2 s from rest,
+//! no warm-up), which is exactly what the peer's 116 ms/step figure averages over.
+//!
+//! Environment (for tests and documentation tooling; not part of the stable CLI):
+//! - `CHUTE_BENCH_TINY=1`: three small cases with a handful of steps (the CLI test).
+//! - `CHUTE_BENCH_PLOT=<file.png>`: also draw ms per Newton iteration against DOFs.
+//! - `CHUTE_BENCH_CASE=<name>`: run only that case, in-process (what the children do).
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use crate::app::AppError;
+use crate::scenario::Scenario;
+
+/// Arguments of `chute bench`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BenchArgs {
+    /// Fewer and smaller sizes.
+    pub quick: bool,
+    /// Print the timings as JSON on stdout.
+    pub json: bool,
+}
+
+const SHELL: &str = include_str!("../../../scenarios/report-shell-4-sites.toml");
+const SHELL_PATH: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/report-shell-4-sites.toml"
+);
+const ROD: &str = include_str!("../../../scenarios/report-rod-200n.toml");
+const ROD_PATH: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/report-rod-200n.toml"
+);
+const HEX: &str = include_str!("../../../scenarios/dismech-hex-n6.toml");
+/// The hexagonal scenario's `mesh_file` is relative to its own directory, so it is parsed
+/// under its real path (this binary's source tree).
+const HEX_PATH: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/dismech-hex-n6.toml"
+);
+
+/// One rung of the ladder.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// Name (the hexagonal cases contain `n6` / `n12`).
+    pub name: String,
+    /// Which bundled scenario: `"rod"`, `"shell"` or `"hex"`.
+    pub base: &'static str,
+    /// `--set` overrides applied to it.
+    pub overrides: Vec<String>,
+    /// Untimed steps first.
+    pub warmup: usize,
+    /// Timed steps.
+    pub steps: usize,
+}
+
+fn case(name: &str, base: &'static str, ov: &[&str], warmup: usize, steps: usize) -> Case {
+    Case {
+        name: name.into(),
+        base,
+        overrides: ov.iter().map(|s| s.to_string()).collect(),
+        warmup,
+        steps,
+    }
+}
+
+/// The cases of a run, small to large. `tiny` is the CLI test's ladder.
+pub fn ladder(quick: bool, tiny: bool) -> Vec<Case> {
+    let n12 = "canopy.mesh_file=../crates/chute/data/meshes/hexparachute_n12.txt";
+    if tiny {
+        return vec![
+            case("rod-100", "rod", &["canopy.nodes=100"], 2, 3),
+            case("shell-250", "shell", &["canopy.edge_length_m=0.28"], 2, 3),
+            case("dismech-hex-n6", "hex", &[], 0, 3),
+        ];
+    }
+    let mut v = vec![
+        case("rod-100", "rod", &["canopy.nodes=100"], 50, 500),
+        case("rod-1k", "rod", &["canopy.nodes=1000"], 50, 200),
+        case(
+            "shell-250",
+            "shell",
+            &["canopy.edge_length_m=0.28"],
+            50,
+            500,
+        ),
+        case(
+            "shell-1k",
+            "shell",
+            &["canopy.edge_length_m=0.138"],
+            50,
+            200,
+        ),
+        case("dismech-hex-n6", "hex", &[], 0, 300),
+        case("dismech-hex-n12", "hex", &[n12], 0, 300),
+    ];
+    if !quick {
+        v.extend([
+            case("rod-10k", "rod", &["canopy.nodes=10000"], 20, 50),
+            case(
+                "shell-4k",
+                "shell",
+                &["canopy.edge_length_m=0.068"],
+                50,
+                100,
+            ),
+            case(
+                "shell-16k",
+                "shell",
+                &["canopy.edge_length_m=0.034"],
+                20,
+                30,
+            ),
+            case(
+                "shell-33k",
+                "shell",
+                &["canopy.edge_length_m=0.0235"],
+                10,
+                10,
+            ),
+        ]);
+    }
+    v
+}
+
+/// What one case measured. Shares are fractions of the timed wall time.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct CaseResult {
+    /// Case name.
+    pub name: String,
+    /// Nodes of the model.
+    pub nodes: usize,
+    /// Degrees of freedom (3 per node + 1 per rod edge).
+    pub dofs: usize,
+    /// Free DOFs (the Newton system's size).
+    pub free_dofs: usize,
+    /// Stored nonzeros of the Jacobian (both triangles).
+    pub nnz: usize,
+    /// Time step (s).
+    pub dt_s: f64,
+    /// Timed steps.
+    pub steps: usize,
+    /// Wall time per step (ms).
+    pub ms_per_step: f64,
+    /// Newton iterations (linear solves) per step.
+    pub newton_per_step: f64,
+    /// Wall time per Newton iteration (ms).
+    pub ms_per_newton: f64,
+    /// Numeric factorisations per step (modified Newton reuses them).
+    pub factorizations_per_step: f64,
+    /// Residual evaluations (element passes) per step.
+    pub evaluations_per_step: f64,
+    /// Share in element evaluation + scatter.
+    pub share_assembly: f64,
+    /// Share in line-search energy evaluations.
+    pub share_merit: f64,
+    /// Share in numeric factorisation.
+    pub share_factor: f64,
+    /// Share in triangular solves.
+    pub share_solve: f64,
+    /// Whether every factorisation was Cholesky LLᵀ.
+    pub cholesky: bool,
+    /// Factorisations by LU (exact non-symmetric J: the symmetric approximation's fallback).
+    pub lu_factorizations: u64,
+    /// Factorisations by LBLᵀ (symmetric matrix not positive definite).
+    pub lblt_factorizations: u64,
+    /// Failed steps retried as two half steps during the timed run (the run loop's policy;
+    /// their cost is included in `ms_per_step`, which stays per step of the nominal `dt`).
+    pub halvings: usize,
+    /// Peak resident memory of the case's process (MiB), model build included.
+    pub peak_rss_mib: f64,
+    /// Simulated time at the end of the timed run (s).
+    pub t_end_s: f64,
+}
+
+/// Run the benchmark ladder.
+pub fn main(args: &BenchArgs) -> Result<(), AppError> {
+    let tiny = std::env::var_os("CHUTE_BENCH_TINY").is_some();
+    let cases = ladder(args.quick, tiny);
+    if let Ok(name) = std::env::var("CHUTE_BENCH_CASE") {
+        let c = cases
+            .iter()
+            .chain(ladder(false, false).iter())
+            .find(|c| c.name == name)
+            .cloned()
+            .ok_or_else(|| AppError::Input(format!("no bench case `{name}`")))?;
+        let r = run_case(&c)?;
+        println!("{}", serde_json::to_string(&r).expect("serialisable"));
+        return Ok(());
+    }
+    let exe = std::env::current_exe().map_err(|e| AppError::io("current_exe", e))?;
+    let mut results = Vec::new();
+    if !args.json {
+        println!("{}", header());
+    }
+    for c in &cases {
+        let r = run_child(&exe, c)?;
+        if !args.json {
+            println!("{}", row(&r));
+        }
+        results.push(r);
+    }
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&results).expect("serialisable")
+        );
+    }
+    if let Some(path) = std::env::var_os("CHUTE_BENCH_PLOT") {
+        crate::bench_plot::scaling_plot(std::path::Path::new(&path), &results)
+            .map_err(|e| AppError::RunFailed(format!("plot: {e}")))?;
+    }
+    Ok(())
+}
+
+fn run_child(exe: &std::path::Path, c: &Case) -> Result<CaseResult, AppError> {
+    let out = std::process::Command::new(exe)
+        .arg("bench")
+        .env("CHUTE_BENCH_CASE", &c.name)
+        .stderr(std::process::Stdio::inherit())
+        .output()
+        .map_err(|e| AppError::io(exe, e))?;
+    if !out.status.success() {
+        return Err(AppError::RunFailed(format!(
+            "bench case `{}` exited with {}",
+            c.name, out.status
+        )));
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    serde_json::from_str(text.trim())
+        .map_err(|e| AppError::RunFailed(format!("bench case `{}`: bad output: {e}", c.name)))
+}
+
+fn scenario_of(c: &Case) -> Result<Scenario, AppError> {
+    let (text, path) = match c.base {
+        "rod" => (ROD, ROD_PATH),
+        "shell" => (SHELL, SHELL_PATH),
+        _ => (HEX, HEX_PATH),
+    };
+    Ok(Scenario::from_str_with_name(text, path, &c.overrides)?)
+}
+
+/// Build and time one case in this process.
+pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
+    let s = scenario_of(c)?;
+    let mut built = crate::build::build(&s).map_err(|e| AppError::Input(e.to_string()))?;
+    let mut cfg = crate::app::run_config(&s, false);
+    if std::env::var_os("CHUTE_BENCH_NOREUSE").is_some() {
+        cfg.newton.reuse_jacobian = false;
+    }
+    if std::env::var_os("CHUTE_BENCH_NOSYM").is_some() {
+        cfg.newton.symmetric_approx = false;
+    }
+    if let Some(c) = std::env::var("CHUTE_BENCH_CONTRACTION")
+        .ok()
+        .and_then(|c| c.parse().ok())
+    {
+        cfg.newton.reuse_contraction = c;
+    }
+    if std::env::var_os("CHUTE_BENCH_NOLS").is_some() {
+        cfg.newton.line_search = false;
+    }
+    let mut stepper = engine::ImplicitEuler::new(&built.model, cfg.newton)
+        .map_err(|e| AppError::RunFailed(e.to_string()))?;
+    let dt = cfg.dt_s;
+    let trace = std::env::var_os("CHUTE_BENCH_TRACE").is_some();
+    let mut retries = 0usize;
+    let run = |b: &mut crate::build::Built, st: &mut engine::ImplicitEuler, n, r: &mut usize| {
+        for _ in 0..n {
+            step_halving(b, st, dt, 0, r, trace)
+                .map_err(|e| AppError::RunFailed(format!("{}: t = {}: {e}", c.name, b.state.t)))?;
+        }
+        Ok::<(), AppError>(())
+    };
+    run(&mut built, &mut stepper, c.warmup, &mut retries)?;
+    retries = 0;
+    stepper.reset_timings();
+    let t0 = Instant::now();
+    run(&mut built, &mut stepper, c.steps, &mut retries)?;
+    let wall = t0.elapsed().as_secs_f64();
+    let tm = *stepper.timings();
+    let n = c.steps.max(1) as f64;
+    let share = |x: f64| if wall > 0.0 { x / wall } else { 0.0 };
+    Ok(CaseResult {
+        name: c.name.clone(),
+        nodes: built.model.layout.n_nodes,
+        dofs: built.model.n_dofs(),
+        free_dofs: stepper.n_free(),
+        nnz: stepper.nnz(),
+        dt_s: dt,
+        steps: c.steps,
+        ms_per_step: 1e3 * wall / n,
+        newton_per_step: tm.iterations as f64 / n,
+        ms_per_newton: 1e3 * wall / (tm.iterations.max(1) as f64),
+        factorizations_per_step: tm.factorizations as f64 / n,
+        evaluations_per_step: tm.evaluations as f64 / n,
+        share_assembly: share(tm.assembly_s),
+        share_merit: share(tm.merit_s),
+        share_factor: share(tm.factor_s),
+        share_solve: share(tm.solve_s),
+        cholesky: tm.factorizations > 0 && tm.lu_factorizations == 0 && tm.lblt_factorizations == 0,
+        lu_factorizations: tm.lu_factorizations,
+        lblt_factorizations: tm.lblt_factorizations,
+        halvings: retries,
+        peak_rss_mib: peak_rss_mib(),
+        t_end_s: built.state.t,
+    })
+}
+
+/// Advance by `dt`; a failed step is retried as two steps of `dt/2`, down to `dt/16`, as the
+/// run loop does.
+fn step_halving(
+    b: &mut crate::build::Built,
+    st: &mut engine::ImplicitEuler,
+    dt: f64,
+    depth: u32,
+    retries: &mut usize,
+    trace: bool,
+) -> Result<(), engine::StepError> {
+    let r = st.step(&mut b.model, &mut b.state, dt);
+    if trace {
+        eprintln!("t={:.5} {:?} {:?}", b.state.t, r, st.residual_history());
+    }
+    match r {
+        Ok(_) => Ok(()),
+        Err(_) if depth < 4 => {
+            *retries += 1;
+            step_halving(b, st, 0.5 * dt, depth + 1, retries, trace)?;
+            step_halving(b, st, 0.5 * dt, depth + 1, retries, trace)
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// `VmHWM` of this process (MiB); 0 where `/proc` is unavailable.
+pub fn peak_rss_mib() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<f64>().ok())
+        })
+        .map_or(0.0, |kb| kb / 1024.0)
+}
+
+fn header() -> String {
+    format!(
+        "{:<16} {:>6} {:>7} {:>9} {:>9} {:>6} {:>8} {:>6} {:>5} {:>5} {:>5} {:>5} {:>8}",
+        "case",
+        "nodes",
+        "DOFs",
+        "nnz",
+        "ms/step",
+        "it/st",
+        "ms/it",
+        "fac/st",
+        "asm%",
+        "Φ%",
+        "fac%",
+        "sol%",
+        "RSS MiB"
+    )
+}
+
+fn row(r: &CaseResult) -> String {
+    format!(
+        "{:<16} {:>6} {:>7} {:>9} {:>9.3} {:>6.2} {:>8.3} {:>6.2} {:>5.1} {:>5.1} {:>5.1} {:>5.1} {:>8.1}",
+        r.name,
+        r.nodes,
+        r.dofs,
+        r.nnz,
+        r.ms_per_step,
+        r.newton_per_step,
+        r.ms_per_newton,
+        r.factorizations_per_step,
+        100.0 * r.share_assembly,
+        100.0 * r.share_merit,
+        100.0 * r.share_factor,
+        100.0 * r.share_solve,
+        r.peak_rss_mib
+    )
+}
