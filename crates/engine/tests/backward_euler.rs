@@ -102,3 +102,25 @@ fn jacobian_reuse_reaches_the_same_tolerance() {
         "reuse saved no factorisations: {f_reused} vs {f_full}"
     );
 }
+
+#[test]
+fn tiny_steps_far_from_the_origin_converge_to_the_roundoff_floor() {
+    // At dt = 1e-6 s and 10 km from the origin the inertia term's round-off (ε m |q|/dt² ≈
+    // 1 N) is far above the default tolerance (~1e-8 N): Newton must stop at the floor
+    // instead of failing on round-off.
+    let (mut model, mut state) = spring_model(1e3, 1.0, 0.5);
+    // Offset along the spring's axis, so the moving coordinate itself is large.
+    state.q[0] = 1e4;
+    state.q[3] = 1e4 + 1.2;
+    state.v[3] = 1.0;
+    let mut stepper = ImplicitEuler::new(&model, NewtonOptions::default()).unwrap();
+    for _ in 0..10 {
+        stepper.step(&mut model, &mut state, 1e-6).unwrap();
+    }
+    // The motion is still the spring's: x moved by ≈ v t = 1e-5 m.
+    assert!(
+        (state.q[3] - 1e4 - 1.2 - 1e-5).abs() < 1e-7,
+        "{}",
+        state.q[3]
+    );
+}

@@ -254,6 +254,21 @@ impl NewtonCore {
         worst
     }
 
+    /// The smallest residual (N) the inertia term can resolve: `c_m m (q − q̃)` is computed
+    /// from coordinates stored to `ε |q|`, so its round-off is about `ε c_m m |q|`. At tiny
+    /// `dt` (large `c_m = 1/dt²`) or far from the origin this exceeds a fixed tolerance, and
+    /// Newton would fail on round-off instead of physics; the tolerance never goes below
+    /// 16 × this floor. At the report's dt = 1e-3 s and |q| ≲ 100 m it is ~1e-7 N.
+    fn roundoff_floor(&self, model: &Model, q: &[f64], tg: &Target<'_>) -> f64 {
+        let worst = self
+            .assembler
+            .dof_of
+            .iter()
+            .map(|&d| model.mass[d] * q[d].abs().max(tg.q_tilde[d].abs()))
+            .fold(0.0, f64::max);
+        16.0 * f64::EPSILON * tg.c_m * worst
+    }
+
     /// Whether the held factorisation may be used for this target.
     fn can_reuse(&self, tg: &Target<'_>) -> bool {
         self.opts.reuse_jacobian
@@ -276,7 +291,8 @@ impl NewtonCore {
         let mut fresh = !self.can_reuse(tg);
         let mut norm = self.residual_at(model, q, tg, fresh);
         let (r0, _) = self.inf_norm();
-        let tol = self.force_tol_abs + self.opts.force_tol_rel * r0;
+        let tol =
+            self.force_tol_abs + self.opts.force_tol_rel * r0 + self.roundoff_floor(model, q, tg);
         self.history.push(r0);
         loop {
             let (rinf, worst) = self.inf_norm();
