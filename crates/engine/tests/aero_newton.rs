@@ -5,9 +5,7 @@ use engine::reference::sheet;
 
 use engine::aero::{Fluid, TriangleDrag};
 use engine::force::{EvalInput, Force, JacobianKind, LocalBlocks};
-use engine::loads::Gravity;
-use engine::rod::Stretch;
-use engine::{DofLayout, ImplicitEuler, Model, NewtonOptions, State};
+use engine::{ImplicitEuler, Model, NewtonOptions, State};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
 /// TriangleDrag with its ∂F/∂x dropped (the "simplified Jacobian").
@@ -37,43 +35,16 @@ impl Force for NoDq {
     }
 }
 
-/// A 3 × 3-node sheet (8 triangles), tilted and crumpled, with stiff edge springs, gravity
-/// and drag, thrown at ~10 m/s with random node velocities: drag (≈ ½ρC A v² ≈ 100 N)
-/// dominates the weight (≈ 10 N).
+/// The crumpled, thrown sheet of `engine::reference::sheet` with triangle drag, exact or
+/// with its ∂F/∂x dropped.
 fn model(exact: bool) -> (Model, State) {
     let mut rng = StdRng::seed_from_u64(7);
-    let s = sheet::sheet(3, 3, 1.0, 1.0, 0.0);
-    let q: Vec<f64> =
-        s.q.chunks(3)
-            .flat_map(|p| {
-                let z = 0.5 * p[0] + rng.random_range(-0.2..0.2);
-                [p[0], p[1], z]
-            })
-            .collect();
-    let mut model = Model::new(DofLayout::new(s.n_nodes, 0));
-    let masses = s.lumped_masses(1.0);
-    for (i, &m) in masses.iter().enumerate() {
-        model.add_node_mass(i, m);
-    }
-    let nodes: Vec<usize> = (0..s.n_nodes).collect();
-    model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -9.81]));
-    // Rest lengths from the crumpled shape: the step starts stress-free, so drag dominates.
-    model.add_force(Stretch::new(
-        "edges",
-        &s.edges,
-        &q,
-        vec![1e4; s.edges.len()],
-    ));
+    let (mut model, state, s) = sheet::thrown_crumpled_sheet(&mut || rng.random_range(-1.0..1.0));
     let drag = TriangleDrag::new(&s.tris, 1.75, 0.5, &Fluid::air());
     if exact {
         model.add_force(drag);
     } else {
         model.add_force(NoDq(drag));
-    }
-    let mut state = State::at_rest(q);
-    for (d, v) in state.v.iter_mut().enumerate() {
-        let mean = if d % 3 == 2 { -10.0 } else { 3.0 };
-        *v = mean + rng.random_range(-3.0..3.0);
     }
     (model, state)
 }

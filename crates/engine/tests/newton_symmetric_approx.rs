@@ -6,38 +6,16 @@
 use engine::aero::{Fluid, TriangleDrag};
 use engine::assembly::Assembler;
 use engine::force::EvalInput;
-use engine::loads::Gravity;
-use engine::rod::Stretch;
-use engine::{DofLayout, ImplicitEuler, Model, NewtonOptions, State};
+use engine::{ImplicitEuler, Model, NewtonOptions, State};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
-/// A 3 × 3-node crumpled sheet (as in `aero_newton`) with edge springs, gravity and drag, thrown at ~10 m/s: drag
+/// `reference::sheet::thrown_crumpled_sheet` with triangle drag, thrown at ~10 m/s: drag
 /// (≈ 100 N) dominates the weight, so the skew part of J is as large as it gets here.
 fn model() -> (Model, State) {
     let mut rng = StdRng::seed_from_u64(7);
-    let s = engine::reference::sheet::sheet(3, 3, 1.0, 1.0, 0.0);
-    let q: Vec<f64> =
-        s.q.chunks(3)
-            .flat_map(|p| [p[0], p[1], 0.5 * p[0] + rng.random_range(-0.2..0.2)])
-            .collect();
-    let mut model = Model::new(DofLayout::new(s.n_nodes, 0));
-    let masses = s.lumped_masses(1.0);
-    for (i, &m) in masses.iter().enumerate() {
-        model.add_node_mass(i, m);
-    }
-    let nodes: Vec<usize> = (0..s.n_nodes).collect();
-    model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -9.81]));
-    model.add_force(Stretch::new(
-        "edges",
-        &s.edges,
-        &q,
-        vec![1e4; s.edges.len()],
-    ));
+    let (mut model, state, s) =
+        engine::reference::sheet::thrown_crumpled_sheet(&mut || rng.random_range(-1.0..1.0));
     model.add_force(TriangleDrag::new(&s.tris, 1.75, 0.5, &Fluid::air()));
-    let mut state = State::at_rest(q);
-    for (d, v) in state.v.iter_mut().enumerate() {
-        *v = if d % 3 == 2 { -10.0 } else { 3.0 } + rng.random_range(-3.0..3.0);
-    }
     (model, state)
 }
 

@@ -84,3 +84,41 @@ impl Sheet {
         Stretch::new("edges", &self.edges, &self.q, vec![k; self.edges.len()])
     }
 }
+
+/// A 3 × 3-node sheet (8 triangles, 1 m², 1 kg), tilted (z = x/2) and crumpled by
+/// `±0.2 m · noise()`, with stiff edge springs (1e4 N) at rest in that shape and gravity,
+/// thrown at (3, 3, −10) m/s plus `±3 m/s · noise()` per DOF. Drag added by the caller
+/// (≈ ½ρC A v² ≈ 100 N) then dominates the weight (≈ 10 N): the drag-dominated Newton step
+/// of the solver tests. `noise` returns values in [−1, 1].
+pub fn thrown_crumpled_sheet(
+    noise: &mut dyn FnMut() -> f64,
+) -> (crate::Model, crate::State, Sheet) {
+    let s = sheet(3, 3, 1.0, 1.0, 0.0);
+    let q: Vec<f64> =
+        s.q.chunks(3)
+            .flat_map(|p| [p[0], p[1], 0.5 * p[0] + 0.2 * noise()])
+            .collect();
+    let mut model = crate::Model::new(crate::DofLayout::new(s.n_nodes, 0));
+    let masses = s.lumped_masses(1.0);
+    for (i, &m) in masses.iter().enumerate() {
+        model.add_node_mass(i, m);
+    }
+    let nodes: Vec<usize> = (0..s.n_nodes).collect();
+    model.add_force(crate::loads::Gravity::new(
+        &nodes,
+        &masses,
+        [0.0, 0.0, -9.81],
+    ));
+    // Rest lengths from the crumpled shape: the step starts stress-free.
+    model.add_force(Stretch::new(
+        "edges",
+        &s.edges,
+        &q,
+        vec![1e4; s.edges.len()],
+    ));
+    let mut state = crate::State::at_rest(q);
+    for (d, v) in state.v.iter_mut().enumerate() {
+        *v = if d % 3 == 2 { -10.0 } else { 3.0 } + 3.0 * noise();
+    }
+    (model, state, s)
+}
