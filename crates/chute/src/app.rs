@@ -130,6 +130,14 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
         newton: engine::NewtonOptions {
             max_iterations: s.time.newton_max_iterations,
             force_tol_abs: s.time.newton_tolerance_n,
+            force_tol_rel: s
+                .time
+                .newton_relative_tolerance
+                .unwrap_or(engine::NewtonOptions::default().force_tol_rel),
+            step_tol: s
+                .time
+                .newton_step_tolerance_m
+                .unwrap_or(engine::NewtonOptions::default().step_tol),
             reuse_jacobian: true,
             // Cholesky of ½(J + Jᵀ) instead of LU of J (drag is the only skew part); exact LU
             // when it does not contract. docs/performance.md has the measurements.

@@ -21,6 +21,10 @@
 //! - `CHUTE_BENCH_TINY=1`: three small cases with a handful of steps (the CLI test).
 //! - `CHUTE_BENCH_PLOT=<file.png>`: also draw ms per Newton iteration against DOFs.
 //! - `CHUTE_BENCH_CASE=<name>`: run only that case, in-process (what the children do).
+//! - `CHUTE_BENCH_MEM=1`: resident memory after each stage (build, stepper, first step,
+//!   warm-up) and the stepper's counters on stderr.
+//! - `CHUTE_BENCH_SET="key=value key=value"`: extra scenario overrides for every case (A/B
+//!   experiments, e.g. of the Newton tolerances).
 
 use std::time::Instant;
 
@@ -254,7 +258,11 @@ fn scenario_of(c: &Case) -> Result<Scenario, AppError> {
         "shell" => (SHELL, SHELL_PATH),
         _ => (HEX, HEX_PATH),
     };
-    Ok(Scenario::from_str_with_name(text, path, &c.overrides)?)
+    // A/B experiments: extra `key=value` overrides, separated by spaces.
+    let extra = std::env::var("CHUTE_BENCH_SET").unwrap_or_default();
+    let mut overrides = c.overrides.clone();
+    overrides.extend(extra.split_whitespace().map(str::to_string));
+    Ok(Scenario::from_str_with_name(text, path, &overrides)?)
 }
 
 /// Build and time one case in this process.
@@ -274,11 +282,22 @@ pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
     {
         cfg.newton.reuse_contraction = c;
     }
+    if std::env::var_os("CHUTE_BENCH_ACCEL").is_some() {
+        cfg.newton.predictor = engine::Predictor::ConstantAcceleration;
+    }
     if std::env::var_os("CHUTE_BENCH_NOLS").is_some() {
         cfg.newton.line_search = false;
     }
+    let mem = std::env::var_os("CHUTE_BENCH_MEM").is_some();
+    if mem {
+        eprintln!("after build: {}", rss_mib());
+    }
     let mut stepper = engine::ImplicitEuler::new(&built.model, cfg.newton)
         .map_err(|e| AppError::RunFailed(e.to_string()))?;
+    if mem {
+        let (l, s) = stepper.solver_memory_bytes();
+        eprintln!("after stepper: {} (L {} MiB, scratch {} MiB)", rss_mib(), l >> 20, s >> 20);
+    }
     let dt = cfg.dt_s;
     let trace = std::env::var_os("CHUTE_BENCH_TRACE").is_some();
     let mut retries = 0usize;
@@ -289,13 +308,23 @@ pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
         }
         Ok::<(), AppError>(())
     };
-    run(&mut built, &mut stepper, c.warmup, &mut retries)?;
+    run(&mut built, &mut stepper, 1, &mut retries)?;
+    if mem {
+        eprintln!("after 1 step: {}", rss_mib());
+    }
+    run(&mut built, &mut stepper, c.warmup.saturating_sub(1), &mut retries)?;
     retries = 0;
+    if mem {
+        eprintln!("after warm-up: {}\n{:?}", rss_mib(), stepper.timings());
+    }
     stepper.reset_timings();
     let t0 = Instant::now();
     run(&mut built, &mut stepper, c.steps, &mut retries)?;
     let wall = t0.elapsed().as_secs_f64();
     let tm = *stepper.timings();
+    if mem {
+        eprintln!("timed: {tm:?}");
+    }
     let n = c.steps.max(1) as f64;
     let share = |x: f64| if wall > 0.0 { x / wall } else { 0.0 };
     Ok(CaseResult {
@@ -347,6 +376,15 @@ fn step_halving(
         }
         Err(e) => Err(e),
     }
+}
+
+fn rss_mib() -> String {
+    std::fs::read_to_string("/proc/self/status")
+        .unwrap_or_default()
+        .lines()
+        .filter(|l| l.starts_with("VmRSS") || l.starts_with("VmHWM"))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// `VmHWM` of this process (MiB); 0 where `/proc` is unavailable.

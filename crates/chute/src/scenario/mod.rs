@@ -339,6 +339,14 @@ pub struct Time {
     /// mass-scaled tolerance.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub newton_tolerance_n: Option<f64>,
+    /// Newton tolerance relative to the first residual of a step (‖R‖∞ ≤ rel · ‖R₀‖∞ also
+    /// converges); default: the engine's 1e-10.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub newton_relative_tolerance: Option<f64>,
+    /// Newton step tolerance (m or rad): an update with ‖Δq‖∞ below it converges (while
+    /// ‖R‖∞ is within 1e3 × the force tolerance); default: the engine's 1e-12.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub newton_step_tolerance_m: Option<f64>,
 }
 
 impl Default for Time {
@@ -348,6 +356,8 @@ impl Default for Time {
             duration_s: 10.0,
             newton_max_iterations: 25,
             newton_tolerance_n: None,
+            newton_relative_tolerance: None,
+            newton_step_tolerance_m: None,
         }
     }
 }

@@ -108,6 +108,8 @@ pub const SCHEMA: &[(&str, &[(&str, Kind)])] = &[
             ("duration_s", Kind::Float),
             ("newton_max_iterations", Kind::Count),
             ("newton_tolerance_n", Kind::Float),
+            ("newton_relative_tolerance", Kind::Float),
+            ("newton_step_tolerance_m", Kind::Float),
         ],
     ),
     (

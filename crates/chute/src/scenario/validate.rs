@@ -457,6 +457,19 @@ fn time_and_output(c: &mut Checker, s: &Scenario) {
     if let Some(tol) = t.newton_tolerance_n {
         c.positive("time.newton_tolerance_n", tol, "a residual force tolerance");
     }
+    if let Some(rel) = t.newton_relative_tolerance {
+        c.positive("time.newton_relative_tolerance", rel, "a relative tolerance");
+        if rel >= 1.0 {
+            c.fail(
+                "time.newton_relative_tolerance",
+                rel,
+                "must be below 1 (it is a fraction of the first residual)".to_string(),
+            );
+        }
+    }
+    if let Some(step) = t.newton_step_tolerance_m {
+        c.positive("time.newton_step_tolerance_m", step, "a step tolerance");
+    }
     let o = &s.output;
     if o.frame_interval_s <= 0.0 {
         c.positive(

@@ -5,7 +5,7 @@
 //! of angular frequency ω loses amplitude by the factor `1/√(1 + (ω dt)²)` per step, which is
 //! the numerical damping users see at large `dt` (tested exactly).
 
-use super::newton::{NewtonCore, NewtonOptions, StepReport, Target, Timings};
+use super::newton::{NewtonCore, NewtonOptions, Predictor, StepReport, Target, Timings};
 use crate::error::{EngineError, StepError};
 use crate::model::{Model, State};
 
@@ -14,6 +14,10 @@ pub struct ImplicitEuler {
     core: NewtonCore,
     q_tilde: Vec<f64>,
     q_new: Vec<f64>,
+    /// `v_{n−1}` and `dt_{n−1}` of the last accepted step (for the extrapolating predictor);
+    /// `None` on the first step and after a sync point.
+    v_prev: Vec<f64>,
+    dt_prev: Option<f64>,
 }
 
 impl ImplicitEuler {
@@ -25,6 +29,8 @@ impl ImplicitEuler {
             core: NewtonCore::new(model, opts)?,
             q_tilde: vec![0.0; n],
             q_new: vec![0.0; n],
+            v_prev: vec![0.0; n],
+            dt_prev: None,
         })
     }
 
@@ -36,6 +42,11 @@ impl ImplicitEuler {
     /// Nonzeros of the Jacobian pattern.
     pub fn nnz(&self) -> usize {
         self.core.assembler.nnz()
+    }
+
+    /// Memory held by the linear solver (bytes): `(factor values, scratch)`.
+    pub fn solver_memory_bytes(&self) -> (usize, usize) {
+        self.core.solver.memory_bytes()
     }
 
     /// Newton options in force.
@@ -64,8 +75,10 @@ impl ImplicitEuler {
     /// With modified Newton (`reuse_jacobian`) the bits of a step depend on which Jacobian is
     /// held; a stepper built afresh (e.g. on resume from a checkpoint) holds none. Calling this
     /// at the same deterministic points in every run makes those runs bit-identical from there.
+    /// The extrapolating predictor's history is dropped too, for the same reason.
     pub fn invalidate_factorization(&mut self) {
         self.core.solver.invalidate();
+        self.dt_prev = None;
     }
 
     /// Advance `state` by `dt`. On error the state and the forces' history are unchanged,
@@ -77,11 +90,15 @@ impl ImplicitEuler {
         dt: f64,
     ) -> Result<StepReport, StepError> {
         let n = state.q.len();
+        let accel = match (self.core.opts.predictor, self.dt_prev) {
+            (Predictor::ConstantAcceleration, Some(h)) => dt * dt / h,
+            _ => 0.0,
+        };
         for d in 0..n {
             let v = if model.fixed[d] { 0.0 } else { state.v[d] };
             self.q_tilde[d] = state.q[d] + dt * v;
-            // Predictor: constant velocity.
-            self.q_new[d] = self.q_tilde[d];
+            // dt² a_n with a_n = (v_n − v_{n−1}) / dt_{n−1} (zero for constant velocity).
+            self.q_new[d] = self.q_tilde[d] + accel * (v - self.v_prev[d]);
         }
         let target = Target {
             c_m: 1.0 / (dt * dt),
@@ -91,6 +108,8 @@ impl ImplicitEuler {
             t: state.t + dt,
         };
         let report = self.core.solve(model, &mut self.q_new, &target)?;
+        self.v_prev.copy_from_slice(&state.v);
+        self.dt_prev = Some(dt);
         for d in 0..n {
             state.v[d] = if model.fixed[d] {
                 0.0

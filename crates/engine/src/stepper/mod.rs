@@ -4,5 +4,5 @@ mod newton;
 mod statics;
 
 pub use implicit_euler::ImplicitEuler;
-pub use newton::{NewtonOptions, StepReport, Timings};
+pub use newton::{NewtonOptions, Predictor, StepReport, Timings};
 pub use statics::StaticSolver;

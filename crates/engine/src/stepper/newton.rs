@@ -42,10 +42,30 @@ pub struct NewtonOptions {
     /// stays exact, so the converged state meets the same tolerance; only the contraction
     /// per iteration changes, by `‖(J − J_s) Δ‖ / ‖R‖` (small when drag is weak against
     /// `M/dt² + K`). That ratio is measured after each fresh factorisation (one sparse
-    /// product); above 0.1 the solve switches to exact LU of `J`. Cholesky is
-    /// about half the flops of LU, needs no pivoting and no second symbolic structure. No
+    /// product); above 0.1 every update of the solve is corrected into the exact Newton
+    /// update `J Δ = −R` by BiCGStab preconditioned with the held factors
+    /// (`linsolve::krylov`). Cholesky is about half the flops of LU, needs no pivoting and no
+    /// second symbolic structure (LU's storage is several times the Cholesky factor's). No
     /// effect when `J` is symmetric.
     pub symmetric_approx: bool,
+    /// Initial guess of an implicit-Euler step (see [`Predictor`]).
+    pub predictor: Predictor,
+}
+
+/// Initial Newton iterate of an implicit-Euler step.
+///
+/// The converged step satisfies the same residual test whatever the guess; a better guess
+/// only saves iterations (and keeps a reused factorisation within its contraction radius).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Predictor {
+    /// `q⁰ = q_n + dt v_n`.
+    #[default]
+    ConstantVelocity,
+    /// `q⁰ = q_n + dt v_n + dt² a_n`, `a_n = (v_n − v_{n−1}) / dt_{n−1}` the last step's
+    /// mean acceleration: exact to O(dt³) for smooth motion, where constant velocity leaves
+    /// the whole `dt² a` to Newton. Falls back to constant velocity on the first step and
+    /// after [`crate::ImplicitEuler::invalidate_factorization`].
+    ConstantAcceleration,
 }
 
 impl Default for NewtonOptions {
@@ -60,6 +80,7 @@ impl Default for NewtonOptions {
             reuse_jacobian: false,
             reuse_contraction: 0.5,
             symmetric_approx: false,
+            predictor: Predictor::ConstantVelocity,
         }
     }
 }
@@ -110,14 +131,21 @@ pub struct Timings {
     pub solves: u64,
     /// Updates with a reused factorisation that were undone (non-finite residual).
     pub rejected: u64,
-    /// Solves that abandoned the symmetric approximation for exact LU (its linearised
-    /// residual `‖(J − J_s) Δ‖∞` exceeded `0.1 ‖R‖∞`).
+    /// Solves in which the symmetric approximation's updates were corrected towards the
+    /// exact Newton update by preconditioned BiCGStab (its linearised residual
+    /// `‖(J − J_s) Δ‖∞` exceeded `0.1 ‖R‖∞`).
     pub approx_fallbacks: u64,
+    /// BiCGStab iterations of those corrections (each: two products with `J`, two
+    /// triangular solves with the held factors; their time is in `solve_s`).
+    pub krylov_iterations: u64,
+    /// Corrections that did not converge (the approximate update was kept).
+    pub krylov_failures: u64,
 }
 
 /// Largest `‖(J − J_s) Δ‖∞ / ‖R‖∞` accepted from the symmetric approximation `J_s`: the
 /// iteration then contracts at least ~10× per step where exact Newton would converge
-/// quadratically (3–4 extra iterations from 1 N to 1e-9 N at worst); above it, exact LU.
+/// quadratically (3–4 extra iterations from 1 N to 1e-9 N at worst); above it, the updates
+/// are corrected by preconditioned BiCGStab.
 const SKEW_LIMIT: f64 = 0.1;
 
 /// Shared Newton machinery and all its preallocated buffers.
@@ -148,8 +176,13 @@ pub(crate) struct NewtonCore {
     pub timings: Timings,
     /// The held factorisation is of the symmetric approximation `½ (J + Jᵀ)`.
     approx_held: bool,
-    /// This solve gave up the symmetric approximation (it did not contract).
-    exact_only: bool,
+    /// This solve corrects every update of the symmetric approximation by BiCGStab (its
+    /// linearised residual was too large).
+    corrected: bool,
+    /// A correction failed in this solve: no more are attempted.
+    krylov_off: bool,
+    /// `−R` for the Krylov correction (empty when the approximation is unused).
+    neg_residual: Vec<f64>,
 }
 
 /// The target of one Newton solve.
@@ -187,6 +220,11 @@ impl NewtonCore {
             } else {
                 Vec::new()
             },
+            neg_residual: if approx {
+                vec![0.0; assembler.n_free]
+            } else {
+                Vec::new()
+            },
             force: vec![0.0; n],
             residual: vec![0.0; assembler.n_free],
             delta: vec![0.0; assembler.n_free],
@@ -202,7 +240,8 @@ impl NewtonCore {
             history: Vec::with_capacity(opts.max_iterations + 1),
             timings: Timings::default(),
             approx_held: false,
-            exact_only: false,
+            corrected: false,
+            krylov_off: false,
         })
     }
 
@@ -287,7 +326,8 @@ impl NewtonCore {
         let mut report = StepReport::default();
         self.history.clear();
         self.timings.solves += 1;
-        self.exact_only = false;
+        self.corrected = false;
+        self.krylov_off = false;
         let mut fresh = !self.can_reuse(tg);
         let mut norm = self.residual_at(model, q, tg, fresh);
         let (r0, _) = self.inf_norm();
@@ -355,15 +395,13 @@ impl NewtonCore {
 
     fn factor(&mut self, tg: &Target<'_>, report: &mut StepReport) -> Result<(), StepError> {
         let t0 = Instant::now();
-        let approx = !self.sym_values.is_empty() && !self.exact_only;
-        let fac = if self.sym_values.is_empty() {
-            self.solver.factor(&self.values)
-        } else if approx {
+        let approx = !self.sym_values.is_empty();
+        let fac = if approx {
             self.assembler
                 .symmetric_part(&self.values, &mut self.sym_values);
             self.solver.factor_with(&self.sym_values, &self.values)
         } else {
-            self.solver.factor_lu(&self.values)
+            self.solver.factor(&self.values)
         };
         self.approx_held = approx && matches!(fac, Ok(Factorization::Llt | Factorization::Lblt));
         self.timings.factor_s += t0.elapsed().as_secs_f64();
@@ -385,6 +423,25 @@ impl NewtonCore {
         let t0 = Instant::now();
         self.solver.solve(&mut self.delta);
         self.timings.solve_s += t0.elapsed().as_secs_f64();
+    }
+
+    /// Refine `Δ = J_s⁻¹ (−R)` into the solution of `J Δ = −R` (to 1e-3 relative residual,
+    /// an inexact-Newton forcing term that keeps the Newton contraction ≤ ~1e-3) by BiCGStab
+    /// preconditioned with the held factors of `J_s` (`J` is in `values`: the matrix the
+    /// factors were computed from). Returns whether it converged.
+    fn krylov_correct(&mut self) -> bool {
+        for (b, r) in self.neg_residual.iter_mut().zip(&self.residual) {
+            *b = -r;
+        }
+        // The approximate update, restored by the caller if the correction fails.
+        self.skew_product.copy_from_slice(&self.delta);
+        let t0 = Instant::now();
+        let rep =
+            self.solver
+                .solve_corrected(&self.values, &self.neg_residual, &mut self.delta, 1e-3, 20);
+        self.timings.solve_s += t0.elapsed().as_secs_f64();
+        self.timings.krylov_iterations += rep.iterations as u64;
+        rep.converged && self.delta.iter().all(|d| d.is_finite())
     }
 
     /// `‖J Δ + R‖∞ / ‖R‖∞` for `Δ` from the symmetric approximation `J_s Δ = −R`: since
@@ -457,13 +514,27 @@ impl NewtonCore {
         report: &mut StepReport,
     ) -> Result<(f64, f64, f64), StepError> {
         self.linear_solve();
-        if fresh && self.approx_held && self.skew_ratio() > SKEW_LIMIT {
+        if self.approx_held
+            && !self.corrected
+            && !self.krylov_off
+            && fresh
+            && self.skew_ratio() > SKEW_LIMIT
+        {
             // The symmetric approximation is too far from J for this solve (drag strong
-            // against M/dt² + K): exact LU of J at the same iterate, and for the rest of it.
-            self.exact_only = true;
+            // against M/dt² + K): correct this and every later update of the solve.
+            self.corrected = true;
             self.timings.approx_fallbacks += 1;
-            self.factor(tg, report)?;
-            self.linear_solve();
+        }
+        if self.approx_held && self.corrected && !self.krylov_correct() {
+            // BiCGStab did not converge (J_s⁻¹ J far from I: a wild iterate, or drag
+            // dominating M/dt² + K): keep the approximate update. If it does not contract, the
+            // Jacobian is refreshed or the step fails and the run loop shortens dt. No LU:
+            // its storage is several times the Cholesky factor's (gigabytes at 100k DOFs).
+            // Not retried in this solve: a failed correction costs 20 iterations.
+            self.timings.krylov_failures += 1;
+            self.delta.copy_from_slice(&self.skew_product);
+            self.corrected = false;
+            self.krylov_off = true;
         }
         self.timings.iterations += 1;
         report.iterations += 1;

@@ -6,9 +6,11 @@
 //! tried first; if the matrix is not positive definite (e.g. a buckling rod or a compressed
 //! membrane with a large time step) the same symbolic structure is factorised as LBLᵀ
 //! (Bunch–Kaufman pivoting within supernodes), which needs no more memory. LU with partial
-//! pivoting is only used for non-symmetric matrices; its symbolic analysis and storage are
-//! created on first use (at 100k DOFs they are gigabytes, so they are not reserved up
-//! front).
+//! pivoting is only used for non-symmetric matrices when the caller asks for the exact path;
+//! its symbolic analysis and storage are created on first use (at 100k DOFs they are
+//! gigabytes, so they are not reserved up front). A non-symmetric matrix can instead be
+//! solved with the factors of its symmetric part as preconditioner
+//! ([`LinearSolver::solve_corrected`], module [`krylov`]).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -24,6 +26,9 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use crate::error::{EngineError, StepError};
+
+mod krylov;
+pub use krylov::KrylovReport;
 
 /// Which factorisation solved the last system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -49,6 +54,8 @@ pub struct LinearSolver {
     mem: MemBuffer,
     /// Scratch needed by the LLᵀ / LBLᵀ paths (LU's is added when LU is first needed).
     req: StackReq,
+    /// Workspace of the Krylov-corrected solve (allocated on its first use).
+    krylov_mem: Option<MemBuffer>,
     /// Parallelism handed to faer.
     pub par: Par,
     /// Factorisation held (or used last).
@@ -74,6 +81,7 @@ impl LinearSolver {
             lu_sym: None,
             lu_num: NumericLu::new(),
             mem: MemBuffer::new(StackReq::EMPTY),
+            krylov_mem: None,
             req: StackReq::EMPTY,
             par,
             last: Factorization::Lu,
@@ -220,6 +228,13 @@ impl LinearSolver {
         Ok(Factorization::Lu)
     }
 
+    /// Memory held by the solver (bytes): `(factor values, scratch)`.
+    pub fn memory_bytes(&self) -> (usize, usize) {
+        let l = self.llt.as_ref().map_or(0, |(_, v)| v.len() * 8);
+        let scratch = self.req.unaligned_bytes_required();
+        (l, scratch)
+    }
+
     /// Whether factors from a successful [`LinearSolver::factor`] are held.
     pub fn has_factors(&self) -> bool {
         self.valid
@@ -238,33 +253,85 @@ impl LinearSolver {
         if n == 0 {
             return;
         }
-        let stack = MemStack::new(&mut self.mem);
+        let mut mem = std::mem::replace(&mut self.mem, MemBuffer::new(StackReq::EMPTY));
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        self.solve_with(x, self.par, MemStack::new(&mut mem));
+        self.mem = mem;
+    }
+
+    /// Workspace of [`LinearSolver::solve_with`] for `ncols` right-hand sides.
+    fn solve_scratch(&self, ncols: usize, par: Par) -> StackReq {
+        match self.last {
+            Factorization::Llt | Factorization::Lblt => self
+                .llt
+                .as_ref()
+                .map_or(StackReq::EMPTY, |(c, _)| c.solve_in_place_scratch::<f64>(ncols, par)),
+            Factorization::Lu => self.lu_sym.as_ref().map_or(StackReq::EMPTY, |lu| {
+                lu.solve_in_place_scratch::<f64>(ncols, par)
+            }),
+        }
+    }
+
+    /// Solve in place with the held factors and the given workspace.
+    fn solve_with(&self, x: MatMut<'_, f64>, par: Par, stack: &mut MemStack) {
+        let n = self.n;
         match self.last {
             Factorization::Llt => {
                 let (chol, lvals) = self.llt.as_ref().expect("LLT factors");
-                LltRef::new(chol, lvals).solve_in_place_with_conj(Conj::No, x, self.par, stack);
+                LltRef::new(chol, lvals).solve_in_place_with_conj(Conj::No, x, par, stack);
             }
             Factorization::Lblt => {
                 let (chol, lvals) = self.llt.as_ref().expect("LBLT factors");
                 let (sub, fwd, inv) = &self.lblt;
                 let perm = PermRef::new_checked(fwd, inv, n);
-                IntranodeLbltRef::new(chol, lvals, sub, perm).solve_in_place_with_conj(
-                    Conj::No,
-                    x,
-                    self.par,
-                    stack,
-                );
+                IntranodeLbltRef::new(chol, lvals, sub, perm)
+                    .solve_in_place_with_conj(Conj::No, x, par, stack);
             }
             Factorization::Lu => {
                 let lu_sym = self.lu_sym.as_ref().expect("LU analysed before factor");
-                LuRef::new_unchecked(lu_sym, &self.lu_num).solve_in_place_with_conj(
-                    Conj::No,
-                    x,
-                    self.par,
-                    stack,
-                );
+                LuRef::new_unchecked(lu_sym, &self.lu_num)
+                    .solve_in_place_with_conj(Conj::No, x, par, stack);
             }
         }
+    }
+
+    /// Solve `A x = b` for the matrix `A` with values `full` (in this solver's pattern) by
+    /// BiCGStab preconditioned with the held factors (of an approximation of `A`), starting
+    /// from `x` (see [`krylov`]). The workspace is allocated on the first call only.
+    pub fn solve_corrected(
+        &mut self,
+        full: &[f64],
+        b: &[f64],
+        x: &mut [f64],
+        rel_tol: f64,
+        max_iters: usize,
+    ) -> KrylovReport {
+        assert!(self.valid, "solve_corrected() without factors");
+        // SAFETY: the same valid pattern as in `new`.
+        let sym = unsafe {
+            SymbolicSparseColMatRef::new_unchecked(
+                self.n,
+                self.n,
+                &self.col_ptr,
+                None,
+                &self.row_idx,
+            )
+        };
+        let a = SparseColMatRef::new(sym, full);
+        let mut mem = self
+            .krylov_mem
+            .take()
+            .unwrap_or_else(|| MemBuffer::new(krylov::scratch(self, a)));
+        let rep = krylov::corrected_solve(
+            self,
+            a,
+            b,
+            x,
+            rel_tol,
+            max_iters,
+            MemStack::new(&mut mem),
+        );
+        self.krylov_mem = Some(mem);
+        rep
     }
 }
