@@ -142,6 +142,9 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
             // Cholesky of ½(J + Jᵀ) instead of LU of J (drag is the only skew part); exact LU
             // when it does not contract. docs/performance.md has the measurements.
             symmetric_approx: true,
+            // A solve whose residual grows 1e4× is abandoned at once (dt is halved) instead of
+            // using its 25 iterations: converging solves grow it by ≤ ~100×.
+            divergence_limit: 1e4,
             ..Default::default()
         },
         air_density: s.fluid.density_kg_m3,

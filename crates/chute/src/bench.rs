@@ -296,7 +296,12 @@ pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
         .map_err(|e| AppError::RunFailed(e.to_string()))?;
     if mem {
         let (l, s) = stepper.solver_memory_bytes();
-        eprintln!("after stepper: {} (L {} MiB, scratch {} MiB)", rss_mib(), l >> 20, s >> 20);
+        eprintln!(
+            "after stepper: {} (L {} MiB, scratch {} MiB)",
+            rss_mib(),
+            l >> 20,
+            s >> 20
+        );
     }
     let dt = cfg.dt_s;
     let trace = std::env::var_os("CHUTE_BENCH_TRACE").is_some();
@@ -312,7 +317,12 @@ pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
     if mem {
         eprintln!("after 1 step: {}", rss_mib());
     }
-    run(&mut built, &mut stepper, c.warmup.saturating_sub(1), &mut retries)?;
+    run(
+        &mut built,
+        &mut stepper,
+        c.warmup.saturating_sub(1),
+        &mut retries,
+    )?;
     retries = 0;
     if mem {
         eprintln!("after warm-up: {}\n{:?}", rss_mib(), stepper.timings());

@@ -533,6 +533,9 @@ fn failure_message(b: &Built, e: &StepError, t: f64, dt: f64) -> String {
                 describe_dof(b, *worst_dof)
             )
         }
+        StepError::Diverged { worst_dof, .. } => {
+            format!("; worst at {}", describe_dof(b, *worst_dof))
+        }
         StepError::NonFinite { dof, .. } => format!("; at {}", describe_dof(b, *dof)),
         StepError::Linear(_) => String::new(),
     };

@@ -29,6 +29,15 @@ pub enum StepError {
         tolerance: f64,
         worst_dof: usize,
     },
+    /// The residual grew beyond `NewtonOptions::divergence_limit` × its initial value.
+    #[error("Newton diverged after {iterations} iterations: residual {residual:.3e} N grew beyond {limit:.0e} × the initial {initial:.3e} N, worst DOF {worst_dof}")]
+    Diverged {
+        iterations: usize,
+        residual: f64,
+        initial: f64,
+        limit: f64,
+        worst_dof: usize,
+    },
     /// A force, residual or solution became NaN or infinite.
     #[error("non-finite value in {what} (DOF {dof})")]
     NonFinite { what: &'static str, dof: usize },

@@ -34,6 +34,4 @@ pub use dof::DofLayout;
 pub use error::{EngineError, StepError};
 pub use force::{EvalInput, Force, JacobianKind, LocalBlocks};
 pub use model::{Model, State};
-pub use stepper::{
-    ImplicitEuler, NewtonOptions, Predictor, StaticSolver, StepReport, Timings,
-};
+pub use stepper::{ImplicitEuler, NewtonOptions, Predictor, StaticSolver, StepReport, Timings};

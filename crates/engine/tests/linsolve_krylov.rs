@@ -76,7 +76,10 @@ fn krylov_correction_solves_the_nonsymmetric_system() {
         let before = rel(&x);
         let rep = solver.solve_corrected(&full, &b, &mut x, 1e-10, 50);
         let after = rel(&x);
-        eprintln!("skew {skew}: {before:.2e} → {after:.2e} in {} it", rep.iterations);
+        eprintln!(
+            "skew {skew}: {before:.2e} → {after:.2e} in {} it",
+            rep.iterations
+        );
         // The control: the symmetric factors alone leave a residual far above the target.
         assert!(before > 1e-3, "skew {skew}: approximation already exact");
         assert!(rep.converged);

@@ -458,7 +458,11 @@ fn time_and_output(c: &mut Checker, s: &Scenario) {
         c.positive("time.newton_tolerance_n", tol, "a residual force tolerance");
     }
     if let Some(rel) = t.newton_relative_tolerance {
-        c.positive("time.newton_relative_tolerance", rel, "a relative tolerance");
+        c.positive(
+            "time.newton_relative_tolerance",
+            rel,
+            "a relative tolerance",
+        );
         if rel >= 1.0 {
             c.fail(
                 "time.newton_relative_tolerance",

@@ -262,10 +262,11 @@ impl LinearSolver {
     /// Workspace of [`LinearSolver::solve_with`] for `ncols` right-hand sides.
     fn solve_scratch(&self, ncols: usize, par: Par) -> StackReq {
         match self.last {
-            Factorization::Llt | Factorization::Lblt => self
-                .llt
-                .as_ref()
-                .map_or(StackReq::EMPTY, |(c, _)| c.solve_in_place_scratch::<f64>(ncols, par)),
+            Factorization::Llt | Factorization::Lblt => {
+                self.llt.as_ref().map_or(StackReq::EMPTY, |(c, _)| {
+                    c.solve_in_place_scratch::<f64>(ncols, par)
+                })
+            }
             Factorization::Lu => self.lu_sym.as_ref().map_or(StackReq::EMPTY, |lu| {
                 lu.solve_in_place_scratch::<f64>(ncols, par)
             }),
@@ -284,13 +285,21 @@ impl LinearSolver {
                 let (chol, lvals) = self.llt.as_ref().expect("LBLT factors");
                 let (sub, fwd, inv) = &self.lblt;
                 let perm = PermRef::new_checked(fwd, inv, n);
-                IntranodeLbltRef::new(chol, lvals, sub, perm)
-                    .solve_in_place_with_conj(Conj::No, x, par, stack);
+                IntranodeLbltRef::new(chol, lvals, sub, perm).solve_in_place_with_conj(
+                    Conj::No,
+                    x,
+                    par,
+                    stack,
+                );
             }
             Factorization::Lu => {
                 let lu_sym = self.lu_sym.as_ref().expect("LU analysed before factor");
-                LuRef::new_unchecked(lu_sym, &self.lu_num)
-                    .solve_in_place_with_conj(Conj::No, x, par, stack);
+                LuRef::new_unchecked(lu_sym, &self.lu_num).solve_in_place_with_conj(
+                    Conj::No,
+                    x,
+                    par,
+                    stack,
+                );
             }
         }
     }
@@ -322,15 +331,8 @@ impl LinearSolver {
             .krylov_mem
             .take()
             .unwrap_or_else(|| MemBuffer::new(krylov::scratch(self, a)));
-        let rep = krylov::corrected_solve(
-            self,
-            a,
-            b,
-            x,
-            rel_tol,
-            max_iters,
-            MemStack::new(&mut mem),
-        );
+        let rep =
+            krylov::corrected_solve(self, a, b, x, rel_tol, max_iters, MemStack::new(&mut mem));
         self.krylov_mem = Some(mem);
         rep
     }
