@@ -13,6 +13,7 @@ use crate::error::{EngineError, StepError};
 use crate::force::EvalInput;
 use crate::linsolve::{Factorization, LinearSolver};
 use crate::model::Model;
+use crate::stepper::start_policy::{StartPolicy, FACTOR_WORK};
 use std::time::Instant;
 
 /// Newton–Raphson settings.
@@ -187,6 +188,8 @@ pub(crate) struct NewtonCore {
     corrected: bool,
     /// A correction failed in this solve: no more are attempted.
     krylov_off: bool,
+    /// Stale or fresh start of the next solve (modified Newton).
+    pub start: StartPolicy,
     /// `−R` for the Krylov correction (empty when the approximation is unused).
     neg_residual: Vec<f64>,
 }
@@ -248,6 +251,7 @@ impl NewtonCore {
             approx_held: false,
             corrected: false,
             krylov_off: false,
+            start: StartPolicy::default(),
         })
     }
 
@@ -322,19 +326,39 @@ impl NewtonCore {
     }
 
     /// Solve `R(q) = 0` starting from `q` (overwritten with the solution on success; left
-    /// at an unspecified iterate on failure).
+    /// at an unspecified iterate on failure). With `reuse_jacobian`, whether to start from
+    /// the held factors is decided by the measured [`StartPolicy`].
     pub fn solve(
         &mut self,
         model: &Model,
         q: &mut [f64],
         tg: &Target<'_>,
     ) -> Result<StepReport, StepError> {
+        let choice = self.can_reuse(tg);
+        let fresh = !choice || self.start.fresh_next();
+        let (e0, f0) = (self.timings.evaluations, self.timings.factorizations);
+        let res = self.solve_from(model, q, tg, fresh);
+        if choice {
+            let evals = (self.timings.evaluations - e0) as f64;
+            let facts = (self.timings.factorizations - f0) as f64;
+            self.start.record(fresh, evals + FACTOR_WORK * facts);
+        }
+        res
+    }
+
+    fn solve_from(
+        &mut self,
+        model: &Model,
+        q: &mut [f64],
+        tg: &Target<'_>,
+        fresh_start: bool,
+    ) -> Result<StepReport, StepError> {
         let mut report = StepReport::default();
         self.history.clear();
         self.timings.solves += 1;
         self.corrected = false;
         self.krylov_off = false;
-        let mut fresh = !self.can_reuse(tg);
+        let mut fresh = fresh_start;
         let mut norm = self.residual_at(model, q, tg, fresh);
         let (r0, _) = self.inf_norm();
         let tol =
