@@ -76,6 +76,7 @@ fn awkward_file_names_give_safe_default_names() {
 fn schema_matches_the_serde_structs() {
     let text = "[model]\nkind = \"shell\"\n[canopy]\nshape = \"mesh\"\nmesh_file = \"m.obj\"\n\
                 [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\n\
+                newton_relative_tolerance = 0.1\nnewton_step_tolerance_m = 1e-9\n\
                 [lines]\ndrag_coefficient = 1.0\n";
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("m.obj"), "").unwrap();
