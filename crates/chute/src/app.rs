@@ -145,6 +145,8 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
             // A solve whose residual grows 1e4× is abandoned at once (dt is halved) instead of
             // using its 25 iterations: converging solves grow it by ≤ ~100×.
             divergence_limit: 1e4,
+            // Extrapolating predictor while it helps (engine::Predictor::Adaptive).
+            predictor: engine::Predictor::Adaptive,
             ..Default::default()
         },
         air_density: s.fluid.density_kg_m3,

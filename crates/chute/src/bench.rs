@@ -282,8 +282,11 @@ pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
     {
         cfg.newton.reuse_contraction = c;
     }
-    if std::env::var_os("CHUTE_BENCH_ACCEL").is_some() {
-        cfg.newton.predictor = engine::Predictor::ConstantAcceleration;
+    match std::env::var("CHUTE_BENCH_PREDICTOR").as_deref() {
+        Ok("velocity") => cfg.newton.predictor = engine::Predictor::ConstantVelocity,
+        Ok("acceleration") => cfg.newton.predictor = engine::Predictor::ConstantAcceleration,
+        Ok("adaptive") => cfg.newton.predictor = engine::Predictor::Adaptive,
+        _ => {}
     }
     if std::env::var_os("CHUTE_BENCH_NOLS").is_some() {
         cfg.newton.line_search = false;

@@ -18,6 +18,10 @@ pub struct ImplicitEuler {
     /// `None` on the first step and after a sync point.
     v_prev: Vec<f64>,
     dt_prev: Option<f64>,
+    /// `dt² a_n` of the current step (the extrapolating predictor's correction).
+    extrap: Vec<f64>,
+    /// [`Predictor::Adaptive`]: the extrapolating guess was the closer one last step.
+    accel_better: bool,
 }
 
 impl ImplicitEuler {
@@ -31,6 +35,8 @@ impl ImplicitEuler {
             q_new: vec![0.0; n],
             v_prev: vec![0.0; n],
             dt_prev: None,
+            extrap: vec![0.0; n],
+            accel_better: true,
         })
     }
 
@@ -81,6 +87,7 @@ impl ImplicitEuler {
         self.core.solver.invalidate();
         self.core.start.reset();
         self.dt_prev = None;
+        self.accel_better = true;
     }
 
     /// Advance `state` by `dt`. On error the state and the forces' history are unchanged,
@@ -92,15 +99,22 @@ impl ImplicitEuler {
         dt: f64,
     ) -> Result<StepReport, StepError> {
         let n = state.q.len();
-        let accel = match (self.core.opts.predictor, self.dt_prev) {
-            (Predictor::ConstantAcceleration, Some(h)) => dt * dt / h,
-            _ => 0.0,
+        let predictor = self.core.opts.predictor;
+        let accel = match (predictor, self.dt_prev) {
+            (Predictor::ConstantVelocity, _) | (_, None) => 0.0,
+            (_, Some(h)) => dt * dt / h,
+        };
+        let use_accel = match predictor {
+            Predictor::ConstantVelocity => false,
+            Predictor::ConstantAcceleration => true,
+            Predictor::Adaptive => self.accel_better,
         };
         for d in 0..n {
             let v = if model.fixed[d] { 0.0 } else { state.v[d] };
             self.q_tilde[d] = state.q[d] + dt * v;
-            // dt² a_n with a_n = (v_n − v_{n−1}) / dt_{n−1} (zero for constant velocity).
-            self.q_new[d] = self.q_tilde[d] + accel * (v - self.v_prev[d]);
+            // dt² a_n with a_n = (v_n − v_{n−1}) / dt_{n−1}.
+            self.extrap[d] = accel * (v - self.v_prev[d]);
+            self.q_new[d] = self.q_tilde[d] + if use_accel { self.extrap[d] } else { 0.0 };
         }
         let target = Target {
             c_m: 1.0 / (dt * dt),
@@ -110,6 +124,17 @@ impl ImplicitEuler {
             t: state.t + dt,
         };
         let report = self.core.solve(model, &mut self.q_new, &target)?;
+        if predictor == Predictor::Adaptive && accel != 0.0 {
+            // Which guess was closer to the solution (by 2× for extrapolation) decides the
+            // next step's guess.
+            let (mut e_cv, mut e_ca) = (0.0f64, 0.0f64);
+            for d in 0..n {
+                let r = self.q_new[d] - self.q_tilde[d];
+                e_cv = e_cv.max(r.abs());
+                e_ca = e_ca.max((r - self.extrap[d]).abs());
+            }
+            self.accel_better = e_ca < 0.5 * e_cv;
+        }
         self.v_prev.copy_from_slice(&state.v);
         self.dt_prev = Some(dt);
         for d in 0..n {

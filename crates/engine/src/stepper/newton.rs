@@ -72,6 +72,14 @@ pub enum Predictor {
     /// the whole `dt² a` to Newton. Falls back to constant velocity on the first step and
     /// after [`crate::ImplicitEuler::invalidate_factorization`].
     ConstantAcceleration,
+    /// Extrapolate (constant acceleration) while the extrapolated guess of the last step was
+    /// at least 2× closer (‖·‖∞) to its solution than the constant-velocity guess, else
+    /// constant velocity (measured at no cost once a step has converged; extrapolation
+    /// first). Extrapolation wins for smooth motion (the 1k-node rod: 6.3 → 3.9 iterations
+    /// per step) and loses for violent motion at large `dt` (the hexagonal parachute at
+    /// dt = 1e-2: 1.6 → 2.2 and failed steps); the 2× margin keeps it off where it only
+    /// sometimes helps (with a plain "closer" test the hexagonal case still failed 10 steps).
+    Adaptive,
 }
 
 impl Default for NewtonOptions {
