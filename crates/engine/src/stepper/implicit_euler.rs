@@ -14,6 +14,53 @@ pub struct ImplicitEuler {
     core: NewtonCore,
     q_tilde: Vec<f64>,
     q_new: Vec<f64>,
+    /// `v_{n+1}` of the last solved step, held until it is committed (or discarded).
+    v_new: Vec<f64>,
+}
+
+/// A solved but not yet committed backward-Euler step (from [`ImplicitEuler::try_step`]):
+/// `q_{n+1}`, `v_{n+1}` and the step size, held in the stepper's buffers. The state it was
+/// solved from and the forces' history are untouched until [`Trial::commit`]; dropping the
+/// trial discards the step (e.g. when its local error is too large), with nothing to undo.
+pub struct Trial<'a> {
+    q: &'a [f64],
+    v: &'a [f64],
+    dt: f64,
+    report: StepReport,
+}
+
+impl Trial<'_> {
+    /// `q_{n+1}` (m, rad).
+    pub fn q(&self) -> &[f64] {
+        self.q
+    }
+
+    /// `v_{n+1} = (q_{n+1} − q_n)/dt` (m/s, rad/s; zero on fixed DOFs).
+    pub fn v(&self) -> &[f64] {
+        self.v
+    }
+
+    /// The step size (s).
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// What the Newton solve did.
+    pub fn report(&self) -> StepReport {
+        self.report
+    }
+
+    /// Accept the step: `state ← (q_{n+1}, v_{n+1}, t + dt)` and every force commits its
+    /// history (DER reference frames) at `q_{n+1}`. `state` and `model` must be the ones the
+    /// trial was solved from.
+    pub fn commit(self, model: &mut Model, state: &mut State) {
+        state.q.copy_from_slice(self.q);
+        state.v.copy_from_slice(self.v);
+        state.t += self.dt;
+        for f in model.forces.iter_mut() {
+            f.commit(&state.q);
+        }
+    }
 }
 
 impl ImplicitEuler {
@@ -25,6 +72,7 @@ impl ImplicitEuler {
             core: NewtonCore::new(model, opts)?,
             q_tilde: vec![0.0; n],
             q_new: vec![0.0; n],
+            v_new: vec![0.0; n],
         })
     }
 
@@ -68,14 +116,31 @@ impl ImplicitEuler {
         self.core.solver.invalidate();
     }
 
-    /// Advance `state` by `dt`. On error the state and the forces' history are unchanged,
-    /// so the caller may retry with a smaller `dt`.
+    /// Advance `state` by `dt` ([`ImplicitEuler::try_step`] then [`Trial::commit`]). On error
+    /// the state and the forces' history are unchanged, so the caller may retry with a
+    /// smaller `dt`.
     pub fn step(
         &mut self,
         model: &mut Model,
         state: &mut State,
         dt: f64,
     ) -> Result<StepReport, StepError> {
+        let trial = self.try_step(model, state, dt)?;
+        let report = trial.report();
+        trial.commit(model, state);
+        Ok(report)
+    }
+
+    /// Solve the step of size `dt` from `state` without changing `state` or the model: the
+    /// result is a [`Trial`] to inspect (e.g. for its local error,
+    /// [`super::error_control::local_error_norm`]) and then commit or drop. Nothing but the
+    /// stepper's own buffers (and its held factorisation, which is keyed on `dt`) changes.
+    pub fn try_step(
+        &mut self,
+        model: &Model,
+        state: &State,
+        dt: f64,
+    ) -> Result<Trial<'_>, StepError> {
         let n = state.q.len();
         for d in 0..n {
             let v = if model.fixed[d] { 0.0 } else { state.v[d] };
@@ -92,17 +157,17 @@ impl ImplicitEuler {
         };
         let report = self.core.solve(model, &mut self.q_new, &target)?;
         for d in 0..n {
-            state.v[d] = if model.fixed[d] {
+            self.v_new[d] = if model.fixed[d] {
                 0.0
             } else {
                 (self.q_new[d] - state.q[d]) / dt
             };
         }
-        state.q.copy_from_slice(&self.q_new);
-        state.t += dt;
-        for f in model.forces.iter_mut() {
-            f.commit(&state.q);
-        }
-        Ok(report)
+        Ok(Trial {
+            q: &self.q_new,
+            v: &self.v_new,
+            dt,
+            report,
+        })
     }
 }
