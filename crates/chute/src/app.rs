@@ -97,15 +97,36 @@ impl AppError {
 pub fn check(s: &Scenario) -> Result<Vec<(String, String)>, AppError> {
     let built = crate::build::build(s).map_err(|e| AppError::Input(e.to_string()))?;
     let mut out = built.derived;
-    out.push((
-        "time steps".into(),
-        format!(
-            "{:.0} (dt = {} s, {} s)",
-            (s.time.duration_s / s.time.dt_s).ceil(),
-            s.time.dt_s,
-            s.time.duration_s
-        ),
-    ));
+    let t = &s.time;
+    match s.adaptive_settings() {
+        None => out.push((
+            "time steps".into(),
+            format!(
+                "{:.0} (dt = {} s, {} s)",
+                (t.duration_s / t.dt_s).ceil(),
+                t.dt_s,
+                t.duration_s
+            ),
+        )),
+        Some(a) => {
+            out.push((
+                "time steps".into(),
+                format!(
+                    "adaptive, local error ≤ {:e} m per step; first dt = {} s, dt in [{:.4e}, {}] s, {} s",
+                    a.error_tolerance_m, t.dt_s, a.dt_min_s, a.dt_max_s, t.duration_s
+                ),
+            ));
+            // The step the tolerance allows at the start of a fall (a = g): h = √(2 tol/g).
+            let h = (2.0 * a.error_tolerance_m / s.fluid.gravity_mps2).sqrt();
+            out.push((
+                "adaptive dt at a = g".into(),
+                format!(
+                    "{h:.3e} s (√(2 tol/g)); at least {:.0} steps",
+                    (t.duration_s / a.dt_max_s).ceil()
+                ),
+            ));
+        }
+    }
     Ok(out)
 }
 
@@ -123,7 +144,11 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
     crate::runner::RunConfig {
         name: s.name.clone(),
         dt_s: s.time.dt_s,
-        min_dt_s: s.time.dt_s / 1024.0,
+        // Fixed step: ten halvings after failed Newton solves; adaptive: time.dt_min_s.
+        min_dt_s: s
+            .adaptive_settings()
+            .map_or(s.time.dt_s / 1024.0, |a| a.dt_min_s),
+        adaptive: s.adaptive_settings(),
         duration_s: s.time.duration_s,
         frame_interval_s: s.output.frame_interval_s,
         snapshots_s,

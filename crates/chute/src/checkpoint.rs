@@ -2,17 +2,24 @@
 //!
 //! A checkpoint (`checkpoint.bin` in the run directory) holds the engine state (q, v, t), the
 //! history of every force ([`engine::Force::history`]: DER reference frames and reference
-//! twists), the run loop's counters and schedules (dt, success streak, step and iteration
-//! counts, next frame, snapshot and sync indices, warnings) and the number of rows of
-//! `timeseries.csv` at that state. The in-memory decimated series is not stored: on resume it
-//! is rebuilt by re-reading those rows, which `{}` formatting wrote with exact round-trip
-//! precision, so it is bit-identical to the one the uninterrupted run holds.
+//! twists), the run loop's counters and schedules (the step-size policy's state — the next
+//! step size or adaptive proposal, success streak, cap after a Newton failure, rejection
+//! counts —, step and iteration counts, next frame, snapshot and sync indices, warnings) and
+//! the number of rows of `timeseries.csv` at that state. The in-memory decimated series and
+//! the step-size statistics are not stored: on resume they are rebuilt by re-reading those
+//! rows, which `{}` formatting wrote with exact round-trip precision, so they are
+//! bit-identical to the ones the uninterrupted run holds.
 //!
 //! File format (little-endian): the magic `CHUTECKP`, a format version (u32), the fields in
 //! the order of [`Checkpoint::encode`] (u64 lengths before vectors and UTF-8 strings, f64 as
 //! IEEE-754 bits), and an FNV-1a-64 checksum of all preceding bytes. Files are written
 //! atomically, so a checkpoint is either the previous one or the new one, never a mix; a
 //! truncated or corrupted file is rejected with a clear error.
+//!
+//! Versions: 2 (adaptive time steps) appends the cap and the two rejection counters after the
+//! warnings. Version 1 files (fixed steps only) are still read: no cap, no error rejections,
+//! and the Newton rejections counted from the "step rejected" warnings (exact up to the 20
+//! warnings kept, a lower bound beyond).
 
 use std::io::{self, BufRead};
 use std::path::{Path, PathBuf};
@@ -24,7 +31,9 @@ use crate::output::write_atomic;
 pub const FILE_NAME: &str = "checkpoint.bin";
 const MAGIC: &[u8; 8] = b"CHUTECKP";
 /// Version of the binary layout; bump on any change.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
+/// The oldest version this build reads.
+const OLDEST_READABLE: u32 = 1;
 
 /// A saved point of a run.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,10 +51,17 @@ pub struct Checkpoint {
     pub v: Vec<f64>,
     /// [`engine::Force::history`] of every force of the model, in model order.
     pub histories: Vec<Vec<f64>>,
-    /// Current time step (s), possibly reduced after failures.
+    /// Size the next step tries (s): fixed, the current step, possibly reduced after
+    /// failures; adaptive, the controller's proposal (before shortening to an event).
     pub dt: f64,
     /// Consecutive accepted steps since the last failure or regrowth.
     pub streak: u32,
+    /// Adaptive: ceiling on the step after a failed Newton solve (s; +∞ when none).
+    pub dt_cap: f64,
+    /// Steps rejected for their local error so far.
+    pub rejected_error: u64,
+    /// Steps rejected because Newton failed so far.
+    pub rejected_newton: u64,
     /// Accepted steps so far.
     pub steps: u64,
     /// Newton iterations so far.
@@ -181,6 +197,9 @@ impl Checkpoint {
         e.u64(self.next_sync);
         e.u64(self.warnings.len() as u64);
         self.warnings.iter().for_each(|w| e.str(w));
+        e.f64(self.dt_cap);
+        e.u64(self.rejected_error);
+        e.u64(self.rejected_newton);
         let sum = fnv1a(&e.0);
         e.u64(sum);
         e.0
@@ -200,9 +219,9 @@ impl Checkpoint {
         let mut v = [0u8; 4];
         v.copy_from_slice(&body[8..12]);
         let version = u32::from_le_bytes(v);
-        if version != FORMAT_VERSION {
+        if !(OLDEST_READABLE..=FORMAT_VERSION).contains(&version) {
             return Err(format!(
-                "format version {version}, this chute reads version {FORMAT_VERSION}"
+                "format version {version}, this chute reads versions {OLDEST_READABLE} to {FORMAT_VERSION}"
             ));
         }
         let mut d = Dec { b: body, at: 12 };
@@ -221,7 +240,16 @@ impl Checkpoint {
         let next_frame = d.f64()?;
         let (snap_idx, next_sync) = (d.u64()?, d.u64()?);
         let n_warn = d.len(8)?;
-        let warnings = (0..n_warn).map(|_| d.str()).collect::<Result<_, _>>()?;
+        let warnings: Vec<String> = (0..n_warn).map(|_| d.str()).collect::<Result<_, _>>()?;
+        let (dt_cap, rejected_error, rejected_newton) = if version >= 2 {
+            (d.f64()?, d.u64()?, d.u64()?)
+        } else {
+            let newton = warnings
+                .iter()
+                .filter(|w| w.starts_with("step rejected at"))
+                .count();
+            (f64::INFINITY, 0, newton as u64)
+        };
         if d.at != body.len() {
             return Err(format!("{} unexpected trailing bytes", body.len() - d.at));
         }
@@ -234,6 +262,9 @@ impl Checkpoint {
             histories,
             dt,
             streak,
+            dt_cap,
+            rejected_error,
+            rejected_newton,
             steps,
             newton_iterations,
             wall_time_s,
@@ -278,6 +309,12 @@ impl Checkpoint {
         }
         if self.q.iter().chain(&self.v).any(|x| !x.is_finite()) || !self.t.is_finite() {
             return Err("the checkpoint state is not finite".into());
+        }
+        if !(self.dt > 0.0 && self.dt.is_finite() && self.dt_cap > 0.0) {
+            return Err(format!(
+                "the checkpoint's step size {} s (cap {} s) is not positive",
+                self.dt, self.dt_cap
+            ));
         }
         Ok(())
     }
@@ -325,4 +362,80 @@ pub fn truncate_timeseries(path: &Path, rows: u64) -> Result<Vec<Sample>, Checkp
     f.set_len(keep).map_err(io_err)?;
     f.sync_all().map_err(io_err)?;
     Ok(samples)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Checkpoint {
+        Checkpoint {
+            scenario_toml: "name = \"x\"\n".into(),
+            synced: true,
+            t: 0.128,
+            q: vec![1.0, 2.0, -3.5],
+            v: vec![0.0, -0.25, 1e-300],
+            histories: vec![vec![], vec![0.5, 0.25]],
+            dt: 2.5e-3,
+            streak: 3,
+            dt_cap: f64::INFINITY,
+            rejected_error: 7,
+            rejected_newton: 2,
+            steps: 99,
+            newton_iterations: 250,
+            wall_time_s: 1.5,
+            ts_rows: 100,
+            frame_times: vec![0.0, 0.05, 0.1],
+            next_frame: 0.15,
+            snap_idx: 1,
+            next_sync: 2,
+            warnings: vec![
+                "step rejected at t = 0.01 s (x); dt halved to 5e-4 s".into(),
+                "other".into(),
+            ],
+        }
+    }
+
+    #[test]
+    fn round_trips_bit_for_bit() {
+        let c = sample();
+        assert_eq!(Checkpoint::decode(&c.encode()).unwrap(), c);
+    }
+
+    /// A version-1 file (before adaptive steps: no cap, no rejection counters) still reads.
+    #[test]
+    fn reads_version_1() {
+        let c = sample();
+        let v2 = c.encode();
+        // Version 1 = version 2 without the 24 trailing bytes of the new fields.
+        let mut body = v2[..v2.len() - 8 - 24].to_vec();
+        body[8..12].copy_from_slice(&1u32.to_le_bytes());
+        let sum = fnv1a(&body);
+        body.extend_from_slice(&sum.to_le_bytes());
+        let old = Checkpoint::decode(&body).unwrap();
+        assert_eq!(old.dt_cap, f64::INFINITY);
+        assert_eq!((old.rejected_error, old.rejected_newton), (0, 1));
+        assert_eq!((old.q, old.dt, old.warnings), (c.q, c.dt, c.warnings));
+        // A future version is refused with both numbers.
+        let mut future = v2[..v2.len() - 8].to_vec();
+        future[8..12].copy_from_slice(&3u32.to_le_bytes());
+        let sum = fnv1a(&future);
+        future.extend_from_slice(&sum.to_le_bytes());
+        let e = Checkpoint::decode(&future).unwrap_err();
+        assert!(
+            e.contains("format version 3") && e.contains("1 to 2"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn non_positive_step_is_refused() {
+        let mut c = sample();
+        c.dt = 0.0;
+        assert!(c.check_shape(3, 2).unwrap_err().contains("step size"));
+        let mut c = sample();
+        c.dt_cap = f64::NAN;
+        assert!(c.check_shape(3, 2).is_err());
+        assert!(sample().check_shape(3, 2).is_ok());
+    }
 }

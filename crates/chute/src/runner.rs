@@ -1,15 +1,17 @@
 //! The run loop: step the model, observe it, stream outputs, recover from failed steps.
 //!
-//! Failure policy (docs/reliability.md): a step whose Newton solve fails or produces a
-//! non-finite value is rejected (state unchanged), `dt` is halved and the step retried;
-//! after [`GROW_AFTER`] consecutive successes `dt` doubles back towards the scenario's `dt`.
-//! Below `min_dt` the run stops: the summary is marked incomplete with the reason, and the
-//! time series and frames written so far stay valid, and `checkpoint.bin` holds the last good
-//! state.
+//! Step sizes (fixed, or adaptive with local-error control) are chosen by
+//! [`dt_policy`](self::dt_policy): a step whose Newton solve fails or produces a non-finite
+//! value is rejected (state unchanged) and retried with half the step; an adaptive step whose
+//! local error exceeds the tolerance is rejected and retried with the controller's smaller
+//! step. Below the smallest step the run stops: the summary is marked incomplete with the
+//! reason, the time series and frames written so far stay valid, and `checkpoint.bin` holds
+//! the last good state.
 //!
-//! Checkpoints and determinism: every [`SYNC_STEPS`] nominal steps of simulated time the loop
-//! drops the stepper's reused factorisation (a *sync point*, in every run, checkpointing or
-//! not). Checkpoints are taken only at sync points (except the last-good-state one of a failed
+//! Checkpoints and determinism: at *sync points*, fixed simulated times that do not depend on
+//! the run's history (every [`SYNC_STEPS`] nominal steps; adaptive steps end on them), the
+//! loop drops the stepper's reused factorisation, in every run, checkpointing or not.
+//! Checkpoints are taken only at sync points (except the last-good-state one of a failed
 //! run), and a resumed stepper starts without a factorisation too, so a resumed run is
 //! bit-identical to an uninterrupted one. A stop request (Ctrl-C / SIGTERM via [`STOP`])
 //! writes the last sync point's checkpoint and ends with valid partial outputs.
@@ -21,28 +23,31 @@ use std::time::Instant;
 use engine::{ImplicitEuler, NewtonOptions, StepError};
 
 use crate::build::Built;
-use crate::checkpoint::{self, Checkpoint};
+use crate::checkpoint::Checkpoint;
 use crate::metrics;
 use crate::output::plots;
 use crate::output::summary::{RunInfo, Summary};
 use crate::output::timeseries::{DecimatedSeries, TimeSeriesWriter};
 use crate::output::vtk::VtkSeries;
 
+pub mod dt_policy;
 mod observe;
+mod persist;
+use dt_policy::{DtPolicy, Plan, Verdict};
+pub use dt_policy::{GROW_AFTER, SYNC_STEPS};
 use observe::Observer;
-
-/// Consecutive accepted steps before a reduced `dt` is doubled again.
-pub const GROW_AFTER: u32 = 8;
 
 /// Everything the loop needs besides the model.
 #[derive(Debug, Clone)]
 pub struct RunConfig {
     /// Scenario name (for the summary).
     pub name: String,
-    /// Nominal time step (s).
+    /// Nominal time step (s); with `adaptive`, the first step.
     pub dt_s: f64,
     /// Smallest time step before giving up (s).
     pub min_dt_s: f64,
+    /// Local-error control of the step size (`time.adaptive`); `None` for a fixed step.
+    pub adaptive: Option<crate::scenario::AdaptiveSettings>,
     /// Simulated duration (s).
     pub duration_s: f64,
     /// Interval between VTK frames (s); 0 disables frames.
@@ -108,13 +113,6 @@ pub fn describe_dof(b: &Built, dof: usize) -> String {
     }
 }
 
-/// Accepted steps' worth of nominal `dt` between *sync points*. At every sync point the run
-/// loop drops the stepper's reused factorisation (modified Newton), so the next step starts
-/// with a fresh Jacobian exactly as a resumed run does: checkpoints are only taken at sync
-/// points, which makes a resumed run bit-identical to an uninterrupted one. One extra
-/// factorisation every 64 steps costs ~1 % at most.
-pub const SYNC_STEPS: f64 = 64.0;
-
 /// Set by the Ctrl-C / SIGTERM handler of the binary: every run loop in the process stops
 /// gracefully at its next step (with a checkpoint and valid partial outputs).
 pub static STOP: AtomicBool = AtomicBool::new(false);
@@ -169,16 +167,15 @@ pub fn simulate_with(
         Some(c) => Run::resume(built, cfg, out_dir, c)?,
     };
     let bar = progress_bar(cfg);
-    let sync_dt = SYNC_STEPS * cfg.dt_s;
-    let eps_t = 1e-9 * cfg.dt_s;
-    let next_multiple = |every: f64, t: f64| ((t + eps_t) / every).floor() as u64 + 1;
+    let (sync_dt, tol) = (run.dt.sync_dt, run.dt.time_tol);
+    let next_multiple = |every: f64, t: f64| ((t + tol) / every).floor() as u64 + 1;
     let mut next_ckpt = ctl
         .checkpoint_every_s
         .map(|s| next_multiple(s, run.state.t));
     // The start (fresh or resumed) is a sync point: the stepper holds no factorisation.
     let mut last_sync = run.checkpoint(built, ctl, &wall, true);
     let mut stop_reason = None;
-    while run.state.t < cfg.duration_s - eps_t {
+    while run.state.t < cfg.duration_s - tol {
         if ctl.stop.load(Ordering::Relaxed) {
             stop_reason = Some(format!(
                 "interrupted at t = {:.6} s; checkpoint at t = {:.6} s",
@@ -187,38 +184,38 @@ pub fn simulate_with(
             run.save(&last_sync, out_dir)?;
             break;
         }
-        let h = run.dt.min(cfg.duration_s - run.state.t);
-        match stepper.step(&mut built.model, &mut run.state, h) {
-            Ok(rep) => {
-                run.accept(built, cfg, out_dir, rep.iterations, h)?;
-                if let Some(bar) = &bar {
-                    bar.set_position((run.state.t / cfg.duration_s * 1000.0) as u64);
-                    let rate = run.steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);
-                    bar.set_message(format!(
-                        "t = {:.3} s, {rate:.0} steps/s, {} Newton it/step",
-                        run.state.t, rep.iterations
-                    ));
-                }
-                if run.state.t < run.next_sync as f64 * sync_dt - eps_t {
-                    continue;
-                }
-                stepper.invalidate_factorization();
-                run.next_sync = next_multiple(sync_dt, run.state.t);
-                last_sync = run.checkpoint(built, ctl, &wall, true);
-                if let (Some(k), Some(every)) = (next_ckpt, ctl.checkpoint_every_s) {
-                    if run.state.t >= k as f64 * every - eps_t {
-                        run.save(&last_sync, out_dir)?;
-                        next_ckpt = Some(next_multiple(every, run.state.t));
-                    }
-                }
-            }
-            Err(e) => {
-                if let Some(reason) = run.reject(built, cfg, &e) {
+        let plan = run.dt.plan(run.state.t, run.next_event(cfg));
+        let iterations = match run.attempt(&mut stepper, built, cfg, out_dir, &plan)? {
+            Attempt::Accepted(iterations) => iterations,
+            Attempt::Rejected => continue,
+            Attempt::Failed(e) => {
+                if let Some(reason) = run.reject(built, &e, plan.h) {
                     stop_reason = Some(reason);
                     let good = run.checkpoint(built, ctl, &wall, false);
                     run.save(&good, out_dir)?;
                     break;
                 }
+                continue;
+            }
+        };
+        if let Some(bar) = &bar {
+            bar.set_position((run.state.t / cfg.duration_s * 1000.0) as u64);
+            let rate = run.steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);
+            bar.set_message(format!(
+                "t = {:.3} s, {rate:.0} steps/s, {iterations} Newton it/step",
+                run.state.t
+            ));
+        }
+        if run.state.t < run.next_sync as f64 * sync_dt - tol {
+            continue;
+        }
+        stepper.invalidate_factorization();
+        run.next_sync = next_multiple(sync_dt, run.state.t);
+        last_sync = run.checkpoint(built, ctl, &wall, true);
+        if let (Some(k), Some(every)) = (next_ckpt, ctl.checkpoint_every_s) {
+            if run.state.t >= k as f64 * every - tol {
+                run.save(&last_sync, out_dir)?;
+                next_ckpt = Some(next_multiple(every, run.state.t));
             }
         }
     }
@@ -228,11 +225,20 @@ pub fn simulate_with(
     run.finish(built, cfg, out_dir, stop_reason, &wall)
 }
 
+/// What one attempt at a step did.
+enum Attempt {
+    /// Accepted and recorded, with this many Newton iterations.
+    Accepted(usize),
+    /// Rejected for its local error; retry with the policy's smaller step.
+    Rejected,
+    /// Newton failed (state unchanged).
+    Failed(StepError),
+}
+
 /// The run loop's mutable state and open outputs: what a checkpoint saves and restores.
 struct Run {
     state: engine::State,
-    dt: f64,
-    streak: u32,
+    dt: DtPolicy,
     steps: u64,
     newton_total: u64,
     warnings: Vec<String>,
@@ -255,13 +261,12 @@ impl Run {
         out_dir: &Path,
         ts: TimeSeriesWriter,
         vtk: VtkSeries,
-    ) -> Self {
+    ) -> Result<Self, RunError> {
         let mut snaps = cfg.snapshots_s.clone();
         snaps.sort_by(f64::total_cmp);
-        Self {
+        Ok(Self {
             state: built.state.clone(),
-            dt: cfg.dt_s,
-            streak: 0,
+            dt: DtPolicy::new(cfg)?,
             steps: 0,
             newton_total: 0,
             warnings: Vec::new(),
@@ -275,7 +280,7 @@ impl Run {
             dec: DecimatedSeries::default(),
             vtk,
             obs: Observer::new(built),
-        }
+        })
     }
 
     fn fresh(built: &Built, cfg: &RunConfig, out_dir: &Path) -> Result<Self, RunError> {
@@ -284,8 +289,8 @@ impl Run {
         // With --force over an earlier run: its frames and checkpoint must not be mistaken for
         // this run's (resuming needs matching rows and frames).
         let vtk = VtkSeries::resume(out_dir, &[]).map_err(io_err(out_dir))?;
-        remove_stale_outputs(out_dir)?;
-        let mut run = Self::blank(built, cfg, out_dir, ts, vtk);
+        persist::remove_stale_outputs(out_dir)?;
+        let mut run = Self::blank(built, cfg, out_dir, ts, vtk)?;
         let s0 = run.obs.sample(built, &run.state, 0, cfg.dt_s);
         run.ts.push(&s0).map_err(io_err(&ts_path))?;
         run.dec.push(&s0);
@@ -293,110 +298,82 @@ impl Run {
         Ok(run)
     }
 
-    fn resume(
+    /// The first event after the current time, where an adaptive step must end: the end of
+    /// the run, the next frame, snapshot and sync point. A fixed step only ends on the end.
+    fn next_event(&self, cfg: &RunConfig) -> f64 {
+        if !self.dt.adaptive() {
+            return cfg.duration_s;
+        }
+        let after = self.state.t + self.dt.time_tol;
+        let frame = if cfg.frame_interval_s > 0.0 {
+            self.next_frame
+        } else {
+            f64::INFINITY
+        };
+        let snap = self
+            .snaps
+            .get(self.snap_idx)
+            .copied()
+            .unwrap_or(f64::INFINITY);
+        let sync = self.next_sync as f64 * self.dt.sync_dt;
+        [frame, snap, sync]
+            .into_iter()
+            .filter(|&e| e > after)
+            .fold(cfg.duration_s, f64::min)
+    }
+
+    /// Solve the step `plan`, judge its local error, and commit and record it or drop it.
+    fn attempt(
+        &mut self,
+        stepper: &mut ImplicitEuler,
         built: &mut Built,
         cfg: &RunConfig,
         out_dir: &Path,
-        c: &Checkpoint,
-    ) -> Result<Self, RunError> {
-        let bad = |reason: String| RunError::Checkpoint(reason);
-        c.check_shape(built.model.n_dofs(), built.model.forces.len())
-            .map_err(bad)?;
-        for (f, h) in built.model.forces.iter_mut().zip(&c.histories) {
-            f.restore_history(h).map_err(bad)?;
-        }
-        let ts_path = out_dir.join("timeseries.csv");
-        let rows =
-            checkpoint::truncate_timeseries(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
-        let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
-        let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
-        let mut run = Self::blank(built, cfg, out_dir, ts, vtk);
-        rows.iter().for_each(|s| run.dec.push(s));
-        run.state = engine::State {
-            q: c.q.clone(),
-            v: c.v.clone(),
-            t: c.t,
+        plan: &Plan,
+    ) -> Result<Attempt, RunError> {
+        let trial = match stepper.try_step(&built.model, &self.state, plan.h) {
+            Ok(trial) => trial,
+            Err(e) => return Ok(Attempt::Failed(e)),
         };
-        run.dt = c.dt;
-        run.streak = c.streak;
-        run.steps = c.steps;
-        run.newton_total = c.newton_iterations;
-        run.warnings = c.warnings.clone();
-        run.next_frame = c.next_frame;
-        run.snap_idx = (c.snap_idx as usize).min(run.snaps.len());
-        run.next_sync = c.next_sync;
-        run.wall_before_s = c.wall_time_s;
-        Ok(run)
-    }
-
-    /// The checkpoint of the current state.
-    fn checkpoint(
-        &self,
-        built: &Built,
-        ctl: &RunControl<'_>,
-        wall: &Instant,
-        synced: bool,
-    ) -> Checkpoint {
-        Checkpoint {
-            scenario_toml: ctl.scenario_toml.clone(),
-            synced,
-            t: self.state.t,
-            q: self.state.q.clone(),
-            v: self.state.v.clone(),
-            histories: built.model.forces.iter().map(|f| f.history()).collect(),
-            dt: self.dt,
-            streak: self.streak,
-            steps: self.steps,
-            newton_iterations: self.newton_total,
-            wall_time_s: self.wall_before_s + wall.elapsed().as_secs_f64(),
-            ts_rows: self.ts.rows(),
-            frame_times: self.vtk.times(),
-            next_frame: self.next_frame,
-            snap_idx: self.snap_idx as u64,
-            next_sync: self.next_sync,
-            warnings: self.warnings.clone(),
+        let (next, err) = match self.dt.judge(&built.model, &self.state.v, trial.v(), plan) {
+            Verdict::Accept { next, err } => (next, err),
+            Verdict::Reject => return Ok(Attempt::Rejected),
+        };
+        let iterations = trial.report().iterations;
+        trial.commit(&mut built.model, &mut self.state);
+        if let Some(t) = plan.lands_at {
+            // Exactly on the event (the sum t + h may be an ulp off).
+            self.state.t = t;
         }
-    }
-
-    /// Write `c` after making every time-series row it counts durable.
-    fn save(&mut self, c: &Checkpoint, out_dir: &Path) -> Result<(), RunError> {
-        self.ts.flush().map_err(io_err(&self.ts_path))?;
-        c.write(out_dir)
-            .map_err(|e| RunError::Checkpoint(e.to_string()))
-    }
-
-    fn accept(
-        &mut self,
-        built: &Built,
-        cfg: &RunConfig,
-        out_dir: &Path,
-        iterations: usize,
-        h: f64,
-    ) -> Result<(), RunError> {
+        if err > 1.0 && self.warnings.len() < 20 {
+            // Accepted only because the step is already the smallest allowed.
+            self.warnings.push(format!(
+                "local error {:.3} × the tolerance accepted at t = {:.6} s: dt = {:.3e} s is the smallest step allowed",
+                err, self.state.t, plan.h
+            ));
+        }
+        self.dt.accepted(plan.h, next);
         self.steps += 1;
         self.newton_total += iterations as u64;
-        self.streak += 1;
-        if self.dt < cfg.dt_s && self.streak >= GROW_AFTER {
-            self.dt = (2.0 * self.dt).min(cfg.dt_s);
-            self.streak = 0;
-        }
-        let s = self.obs.sample(built, &self.state, iterations as u32, h);
+        let s = self
+            .obs
+            .sample(built, &self.state, iterations as u32, plan.h);
         self.ts.push(&s).map_err(io_err(&self.ts_path))?;
         self.dec.push(&s);
-        self.write_due_outputs(built, cfg, out_dir)
+        self.write_due_outputs(built, cfg, out_dir)?;
+        Ok(Attempt::Accepted(iterations))
     }
 
-    /// Halve `dt` after a failed step; the stop reason when it falls below `min_dt`.
-    fn reject(&mut self, built: &Built, cfg: &RunConfig, e: &StepError) -> Option<String> {
-        self.streak = 0;
-        self.dt *= 0.5;
-        if self.dt < cfg.min_dt_s {
-            return Some(failure_message(built, e, self.state.t, self.dt));
+    /// Halve the step after a failed Newton solve of a step of size `h`; the stop reason when
+    /// it falls below the smallest step.
+    fn reject(&mut self, built: &Built, e: &StepError, h: f64) -> Option<String> {
+        if !self.dt.newton_failed(h) {
+            return Some(failure_message(built, e, self.state.t, self.dt.h));
         }
         if self.warnings.len() < 20 {
             self.warnings.push(format!(
                 "step rejected at t = {:.6} s ({e}); dt halved to {:.3e} s",
-                self.state.t, self.dt
+                self.state.t, self.dt.h
             ));
         }
         None
@@ -410,7 +387,7 @@ impl Run {
         out_dir: &Path,
     ) -> Result<(), RunError> {
         let s = &self.state;
-        let half = 0.5 * cfg.dt_s;
+        let half = self.dt.due_tol;
         let frame_due = cfg.frame_interval_s > 0.0 && s.t >= self.next_frame - half;
         let snaps = &self.snaps;
         let snap_due = self.snap_idx < snaps.len() && s.t >= snaps[self.snap_idx] - half;
@@ -425,7 +402,9 @@ impl Run {
                 .write_frame(s.t, &o.pos, &o.vel, &b.triangles, &b.segments, &o.tri_drag)
                 .map_err(io_err(out_dir))?;
             while self.next_frame <= s.t + half {
-                self.next_frame += cfg.frame_interval_s;
+                self.next_frame = self
+                    .dt
+                    .next_frame_after(self.next_frame, cfg.frame_interval_s);
             }
         }
         while self.snap_idx < snaps.len() && s.t >= snaps[self.snap_idx] - half {
@@ -469,6 +448,7 @@ impl Run {
             &built.triangles,
             &built.segments,
         );
+        let stepping = self.dt.stepping(cfg);
         built.state = self.state;
         let params = metrics::Params {
             total_weight_n: built.total_weight_n,
@@ -487,6 +467,7 @@ impl Run {
             newton_iterations: self.newton_total,
             wall_time_s: self.wall_before_s + wall.elapsed().as_secs_f64(),
             dofs: built.model.n_dofs(),
+            stepping,
             warnings,
         };
         let summary = match metrics::compute(&dec.series(), &params) {
@@ -558,28 +539,4 @@ fn progress_bar(cfg: &RunConfig) -> Option<indicatif::ProgressBar> {
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     Some(bar)
-}
-
-/// Remove an earlier run's checkpoint, plots and summary (with `--force`), so that nothing in
-/// the directory can be mistaken for this run's output.
-fn remove_stale_outputs(out_dir: &Path) -> Result<(), RunError> {
-    let fixed = [
-        checkpoint::FILE_NAME,
-        "summary.json",
-        "velocity.png",
-        "height.png",
-        "shape.png",
-    ];
-    let snapshots = std::fs::read_dir(out_dir)
-        .map_err(io_err(out_dir))?
-        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
-        .filter(|n| n.starts_with("snapshot_") && n.ends_with(".png"));
-    for name in fixed.iter().map(|s| s.to_string()).chain(snapshots) {
-        let stale = out_dir.join(&name);
-        match std::fs::remove_file(&stale) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io_err(&stale)(e)),
-            _ => {}
-        }
-    }
-    Ok(())
 }

@@ -5,7 +5,8 @@ use std::fs;
 use chute::metrics::{compute, Params};
 use chute::output::timeseries::HEADER;
 use chute::output::{
-    canopy_means, write_atomic, DecimatedSeries, RunInfo, Sample, Summary, TimeSeriesWriter,
+    canopy_means, write_atomic, DecimatedSeries, RunInfo, Sample, Stepping, Summary,
+    TimeSeriesWriter,
 };
 
 fn names(dir: &std::path::Path) -> Vec<String> {
@@ -147,7 +148,7 @@ fn canopy_means_are_mass_weighted() {
 }
 
 /// Every field documented in docs/outputs.md §summary.json.
-const SUMMARY_FIELDS: [&str; 24] = [
+const SUMMARY_FIELDS: [&str; 34] = [
     "summary_version",
     "scenario_name",
     "complete",
@@ -171,6 +172,16 @@ const SUMMARY_FIELDS: [&str; 24] = [
     "newton_iterations",
     "wall_time_s",
     "dofs",
+    "dt_s",
+    "adaptive",
+    "error_tolerance_m",
+    "dt_min_s",
+    "dt_max_s",
+    "rejected_steps_error",
+    "rejected_steps_newton",
+    "dt_used_min_s",
+    "dt_used_mean_s",
+    "dt_used_max_s",
     "warnings",
 ];
 
@@ -197,6 +208,18 @@ fn summary_json_has_every_documented_field() {
         newton_iterations: 1500,
         wall_time_s: 0.5,
         dofs: 1234,
+        stepping: Stepping {
+            dt_s: 1e-2,
+            adaptive: true,
+            error_tolerance_m: Some(1e-5),
+            dt_min_s: 1e-5,
+            dt_max_s: 0.05,
+            rejected_steps_error: 3,
+            rejected_steps_newton: 1,
+            dt_used_min_s: Some(1e-3),
+            dt_used_mean_s: Some(9.98e-3),
+            dt_used_max_s: Some(0.05),
+        },
         warnings: vec!["from the run loop".into()],
     };
     let s = Summary::new(run, &m);
@@ -236,8 +259,11 @@ fn summary_json_has_every_documented_field() {
         s.terminal_velocity_trend_mps
     );
     assert_eq!(field("mean_drag_z_n"), s.mean_drag_z_n);
-    let back: Summary = serde_json::from_value(v).unwrap();
+    let back: Summary = serde_json::from_value(v.clone()).unwrap();
     assert_eq!(back.warnings, s.warnings);
     assert_eq!(back.steps, s.steps);
+    assert_eq!(back.stepping, s.stepping);
+    assert_eq!(v["rejected_steps_error"], 3);
+    assert!(v["error_tolerance_m"].is_number());
     assert_eq!(names(dir.path()), vec!["summary.json".to_string()]);
 }

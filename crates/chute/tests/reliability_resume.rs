@@ -59,7 +59,9 @@ fn stop_and_resume(s: &Scenario, stop_at: f64, every: Option<f64>) {
     // The partial series runs past the checkpoint (to the stop); resume cuts it back.
     let rows = csv_rows(&part.join("timeseries.csv"));
     assert!(rows.len() as u64 > c.ts_rows);
-    assert!(rows.last().unwrap()[0] >= stop_at - s.time.dt_s);
+    // The stop is requested by the trial that reaches stop_at (accepted or not).
+    let longest = s.time.dt_max_s.unwrap_or(s.time.dt_s);
+    assert!(rows.last().unwrap()[0] >= stop_at - longest);
 
     let r = run(s, &part, None, every, true);
     assert!(r.complete, "{:?}", r.stop_reason);
@@ -76,6 +78,27 @@ fn rod_resumed_after_stop_equals_uninterrupted() {
 fn rod_resumed_without_periodic_checkpoints_equals_uninterrupted() {
     // The stop alone writes the last sync point's checkpoint.
     stop_and_resume(&rod(0.25, &[]), 0.15, None);
+}
+
+#[test]
+fn adaptive_rod_resumed_after_stop_equals_uninterrupted() {
+    // Adaptive: sync points every 0.1 s (2 frames); stop at 0.21 s → checkpoint at 0.2 s. The
+    // step-size proposal, cap and counters are in the checkpoint, the dt statistics are
+    // rebuilt from the rows.
+    let s = rod(0.3, &["time.adaptive=true"]);
+    stop_and_resume(&s, 0.21, Some(0.05));
+    stop_and_resume(&s, 0.13, None);
+}
+
+#[test]
+fn adaptive_resume_can_extend_a_finished_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (long, ext) = (tmp.path().join("long"), tmp.path().join("ext"));
+    let a = |d: f64| rod(d, &["time.adaptive=true"]);
+    run(&a(0.3), &long, None, None, false);
+    assert!(run(&a(0.2), &ext, None, Some(0.1), false).complete);
+    assert!(run(&a(0.3), &ext, None, Some(0.1), true).complete);
+    assert_same_outputs(&long, &ext);
 }
 
 #[test]

@@ -75,7 +75,7 @@ fn awkward_file_names_give_safe_default_names() {
 #[test]
 fn schema_matches_the_serde_structs() {
     let text = "[model]\nkind = \"shell\"\n[canopy]\nshape = \"mesh\"\nmesh_file = \"m.obj\"\n\
-                [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\n\
+                [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\nadaptive = true\n\
                 newton_relative_tolerance = 0.1\nnewton_step_tolerance_m = 1e-9\n\
                 [lines]\ndrag_coefficient = 1.0\n";
     let dir = tempfile::tempdir().unwrap();
@@ -95,4 +95,45 @@ fn schema_matches_the_serde_structs() {
     let mut want = schema::all_keys();
     want.sort();
     assert_eq!(keys, want);
+}
+
+/// `time.adaptive = true` fills the error-control keys (tolerance 1e-5 m, dt_min = dt/1024,
+/// dt_max = min(100 dt, frame interval)), the resolved scenario shows them and reads back
+/// equal; without it none of them is written, so fixed-step scenarios resolve as before.
+#[test]
+fn adaptive_defaults_are_filled_and_resolved() {
+    let s = parse("[model]\nkind = \"rod\"\n[time]\nadaptive = true\ndt_s = 2e-4\n");
+    assert!(s.time.adaptive);
+    assert_eq!(s.time.error_tolerance_m, Some(1e-5));
+    assert_eq!(s.time.dt_min_s, Some(2e-4 / 1024.0));
+    assert_eq!(s.time.dt_max_s, Some(100.0 * 2e-4));
+    let a = s.adaptive_settings().unwrap();
+    assert_eq!((a.error_tolerance_m, a.dt_max_s), (1e-5, 0.02));
+    // Bounded by the frame interval (0.05 s by default).
+    let s = parse("[model]\nkind = \"rod\"\n[time]\nadaptive = true\n");
+    assert_eq!(s.time.dt_max_s, Some(0.05));
+    let s = parse(
+        "[model]\nkind = \"rod\"\n[time]\nadaptive = true\nerror_tolerance_m = 1e-4\n\
+         dt_min_s = 1e-6\ndt_max_s = 0.01\n",
+    );
+    assert_eq!(
+        (s.time.error_tolerance_m, s.time.dt_min_s, s.time.dt_max_s),
+        (Some(1e-4), Some(1e-6), Some(0.01))
+    );
+    let text = s.to_toml();
+    assert!(
+        text.contains("adaptive = true") && text.contains("dt_max_s = 0.01"),
+        "{text}"
+    );
+    assert_eq!(parse(&text), s);
+    // Fixed step: no adaptive key in the resolved scenario, and no settings.
+    let s = parse("[model]\nkind = \"rod\"\n");
+    assert!(s.adaptive_settings().is_none());
+    let text = s.to_toml();
+    assert!(
+        !text.contains("adaptive") && !text.contains("dt_min_s"),
+        "{text}"
+    );
+    let s = parse("[model]\nkind = \"rod\"\n[time]\nadaptive = false\n");
+    assert!(!s.time.adaptive && s.time.dt_max_s.is_none());
 }

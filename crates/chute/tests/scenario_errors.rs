@@ -384,3 +384,93 @@ fn every_keyed_error_names_its_key() {
         assert!(e.to_string().contains(&format!("`{key}`")), "{e}");
     }
 }
+
+/// The adaptive time-step keys: type, sign, order `dt_min_s ≤ dt_s ≤ dt_max_s ≤ frame
+/// interval`, and refused without `time.adaptive = true`; each error names its key and line.
+#[test]
+fn adaptive_keys_are_checked() {
+    let e = err("[time]\nadaptive = \"yes\"\n");
+    assert!(
+        matches!(&e, ScenarioError::WrongType { key, .. } if key == "time.adaptive"),
+        "{e:?}"
+    );
+    at_line(&e, 5);
+    assert!(e.to_string().contains("a boolean (true or false)"), "{e}");
+    let cases: &[(&str, &str, usize, &str)] = &[
+        (
+            "[time]\nerror_tolerance_m = 1e-5\n",
+            "time.error_tolerance_m",
+            5,
+            "only used with `time.adaptive = true`",
+        ),
+        (
+            "[time]\ndt_max_s = 0.01\n",
+            "time.dt_max_s",
+            5,
+            "only used with `time.adaptive = true`",
+        ),
+        (
+            "[time]\nadaptive = true\nerror_tolerance_m = 0\n",
+            "time.error_tolerance_m",
+            6,
+            "must be positive (a position error per step)",
+        ),
+        (
+            "[time]\nadaptive = true\ndt_min_s = -1e-6\n",
+            "time.dt_min_s",
+            6,
+            "must be positive",
+        ),
+        (
+            "[time]\nadaptive = true\ndt_min_s = 0.01\n",
+            "time.dt_min_s",
+            6,
+            "must not exceed the first step time.dt_s = 0.001 s",
+        ),
+        (
+            "[time]\nadaptive = true\ndt_max_s = 1e-4\n",
+            "time.dt_max_s",
+            6,
+            "must not be below the first step time.dt_s = 0.001 s",
+        ),
+        (
+            "[time]\nadaptive = true\ndt_max_s = 0.1\n",
+            "time.dt_max_s",
+            6,
+            "output.frame_interval_s = 0.05 s",
+        ),
+    ];
+    for (body, key, line, why) in cases {
+        let e = err(body);
+        assert!(
+            matches!(&e, ScenarioError::Invalid { key: k, .. } if k == key),
+            "{body}: {e:?}"
+        );
+        at_line(&e, *line);
+        assert!(e.to_string().contains(why), "{body}: {e}");
+    }
+    let e = err("[time]\nadaptive = true\ndt_max_s = nan\n");
+    assert!(
+        e.to_string().contains("`time.dt_max_s` (t.toml:6)") && e.to_string().contains("finite"),
+        "{e}"
+    );
+    // A bad default follows from a bad first step: the first step is reported.
+    let e = err("[time]\nadaptive = true\ndt_s = -1\n");
+    assert!(
+        matches!(&e, ScenarioError::Invalid { key, .. } if key == "time.dt_s"),
+        "{e:?}"
+    );
+    // Overrides name their origin.
+    let e = err_with(HEAD, &["time.adaptive=true", "time.error_tolerance_m=-1"]);
+    assert!(
+        e.to_string()
+            .contains("`time.error_tolerance_m` (from `--set time.error_tolerance_m=-1`)"),
+        "{e}"
+    );
+    let e = err_with(HEAD, &["time.adaptive=maybe"]);
+    assert!(
+        e.to_string()
+            .contains("`time.adaptive` (from `--set time.adaptive=maybe`) must be a boolean"),
+        "{e}"
+    );
+}

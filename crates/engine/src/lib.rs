@@ -12,7 +12,8 @@
 //! - [`force`]: the one trait every force implements, and the local blocks it writes;
 //! - [`assembly`]: the global sparse pattern built once, and scatter maps into it;
 //! - [`linsolve`]: sparse LLᵀ / LU with the symbolic factorisation reused;
-//! - [`stepper`]: implicit Euler with Newton–Raphson and a line search, and a static solver.
+//! - [`stepper`]: implicit Euler with Newton–Raphson and a line search, a static solver, and
+//!   local-error control for adaptive steps ([`stepper::error_control`]).
 //! - elements: [`rod`] (DER), [`shell`] (hinge shells), [`aero`] (drag), [`loads`].
 
 pub mod aero;
@@ -34,4 +35,7 @@ pub use dof::DofLayout;
 pub use error::{EngineError, StepError};
 pub use force::{EvalInput, Force, JacobianKind, LocalBlocks};
 pub use model::{Model, State};
-pub use stepper::{ImplicitEuler, NewtonOptions, Predictor, StaticSolver, StepReport, Timings};
+pub use stepper::{
+    ErrorController, ImplicitEuler, NewtonOptions, Predictor, StaticSolver, StepReport, Timings,
+    Trial,
+};

@@ -11,6 +11,6 @@ pub mod timeseries;
 pub mod vtk;
 
 pub use atomic::write_atomic;
-pub use summary::{RunInfo, Summary};
+pub use summary::{RunInfo, Stepping, Summary};
 pub use timeseries::{canopy_means, CanopyMeans, DecimatedSeries, Sample, TimeSeriesWriter};
 pub use vtk::VtkSeries;

@@ -27,8 +27,37 @@ pub struct RunInfo {
     pub wall_time_s: f64,
     /// Number of degrees of freedom (3 per node + 1 twist per rod edge).
     pub dofs: usize,
+    /// Time-stepping settings and statistics.
+    pub stepping: Stepping,
     /// Warnings raised by the run loop (they precede the metric warnings in the summary).
     pub warnings: Vec<String>,
+}
+
+/// How a run stepped in time: its settings and the steps it took (fields of
+/// `summary.json`, docs/outputs.md).
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Stepping {
+    /// `time.dt_s`: the step (fixed) or the first step (adaptive) (s).
+    pub dt_s: f64,
+    /// Whether the step size was error-controlled (`time.adaptive`).
+    pub adaptive: bool,
+    /// Adaptive: the local position error allowed per step (m); null for a fixed step.
+    pub error_tolerance_m: Option<f64>,
+    /// Smallest step allowed (s): adaptive `time.dt_min_s`; fixed `dt_s/1024`, the floor of
+    /// the halvings after failed Newton solves.
+    pub dt_min_s: f64,
+    /// Largest step allowed (s): adaptive `time.dt_max_s`; fixed `dt_s`.
+    pub dt_max_s: f64,
+    /// Steps rejected for a local error above the tolerance (and retried smaller).
+    pub rejected_steps_error: u64,
+    /// Steps rejected because Newton failed (and retried with half the step).
+    pub rejected_steps_newton: u64,
+    /// Smallest accepted step (s); null before the first step.
+    pub dt_used_min_s: Option<f64>,
+    /// Mean accepted step (s): the sum of the accepted steps / their number.
+    pub dt_used_mean_s: Option<f64>,
+    /// Largest accepted step (s).
+    pub dt_used_max_s: Option<f64>,
 }
 
 /// Contents of `summary.json`. SI units; field names carry the unit suffix. See
@@ -81,6 +110,9 @@ pub struct Summary {
     pub wall_time_s: f64,
     /// Degrees of freedom.
     pub dofs: usize,
+    /// Time-stepping settings and statistics (their fields appear at this level).
+    #[serde(flatten)]
+    pub stepping: Stepping,
     /// Run-loop warnings followed by metric warnings.
     pub warnings: Vec<String>,
 }
@@ -123,6 +155,7 @@ impl Summary {
             newton_iterations: run.newton_iterations,
             wall_time_s: run.wall_time_s,
             dofs: run.dofs,
+            stepping: run.stepping,
             warnings,
         }
     }

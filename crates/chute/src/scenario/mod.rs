@@ -347,7 +347,27 @@ pub struct Time {
     /// ‖R‖∞ is within 1e3 × the force tolerance); default: the engine's 1e-12.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub newton_step_tolerance_m: Option<f64>,
+    /// Adaptive step with local-error control; `dt_s` is then the first step. Default false
+    /// (and then not written to the resolved scenario, which stays as before the key existed).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub adaptive: bool,
+    /// Adaptive: tolerance on the local position error per step (m). Filled with
+    /// [`DEFAULT_ERROR_TOLERANCE_M`] when `adaptive` and absent; only allowed with `adaptive`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_tolerance_m: Option<f64>,
+    /// Adaptive: smallest step (s); default `dt_s / 1024`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt_min_s: Option<f64>,
+    /// Adaptive: largest step (s); default `min(100 dt_s, output.frame_interval_s)`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt_max_s: Option<f64>,
 }
+
+/// Default `time.error_tolerance_m` (m per step): at the start of a fall (a = g) it allows
+/// `h = √(2 tol/g) ≈ 1.4 ms`, the report's 1 ms step with its local error `g dt²/2 ≈ 5 µm`,
+/// so an adaptive run is at least as accurate as the report's fixed step in the transient and
+/// only takes longer steps where the acceleration has decayed (docs/adaptive-dt.md).
+pub const DEFAULT_ERROR_TOLERANCE_M: f64 = 1e-5;
 
 impl Default for Time {
     fn default() -> Self {
@@ -358,7 +378,40 @@ impl Default for Time {
             newton_tolerance_n: None,
             newton_relative_tolerance: None,
             newton_step_tolerance_m: None,
+            adaptive: false,
+            error_tolerance_m: None,
+            dt_min_s: None,
+            dt_max_s: None,
         }
+    }
+}
+
+/// The error-control settings of an adaptive scenario (all filled in by the loader).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdaptiveSettings {
+    /// Local position error per step (m).
+    pub error_tolerance_m: f64,
+    /// Smallest step (s).
+    pub dt_min_s: f64,
+    /// Largest step (s).
+    pub dt_max_s: f64,
+}
+
+impl Scenario {
+    /// The adaptive settings, or `None` for a fixed step. The loader fills every absent key
+    /// when `time.adaptive = true`; the same defaults apply here to hand-built structs.
+    pub fn adaptive_settings(&self) -> Option<AdaptiveSettings> {
+        let t = &self.time;
+        if !t.adaptive {
+            return None;
+        }
+        Some(AdaptiveSettings {
+            error_tolerance_m: t.error_tolerance_m.unwrap_or(DEFAULT_ERROR_TOLERANCE_M),
+            dt_min_s: t.dt_min_s.unwrap_or(t.dt_s / 1024.0),
+            dt_max_s: t
+                .dt_max_s
+                .unwrap_or((100.0 * t.dt_s).min(self.output.frame_interval_s)),
+        })
     }
 }
 

@@ -133,14 +133,45 @@ fn fill_context_defaults(t: &mut toml::Table, kind: &str, name: &str) {
         };
         section_mut(t, "load").insert("sites".into(), toml::Value::String(sites.into()));
     }
+    fill_adaptive_defaults(t);
     if get(t, "output", "snapshots_s").is_none() {
-        let duration = match get(t, "time", "duration_s") {
-            Some(toml::Value::Float(x)) => *x,
-            Some(toml::Value::Integer(i)) => *i as f64,
-            _ => super::Time::default().duration_s,
-        };
+        let duration = number(t, "time", "duration_s").unwrap_or(super::Time::default().duration_s);
         // k·d/10 rather than 0.k·d keeps round numbers exact (3·10/10 = 3, not 3.0000000000000004).
         let snaps = [3.0, 6.0, 9.0].map(|k| toml::Value::Float(k * duration / 10.0));
         section_mut(t, "output").insert("snapshots_s".into(), toml::Value::Array(snaps.to_vec()));
+    }
+}
+
+/// A number key of the raw tree (integers widened), when present.
+fn number(t: &toml::Table, sec: &str, key: &str) -> Option<f64> {
+    match get(t, sec, key) {
+        Some(toml::Value::Float(x)) => Some(*x),
+        Some(toml::Value::Integer(i)) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+/// With `time.adaptive = true`, the error-control keys that are absent get their defaults
+/// (so the resolved scenario shows them): `error_tolerance_m` = 1e-5 m,
+/// `dt_min_s = dt_s/1024`, `dt_max_s = min(100 dt_s, output.frame_interval_s)` (steps end on
+/// frame times, so a longer one would never be taken). Without it nothing is added: those keys
+/// are then refused by validation.
+fn fill_adaptive_defaults(t: &mut toml::Table) {
+    if get(t, "time", "adaptive").and_then(|v| v.as_bool()) != Some(true) {
+        return;
+    }
+    let dt = number(t, "time", "dt_s").unwrap_or(super::Time::default().dt_s);
+    let frame = number(t, "output", "frame_interval_s")
+        .unwrap_or(super::Output::default().frame_interval_s);
+    let defaults = [
+        ("error_tolerance_m", super::DEFAULT_ERROR_TOLERANCE_M),
+        ("dt_min_s", dt / 1024.0),
+        ("dt_max_s", (100.0 * dt).min(frame)),
+    ];
+    let time = section_mut(t, "time");
+    for (key, value) in defaults {
+        if !time.contains_key(key) {
+            time.insert(key.into(), toml::Value::Float(value));
+        }
     }
 }

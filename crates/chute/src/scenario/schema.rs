@@ -16,6 +16,8 @@ pub enum Kind {
     Float,
     /// A non-negative integer.
     Count,
+    /// `true` or `false`.
+    Bool,
     /// One string of a fixed set.
     Choice(&'static [&'static str]),
     /// An array of exactly three finite numbers.
@@ -110,6 +112,10 @@ pub const SCHEMA: &[(&str, &[(&str, Kind)])] = &[
             ("newton_tolerance_n", Kind::Float),
             ("newton_relative_tolerance", Kind::Float),
             ("newton_step_tolerance_m", Kind::Float),
+            ("adaptive", Kind::Bool),
+            ("error_tolerance_m", Kind::Float),
+            ("dt_min_s", Kind::Float),
+            ("dt_max_s", Kind::Float),
         ],
     ),
     (
@@ -337,6 +343,10 @@ fn check_value(
             }),
             _ => Err(wrong(path, "an integer", v, prov)),
         },
+        Kind::Bool => v
+            .as_bool()
+            .map(|_| ())
+            .ok_or_else(|| wrong(path, "a boolean (true or false)", v, prov)),
         Kind::Choice(allowed) => choice(path, v, allowed, prov),
         Kind::Vec3 => {
             match number_array(path, v, "an array of three numbers, e.g. [0, 0, 0]", prov)? {

@@ -474,6 +474,7 @@ fn time_and_output(c: &mut Checker, s: &Scenario) {
     if let Some(step) = t.newton_step_tolerance_m {
         c.positive("time.newton_step_tolerance_m", step, "a step tolerance");
     }
+    adaptive(c, s);
     let o = &s.output;
     if o.frame_interval_s <= 0.0 {
         c.positive(
@@ -498,6 +499,70 @@ fn time_and_output(c: &mut Checker, s: &Scenario) {
             format!(
                 "snapshot times must not be negative (times after time.duration_s = {} s are skipped)",
                 t.duration_s
+            ),
+        );
+    }
+}
+
+/// The error-control keys: only with `time.adaptive = true` (the loader then fills the
+/// absent ones), positive, and `dt_min_s ≤ dt_s ≤ dt_max_s ≤ output.frame_interval_s`.
+fn adaptive(c: &mut Checker, s: &Scenario) {
+    let t = &s.time;
+    let keys = [
+        ("time.error_tolerance_m", t.error_tolerance_m),
+        ("time.dt_min_s", t.dt_min_s),
+        ("time.dt_max_s", t.dt_max_s),
+    ];
+    if !t.adaptive {
+        for (key, value) in keys {
+            if let Some(v) = value {
+                c.fail(
+                    key,
+                    v,
+                    "only used with `time.adaptive = true` (an error-controlled step); set \
+                     that, or remove this key (a fixed step uses time.dt_s)",
+                );
+            }
+        }
+        return;
+    }
+    let (Some(tol), Some(lo), Some(hi)) = (t.error_tolerance_m, t.dt_min_s, t.dt_max_s) else {
+        return; // filled by the loader; a hand-built struct gets the defaults at run time
+    };
+    c.positive("time.error_tolerance_m", tol, "a position error per step");
+    c.positive("time.dt_min_s", lo, "a time step");
+    c.positive("time.dt_max_s", hi, "a time step");
+    if t.dt_s <= 0.0 {
+        return; // reported on time.dt_s
+    }
+    if lo > t.dt_s {
+        c.fail(
+            "time.dt_min_s",
+            lo,
+            format!(
+                "the smallest step must not exceed the first step time.dt_s = {} s",
+                t.dt_s
+            ),
+        );
+    }
+    if hi > 0.0 && hi < t.dt_s {
+        c.fail(
+            "time.dt_max_s",
+            hi,
+            format!(
+                "the largest step must not be below the first step time.dt_s = {} s",
+                t.dt_s
+            ),
+        );
+    }
+    let frame = s.output.frame_interval_s;
+    if frame > 0.0 && hi > frame {
+        c.fail(
+            "time.dt_max_s",
+            hi,
+            format!(
+                "steps end on every frame time, so no step is longer than \
+                 output.frame_interval_s = {frame} s"
             ),
         );
     }

@@ -32,6 +32,24 @@ pub fn tanh_law(v_t: f64, g: f64, t: f64) -> f64 {
     v_t * (g * t / v_t).tanh()
 }
 
+/// Exact drop from rest under quadratic drag, the integral of [`tanh_law`]:
+/// `d(t) = (v_t²/g) ln cosh(g t / v_t)` (m, downwards).
+pub fn drop_law(v_t: f64, g: f64, t: f64) -> f64 {
+    v_t * v_t / g * (g * t / v_t).cosh().ln()
+}
+
+/// A point mass at height `z0` (m) at rest: one node of mass [`mass_for_vt`], gravity and
+/// [`NodeDrag`] with area [`AREA`] and [`CD`], so it falls by [`tanh_law`] and
+/// [`drop_law`] towards [`VT`] exactly (no other DOF, nothing to deform).
+pub fn point_mass(fluid: &Fluid, z0: f64) -> (Model, State) {
+    let m = mass_for_vt(fluid);
+    let mut model = Model::new(DofLayout::new(1, 0));
+    model.add_node_mass(0, m);
+    model.add_force(Gravity::new(&[0], &[m], [0.0, 0.0, -G]));
+    model.add_force(NodeDrag::new(&[0], &[AREA], CD, fluid));
+    (model, State::at_rest(vec![0.0, 0.0, z0]))
+}
+
 /// Mass (kg) that gives the terminal speed [`VT`] with [`CD`] and [`AREA`]:
 /// `m = v_t² ρ C_D A / (2g)` (≈ 0.98 kg in sea-level air).
 pub fn mass_for_vt(fluid: &Fluid) -> f64 {

@@ -14,14 +14,66 @@ pub struct ImplicitEuler {
     core: NewtonCore,
     q_tilde: Vec<f64>,
     q_new: Vec<f64>,
-    /// `v_{n−1}` and `dt_{n−1}` of the last accepted step (for the extrapolating predictor);
-    /// `None` on the first step and after a sync point.
+    /// `v_{n+1}` of the last solved step, held until it is committed (or discarded).
+    v_new: Vec<f64>,
+    /// `v_{n−1}` and `dt_{n−1}` of the last committed step (for the extrapolating
+    /// predictor); `None` on the first step and after a sync point.
     v_prev: Vec<f64>,
     dt_prev: Option<f64>,
+    /// The start velocity of the last trial (it becomes `v_prev` if that trial is committed).
+    v_start: Vec<f64>,
+    /// The last trial: its end time, `dt` and the adaptive predictor's verdict. A trial is
+    /// known to be committed when the next one starts at its end time.
+    pending: Option<(f64, f64, bool)>,
     /// `dt² a_n` of the current step (the extrapolating predictor's correction).
     extrap: Vec<f64>,
     /// [`Predictor::Adaptive`]: the extrapolating guess was the closer one last step.
     accel_better: bool,
+}
+
+/// A solved but not yet committed backward-Euler step (from [`ImplicitEuler::try_step`]):
+/// `q_{n+1}`, `v_{n+1}` and the step size, held in the stepper's buffers. The state it was
+/// solved from and the forces' history are untouched until [`Trial::commit`]; dropping the
+/// trial discards the step (e.g. when its local error is too large), with nothing to undo.
+pub struct Trial<'a> {
+    q: &'a [f64],
+    v: &'a [f64],
+    dt: f64,
+    report: StepReport,
+}
+
+impl Trial<'_> {
+    /// `q_{n+1}` (m, rad).
+    pub fn q(&self) -> &[f64] {
+        self.q
+    }
+
+    /// `v_{n+1} = (q_{n+1} − q_n)/dt` (m/s, rad/s; zero on fixed DOFs).
+    pub fn v(&self) -> &[f64] {
+        self.v
+    }
+
+    /// The step size (s).
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// What the Newton solve did.
+    pub fn report(&self) -> StepReport {
+        self.report
+    }
+
+    /// Accept the step: `state ← (q_{n+1}, v_{n+1}, t + dt)` and every force commits its
+    /// history (DER reference frames) at `q_{n+1}`. `state` and `model` must be the ones the
+    /// trial was solved from.
+    pub fn commit(self, model: &mut Model, state: &mut State) {
+        state.q.copy_from_slice(self.q);
+        state.v.copy_from_slice(self.v);
+        state.t += self.dt;
+        for f in model.forces.iter_mut() {
+            f.commit(&state.q);
+        }
+    }
 }
 
 impl ImplicitEuler {
@@ -33,8 +85,11 @@ impl ImplicitEuler {
             core: NewtonCore::new(model, opts)?,
             q_tilde: vec![0.0; n],
             q_new: vec![0.0; n],
+            v_new: vec![0.0; n],
             v_prev: vec![0.0; n],
             dt_prev: None,
+            v_start: vec![0.0; n],
+            pending: None,
             extrap: vec![0.0; n],
             accel_better: true,
         })
@@ -81,24 +136,55 @@ impl ImplicitEuler {
     /// With modified Newton (`reuse_jacobian`) the bits of a step depend on which Jacobian is
     /// held; a stepper built afresh (e.g. on resume from a checkpoint) holds none. Calling this
     /// at the same deterministic points in every run makes those runs bit-identical from there.
-    /// The extrapolating predictor's history and the stale/fresh start policy's measurements
-    /// are dropped too, for the same reason.
+    /// The predictor's history and the stale/fresh start policy's measurements are dropped
+    /// too, for the same reason.
     pub fn invalidate_factorization(&mut self) {
         self.core.solver.invalidate();
         self.core.start.reset();
         self.dt_prev = None;
+        self.pending = None;
         self.accel_better = true;
     }
 
-    /// Advance `state` by `dt`. On error the state and the forces' history are unchanged,
-    /// so the caller may retry with a smaller `dt`.
+    /// Take over the predictor history of the last trial if it was committed (the state
+    /// now starts at its end time); a rejected trial leaves the history as it was.
+    fn settle_history(&mut self, state: &State) {
+        if let Some((t_end, dt, better)) = self.pending.take() {
+            if t_end == state.t {
+                std::mem::swap(&mut self.v_prev, &mut self.v_start);
+                self.dt_prev = Some(dt);
+                self.accel_better = better;
+            }
+        }
+    }
+
+    /// Advance `state` by `dt` ([`ImplicitEuler::try_step`] then [`Trial::commit`]). On error
+    /// the state and the forces' history are unchanged, so the caller may retry with a
+    /// smaller `dt`.
     pub fn step(
         &mut self,
         model: &mut Model,
         state: &mut State,
         dt: f64,
     ) -> Result<StepReport, StepError> {
+        let trial = self.try_step(model, state, dt)?;
+        let report = trial.report();
+        trial.commit(model, state);
+        Ok(report)
+    }
+
+    /// Solve the step of size `dt` from `state` without changing `state` or the model: the
+    /// result is a [`Trial`] to inspect (e.g. for its local error,
+    /// [`super::error_control::local_error_norm`]) and then commit or drop. Nothing but the
+    /// stepper's own buffers (and its held factorisation, which is keyed on `dt`) changes.
+    pub fn try_step(
+        &mut self,
+        model: &Model,
+        state: &State,
+        dt: f64,
+    ) -> Result<Trial<'_>, StepError> {
         let n = state.q.len();
+        self.settle_history(state);
         let predictor = self.core.opts.predictor;
         let accel = match (predictor, self.dt_prev) {
             (Predictor::ConstantVelocity, _) | (_, None) => 0.0,
@@ -111,6 +197,7 @@ impl ImplicitEuler {
         };
         for d in 0..n {
             let v = if model.fixed[d] { 0.0 } else { state.v[d] };
+            self.v_start[d] = v;
             self.q_tilde[d] = state.q[d] + dt * v;
             // dt² a_n with a_n = (v_n − v_{n−1}) / dt_{n−1}.
             self.extrap[d] = accel * (v - self.v_prev[d]);
@@ -124,6 +211,7 @@ impl ImplicitEuler {
             t: state.t + dt,
         };
         let report = self.core.solve(model, &mut self.q_new, &target)?;
+        let mut better = self.accel_better;
         if predictor == Predictor::Adaptive && accel != 0.0 {
             // Which guess was closer to the solution (by 2× for extrapolation) decides the
             // next step's guess.
@@ -133,22 +221,21 @@ impl ImplicitEuler {
                 e_cv = e_cv.max(r.abs());
                 e_ca = e_ca.max((r - self.extrap[d]).abs());
             }
-            self.accel_better = e_ca < 0.5 * e_cv;
+            better = e_ca < 0.5 * e_cv;
         }
-        self.v_prev.copy_from_slice(&state.v);
-        self.dt_prev = Some(dt);
+        self.pending = Some((state.t + dt, dt, better));
         for d in 0..n {
-            state.v[d] = if model.fixed[d] {
+            self.v_new[d] = if model.fixed[d] {
                 0.0
             } else {
                 (self.q_new[d] - state.q[d]) / dt
             };
         }
-        state.q.copy_from_slice(&self.q_new);
-        state.t += dt;
-        for f in model.forces.iter_mut() {
-            f.commit(&state.q);
-        }
-        Ok(report)
+        Ok(Trial {
+            q: &self.q_new,
+            v: &self.v_new,
+            dt,
+            report,
+        })
     }
 }

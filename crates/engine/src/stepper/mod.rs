@@ -1,9 +1,12 @@
-//! Time stepping and static equilibrium, both built on one Newton–Raphson core.
+//! Time stepping and static equilibrium, both built on one Newton–Raphson core, and the
+//! local-error control of adaptive time steps.
+pub mod error_control;
 mod implicit_euler;
 mod newton;
 pub mod start_policy;
 mod statics;
 
-pub use implicit_euler::ImplicitEuler;
+pub use error_control::{advance, local_error_norm, Advance, Decision, ErrorController};
+pub use implicit_euler::{ImplicitEuler, Trial};
 pub use newton::{NewtonOptions, Predictor, StepReport, Timings};
 pub use statics::StaticSolver;

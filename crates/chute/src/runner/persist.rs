@@ -1,0 +1,119 @@
+//! The run loop's persistence: checkpoints of its state, resuming from one, and clearing an
+//! earlier run's outputs (docs/reliability.md §2).
+
+use std::path::Path;
+use std::time::Instant;
+
+use super::dt_policy::DtStats;
+use super::{io_err, Run, RunConfig, RunControl, RunError};
+use crate::build::Built;
+use crate::checkpoint::{self, Checkpoint};
+use crate::output::timeseries::TimeSeriesWriter;
+use crate::output::vtk::VtkSeries;
+
+impl Run {
+    /// The run state of checkpoint `c`, with `timeseries.csv` cut back to its rows and the
+    /// frames after it removed; the model's force histories are restored.
+    pub(super) fn resume(
+        built: &mut Built,
+        cfg: &RunConfig,
+        out_dir: &Path,
+        c: &Checkpoint,
+    ) -> Result<Self, RunError> {
+        let bad = |reason: String| RunError::Checkpoint(reason);
+        c.check_shape(built.model.n_dofs(), built.model.forces.len())
+            .map_err(bad)?;
+        for (f, h) in built.model.forces.iter_mut().zip(&c.histories) {
+            f.restore_history(h).map_err(bad)?;
+        }
+        let ts_path = out_dir.join("timeseries.csv");
+        let rows =
+            checkpoint::truncate_timeseries(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
+        let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
+        let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
+        let mut run = Self::blank(built, cfg, out_dir, ts, vtk)?;
+        rows.iter().for_each(|s| run.dec.push(s));
+        run.state = engine::State {
+            q: c.q.clone(),
+            v: c.v.clone(),
+            t: c.t,
+        };
+        run.dt.h = c.dt;
+        run.dt.streak = c.streak;
+        run.dt.cap = c.dt_cap;
+        run.dt.rejected_error = c.rejected_error;
+        run.dt.rejected_newton = c.rejected_newton;
+        run.dt.used = DtStats::from_rows(&rows);
+        run.steps = c.steps;
+        run.newton_total = c.newton_iterations;
+        run.warnings = c.warnings.clone();
+        run.next_frame = c.next_frame;
+        run.snap_idx = (c.snap_idx as usize).min(run.snaps.len());
+        run.next_sync = c.next_sync;
+        run.wall_before_s = c.wall_time_s;
+        Ok(run)
+    }
+
+    /// The checkpoint of the current state.
+    pub(super) fn checkpoint(
+        &self,
+        built: &Built,
+        ctl: &RunControl<'_>,
+        wall: &Instant,
+        synced: bool,
+    ) -> Checkpoint {
+        Checkpoint {
+            scenario_toml: ctl.scenario_toml.clone(),
+            synced,
+            t: self.state.t,
+            q: self.state.q.clone(),
+            v: self.state.v.clone(),
+            histories: built.model.forces.iter().map(|f| f.history()).collect(),
+            dt: self.dt.h,
+            streak: self.dt.streak,
+            dt_cap: self.dt.cap,
+            rejected_error: self.dt.rejected_error,
+            rejected_newton: self.dt.rejected_newton,
+            steps: self.steps,
+            newton_iterations: self.newton_total,
+            wall_time_s: self.wall_before_s + wall.elapsed().as_secs_f64(),
+            ts_rows: self.ts.rows(),
+            frame_times: self.vtk.times(),
+            next_frame: self.next_frame,
+            snap_idx: self.snap_idx as u64,
+            next_sync: self.next_sync,
+            warnings: self.warnings.clone(),
+        }
+    }
+
+    /// Write `c` after making every time-series row it counts durable.
+    pub(super) fn save(&mut self, c: &Checkpoint, out_dir: &Path) -> Result<(), RunError> {
+        self.ts.flush().map_err(io_err(&self.ts_path))?;
+        c.write(out_dir)
+            .map_err(|e| RunError::Checkpoint(e.to_string()))
+    }
+}
+
+/// Remove an earlier run's checkpoint, plots and summary (with `--force`), so that nothing in
+/// the directory can be mistaken for this run's output.
+pub(super) fn remove_stale_outputs(out_dir: &Path) -> Result<(), RunError> {
+    let fixed = [
+        checkpoint::FILE_NAME,
+        "summary.json",
+        "velocity.png",
+        "height.png",
+        "shape.png",
+    ];
+    let snapshots = std::fs::read_dir(out_dir)
+        .map_err(io_err(out_dir))?
+        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+        .filter(|n| n.starts_with("snapshot_") && n.ends_with(".png"));
+    for name in fixed.iter().map(|s| s.to_string()).chain(snapshots) {
+        let stale = out_dir.join(&name);
+        match std::fs::remove_file(&stale) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io_err(&stale)(e)),
+            _ => {}
+        }
+    }
+    Ok(())
+}
