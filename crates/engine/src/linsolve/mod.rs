@@ -116,13 +116,11 @@ impl LinearSolver {
         Ok(s)
     }
 
-    /// Analyse the LU structure if not done yet (allocates once).
-    fn ensure_lu(&mut self) -> Result<(), EngineError> {
-        if self.lu_sym.is_some() {
-            return Ok(());
-        }
-        // SAFETY: the same valid pattern as in `new`.
-        let sym = unsafe {
+    /// The pattern given to [`LinearSolver::new`], as a faer view.
+    fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        // SAFETY: `new` received a valid CSC pattern (monotone col_ptr, sorted unique in-range
+        // row indices) from the assembler, and it is never modified.
+        unsafe {
             SymbolicSparseColMatRef::new_unchecked(
                 self.n,
                 self.n,
@@ -130,7 +128,15 @@ impl LinearSolver {
                 None,
                 &self.row_idx,
             )
-        };
+        }
+    }
+
+    /// Analyse the LU structure if not done yet (allocates once).
+    fn ensure_lu(&mut self) -> Result<(), EngineError> {
+        if self.lu_sym.is_some() {
+            return Ok(());
+        }
+        let sym = self.pattern();
         let lu = factorize_symbolic_lu(sym, LuSymbolicParams::default())
             .map_err(|e| EngineError::Symbolic(format!("{e:?}")))?;
         self.lu_sym = Some(lu);
@@ -180,7 +186,8 @@ impl LinearSolver {
                 .map_err(|e| StepError::Linear(e.to_string()))?;
             self.mem = MemBuffer::new(self.req.or(self.lu_scratch()));
         }
-        // SAFETY: the same valid pattern as in `new`.
+        // SAFETY: the same valid pattern as in `new` (borrowed field by field: the factors
+        // and the workspace are borrowed mutably below).
         let sym = unsafe {
             SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
         };
@@ -318,21 +325,9 @@ impl LinearSolver {
         max_iters: usize,
     ) -> KrylovReport {
         assert!(self.valid, "solve_corrected() without factors");
-        // SAFETY: the same valid pattern as in `new`.
-        let sym = unsafe {
-            SymbolicSparseColMatRef::new_unchecked(
-                self.n,
-                self.n,
-                &self.col_ptr,
-                None,
-                &self.row_idx,
-            )
-        };
-        let a = SparseColMatRef::new(sym, full);
-        let mut mem = self
-            .krylov_mem
-            .take()
-            .unwrap_or_else(|| MemBuffer::new(krylov::scratch(self, a)));
+        let held = self.krylov_mem.take();
+        let a = SparseColMatRef::new(self.pattern(), full);
+        let mut mem = held.unwrap_or_else(|| MemBuffer::new(krylov::scratch(self, a)));
         let rep =
             krylov::corrected_solve(self, a, b, x, rel_tol, max_iters, MemStack::new(&mut mem));
         self.krylov_mem = Some(mem);
