@@ -391,26 +391,32 @@ fn step_halving(
     }
 }
 
-fn rss_mib() -> String {
-    std::fs::read_to_string("/proc/self/status")
-        .unwrap_or_default()
-        .lines()
-        .filter(|l| l.starts_with("VmRSS") || l.starts_with("VmHWM"))
-        .collect::<Vec<_>>()
-        .join(" ")
-}
-
-/// `VmHWM` of this process (MiB); 0 where `/proc` is unavailable.
-pub fn peak_rss_mib() -> f64 {
+/// A `/proc/self/status` memory field (`VmRSS`, `VmHWM`, …) in MiB; 0 where `/proc` is
+/// unavailable.
+fn status_mib(field: &str) -> f64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
         .and_then(|s| {
             s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
+                .find(|l| l.strip_prefix(field).is_some_and(|r| r.starts_with(':')))
                 .and_then(|l| l.split_whitespace().nth(1))
                 .and_then(|kb| kb.parse::<f64>().ok())
         })
         .map_or(0.0, |kb| kb / 1024.0)
+}
+
+/// Current and peak resident memory, for the `CHUTE_BENCH_MEM` stage report.
+fn rss_mib() -> String {
+    format!(
+        "RSS {:.1} MiB (peak {:.1} MiB)",
+        status_mib("VmRSS"),
+        status_mib("VmHWM")
+    )
+}
+
+/// `VmHWM` of this process (MiB); 0 where `/proc` is unavailable.
+pub fn peak_rss_mib() -> f64 {
+    status_mib("VmHWM")
 }
 
 fn header() -> String {

@@ -262,6 +262,8 @@ impl LinearSolver {
         if n == 0 {
             return;
         }
+        // The workspace is moved out for the call (`solve_with` borrows the factors); the
+        // zero-size placeholder does not reach the allocator.
         let mut mem = std::mem::replace(&mut self.mem, MemBuffer::new(StackReq::EMPTY));
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
         self.solve_with(x, self.par, MemStack::new(&mut mem));

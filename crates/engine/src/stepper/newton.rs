@@ -200,6 +200,8 @@ pub(crate) struct NewtonCore {
     pub start: StartPolicy,
     /// `−R` for the Krylov correction (empty when the approximation is unused).
     neg_residual: Vec<f64>,
+    /// The approximate update `J_s⁻¹ (−R)`, kept in case the Krylov correction fails.
+    delta_approx: Vec<f64>,
 }
 
 /// The target of one Newton solve.
@@ -238,6 +240,11 @@ impl NewtonCore {
                 Vec::new()
             },
             neg_residual: if approx {
+                vec![0.0; assembler.n_free]
+            } else {
+                Vec::new()
+            },
+            delta_approx: if approx {
                 vec![0.0; assembler.n_free]
             } else {
                 Vec::new()
@@ -481,7 +488,7 @@ impl NewtonCore {
             *b = -r;
         }
         // The approximate update, restored by the caller if the correction fails.
-        self.skew_product.copy_from_slice(&self.delta);
+        self.delta_approx.copy_from_slice(&self.delta);
         let t0 = Instant::now();
         let rep = self.solver.solve_corrected(
             &self.values,
@@ -583,7 +590,7 @@ impl NewtonCore {
             // its storage is several times the Cholesky factor's (gigabytes at 100k DOFs).
             // Not retried in this solve: a failed correction costs 20 iterations.
             self.timings.krylov_failures += 1;
-            self.delta.copy_from_slice(&self.skew_product);
+            self.delta.copy_from_slice(&self.delta_approx);
             self.corrected = false;
             self.krylov_off = true;
         }
