@@ -18,7 +18,9 @@
 
 pub mod aero;
 pub mod assembly;
+pub mod conformance;
 pub mod dof;
+pub mod element;
 pub mod error;
 pub mod fdcheck;
 pub mod force;

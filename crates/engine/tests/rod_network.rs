@@ -158,7 +158,7 @@ fn directors_and_twist_offset() {
         vec![V3::y(); 4],
         &q,
     );
-    assert!(empty.elements().is_empty());
+    assert!(empty.is_empty() && empty.elements().len() == 0);
 }
 
 #[test]

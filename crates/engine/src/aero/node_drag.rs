@@ -12,81 +12,69 @@
 //! The Jacobian is block-diagonal and symmetric negative definite.
 
 use super::fluid::Fluid;
-use super::geometry::{node_stencils, stencil_vec};
+use super::geometry::stencil_vec;
 use super::regularize::{quadratic, DEFAULT_EPSILON};
-use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::element::{node_stencils, Element, Family};
+use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::V3;
 
-/// Quadratic drag on a set of nodes, each with its own area.
-#[derive(Debug, Clone)]
-pub struct NodeDrag {
-    stencils: Vec<usize>,
-    /// `½ ρ C_D A_k` per node (kg/m).
-    coeff: Vec<f64>,
+/// The node-drag law: wind and regularisation speed; each node has its `½ ρ C_D A_k` (kg/m).
+#[derive(Debug, Clone, Copy)]
+pub struct NodeDragLaw {
     wind: V3,
     epsilon: f64,
 }
+
+/// Quadratic drag on a set of nodes, each with its own area.
+pub type NodeDrag = Family<NodeDragLaw>;
 
 impl NodeDrag {
     /// Drag on `nodes` with projected areas `areas` (m², one per node, computed from rest
     /// lengths, e.g. `2 r_d l̄_k`), drag coefficient `cd` and the fluid's density and wind.
     pub fn new(nodes: &[usize], areas: &[f64], cd: f64, fluid: &Fluid) -> Self {
         assert_eq!(nodes.len(), areas.len(), "one area per node");
-        Self {
-            stencils: node_stencils(nodes),
-            coeff: areas
-                .iter()
-                .map(|&a| 0.5 * fluid.density * cd * a)
-                .collect(),
+        let nodes: Vec<[usize; 1]> = nodes.iter().map(|&i| [i]).collect();
+        let coeff = areas
+            .iter()
+            .map(|&a| 0.5 * fluid.density * cd * a)
+            .collect();
+        let law = NodeDragLaw {
             wind: V3::from(fluid.wind),
             epsilon: DEFAULT_EPSILON,
-        }
+        };
+        Family::from_elements("node-drag", law, node_stencils(&nodes), coeff)
     }
 
     /// Use the regularisation speed `eps` (m/s) instead of
     /// [`DEFAULT_EPSILON`](super::DEFAULT_EPSILON).
     pub fn with_epsilon(mut self, eps: f64) -> Self {
-        self.epsilon = eps;
+        self.law.epsilon = eps;
         self
     }
 }
 
-impl Force for NodeDrag {
-    fn name(&self) -> &str {
-        "node-drag"
-    }
-    fn stencil_size(&self) -> usize {
-        3
-    }
-    fn stencils(&self) -> &[usize] {
-        &self.stencils
-    }
-    fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind {
-            dq: false,
-            dv: true,
-            symmetric: true,
+impl Element for NodeDragLaw {
+    const STENCIL: usize = 3;
+    const KIND: JacobianKind = JacobianKind {
+        dq: false,
+        dv: true,
+        symmetric: true,
+    };
+    type Data = f64;
+
+    fn evaluate(&self, &c: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+        let u = stencil_vec(input.v, st, 0) - self.wind;
+        let (g, dg) = quadratic(&u, self.epsilon);
+        for r in 0..3 {
+            b.f[r] = -c * g[r];
         }
-    }
-    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
-        let v = input.v;
-        out.par_for_each(input.jacobian, |b| {
-            let i = b.index;
-            let st = &self.stencils[3 * i..3 * i + 3];
-            let u = stencil_vec(v, st, 0) - self.wind;
-            let (g, dg) = quadratic(&u, self.epsilon);
-            let c = self.coeff[i];
-            for r in 0..3 {
-                b.f[r] = -c * g[r];
+        if b.dfdv.is_empty() {
+            return;
+        }
+        for r in 0..3 {
+            for s in 0..3 {
+                b.dfdv[3 * r + s] = -c * dg[(r, s)];
             }
-            if b.dfdv.is_empty() {
-                return;
-            }
-            for r in 0..3 {
-                for s in 0..3 {
-                    b.dfdv[3 * r + s] = -c * dg[(r, s)];
-                }
-            }
-        });
+        }
     }
 }
