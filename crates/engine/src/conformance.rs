@@ -342,6 +342,17 @@ pub fn check_all(build: &dyn Fn() -> Case) {
 #[macro_export]
 macro_rules! force_conformance {
     ($name:ident, $case:expr) => {
+        $crate::force_conformance!(
+            @checks $name,
+            $case,
+            check_energy_gradient,
+            check_jacobians,
+            check_force_only_path,
+            check_symmetry,
+            check_history_round_trip
+        );
+    };
+    (@checks $name:ident, $case:expr, $($check:ident),*) => {
         mod $name {
             #[allow(unused_imports)]
             use super::*;
@@ -350,30 +361,12 @@ macro_rules! force_conformance {
                 $case
             }
 
-            #[test]
-            fn energy_gradient() {
-                $crate::conformance::check_energy_gradient(&case);
-            }
-
-            #[test]
-            fn jacobians() {
-                $crate::conformance::check_jacobians(&case);
-            }
-
-            #[test]
-            fn force_only_path() {
-                $crate::conformance::check_force_only_path(&case);
-            }
-
-            #[test]
-            fn symmetry() {
-                $crate::conformance::check_symmetry(&case);
-            }
-
-            #[test]
-            fn history_round_trip() {
-                $crate::conformance::check_history_round_trip(&case);
-            }
+            $(
+                #[test]
+                fn $check() {
+                    $crate::conformance::$check(&case);
+                }
+            )*
         }
     };
 }

@@ -45,6 +45,19 @@ impl JacobianKind {
         dv: false,
         symmetric: true,
     };
+    /// A force on velocities only with symmetric `∂f/∂v` (isotropic drag on nodes).
+    pub const VISCOUS: Self = Self {
+        dq: false,
+        dv: true,
+        symmetric: true,
+    };
+    /// A force on positions and velocities with non-symmetric Jacobians (drag on deforming
+    /// triangles).
+    pub const GENERAL: Self = Self {
+        dq: true,
+        dv: true,
+        symmetric: false,
+    };
     /// A constant force: no Jacobian at all.
     pub const CONSTANT: Self = Self {
         dq: false,
@@ -121,7 +134,7 @@ impl LocalBlocks {
             return;
         }
         // Below this many stencils per task, waking rayon's threads costs more than the
-        // elements (measured on the shell canopy: ~10 % of the run in sched_yield at 256).
+        // elements (docs/performance.md §Engine tuning).
         const MIN_PAR: usize = 2048;
         type Item<'a> = (usize, (&'a mut [f64], (&'a mut [f64], &'a mut [f64])));
         let body = |(i, (f, (q, v))): Item<'_>| {

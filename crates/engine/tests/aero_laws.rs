@@ -170,18 +170,10 @@ fn deformed_sheet(rng: &mut StdRng) -> (Vec<f64>, Vec<[usize; 3]>) {
 
 /// Unit normal and mean velocity of triangle `t`.
 fn normal_and_mean(q: &[f64], v: &[f64], t: [usize; 3]) -> ([f64; 3], [f64; 3]) {
-    let p = |g: &[f64], i: usize| [g[3 * i], g[3 * i + 1], g[3 * i + 2]];
-    let (a, b, c) = (p(q, t[0]), p(q, t[1]), p(q, t[2]));
-    let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let n = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    let p = |i: usize| nalgebra::Vector3::new(q[3 * i], q[3 * i + 1], q[3 * i + 2]);
+    let n = (p(t[1]) - p(t[0])).cross(&(p(t[2]) - p(t[0]))).normalize();
     let u = [0, 1, 2].map(|k| (v[3 * t[0] + k] + v[3 * t[1] + k] + v[3 * t[2] + k]) / 3.0);
-    (n.map(|x| x / l), u)
+    ([n.x, n.y, n.z], u)
 }
 
 /// Shift the velocities of triangle `t`'s nodes so that its relative mean velocity has

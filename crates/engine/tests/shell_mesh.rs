@@ -3,7 +3,7 @@
 use engine::fdcheck::dense_eval;
 use engine::shell::dihedral::{angle, angle_grad_hess};
 use engine::shell::{install, MeshError, ShellMaterial, TriMesh};
-use engine::vec3::V3;
+type V3 = nalgebra::Vector3<f64>;
 use engine::{DofLayout, Model};
 use nalgebra::{Rotation3, Unit};
 use rand::{rngs::StdRng, Rng, SeedableRng};

@@ -15,10 +15,10 @@ pub struct Built {
     pub triangles: Vec<[usize; 3]>,
     /// Line segments drawn and written to VTK (rod canopy edges, suspension lines).
     pub segments: Vec<[usize; 2]>,
-    /// Indices into `model.forces` of the drag families.
-    pub drag_forces: Vec<usize>,
-    /// Index into `model.forces` of the triangle drag family (per-triangle output).
-    pub triangle_drag: Option<usize>,
+    /// The drag families.
+    pub drag_forces: Vec<engine::ForceId>,
+    /// The triangle drag family (per-triangle output).
+    pub triangle_drag: Option<engine::ForceId>,
     /// Total weight of everything that falls (N).
     pub total_weight_n: f64,
     /// Weight of the canopy alone (N).

@@ -42,11 +42,7 @@ impl LinearDrag {
 
 impl Element for LinearDragLaw {
     const STENCIL: usize = 3;
-    const KIND: JacobianKind = JacobianKind {
-        dq: false,
-        dv: true,
-        symmetric: true,
-    };
+    const KIND: JacobianKind = JacobianKind::VISCOUS;
     type Data = f64;
 
     fn evaluate(&self, &c: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {

@@ -46,7 +46,7 @@ impl NodeDrag {
     }
 
     /// Use the regularisation speed `eps` (m/s) instead of
-    /// [`DEFAULT_EPSILON`](super::DEFAULT_EPSILON).
+    /// [`DEFAULT_EPSILON`].
     pub fn with_epsilon(mut self, eps: f64) -> Self {
         self.law.epsilon = eps;
         self
@@ -55,11 +55,7 @@ impl NodeDrag {
 
 impl Element for NodeDragLaw {
     const STENCIL: usize = 3;
-    const KIND: JacobianKind = JacobianKind {
-        dq: false,
-        dv: true,
-        symmetric: true,
-    };
+    const KIND: JacobianKind = JacobianKind::VISCOUS;
     type Data = f64;
 
     fn evaluate(&self, &c: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {

@@ -65,11 +65,7 @@ impl PressureDrag {
 
 impl Element for PressureDragLaw {
     const STENCIL: usize = 9;
-    const KIND: JacobianKind = JacobianKind {
-        dq: true,
-        dv: true,
-        symmetric: false,
-    };
+    const KIND: JacobianKind = JacobianKind::GENERAL;
     type Data = f64;
 
     fn evaluate(&self, &k: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {

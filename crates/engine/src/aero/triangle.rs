@@ -119,7 +119,7 @@ impl TriangleDrag {
     }
 
     /// Use the regularisation speed `eps` (m/s) for `|u|` and `|u_t|` instead of
-    /// [`DEFAULT_EPSILON`](super::DEFAULT_EPSILON).
+    /// [`DEFAULT_EPSILON`].
     pub fn with_epsilon(mut self, eps: f64) -> Self {
         self.law.epsilon = eps;
         self
@@ -156,11 +156,7 @@ impl TriangleDragLaw {
 
 impl Element for TriangleDragLaw {
     const STENCIL: usize = 9;
-    const KIND: JacobianKind = JacobianKind {
-        dq: true,
-        dv: true,
-        symmetric: false,
-    };
+    const KIND: JacobianKind = JacobianKind::GENERAL;
     type Data = ();
 
     fn evaluate(&self, _: &(), st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {

@@ -198,12 +198,6 @@ impl LinearSolver {
         self.factor_impl(Some(spd), full)
     }
 
-    /// Factorise `A` by LU even when LLᵀ is available (e.g. after the symmetric
-    /// approximation of a non-symmetric `A` failed to contract).
-    pub fn factor_lu(&mut self, values: &[f64]) -> Result<Factorization, StepError> {
-        self.factor_impl(None, values)
-    }
-
     fn factor_impl(
         &mut self,
         spd: Option<&[f64]>,
@@ -377,3 +371,6 @@ impl LinearSolver {
         rep
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -3,7 +3,7 @@
 pub mod error_control;
 mod implicit_euler;
 mod newton;
-pub mod start_policy;
+mod start_policy;
 mod statics;
 
 pub use error_control::{advance, local_error_norm, Advance, Decision, ErrorController};

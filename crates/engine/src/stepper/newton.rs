@@ -21,8 +21,15 @@ use std::time::Instant;
 pub struct NewtonOptions {
     /// Maximum Newton iterations per solve.
     pub max_iterations: usize,
-    /// Absolute force tolerance on `‖R‖∞` (N). `None`: `1e-9 × (1 + Σm · 9.81)`.
+    /// Absolute force tolerance on `‖R‖∞` (N). `None`: `1e-9 × (1 N + Σm · a_ref)` with
+    /// `a_ref` = [`NewtonOptions::reference_acceleration`], i.e. 1e-9 of the model's force
+    /// scale.
     pub force_tol_abs: Option<f64>,
+    /// The acceleration `a_ref` (m/s²) that turns the model's total mass into the force
+    /// scale of the default absolute tolerance (see [`NewtonOptions::force_tol_abs`]): the
+    /// gravity for a body falling under its weight, a typical acceleration otherwise.
+    /// Unused when `force_tol_abs` is set.
+    pub reference_acceleration: f64,
     /// Tolerance relative to the first residual.
     pub force_tol_rel: f64,
     /// Step-size tolerance on `‖Δq‖∞` (m or rad).
@@ -50,12 +57,32 @@ pub struct NewtonOptions {
     /// effect when `J` is symmetric.
     pub symmetric_approx: bool,
     /// Give up a solve as soon as `‖R‖∞` exceeds this multiple of `max(‖R₀‖∞, tol)`, instead
-    /// of spending the rest of the iteration budget on it. Converging solves of the stiff
-    /// canopies raise `‖R‖∞` by up to ~100× on the way (measured over the bench ladder:
-    /// at most 92×); failing ones by 1e4–1e120. `f64::INFINITY` disables the test.
+    /// of spending the rest of the iteration budget on it (the caller can then shorten `dt`
+    /// at once). Converging solves of stiff membranes can raise `‖R‖∞` by two orders of
+    /// magnitude on the way, failing ones by many more (docs/performance.md has the
+    /// measurements behind [`NewtonOptions::recommended`]'s 1e4). `f64::INFINITY` disables
+    /// the test.
     pub divergence_limit: f64,
     /// Initial guess of an implicit-Euler step (see [`Predictor`]).
     pub predictor: Predictor,
+}
+
+impl NewtonOptions {
+    /// The tuned settings for time stepping large models (what `chute run` uses): modified
+    /// Newton ([`NewtonOptions::reuse_jacobian`]), Cholesky of the symmetric part for
+    /// non-symmetric Jacobians ([`NewtonOptions::symmetric_approx`]), a divergence limit of
+    /// 1e4 and the [`Predictor::Adaptive`] predictor; tolerances as in
+    /// [`NewtonOptions::default`]. Every converged step meets the same residual tolerance as
+    /// with the defaults; only the iteration path (and the cost) differs.
+    pub fn recommended() -> Self {
+        Self {
+            reuse_jacobian: true,
+            symmetric_approx: true,
+            divergence_limit: 1e4,
+            predictor: Predictor::Adaptive,
+            ..Self::default()
+        }
+    }
 }
 
 /// Initial Newton iterate of an implicit-Euler step.
@@ -75,18 +102,21 @@ pub enum Predictor {
     /// Extrapolate (constant acceleration) while the extrapolated guess of the last step was
     /// at least 2× closer (‖·‖∞) to its solution than the constant-velocity guess, else
     /// constant velocity (measured at no cost once a step has converged; extrapolation
-    /// first). Extrapolation wins for smooth motion (the 1k-node rod: 6.3 → 3.9 iterations
-    /// per step) and loses for violent motion at large `dt` (the hexagonal parachute at
-    /// dt = 1e-2: 1.6 → 2.2 and failed steps); the 2× margin keeps it off where it only
-    /// sometimes helps (with a plain "closer" test the hexagonal case still failed 10 steps).
+    /// first). Extrapolation wins for smooth motion and loses for violent motion at large
+    /// `dt`; the 2× margin keeps it off where it only sometimes helps (docs/performance.md
+    /// §Engine tuning has the measurements).
     Adaptive,
 }
 
+/// The plain, exact Newton–Raphson: full Newton with a fresh Jacobian every iteration, LU for
+/// non-symmetric Jacobians, constant-velocity predictor, no divergence test. Robust and
+/// simple to reason about; [`NewtonOptions::recommended`] is much faster on large models.
 impl Default for NewtonOptions {
     fn default() -> Self {
         Self {
             max_iterations: 25,
             force_tol_abs: None,
+            reference_acceleration: 1.0,
             force_tol_rel: 1e-10,
             step_tol: 1e-12,
             line_search: true,
@@ -226,7 +256,7 @@ impl NewtonCore {
         let n = model.n_dofs();
         let force_tol_abs = opts
             .force_tol_abs
-            .unwrap_or(1e-9 * (1.0 + model.total_mass() * 9.81));
+            .unwrap_or(1e-9 * (1.0 + model.total_mass() * opts.reference_acceleration));
         Ok(Self {
             values: vec![0.0; assembler.nnz()],
             sym_values: if approx {
@@ -322,7 +352,7 @@ impl NewtonCore {
     /// from coordinates stored to `ε |q|`, so its round-off is about `ε c_m m |q|`. At tiny
     /// `dt` (large `c_m = 1/dt²`) or far from the origin this exceeds a fixed tolerance, and
     /// Newton would fail on round-off instead of physics; the tolerance never goes below
-    /// 16 × this floor. At the report's dt = 1e-3 s and |q| ≲ 100 m it is ~1e-7 N.
+    /// 16 × this floor (~1e-7 N per kg at dt = 1e-3 s and |q| ≈ 100 m).
     fn roundoff_floor(&self, model: &Model, q: &[f64], tg: &Target<'_>) -> f64 {
         let worst = self
             .assembler

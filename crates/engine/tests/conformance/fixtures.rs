@@ -4,6 +4,7 @@ use engine::conformance::Rng;
 use engine::rod::{RodNetwork, RodSpec, Section};
 use engine::shell::{install, ShellMaterial, TriMesh};
 use engine::{DofLayout, Force, Model};
+use nalgebra::Vector3;
 
 /// A fluid with a wind of a few m/s in every direction (drag acts on `v − U∞`).
 pub fn windy() -> Fluid {
@@ -114,17 +115,9 @@ pub fn rods() -> (Model, Vec<f64>) {
 
 /// Unit normal of triangle `t` at `q`.
 pub fn normal(q: &[f64], t: [usize; 3]) -> [f64; 3] {
-    let p = |i: usize| [q[3 * i], q[3 * i + 1], q[3 * i + 2]];
-    let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
-    let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let n = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-    n.map(|x| x / l)
+    let p = |i: usize| Vector3::new(q[3 * i], q[3 * i + 1], q[3 * i + 2]);
+    let n = (p(t[1]) - p(t[0])).cross(&(p(t[2]) - p(t[0]))).normalize();
+    [n.x, n.y, n.z]
 }
 
 /// Shift the velocities of triangle `t`'s nodes along its normal so that the relative mean
