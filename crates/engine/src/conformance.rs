@@ -151,17 +151,27 @@ impl Case {
 }
 
 /// Run `check` on `trials` fresh cases, each committed at one random draw and handed
-/// another.
-fn trials(build: &dyn Fn() -> Case, seed: u64, check: impl Fn(&Case, &[f64], &[f64], usize)) {
+/// another; `check` returns the error it measured, and the worst is printed (visible with
+/// `--nocapture`) under `what`.
+fn trials(
+    build: &dyn Fn() -> Case,
+    seed: u64,
+    what: &str,
+    check: impl Fn(&Case, &[f64], &[f64], usize) -> f64,
+) {
     let mut rng = Rng::new(seed);
     let n = build().trials;
+    let mut worst = 0.0f64;
+    let mut name = String::new();
     for trial in 0..n {
         let mut case = build();
         let (q_mid, _) = case.draw(&mut rng);
         case.force.commit(&q_mid);
         let (q, v) = case.draw(&mut rng);
-        check(&case, &q, &v, trial);
+        worst = worst.max(check(&case, &q, &v, trial));
+        name = case.force.name().to_string();
     }
+    eprintln!("{name}: {what}: worst {worst:.2e} over {n} trials");
 }
 
 fn max_abs(a: &[f64]) -> f64 {
@@ -171,7 +181,7 @@ fn max_abs(a: &[f64]) -> f64 {
 /// The force equals `−∇E` when it has an energy; it has one exactly when it says it is
 /// conservative.
 pub fn check_energy_gradient(build: &dyn Fn() -> Case) {
-    trials(build, 1, |case, q, v, trial| {
+    trials(build, 1, "force vs −∇E", |case, q, v, trial| {
         let f = case.force();
         let has_energy = f.energy(q).is_some();
         assert_eq!(
@@ -181,7 +191,7 @@ pub fn check_energy_gradient(build: &dyn Fn() -> Case) {
             f.name()
         );
         if !has_energy {
-            return;
+            return 0.0;
         }
         let n = q.len();
         let (force, _, _) = dense_eval(f, q, v);
@@ -201,15 +211,17 @@ pub fn check_energy_gradient(build: &dyn Fn() -> Case) {
             "{} trial {trial}: force vs −∇E error {err:.3e}",
             f.name()
         );
+        err
     });
 }
 
 /// `∂F/∂q`, `∂F/∂v` against central differences; undeclared Jacobians vanish.
 pub fn check_jacobians(build: &dyn Fn() -> Case) {
-    trials(build, 2, |case, q, v, trial| {
+    trials(build, 2, "Jacobians vs FD", |case, q, v, trial| {
         let f = case.force();
         let kind = f.jacobian_kind();
         let (_, kq, kv) = dense_eval(f, q, v);
+        let mut worst = 0.0f64;
         for (declared, analytic, wrt_q, what) in [
             (kind.dq, &kq, true, "∂F/∂q"),
             (kind.dv, &kv, false, "∂F/∂v"),
@@ -222,15 +234,17 @@ pub fn check_jacobians(build: &dyn Fn() -> Case) {
                     "{} trial {trial}: {what} error {err:.3e}",
                     f.name()
                 );
+                worst = worst.max(err);
             } else {
-                let worst = max_abs(&fd);
+                let dep = max_abs(&fd);
                 assert!(
-                    worst == 0.0,
-                    "{} trial {trial}: {what} is not declared but F depends on it ({worst:.3e})",
+                    dep == 0.0,
+                    "{} trial {trial}: {what} is not declared but F depends on it ({dep:.3e})",
                     f.name()
                 );
             }
         }
+        worst
     });
 }
 
@@ -251,7 +265,7 @@ fn local_forces(f: &dyn Force, q: &[f64], v: &[f64], jacobian: bool) -> Vec<f64>
 
 /// The force-only path gives the full path's force to round-off.
 pub fn check_force_only_path(build: &dyn Fn() -> Case) {
-    trials(build, 3, |case, q, v, trial| {
+    trials(build, 3, "force-only vs full path", |case, q, v, trial| {
         let f = case.force();
         let full = local_forces(f, q, v, true);
         let only = local_forces(f, q, v, false);
@@ -265,18 +279,20 @@ pub fn check_force_only_path(build: &dyn Fn() -> Case) {
             "{} trial {trial}: force-only path differs by {diff:.3e} (|F| {scale:.3e})",
             f.name()
         );
+        diff / scale.max(f64::MIN_POSITIVE)
     });
 }
 
 /// Declared-symmetric Jacobians are symmetric to round-off.
 pub fn check_symmetry(build: &dyn Fn() -> Case) {
-    trials(build, 4, |case, q, v, trial| {
+    trials(build, 4, "asymmetry", |case, q, v, trial| {
         let f = case.force();
         if !f.jacobian_kind().symmetric {
-            return;
+            return 0.0;
         }
         let n = q.len();
         let (_, kq, kv) = dense_eval(f, q, v);
+        let mut worst = 0.0f64;
         for (k, what) in [(&kq, "∂F/∂q"), (&kv, "∂F/∂v")] {
             let scale = max_abs(k);
             for a in 0..n {
@@ -287,9 +303,11 @@ pub fn check_symmetry(build: &dyn Fn() -> Case) {
                         "{} trial {trial}: {what} not symmetric at ({a}, {b}): {d:.3e}",
                         f.name()
                     );
+                    worst = worst.max(d / scale);
                 }
             }
         }
+        worst
     });
 }
 
@@ -300,29 +318,35 @@ fn bits(v: &[f64]) -> Vec<u64> {
 /// The history of a committed force, restored on a freshly built one, reproduces its
 /// evaluations bit for bit; a history of the wrong length is an error naming the force.
 pub fn check_history_round_trip(build: &dyn Fn() -> Case) {
-    trials(build, 5, |case, q, v, trial| {
-        let a = case.force();
-        let h = a.history();
-        let mut fresh = build();
-        let b = fresh.force.as_mut();
-        let mut longer = h.clone();
-        longer.push(0.0);
-        let err = b
-            .restore_history(&longer)
-            .expect_err("a history of the wrong length must be refused");
-        assert!(err.to_string().contains(b.name()), "{err}");
-        b.restore_history(&h)
-            .unwrap_or_else(|e| panic!("trial {trial}: {e}"));
-        assert_eq!(bits(&b.history()), bits(&h), "{}: history", a.name());
-        let (fa, qa, va) = dense_eval(a, q, v);
-        let (fb, qb, vb) = dense_eval(b, q, v);
-        let name = a.name();
-        assert_eq!(bits(&fa), bits(&fb), "{name} trial {trial}: force");
-        assert_eq!(bits(&qa), bits(&qb), "{name} trial {trial}: ∂F/∂q");
-        assert_eq!(bits(&va), bits(&vb), "{name} trial {trial}: ∂F/∂v");
-        let e = |f: &dyn Force| f.energy(q).map(f64::to_bits);
-        assert_eq!(e(a), e(b), "{name} trial {trial}: energy");
-    });
+    trials(
+        build,
+        5,
+        "history round trip (bit differences)",
+        |case, q, v, trial| {
+            let a = case.force();
+            let h = a.history();
+            let mut fresh = build();
+            let b = fresh.force.as_mut();
+            let mut longer = h.clone();
+            longer.push(0.0);
+            let err = b
+                .restore_history(&longer)
+                .expect_err("a history of the wrong length must be refused");
+            assert!(err.to_string().contains(b.name()), "{err}");
+            b.restore_history(&h)
+                .unwrap_or_else(|e| panic!("trial {trial}: {e}"));
+            assert_eq!(bits(&b.history()), bits(&h), "{}: history", a.name());
+            let (fa, qa, va) = dense_eval(a, q, v);
+            let (fb, qb, vb) = dense_eval(b, q, v);
+            let name = a.name();
+            assert_eq!(bits(&fa), bits(&fb), "{name} trial {trial}: force");
+            assert_eq!(bits(&qa), bits(&qb), "{name} trial {trial}: ∂F/∂q");
+            assert_eq!(bits(&va), bits(&vb), "{name} trial {trial}: ∂F/∂v");
+            let e = |f: &dyn Force| f.energy(q).map(f64::to_bits);
+            assert_eq!(e(a), e(b), "{name} trial {trial}: energy");
+            0.0
+        },
+    );
 }
 
 /// Every check of this module.

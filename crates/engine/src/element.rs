@@ -183,7 +183,7 @@ impl<E: Element> Force for Family<E> {
 
 /// Stencils `[3i, 3i+1, 3i+2, 3j, …]` of the nodes of each element, flattened: the usual
 /// stencil of an element that acts on node positions only.
-pub(crate) fn node_stencils<const N: usize>(elements: &[[usize; N]]) -> Vec<usize> {
+pub fn node_stencils<const N: usize>(elements: &[[usize; N]]) -> Vec<usize> {
     elements
         .iter()
         .flat_map(|e| e.iter().flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]))

@@ -39,7 +39,7 @@
 //!
 //! Global error: with `err ≈ 1` every step, `h ≈ √(2 tol / |a|)`, and backward Euler's global
 //! error is `O(h) ∝ √tol` — a 4× tighter tolerance halves it (tested against the tanh fall
-//! in `tests/error_control.rs`).
+//! in `tests/solver/error_control.rs`).
 
 use super::implicit_euler::ImplicitEuler;
 use crate::error::{EngineError, InvalidModel, StepError};

@@ -38,12 +38,14 @@ force_conformance!(
     )
     .perturb(2.0)
     .velocities(10.0)
+    .trials(20)
 );
 force_conformance!(triangle_drag, {
     let (tris, q) = grid(3, 2.0);
     Case::new(TriangleDrag::new(&tris, 1.75, 0.5, &windy()), q)
         .perturb(0.4)
         .velocities(10.0)
+        .trials(20)
 });
 // One triangle sees the flow at normal speed s: exactly edge-on (s = 0), grazing, and on
 // either side of a reversal. The law is smooth there (F ∝ (N·u)³ N/(A³|u|_ε)).
@@ -64,6 +66,7 @@ force_conformance!(pressure_drag, {
     Case::new(PressureDrag::new(&tris, &q, 1.75, &windy()), q)
         .perturb(0.4)
         .velocities(10.0)
+        .trials(20)
 });
 // Every node of one triangle at normal speed ±s: |s| s has a kink in its second derivative
 // at 0, so central differences are exact only while h·|∂s/∂dof| < |s|; |s| ≥ 1e-3 with
