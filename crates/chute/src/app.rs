@@ -155,6 +155,8 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
         newton: engine::NewtonOptions {
             max_iterations: s.time.newton_max_iterations,
             force_tol_abs: s.time.newton_tolerance_n,
+            // The default absolute tolerance is 1e-9 of the total weight (+ 1 N).
+            reference_acceleration: s.fluid.gravity_mps2,
             force_tol_rel: s
                 .time
                 .newton_relative_tolerance
@@ -163,16 +165,9 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
                 .time
                 .newton_step_tolerance_m
                 .unwrap_or(engine::NewtonOptions::default().step_tol),
-            reuse_jacobian: true,
-            // Cholesky of ½(J + Jᵀ) instead of LU of J (drag is the only skew part); exact LU
-            // when it does not contract. docs/performance.md has the measurements.
-            symmetric_approx: true,
-            // A solve whose residual grows 1e4× is abandoned at once (dt is halved) instead of
-            // using its 25 iterations: converging solves grow it by ≤ ~100×.
-            divergence_limit: 1e4,
-            // Extrapolating predictor while it helps (engine::Predictor::Adaptive).
-            predictor: engine::Predictor::Adaptive,
-            ..Default::default()
+            // Modified Newton, Cholesky of ½(J + Jᵀ), divergence limit, adaptive predictor
+            // (docs/performance.md has the measurements).
+            ..engine::NewtonOptions::recommended()
         },
         air_density: s.fluid.density_kg_m3,
         air_viscosity: s.fluid.viscosity_pa_s,

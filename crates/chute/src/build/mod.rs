@@ -15,10 +15,10 @@ pub struct Built {
     pub triangles: Vec<[usize; 3]>,
     /// Line segments drawn and written to VTK (rod canopy edges, suspension lines).
     pub segments: Vec<[usize; 2]>,
-    /// Indices into `model.forces` of the drag families.
-    pub drag_forces: Vec<usize>,
-    /// Index into `model.forces` of the triangle drag family (per-triangle output).
-    pub triangle_drag: Option<usize>,
+    /// The drag families.
+    pub drag_forces: Vec<engine::ForceId>,
+    /// The triangle drag family (per-triangle output).
+    pub triangle_drag: Option<engine::ForceId>,
     /// Total weight of everything that falls (N).
     pub total_weight_n: f64,
     /// Weight of the canopy alone (N).
@@ -86,7 +86,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
     q.resize(layout.len(), 0.0);
     let handles = plan.rods.install(&mut model, &q, 0)?;
     if let Some(tri) = &geo.tri_mesh {
-        engine::shell::install(tri, &canopy::shell_material(s), &mut model, &q);
+        engine::shell::install(tri, &canopy::shell_material(s), &mut model, &q)?;
     }
     plan.add_masses_and_loads(s, &mut model);
     let g = s.fluid.gravity_mps2;

@@ -42,7 +42,7 @@ pub fn shell_model(m: &CanopyMesh, mat: &ShellMaterial) -> Result<(Model, Vec<f6
     let q = m.q();
     let tri = m.tri_mesh().map_err(|e| e.to_string())?;
     let mut model = Model::new(DofLayout::new(m.n_nodes(), 0));
-    install(&tri, mat, &mut model, &q);
+    install(&tri, mat, &mut model, &q).map_err(|e| e.to_string())?;
     Ok((model, q))
 }
 

@@ -2,7 +2,7 @@
 //! Cholesky factors of its symmetric part, reaches the requested relative residual and
 //! agrees with a dense LU solve of `A`.
 
-use engine::linsolve::{Factorization, LinearSolver};
+use super::{Factorization, LinearSolver};
 use nalgebra::{DMatrix, DVector};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
@@ -89,4 +89,28 @@ fn krylov_correction_solves_the_nonsymmetric_system() {
         let err = (DVector::from_column_slice(&x) - &exact).norm() / exact.norm();
         assert!(err <= 1e-8, "skew {skew}: differs from dense LU by {err:e}");
     }
+}
+
+/// `LinearSolver::new` checks the CSC invariants faer's unchecked constructor relies on.
+#[test]
+fn malformed_patterns_are_refused() {
+    use crate::error::{EngineError, SparseError};
+    let cases: [(&[usize], &[usize]); 5] = [
+        (&[0, 2, 3], &[1, 0, 1]), // rows not increasing in column 0
+        (&[0, 1, 1], &[0, 0]),    // last pointer short of the row indices
+        (&[0, 2, 1], &[0, 1]),    // pointers decrease
+        (&[0, 1, 2], &[0, 2]),    // row out of range
+        (&[0, 1], &[0]),          // wrong number of pointers
+    ];
+    for (col_ptr, row_idx) in cases {
+        let err = LinearSolver::new(2, col_ptr, row_idx, true).err();
+        assert!(
+            matches!(
+                err,
+                Some(EngineError::Symbolic(SparseError::InvalidPattern(_)))
+            ),
+            "{col_ptr:?} {row_idx:?}: {err:?}"
+        );
+    }
+    assert!(LinearSolver::new(2, &[0, 2, 4], &[0, 1, 0, 1], true).is_ok());
 }

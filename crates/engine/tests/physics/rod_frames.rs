@@ -2,7 +2,7 @@
 //! twist reproduce the exact holonomy of parallel transport.
 use engine::rod::frames::{perpendicular, space_parallel_frames};
 use engine::rod::{BendTwist, BendTwistElement};
-use engine::vec3::V3;
+type V3 = nalgebra::Vector3<f64>;
 use engine::Force;
 use std::f64::consts::{PI, TAU};
 

@@ -1,7 +1,9 @@
-//! TriMesh topology and its errors; lumped masses; rigid motions give zero elastic force.
+//! TriMesh topology and its errors; lumped masses; rigid motions give zero elastic force;
+//! the dihedral angle's value and sign.
 use engine::fdcheck::dense_eval;
+use engine::shell::dihedral::{angle, angle_grad_hess};
 use engine::shell::{install, MeshError, ShellMaterial, TriMesh};
-use engine::vec3::V3;
+type V3 = nalgebra::Vector3<f64>;
 use engine::{DofLayout, Model};
 use nalgebra::{Rotation3, Unit};
 use rand::{rngs::StdRng, Rng, SeedableRng};
@@ -91,7 +93,7 @@ fn install_adds_named_forces_and_lumped_mass() {
         thickness: 2e-3,
         density: 1500.0,
     };
-    install(&m, &mat, &mut model, &q5);
+    install(&m, &mat, &mut model, &q5).unwrap();
     let names: Vec<&str> = model.forces.iter().map(|f| f.name()).collect();
     assert_eq!(names, ["shell-stretch", "shell-bend"]);
     // ρ h A = 1500 · 0.002 · 1 = 3 kg, a third of each face to each vertex.
@@ -133,7 +135,7 @@ fn rigid_motions_give_zero_elastic_force() {
         density: 1000.0,
     };
     let mut model = Model::new(DofLayout::new(n * n, 0));
-    install(&mesh, &mat, &mut model, &q_rest);
+    install(&mesh, &mat, &mut model, &q_rest).unwrap();
     let axis = Unit::new_normalize(V3::new(0.3, -0.5, 0.8));
     let rot = Rotation3::from_axis_angle(&axis, 2.1);
     let shift = V3::new(3.0, -1.0, 7.0);
@@ -159,4 +161,38 @@ fn rigid_motions_give_zero_elastic_force() {
             assert!(worst < 1e-12 * scale, "{}: |F| = {worst:e}", f.name());
         }
     }
+}
+
+/// A hinge with edge on the x axis, wing A in the z = 0 plane (+y side) and wing B rotated
+/// by `alpha` about the edge away from face A's normal (+z), so that θ = alpha.
+fn hinge_at(alpha: f64) -> [V3; 4] {
+    [
+        V3::new(0.0, 0.0, 0.0),
+        V3::new(1.0, 0.0, 0.0),
+        V3::new(0.3, 0.8, 0.0),
+        V3::new(0.6, -1.1 * alpha.cos(), -1.1 * alpha.sin()),
+    ]
+}
+
+#[test]
+fn dihedral_angle_has_the_documented_value_and_sign() {
+    use std::f64::consts::PI;
+    for &alpha in &[
+        0.0,
+        1e-4,
+        -1e-4,
+        0.7,
+        -0.7,
+        2.5,
+        -2.5,
+        PI - 1e-3,
+        -(PI - 1e-3),
+    ] {
+        let th = angle(&hinge_at(alpha));
+        assert!((th - alpha).abs() < 1e-13, "alpha {alpha}: θ = {th}");
+    }
+    // Exactly flat: θ = 0 and the gradient is finite.
+    let (th, g, h) = angle_grad_hess(&hinge_at(0.0));
+    assert_eq!(th, 0.0);
+    assert!(g.iter().chain(h.iter()).all(|x| x.is_finite()));
 }

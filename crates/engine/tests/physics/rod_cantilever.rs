@@ -6,6 +6,7 @@ use engine::reference::cantilever::{
     cantilever, elastica, end_moment, self_weight, tip_load, Cantilever, BISSHOPP_DRUCKER,
 };
 use engine::rod::{RodSpec, Section};
+use engine::Force;
 
 const L: f64 = 1.0;
 const N: usize = 51;
@@ -139,4 +140,20 @@ fn elastica_shooting_matches_the_table() {
         println!("α = {alpha}: w/L = {w:.7} ({w_ref}), (L−x)/L = {u:.7} ({u_ref})");
         assert!((w - w_ref).abs() < 1e-5 && (u - u_ref).abs() < 1e-5);
     }
+}
+
+#[test]
+fn planar_edge_moment_unwraps_across_pi() {
+    // An edge turning through φ = π keeps a continuous angle once committed on the way.
+    let mut m = engine::loads::PlanarEdgeMoment::new(0, 1, 1.0);
+    let mut last = 0.0;
+    for k in 0..=40 {
+        let phi = 1.2 * std::f64::consts::PI * k as f64 / 40.0;
+        let q = [0.0, 0.0, 0.0, phi.cos(), 0.0, phi.sin()];
+        let e = -m.energy(&q).unwrap();
+        assert!((e - phi).abs() < 1e-12, "φ = {phi}, got {e}");
+        m.commit(&q);
+        last = e;
+    }
+    assert!(last > std::f64::consts::PI);
 }

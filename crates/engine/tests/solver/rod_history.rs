@@ -71,7 +71,10 @@ fn wrong_history_length_is_an_error_not_a_panic() {
     let mut a = whipped();
     for f in a.model.forces.iter_mut() {
         let n = f.history().len();
-        let err = f.restore_history(&vec![0.0; n + 1]).unwrap_err();
+        let err = f
+            .restore_history(&vec![0.0; n + 1])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains(f.name()), "{err}");
     }
 }
