@@ -28,7 +28,7 @@ function decodeUint32(b64) { const b = decodeBytes(b64); return new Uint32Array(
 function loadRun() {
   const raw = JSON.parse(document.getElementById("chute-data").textContent);
   const run = { name: raw.name, results: raw.results, notes: raw.notes.slice(), toml: raw.scenario_toml,
-    summary: raw.summary, frames: null, series: null };
+    terminal: raw.terminal_velocity_mps, frames: null, series: null };
   if (raw.series) {
     run.series = { t: decodeFloat32(raw.series.t), vz: decodeFloat32(raw.series.vz), h: decodeFloat32(raw.series.h) };
   }
@@ -37,7 +37,7 @@ function loadRun() {
     const fr = { nodes: f.nodes, times: f.times, total: f.total,
       triangles: decodeUint32(f.triangles), segments: decodeUint32(f.segments),
       roles: f.roles ? decodeBytes(f.roles) : null,
-      positions: decodeFloat32(f.positions), speeds: decodeFloat32(f.speeds) };
+      positions: absolutePositions(decodeFloat32(f.positions), f.origins, f.nodes), speeds: decodeFloat32(f.speeds) };
     fr.isCanopy = (i) => !fr.roles || fr.roles[i] === ROLE_CANOPY || fr.roles[i] === ROLE_LOAD_SITE;
     fr.canopyNodes = [];
     for (let i = 0; i < fr.nodes; i++) if (fr.isCanopy(i)) fr.canopyNodes.push(i);
@@ -45,6 +45,16 @@ function loadRun() {
     run.frames = fr;
   }
   return run;
+}
+
+// Frames are embedded as Float32 offsets from a per-frame origin (Float64 in the JSON), so
+// positions keep their precision however far the canopy has fallen; here they become Float64.
+function absolutePositions(offsets, origins, nodes) {
+  const out = new Float64Array(offsets.length);
+  for (let k = 0; k < origins.length; k++) {
+    for (let j = 3 * nodes * k; j < 3 * nodes * (k + 1); j++) out[j] = offsets[j] + origins[k][j % 3];
+  }
+  return out;
 }
 
 // Bounding box of frame k over `nodes` (all nodes when null).
@@ -111,15 +121,19 @@ function fieldValues(fr, field, k) {
   return null;
 }
 
-// Colour scale of a field over all embedded frames, so colours compare across time.
+// Colour scale of a field over all embedded frames, so colours compare across time: from 0
+// to the largest value (speed, height); for strain from the 0.5th to the 99.5th percentile,
+// so a few extreme cells do not leave the rest of the canopy one colour.
 function fieldRange(fr, field) {
-  let lo = Infinity, hi = -Infinity;
+  const all = [];
   for (let k = 0; k < fr.times.length; k++) {
     const v = fieldValues(fr, field, k);
-    const lists = field === "strain" ? [v.tri, v.seg] : [fr.canopyNodes.map((i) => v[i])];
-    for (const list of lists) for (const x of list) { if (x < lo) lo = x; if (x > hi) hi = x; }
+    if (field === "strain") { for (const x of v.tri) all.push(x); for (const x of v.seg) all.push(x); }
+    else for (const i of fr.canopyNodes) all.push(v[i]);
   }
-  if (field !== "strain") lo = 0;
+  all.sort((a, b) => a - b);
+  const at = (q) => all[Math.min(all.length - 1, Math.floor(q * all.length))];
+  let lo = field === "strain" ? Math.min(0, at(0.005)) : 0, hi = field === "strain" ? at(0.995) : all[all.length - 1];
   if (!(hi > lo)) hi = lo + 1e-9;
   return [lo, hi];
 }
@@ -158,14 +172,17 @@ function transform(m, p) {
 
 // ---------- geometry for one frame ----------
 
-// Growable vertex list: position, normal, colour per vertex.
-function vertexList() {
-  return { data: [], push(p, n, c) { this.data.push(p[0], p[1], p[2], n[0], n[1], n[2], c[0], c[1], c[2]); } };
+// Growable vertex list: position (relative to `origin`, the view target, so Float32 on the
+// GPU stays precise far from the world origin), normal, colour per vertex.
+function vertexList(origin) {
+  return { data: [], push(p, n, c) {
+    this.data.push(p[0] - origin[0], p[1] - origin[1], p[2] - origin[2], n[0], n[1], n[2], c[0], c[1], c[2]);
+  } };
 }
 
 // The canopy surface: flat-shaded triangles (robust to meshes of mixed orientation).
-function surfaceGeometry(fr, k, colourOf) {
-  const out = vertexList(), t = fr.triangles;
+function surfaceGeometry(fr, k, colourOf, origin) {
+  const out = vertexList(origin), t = fr.triangles;
   for (let j = 0; j < t.length / 3; j++) {
     const ids = [t[3 * j], t[3 * j + 1], t[3 * j + 2]], p = ids.map((i) => nodePos(fr, k, i));
     const n = normalise(cross(sub(p[1], p[0]), sub(p[2], p[0])));
@@ -212,8 +229,8 @@ function pushSphere(out, centre, radius, colour) {
 }
 
 // Tubes for the segments, spheres for the payload and the load sites.
-function detailGeometry(fr, k, colourOf) {
-  const out = vertexList(), s = fr.segments, r = 0.004 * fr.span;
+function detailGeometry(fr, k, colourOf, origin) {
+  const out = vertexList(origin), s = fr.segments, r = 0.004 * fr.span;
   for (let j = 0; j < s.length / 2; j++) {
     const a = s[2 * j], b = s[2 * j + 1];
     const canopy = fr.isCanopy(a) && fr.isCanopy(b);
@@ -246,12 +263,11 @@ function colouring(fr, field, k, range) {
 
 const VERTEX_SHADER = `
 attribute vec3 aPosition; attribute vec3 aNormal; attribute vec3 aColour;
-uniform mat4 uViewProjection; uniform vec3 uOrigin;
+uniform mat4 uViewProjection;
 varying vec3 vNormal; varying vec3 vColour; varying vec3 vWorld;
 void main() {
   vNormal = aNormal; vColour = aColour; vWorld = aPosition;
-  // Positions relative to the view target keep float precision far from the origin.
-  gl_Position = uViewProjection * vec4(aPosition - uOrigin, 1.0);
+  gl_Position = uViewProjection * vec4(aPosition, 1.0);
 }`;
 const FRAGMENT_SHADER = `
 precision mediump float;
@@ -284,7 +300,7 @@ function createRenderer(canvas) {
   const loc = (n) => gl.getUniformLocation(prog, n);
   return { gl, prog, buffer: gl.createBuffer(),
     attrs: ["aPosition", "aNormal", "aColour"].map((n) => gl.getAttribLocation(prog, n)),
-    uViewProjection: loc("uViewProjection"), uOrigin: loc("uOrigin"), uLight: loc("uLight"), uLit: loc("uLit") };
+    uViewProjection: loc("uViewProjection"), uLight: loc("uLight"), uLit: loc("uLit") };
 }
 
 // Draw interleaved vertices as `mode` primitives; returns the number of vertices drawn.
@@ -302,7 +318,7 @@ function drawVertices(r, data, mode, lit) {
 
 // A horizontal grid under the lowest node, fixed in x and y, so drift shows against it.
 function gridGeometry(fr, box) {
-  const step = niceStep(fr.span / 4), half = 3 * fr.span, z = box.lo[2] - 0.02 * fr.span, out = vertexList();
+  const step = niceStep(fr.span / 4), half = 3 * fr.span, z = box.lo[2] - 0.02 * fr.span, out = vertexList(box.centre);
   const c = [0.78, 0.78, 0.76], n = [0, 0, 1];
   const x0 = Math.floor((box.centre[0] - half) / step) * step, y0 = Math.floor((box.centre[1] - half) / step) * step;
   const lines = Math.ceil((2 * half) / step);
@@ -346,12 +362,11 @@ function drawScene(app) {
   const vp = multiply(perspective(Math.PI / 4.5, canvas.width / canvas.height, dist / 100, dist * 100), view);
   gl.useProgram(r.prog);
   gl.uniformMatrix4fv(r.uViewProjection, false, new Float32Array(vp));
-  gl.uniform3fv(r.uOrigin, new Float32Array(box.centre));
   // A light over the viewer's left shoulder.
   gl.uniform3fv(r.uLight, new Float32Array(normalise([0, 1, 2].map((c) => cf.dir[c] + 0.6 * cf.up[c] - 0.4 * cf.right[c]))));
   const colourOf = colouring(fr, st.field, k, app.range(st.field));
-  const triangles = drawVertices(r, surfaceGeometry(fr, k, colourOf), gl.TRIANGLES, true) / 3;
-  drawVertices(r, detailGeometry(fr, k, colourOf), gl.TRIANGLES, true);
+  const triangles = drawVertices(r, surfaceGeometry(fr, k, colourOf, box.centre), gl.TRIANGLES, true) / 3;
+  drawVertices(r, detailGeometry(fr, k, colourOf, box.centre), gl.TRIANGLES, true);
   drawVertices(r, gridGeometry(fr, box), gl.LINES, false);
   canvas.dataset.drawnTime = String(fr.times[k]);
   canvas.dataset.drawnFrame = String(k);
@@ -444,8 +459,8 @@ function drawChart(canvas, xs, ys, opts) {
 }
 
 function drawCharts(app) {
-  const s = app.run.series, sum = app.run.summary, t = app.run.frames ? app.run.frames.times[app.state.frame] : undefined;
-  const ref = sum && sum.reached_terminal ? sum.terminal_velocity_mps : undefined;
+  const s = app.run.series, t = app.run.frames ? app.run.frames.times[app.state.frame] : undefined;
+  const ref = app.run.terminal === null ? undefined : app.run.terminal;
   drawChart(document.getElementById("chart-vz"), s && s.t, s && s.vz,
     { title: "canopy vz (m/s) vs t (s)" + (ref !== undefined ? "; dashed: v_t" : ""), unit: "m/s", cursor: t, ref });
   drawChart(document.getElementById("chart-h"), s && s.t, s && s.h,
@@ -480,10 +495,16 @@ function seek(app, t, fromHash) {
   app.state.playing = false;
   app.state.frame = nearestFrame(fr.times, t);
   app.state.time = fr.times[app.state.frame];
-  if (!fromHash) history.replaceState(null, "", "#t=" + app.state.time);
+  if (!fromHash) rememberTime(app);
   render(app);
   // One line per opened link, so a headless test can see that console output reaches it.
   if (fromHash) console.log("chute-viewer: drew t = " + app.state.time + " s, " + app.canvas.dataset.drawnTriangles + " triangles");
+}
+
+// Put the shown time (and a colour other than the default) in the address, for links.
+function rememberTime(app) {
+  const field = app.state.field === "height" ? "" : "&colour=" + app.state.field;
+  history.replaceState(null, "", "#t=" + app.run.frames.times[app.state.frame] + field);
 }
 
 function hashTime() {
@@ -492,12 +513,18 @@ function hashTime() {
   return isFinite(t) ? t : null;
 }
 
+// The colour field named in the address (#…&colour=strain), if it is one of the choices.
+function hashField() {
+  const m = /(?:^#|&)colou?r=([a-z]+)/.exec(window.location.hash);
+  return m && ["height", "speed", "strain", "none"].includes(m[1]) ? m[1] : null;
+}
+
 function togglePlay(app) {
   const fr = app.run.frames;
   if (!fr) return;
   app.state.playing = !app.state.playing;
   if (app.state.playing && app.state.frame === fr.times.length - 1) { app.state.frame = 0; app.state.time = fr.times[0]; }
-  if (!app.state.playing) history.replaceState(null, "", "#t=" + fr.times[app.state.frame]);
+  if (!app.state.playing) rememberTime(app);
   app.dirty = true;
 }
 
@@ -540,9 +567,13 @@ function bindControls(app) {
   byId("play").addEventListener("click", () => togglePlay(app));
   byId("slider").addEventListener("input", (e) => seek(app, fr.times[Number(e.target.value)]));
   byId("speed").addEventListener("change", (e) => { app.state.speed = Number(e.target.value); });
-  byId("field").addEventListener("change", (e) => { app.state.field = e.target.value; updateLegend(app); app.dirty = true; });
+  byId("field").addEventListener("change", (e) => {
+    app.state.field = e.target.value; updateLegend(app); app.dirty = true;
+    if (!app.state.playing && fr) rememberTime(app);
+  });
   document.addEventListener("keydown", (e) => {
-    if (e.code === "Space" && e.target.tagName !== "SELECT") { e.preventDefault(); togglePlay(app); }
+    // A focused button or list handles space itself (the play button would toggle twice).
+    if (e.code === "Space" && !["BUTTON", "SELECT"].includes(e.target.tagName)) { e.preventDefault(); togglePlay(app); }
   });
   for (const id of ["chart-vz", "chart-h"]) {
     const chart = byId(id);
@@ -550,7 +581,12 @@ function bindControls(app) {
     chart.addEventListener("pointerdown", pick);
     chart.addEventListener("pointermove", pick);
   }
-  window.addEventListener("hashchange", () => { const t = hashTime(); if (t !== null) seek(app, t, true); });
+  window.addEventListener("hashchange", () => {
+    const f = hashField();
+    if (f) { app.state.field = f; byId("field").value = f; updateLegend(app); }
+    const t = hashTime();
+    if (t !== null) seek(app, t, true); else app.dirty = true;
+  });
   window.addEventListener("resize", () => { app.dirty = true; });
 }
 
@@ -563,8 +599,8 @@ function updateLegend(app) {
   document.getElementById("legend-title").textContent = {
     height: "height above the lowest canopy node", speed: "node speed |v|",
     strain: "largest principal strain (vs t = 0)" }[field];
-  document.getElementById("legend-lo").textContent = formatNumber(pct ? 100 * lo : lo) + unit;
-  document.getElementById("legend-hi").textContent = formatNumber(pct ? 100 * hi : hi) + unit;
+  document.getElementById("legend-lo").textContent = Number((pct ? 100 * lo : lo).toPrecision(3)) + unit;
+  document.getElementById("legend-hi").textContent = Number((pct ? 100 * hi : hi).toPrecision(3)) + unit;
 }
 
 function fillPanels(run) {
@@ -610,6 +646,8 @@ function main() {
     document.getElementById("overlay").textContent = "no frames to show";
     canvas.dataset.drawnTriangles = "0";
   }
+  const field = hashField();
+  if (field) { app.state.field = field; document.getElementById("field").value = field; }
   bindControls(app);
   updateLegend(app);
   const t = hashTime();

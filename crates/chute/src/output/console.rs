@@ -21,7 +21,10 @@ pub fn not_reached_reason(s: &Summary) -> Option<String> {
             "run too short to judge (too few samples in the final {:.0} %)",
             100.0 * FINAL_WINDOW_FRACTION
         )
-    } else if warned("canopy is not descending") || speed == 0.0 || !speed.is_finite() {
+    } else if warned("canopy is not descending")
+        || s.terminal_velocity_mps >= 0.0
+        || s.terminal_velocity_mps.is_nan()
+    {
         "the canopy is not descending".to_string()
     } else {
         let std = 100.0 * s.terminal_velocity_std_mps / speed;

@@ -189,24 +189,7 @@ pub fn velocity_plot(
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
         }
         if let TerminalMark::NotReached { reason } = mark {
-            // Lower left, on a white box: a falling vz(t) leaves that corner empty.
-            let font = (FONT, 18).into_font().color(&RGBColor(150, 40, 0));
-            let x = (Y_LABEL_AREA + MARGIN + 16) as i32;
-            let y = (PLOT_SIZE.1 - X_LABEL_AREA - MARGIN - 64) as i32;
-            let width = 18 * reason.chars().count().max(30) as i32 / 2 + 16;
-            root.draw(&Rectangle::new(
-                [(x - 8, y - 8), (x + width, y + 48)],
-                WHITE.mix(0.9).filled(),
-            ))
-            .map_err(de)?;
-            root.draw(&Text::new(
-                "terminal velocity not reached:",
-                (x, y),
-                font.clone(),
-            ))
-            .map_err(de)?;
-            root.draw(&Text::new(reason.to_string(), (x, y + 24), font))
-                .map_err(de)?;
+            draw_not_reached(root, reason)?;
         }
         if let Some(tt) = time_to_terminal {
             let style = BLACK.stroke_width(2);
@@ -224,6 +207,33 @@ pub fn velocity_plot(
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], line));
         draw_legend(&mut chart)
     })
+}
+
+/// The "terminal velocity not reached" note, lower left on a white box: a falling vz(t)
+/// leaves that corner empty. Dark orange, not the red of the v_t line, so it cannot pass for
+/// one.
+fn draw_not_reached<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    reason: &str,
+) -> Result<(), PlotError> {
+    let font = (FONT, 18).into_font().color(&RGBColor(150, 40, 0));
+    let x = (Y_LABEL_AREA + MARGIN + 16) as i32;
+    let y = (PLOT_SIZE.1 - X_LABEL_AREA - MARGIN - 64) as i32;
+    let width = 18 * reason.chars().count().max(30) as i32 / 2 + 16;
+    let background = WHITE.mix(0.9).filled();
+    root.draw(&Rectangle::new(
+        [(x - 8, y - 8), (x + width, y + 48)],
+        background,
+    ))
+    .map_err(de)?;
+    root.draw(&Text::new(
+        "terminal velocity not reached:",
+        (x, y),
+        font.clone(),
+    ))
+    .map_err(de)?;
+    root.draw(&Text::new(reason.to_string(), (x, y + 24), font))
+        .map_err(de)
 }
 
 fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
@@ -294,7 +304,7 @@ pub fn shape_plot(path: &Path, title: &str, scene: &ShapeScene<'_>) -> Result<()
         scene3d::draw_view(&panel, scene, &View::oblique(), None).map_err(PlotError::Draw)?;
         let (pw, ph) = panel.dim_in_pixel();
         let bar_h = (ph as i32 / 3).max(40);
-        scene3d::draw_colour_bar(&panel, scene, (pw as i32 - 110, 40, bar_h))
+        scene3d::draw_colour_bar(&panel, scene, (pw as i32 - 180, 40, bar_h))
             .map_err(PlotError::Draw)?;
         scene3d::draw_triad(&panel, &View::oblique(), (50, ph as i32 - 50))
             .map_err(PlotError::Draw)?;

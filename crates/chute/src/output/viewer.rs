@@ -4,7 +4,8 @@
 //!
 //! The page is the template `assets/viewer/viewer.html` with the stylesheet, the script and
 //! the data (one JSON block) put in. Frames are embedded as base64 little-endian Float32:
-//! positions (3 per node) and speeds |v| (1 per node); above [`MAX_FRAME_BYTES`] of frame
+//! positions (3 per node, offsets from the frame's centre, which is given in full) and speeds
+//! |v| (1 per node); above [`MAX_FRAME_BYTES`] of frame
 //! data only every k-th frame is kept (the first and the last always). docs/outputs.md
 //! §viewer.html describes the page and its test hooks.
 
@@ -122,7 +123,7 @@ fn frames_json(
     if mesh.roles.is_none() {
         notes.push("the frames carry no node roles (an older chute wrote them): load sites and payload are not marked".into());
     }
-    let (mut pos, mut speed, mut times) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut offsets, mut origins, mut speed, mut times) = (vec![], vec![], vec![], vec![]);
     for &i in &keep {
         let (t, path) = &list[i];
         let (m, state) = run_dir::read_frame(path)?;
@@ -136,7 +137,16 @@ fn frames_json(
             });
         }
         times.push(*t);
-        pos.extend(state.positions.iter().flatten().copied());
+        // Float32 offsets from the frame's centre keep ~1e-7 of the canopy size however far
+        // it has fallen; the centre itself is exact in the JSON.
+        let origin = centre(&state.positions);
+        origins.push(origin);
+        offsets.extend(
+            state
+                .positions
+                .iter()
+                .flat_map(|p| [0, 1, 2].map(|c| p[c] - origin[c])),
+        );
         speed.extend(
             state
                 .velocities
@@ -154,10 +164,30 @@ fn frames_json(
         "roles": roles,
         "times": times,
         "total": list.len(),
-        "positions": f32_base64(pos.into_iter()),
+        "origins": origins,
+        "positions": f32_base64(offsets.into_iter()),
         "speeds": f32_base64(speed.into_iter()),
     });
     Ok((value, list.len(), keep.len(), mesh.triangles.len()))
+}
+
+/// Centre of the bounding box of `points`.
+fn centre(points: &[[f64; 3]]) -> [f64; 3] {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    [0, 1, 2].map(|c| {
+        if lo[c] <= hi[c] {
+            0.5 * (lo[c] + hi[c])
+        } else {
+            0.0
+        }
+    })
 }
 
 /// The page for run directory `dir` and what it holds (`path` and `bytes` left empty).
@@ -181,9 +211,9 @@ pub fn viewer_html(dir: &Path, cap_bytes: usize) -> Result<(String, ViewerReport
             message: "not a run directory: no canopy.pvd, timeseries.csv or summary.json".into(),
         });
     }
-    let name = typed
+    let name = summary
         .as_ref()
-        .map(|s| s.scenario_name.clone())
+        .and_then(|s| s["scenario_name"].as_str().map(str::to_string))
         .or_else(|| dir.file_name().map(|n| n.to_string_lossy().into_owned()))
         .unwrap_or_else(|| "run".into());
     let results: Vec<Value> = typed
@@ -203,11 +233,17 @@ pub fn viewer_html(dir: &Path, cap_bytes: usize) -> Result<(String, ViewerReport
             "h": f32_base64(s.extended_height_m.into_iter()),
         })
     });
+    // Only what the page shows: the page must be a function of the run's results alone (the
+    // wall time in summary.json would make two identical runs' viewers differ).
+    let terminal = typed
+        .as_ref()
+        .filter(|s| s.reached_terminal)
+        .map(|s| s.terminal_velocity_mps);
     let data = json!({
         "format": 1,
         "name": name,
         "results": results,
-        "summary": summary,
+        "terminal_velocity_mps": terminal,
         "scenario_toml": toml,
         "frames": frames,
         "series": series,
