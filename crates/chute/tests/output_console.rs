@@ -193,3 +193,34 @@ fn default_output_is_for_people_and_quiet_is_quiet() {
     );
     assert!(dir.path().join("out/viewer.html").is_file());
 }
+
+#[test]
+fn a_summary_without_metrics_reads_back_and_prints_dashes() {
+    let mut s = summary();
+    s.terminal_velocity_mps = f64::NAN;
+    s.terminal_velocity_std_mps = f64::NAN;
+    s.max_extended_height_m = f64::NAN;
+    s.force_balance_error = f64::NAN;
+    s.horizontal_velocity_mps = [f64::NAN; 2];
+    s.reached_terminal = false;
+    s.time_to_terminal_s = None;
+    s.drag_area_m2 = None;
+    s.warnings = vec!["metrics unavailable: the time series is empty".into()];
+    let json = s.to_json();
+    assert!(json.contains("\"terminal_velocity_mps\": null"), "{json}");
+    let back: Summary = serde_json::from_str(&json).expect("nulls read back as NaN");
+    assert!(back.terminal_velocity_mps.is_nan() && back.horizontal_velocity_mps[1].is_nan());
+    assert_eq!(back.total_weight_n, 109.2);
+    let rows = key_results(&back);
+    assert_eq!(rows[0].1, "– (not computed: see the warnings)");
+    assert_eq!(
+        rows[1].1,
+        "no: the metrics could not be computed (see the warnings)"
+    );
+    assert_eq!(rows[4].1, "1.500 m at the end, – at most");
+    assert!(
+        rows[5].1.starts_with("|drag_z − W|/W = – (drag_z 108.9 N"),
+        "{}",
+        rows[5].1
+    );
+}

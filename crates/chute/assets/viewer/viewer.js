@@ -464,7 +464,7 @@ function drawCharts(app) {
   drawChart(document.getElementById("chart-vz"), s && s.t, s && s.vz,
     { title: "canopy vz (m/s) vs t (s)" + (ref !== undefined ? "; dashed: v_t" : ""), unit: "m/s", cursor: t, ref });
   drawChart(document.getElementById("chart-h"), s && s.t, s && s.h,
-    { title: "extended height h = max z − min z (m) vs t (s)", unit: "m", cursor: t, fromZero: true });
+    { title: "extended height h (m) vs t (s)", unit: "m", cursor: t, fromZero: true });
 }
 
 // ---------- playback and controls ----------

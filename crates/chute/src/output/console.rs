@@ -16,7 +16,9 @@ pub fn not_reached_reason(s: &Summary) -> Option<String> {
     }
     let warned = |prefix: &str| s.warnings.iter().any(|w| w.starts_with(prefix));
     let speed = s.terminal_velocity_mps.abs();
-    let reason = if warned("run too short") {
+    let reason = if warned("metrics unavailable") {
+        "the metrics could not be computed (see the warnings)".to_string()
+    } else if warned("run too short") {
         format!(
             "run too short to judge (too few samples in the final {:.0} %)",
             100.0 * FINAL_WINDOW_FRACTION
@@ -63,18 +65,32 @@ pub fn human_duration(s: f64) -> String {
     }
 }
 
+/// `x` in four significant figures with `unit`, or "–" when it is not a number (metrics a
+/// run could not compute are NaN).
+fn quantity(x: f64, unit: &str) -> String {
+    if x.is_finite() {
+        format!("{} {unit}", sig4(x))
+    } else {
+        "–".to_string()
+    }
+}
+
 /// The key results as (label, value) rows: terminal velocity (± its std), reached or why
 /// not, time to terminal, drag area, extended height, force balance.
 pub fn key_results(s: &Summary) -> Vec<(&'static str, String)> {
     let window = s.simulated_time_s - s.final_window_start_s;
     let mut rows = vec![(
         "terminal velocity",
-        format!(
-            "{} m/s ± {} m/s (mean and std of vz over the final {} s)",
-            sig4(s.terminal_velocity_mps),
-            sig4(s.terminal_velocity_std_mps),
-            sig4(window)
-        ),
+        if s.terminal_velocity_mps.is_finite() {
+            format!(
+                "{} ± {} (mean and std of vz over the final {})",
+                quantity(s.terminal_velocity_mps, "m/s"),
+                quantity(s.terminal_velocity_std_mps, "m/s"),
+                quantity(window, "s")
+            )
+        } else {
+            "– (not computed: see the warnings)".to_string()
+        },
     )];
     rows.push((
         "reached",
@@ -85,33 +101,31 @@ pub fn key_results(s: &Summary) -> Vec<(&'static str, String)> {
     ));
     rows.push((
         "time to terminal",
-        match s.time_to_terminal_s {
-            Some(t) => format!("{} s", sig4(t)),
-            None => "–".to_string(),
-        },
+        s.time_to_terminal_s
+            .map_or_else(|| "–".to_string(), |t| quantity(t, "s")),
     ));
     rows.push((
         "drag area C_D·A",
         match s.drag_area_m2 {
-            Some(a) => format!("{} m²", sig4(a)),
+            Some(a) => quantity(a, "m²"),
             None => "– (no descent)".to_string(),
         },
     ));
     rows.push((
         "extended height",
         format!(
-            "{} m at the end, {} m at most",
-            sig4(s.final_extended_height_m),
-            sig4(s.max_extended_height_m)
+            "{} at the end, {} at most",
+            quantity(s.final_extended_height_m, "m"),
+            quantity(s.max_extended_height_m, "m")
         ),
     ));
     rows.push((
         "force balance",
         format!(
-            "|drag_z − W|/W = {} % (drag_z {} N, W {} N)",
-            sig4(100.0 * s.force_balance_error),
-            sig4(s.mean_drag_z_n),
-            sig4(s.total_weight_n)
+            "|drag_z − W|/W = {} (drag_z {}, W {})",
+            quantity(100.0 * s.force_balance_error, "%"),
+            quantity(s.mean_drag_z_n, "N"),
+            quantity(s.total_weight_n, "N")
         ),
     ));
     rows
