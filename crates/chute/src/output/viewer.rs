@@ -105,7 +105,7 @@ fn frames_json(
         Vec::new()
     };
     if list.is_empty() {
-        notes.push("no frames in this run directory (output.frame_interval_s = 0?): only the charts are shown".into());
+        notes.push("no frames in this run directory: only the charts are shown".into());
         return Ok((Value::Null, 0, 0, 0));
     }
     let (mesh, _) = run_dir::read_frame(&list[0].1)?;
