@@ -36,6 +36,15 @@ pub enum Command {
     Validate(ValidateArgs),
     /// Time the solver on a ladder of mesh sizes.
     Bench(BenchArgs),
+    /// Write RUN_DIR/viewer.html: the run in 3-D in a browser (one offline file).
+    View(ViewArgs),
+}
+
+/// `chute view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// A run directory (as written by `chute run`).
+    pub run_dir: PathBuf,
 }
 
 /// `chute run`.
@@ -61,6 +70,12 @@ pub struct RunArgs {
     /// Resume from the checkpoint in this run directory (the default output directory).
     #[arg(long, value_name = "DIR")]
     pub resume: Option<PathBuf>,
+    /// Do not write viewer.html.
+    #[arg(long)]
+    pub no_viewer: bool,
+    /// Print summary.json on stdout (and nothing else there) instead of the summary for people.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `chute check`.
@@ -180,6 +195,7 @@ pub fn dispatch(cli: Cli) -> Result<(), AppError> {
             quick: a.quick,
             json: a.json,
         }),
+        Command::View(a) => cmd_view(&a),
     }
 }
 
@@ -309,14 +325,13 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
             return Err(e);
         }
     };
-    println!("run `{}` → {}", s.name, out.display());
-    if let Some(obj) = outcome.summary.as_object() {
-        let pairs: Vec<(String, String)> = obj
-            .iter()
-            .map(|(k, v)| (k.clone(), v.to_string()))
-            .collect();
-        print_pairs(&pairs);
+    if !a.no_viewer {
+        if let Err(e) = crate::output::viewer::write_viewer(&out) {
+            eprintln!("warning: viewer.html not written: {e}");
+        }
     }
+    crate::output::console::print_run_report(&out, &outcome.summary, a.json, a.quiet)
+        .map_err(|e| AppError::io(out.join("summary.json"), e))?;
     match (outcome.complete, outcome.message) {
         (true, Some(m)) => {
             eprintln!("warning: {m}");
@@ -331,6 +346,29 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
             out.display()
         ))),
     }
+}
+
+fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
+    use crate::output::run_dir::RunDirError;
+    if !a.run_dir.is_dir() {
+        return Err(AppError::Input(format!(
+            "`{}` is not a directory (give a run directory written by `chute run`)",
+            a.run_dir.display()
+        )));
+    }
+    let r = crate::output::viewer::write_viewer(&a.run_dir).map_err(|e| match e {
+        RunDirError::Io { path, source } => AppError::Io { path, source },
+        e @ RunDirError::Format { .. } => AppError::Input(e.to_string()),
+    })?;
+    println!(
+        "wrote {} ({} bytes: {} of {} frames, {} triangles)",
+        r.path.display(),
+        r.bytes,
+        r.frames_embedded,
+        r.frames_total,
+        r.triangles
+    );
+    Ok(())
 }
 
 fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {

@@ -264,6 +264,8 @@ impl Run {
     ) -> Result<Self, RunError> {
         let mut snaps = cfg.snapshots_s.clone();
         snaps.sort_by(f64::total_cmp);
+        let mut vtk = vtk;
+        vtk.set_roles(node_roles(built));
         Ok(Self {
             state: built.state.clone(),
             dt: DtPolicy::new(cfg)?,
@@ -408,13 +410,9 @@ impl Run {
             }
         }
         while self.snap_idx < snaps.len() && s.t >= snaps[self.snap_idx] - half {
-            let _ = plots::snapshot_plot(
-                out_dir,
-                snaps[self.snap_idx],
-                &self.obs.pos,
-                &b.triangles,
-                &b.segments,
-            );
+            let roles = node_roles(b);
+            let scene = shape_scene(b, &self.obs.pos, &roles);
+            let _ = plots::snapshot_plot(out_dir, snaps[self.snap_idx], &scene);
             self.snap_idx += 1;
         }
         Ok(())
@@ -431,9 +429,15 @@ impl Run {
         wall: &Instant,
     ) -> Result<RunResult, RunError> {
         let mut warnings = std::mem::take(&mut self.warnings);
-        for t in &self.snaps[self.snap_idx..] {
+        let missed = &self.snaps[self.snap_idx..];
+        if !missed.is_empty() {
+            // One warning for all of them: a short run with the default snapshot times would
+            // otherwise repeat the same sentence.
+            let times: Vec<String> = missed.iter().map(|t| format!("{t} s")).collect();
             warnings.push(format!(
-                "snapshot at {t} s not drawn: the run ended at {:.6} s",
+                "snapshot{} at {} not drawn: the run ended at {:.6} s",
+                if missed.len() > 1 { "s" } else { "" },
+                times.join(", "),
                 self.state.t
             ));
         }
@@ -441,13 +445,9 @@ impl Run {
         let complete = stop_reason.is_none();
         // The final state is always drawn, whether or not the run completed.
         self.obs.load(&self.state.q, &self.state.v);
-        let _ = plots::final_shape_plot(
-            out_dir,
-            self.state.t,
-            &self.obs.pos,
-            &built.triangles,
-            &built.segments,
-        );
+        let roles = node_roles(built);
+        let scene = shape_scene(built, &self.obs.pos, &roles);
+        let _ = plots::final_shape_plot(out_dir, self.state.t, &scene);
         let stepping = self.dt.stepping(cfg);
         built.state = self.state;
         let params = metrics::Params {
@@ -472,19 +472,27 @@ impl Run {
         };
         let summary = match metrics::compute(&dec.series(), &params) {
             Ok(m) => {
+                let summary = Summary::new(info, &m);
+                let reason = crate::output::console::not_reached_reason(&summary);
+                let mark = match &reason {
+                    None => plots::TerminalMark::Reached {
+                        v_mps: m.terminal_velocity_mps,
+                        time_to_terminal_s: m.time_to_terminal_s,
+                    },
+                    Some(r) => plots::TerminalMark::NotReached { reason: r },
+                };
                 let _ = plots::velocity_plot(
                     &out_dir.join("velocity.png"),
                     &dec.t_s,
                     &dec.vz_mps,
-                    Some(m.terminal_velocity_mps),
-                    m.time_to_terminal_s,
+                    &mark,
                 );
                 let _ = plots::height_plot(
                     &out_dir.join("height.png"),
                     &dec.t_s,
                     &dec.extended_height_m,
                 );
-                Summary::new(info, &m)
+                summary
             }
             Err(e) => {
                 let mut info = info;
@@ -499,6 +507,24 @@ impl Run {
             complete,
             stop_reason,
         })
+    }
+}
+
+/// What each node is (point data `role` of the frames, markers of the pictures).
+fn node_roles(b: &Built) -> Vec<u8> {
+    crate::output::vtk::point_roles(
+        b.model.layout.n_nodes,
+        &b.canopy_nodes,
+        &b.load_sites,
+        b.payload_node,
+    )
+}
+
+/// The picture of positions `pos` of model `b`, coloured by height.
+fn shape_scene<'a>(b: &'a Built, pos: &'a [[f64; 3]], roles: &'a [u8]) -> plots::ShapeScene<'a> {
+    plots::ShapeScene {
+        roles,
+        ..plots::ShapeScene::new(pos, &b.triangles, &b.segments)
     }
 }
 

@@ -6,8 +6,8 @@ use std::fs;
 use std::path::Path;
 
 use chute::output::plots::{
-    final_shape_plot, height_plot, snapshot_file_name, snapshot_plot, velocity_plot, PLOT_SIZE,
-    SHAPE_SIZE,
+    final_shape_plot, height_plot, snapshot_file_name, snapshot_plot, velocity_plot, ShapeScene,
+    TerminalMark, PLOT_SIZE, SHAPE_SIZE,
 };
 
 /// Width and height from the PNG signature + IHDR chunk.
@@ -65,12 +65,17 @@ fn plots_are_pngs_of_the_right_size() {
     let vz: Vec<f64> = t.iter().map(|&t| -v_t * (t / tau).tanh()).collect();
     let h: Vec<f64> = t.iter().map(|&t| 1.0 + 0.3 * (1.0 - (-t).exp())).collect();
     let vel = dir.path().join("velocity.png");
-    velocity_plot(&vel, &t, &vz, Some(-v_t), Some(tau * 0.98_f64.atanh())).unwrap();
+    let mark = TerminalMark::Reached {
+        v_mps: -v_t,
+        time_to_terminal_s: Some(tau * 0.98_f64.atanh()),
+    };
+    velocity_plot(&vel, &t, &vz, &mark).unwrap();
     let hgt = dir.path().join("height.png");
     height_plot(&hgt, &t, &h).unwrap();
     let (x, tri, seg) = canopy();
-    let shape = final_shape_plot(dir.path(), 5.0, &x, &tri, &seg).unwrap();
-    let snap = snapshot_plot(dir.path(), 2.5, &x, &tri, &seg).unwrap();
+    let scene = ShapeScene::new(&x, &tri, &seg);
+    let shape = final_shape_plot(dir.path(), 5.0, &scene).unwrap();
+    let snap = snapshot_plot(dir.path(), 2.5, &scene).unwrap();
     assert!(snap.ends_with("snapshot_2.5s.png"));
     for (p, size) in [
         (&vel, PLOT_SIZE),
@@ -100,9 +105,11 @@ fn plots_are_pngs_of_the_right_size() {
 #[test]
 fn plots_without_data_fail_cleanly() {
     let dir = tempfile::tempdir().unwrap();
-    assert!(velocity_plot(&dir.path().join("v.png"), &[], &[], None, None).is_err());
-    assert!(final_shape_plot(dir.path(), 0.0, &[], &[], &[]).is_err());
-    assert!(final_shape_plot(dir.path(), 0.0, &[[0.0; 3]], &[[0, 1, 2]], &[]).is_err());
+    let none = TerminalMark::NotReached { reason: "test" };
+    assert!(velocity_plot(&dir.path().join("v.png"), &[], &[], &none).is_err());
+    assert!(final_shape_plot(dir.path(), 0.0, &ShapeScene::new(&[], &[], &[])).is_err());
+    let bad = ShapeScene::new(&[[0.0; 3]], &[[0, 1, 2]], &[]);
+    assert!(final_shape_plot(dir.path(), 0.0, &bad).is_err());
     assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 

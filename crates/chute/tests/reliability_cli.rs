@@ -193,7 +193,8 @@ fn same_inputs_give_identical_files_whatever_the_jobs() {
             &tmp.path().join("j3").join(case),
         );
     }
-    // A single run of the same case, twice, in other directories.
+    // A single run of the same case, twice, in other directories (without viewer.html, which
+    // study cases do not write).
     for out in ["a", "b"] {
         let o = run(
             tmp.path(),
@@ -201,6 +202,7 @@ fn same_inputs_give_identical_files_whatever_the_jobs() {
                 out,
                 "time.duration_s=0.15",
                 &[
+                    "--no-viewer",
                     "--set",
                     "load.weight_n=200",
                     "--set",

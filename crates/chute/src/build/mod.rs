@@ -11,6 +11,8 @@ pub struct Built {
     pub canopy_nodes: Vec<usize>,
     /// The payload node, when the load hangs on lines.
     pub payload_node: Option<usize>,
+    /// Load sites: the canopy nodes that carry the load (forces, masses or line attachments).
+    pub load_sites: Vec<usize>,
     /// Canopy triangles (shell models; empty for rods).
     pub triangles: Vec<[usize; 3]>,
     /// Line segments drawn and written to VTK (rod canopy edges, suspension lines).
@@ -107,6 +109,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         state: State::at_rest(q),
         canopy_nodes: geo.canopy_nodes.clone(),
         payload_node: plan.payload_node,
+        load_sites: plan.sites.clone(),
         triangles: geo.triangles(),
         segments: plan.segments(&geo),
         drag_forces: drag.forces,

@@ -103,6 +103,7 @@ pub(super) fn remove_stale_outputs(out_dir: &Path) -> Result<(), RunError> {
         "velocity.png",
         "height.png",
         "shape.png",
+        crate::output::viewer::VIEWER_HTML,
     ];
     let snapshots = std::fs::read_dir(out_dir)
         .map_err(io_err(out_dir))?
