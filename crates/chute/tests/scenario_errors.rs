@@ -266,7 +266,11 @@ fn mesh_file_must_exist_and_be_given() {
         "{e:?}"
     );
     let e = err("[canopy]\nmesh_file = \"m.txt\"\n");
-    assert!(e.to_string().contains("only read when"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("is invalid: only used with `canopy.shape = \"mesh\"`"),
+        "{e}"
+    );
 }
 
 #[test]
