@@ -133,14 +133,6 @@ pub fn check(s: &Scenario) -> Result<Vec<(String, String)>, AppError> {
 /// The run loop's settings for scenario `s`.
 pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
     use crate::scenario::DragLaw;
-    let snapshots_s = if s.output.snapshots_s.is_empty() {
-        [0.3, 0.6, 0.9]
-            .iter()
-            .map(|f| f * s.time.duration_s)
-            .collect()
-    } else {
-        s.output.snapshots_s.clone()
-    };
     crate::runner::RunConfig {
         name: s.name.clone(),
         dt_s: s.time.dt_s,
@@ -151,7 +143,8 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
         adaptive: s.adaptive_settings(),
         duration_s: s.time.duration_s,
         frame_interval_s: s.output.frame_interval_s,
-        snapshots_s,
+        // The loader fills the default times; an empty list means none.
+        snapshots_s: s.output.snapshots_s.clone(),
         newton: engine::NewtonOptions {
             max_iterations: s.time.newton_max_iterations,
             force_tol_abs: s.time.newton_tolerance_n,

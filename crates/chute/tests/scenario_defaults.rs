@@ -62,6 +62,29 @@ fn snapshots_follow_the_duration_and_explicit_ones_are_kept() {
     assert_eq!(s.output.snapshots_s, vec![1.0, 2.5]);
 }
 
+/// Absent: the default times (filled once, by the loader); `[]`: none, also in the run
+/// loop's configuration and after the resolved scenario is read back.
+#[test]
+fn empty_snapshot_list_means_no_snapshots() {
+    let s = parse("[model]\nkind = \"rod\"\n");
+    assert_eq!(
+        chute::app::run_config(&s, false).snapshots_s,
+        vec![3.0, 6.0, 9.0]
+    );
+    let s = parse("[model]\nkind = \"rod\"\n[output]\nsnapshots_s = []\n");
+    assert!(s.output.snapshots_s.is_empty());
+    assert!(chute::app::run_config(&s, false).snapshots_s.is_empty());
+    let again = parse(&s.to_toml());
+    assert!(again.output.snapshots_s.is_empty(), "{}", s.to_toml());
+    let s = Scenario::from_str_with_name(
+        "[model]\nkind = \"rod\"\n",
+        "t.toml",
+        &["output.snapshots_s=[]".to_string()],
+    )
+    .unwrap();
+    assert!(chute::app::run_config(&s, false).snapshots_s.is_empty());
+}
+
 #[test]
 fn awkward_file_names_give_safe_default_names() {
     let s = Scenario::from_str_with_name("[model]\nkind = \"rod\"\n", "<string>", &[]).unwrap();
