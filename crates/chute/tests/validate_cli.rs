@@ -1,5 +1,5 @@
 //! `chute validate` through the binary: the quick suite passes, its JSON has the documented
-//! fields, and a deliberately broken reference (the test-only `CHUTE_VALIDATE_BREAK` hook)
+//! fields, and a deliberately broken reference (the hidden test option `--break-reference`)
 //! makes the command exit non-zero.
 use std::process::Command;
 
@@ -11,7 +11,6 @@ fn chute() -> Command {
 fn quick_suite_passes_and_json_has_the_documented_fields() {
     let out = chute()
         .args(["validate", "--quick", "--json"])
-        .env_remove("CHUTE_VALIDATE_BREAK")
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -65,11 +64,11 @@ fn quick_suite_passes_and_json_has_the_documented_fields() {
 
 #[test]
 fn a_broken_reference_makes_the_command_fail() {
-    // The hook scales the references of the named case by 1.5; the table must show FAIL
+    // The option scales the references of the named case by 1.5; the table must show FAIL
     // and the exit status must be non-zero. `--case` keeps this second run short.
     let out = chute()
         .args(["validate", "--quick", "--case", "cantilever"])
-        .env("CHUTE_VALIDATE_BREAK", "cantilever-tip-load")
+        .args(["--break-reference", "cantilever-tip-load"])
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);

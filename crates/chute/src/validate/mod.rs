@@ -4,8 +4,9 @@
 //! the simulated value and a tolerance set from physics and discretisation error. The table
 //! (or JSON) lists them all; the command exits non-zero when any check fails.
 //!
-//! A test-only hook, the environment variable `CHUTE_VALIDATE_BREAK=<case name>`, scales that
-//! case's references by 1.5 so tests can prove that a wrong reference makes the command fail.
+//! A hidden option for the tests, `--break-reference <case>`, scales the references of the
+//! checks whose name starts with it by 1.5, so they can prove that a wrong reference makes the
+//! command fail.
 
 mod cases;
 pub mod convergence;
@@ -14,6 +15,8 @@ mod system;
 
 use serde::Serialize;
 use std::time::Instant;
+
+use crate::app::AppError;
 
 /// One verified quantity.
 #[derive(Debug, Clone, Serialize)]
@@ -48,11 +51,6 @@ impl Check {
         simulated: f64,
         tolerance: f64,
     ) -> Self {
-        let reference = match (broken(name), reference == 0.0) {
-            (true, false) => 1.5 * reference,
-            (true, true) => 1.0,
-            (false, _) => reference,
-        };
         let rel_error = ((simulated - reference) / reference).abs();
         Self {
             name: name.into(),
@@ -76,7 +74,7 @@ impl Check {
         simulated: f64,
         tolerance: f64,
     ) -> Self {
-        let reference = if broken(name) { 1.0 } else { 0.0 };
+        let reference = 0.0;
         let rel_error = (simulated - reference).abs();
         Self {
             name: name.into(),
@@ -104,10 +102,17 @@ impl Check {
             wall_s: 0.0,
         }
     }
-}
 
-fn broken(name: &str) -> bool {
-    std::env::var("CHUTE_VALIDATE_BREAK").is_ok_and(|b| !b.is_empty() && name.starts_with(&b))
+    /// The check against a wrong reference (1.5 × the true one, 1 for a zero reference):
+    /// the test of `--break-reference`.
+    fn break_reference(&mut self) {
+        self.reference = match self.reference {
+            0.0 => 1.0,
+            r => 1.5 * r,
+        };
+        self.rel_error = ((self.simulated - self.reference) / self.reference).abs();
+        self.pass = self.rel_error <= self.tolerance && self.simulated.is_finite();
+    }
 }
 
 /// A registered case.
@@ -120,27 +125,60 @@ pub struct Case {
     pub run: fn(quick: bool) -> Result<Vec<Check>, String>,
 }
 
-/// Options of `chute validate`.
-#[derive(Debug, Clone, Default)]
-pub struct ValidateOptions {
-    /// Only the quick cases (under a minute on 2 cores).
+/// `chute validate`.
+#[derive(Debug, Clone, Default, PartialEq, clap::Args)]
+pub struct ValidateArgs {
+    /// Short versions of the cases (under a minute on 2 cores).
+    #[arg(long)]
     pub quick: bool,
-    /// Print JSON instead of a table.
-    pub json: bool,
-    /// Directory for convergence CSVs and plots (none: skip them).
+    /// Where to write the report (validation_table.md) and the convergence studies.
+    #[arg(long, value_name = "DIR")]
     pub out: Option<std::path::PathBuf>,
-    /// Only cases whose name contains this string.
-    pub filter: Option<String>,
+    /// Print the results as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Only the cases whose name contains this text (e.g. `elastica`).
+    #[arg(long, value_name = "TEXT")]
+    pub case: Option<String>,
+    /// Scale the references of the checks whose name starts with this by 1.5 (to prove in
+    /// tests that a wrong reference fails).
+    #[arg(long, value_name = "CASE", hide = true)]
+    pub break_reference: Option<String>,
+}
+
+/// Run the verification suite, print the table (or JSON) on stdout and write the report
+/// and convergence studies when `out` is given; `Err(ValidationFailed)` when any check fails.
+pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
+    }
+    let checks = run_suite(args);
+    if let Some(dir) = &args.out {
+        let path = dir.join("validation_table.md");
+        crate::output::atomic::write_atomic(&path, markdown(&checks).as_bytes())
+            .map_err(|e| AppError::io(&path, e))?;
+    }
+    if args.json {
+        let text = serde_json::to_string_pretty(&checks)
+            .map_err(|e| AppError::RunFailed(format!("JSON: {e}")))?;
+        println!("{text}");
+    } else {
+        print!("{}", table(&checks));
+    }
+    match checks.iter().filter(|c| !c.pass).count() {
+        0 => Ok(()),
+        failed => Err(AppError::ValidationFailed { failed }),
+    }
 }
 
 /// Run the suite; returns the checks (caller prints and sets the exit code).
-pub fn run_suite(opts: &ValidateOptions) -> Vec<Check> {
+pub fn run_suite(opts: &ValidateArgs) -> Vec<Check> {
     let mut all = Vec::new();
     for case in cases::all() {
         if opts.quick && !case.quick {
             continue;
         }
-        if let Some(f) = &opts.filter {
+        if let Some(f) = &opts.case {
             if !case.name.contains(f.as_str()) {
                 continue;
             }
@@ -164,6 +202,11 @@ pub fn run_suite(opts: &ValidateOptions) -> Vec<Check> {
             }
             Err(e) => all.push(Check::failed("convergence-studies", &e)),
         }
+    }
+    if let Some(prefix) = opts.break_reference.as_deref().filter(|p| !p.is_empty()) {
+        all.iter_mut()
+            .filter(|c| c.name.starts_with(prefix))
+            .for_each(Check::break_reference);
     }
     all
 }
