@@ -1,5 +1,5 @@
 //! The interface between the command line and the simulation: `check` and `run` a scenario.
-//! The other commands live in their own modules: [`crate::validate`], [`crate::bench`],
+//! The other commands live in their own modules: [`crate::verify`] (`chute validate`), [`crate::bench`],
 //! [`crate::study`].
 
 use std::path::PathBuf;
@@ -24,7 +24,7 @@ pub struct RunOptions {
 /// What a run produced.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunOutcome {
-    /// The contents of `summary.json` (DESIGN.md §Output directory).
+    /// The contents of `summary.json` (docs/outputs.md).
     pub summary: serde_json::Value,
     /// Whether the run reached `time.duration_s`.
     pub complete: bool,

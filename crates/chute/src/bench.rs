@@ -22,13 +22,14 @@
 //! test ladder (`--tiny`), diagnostics (`--mem`, `--trace`) and the Newton experiment knobs
 //! for A/B comparisons ([`NewtonExperiment`]); docs/performance.md lists them.
 
+pub mod plot;
+
 use std::path::PathBuf;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
 use crate::app::AppError;
-use crate::bench_plot as plot;
 use crate::scenario::Scenario;
 
 /// `chute bench`.

@@ -33,7 +33,7 @@ pub enum Command {
     /// Merge finished study cases (e.g. from several shards) into study.csv and study.md.
     Collect(CollectArgs),
     /// Run the verification cases against analytic references.
-    Validate(crate::validate::ValidateArgs),
+    Validate(crate::verify::ValidateArgs),
     /// Time the solver on a ladder of mesh sizes.
     Bench(crate::bench::BenchArgs),
 }
@@ -142,7 +142,7 @@ pub fn dispatch(cli: Cli) -> Result<(), AppError> {
         Command::Check(a) => cmd_check(&a),
         Command::Study(a) => cmd_study(&a),
         Command::Collect(a) => cmd_collect(&a),
-        Command::Validate(a) => crate::validate::main(&a),
+        Command::Validate(a) => crate::verify::main(&a),
         Command::Bench(a) => crate::bench::main(&a),
     }
 }

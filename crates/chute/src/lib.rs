@@ -2,7 +2,6 @@
 
 pub mod app;
 pub mod bench;
-pub mod bench_plot;
 pub mod build;
 pub mod checkpoint;
 pub mod cli;
@@ -12,4 +11,4 @@ pub mod output;
 pub mod runner;
 pub mod scenario;
 pub mod study;
-pub mod validate;
+pub mod verify;

@@ -2,9 +2,9 @@
 //! cylinder bending energy (both mesh orientations, union-jack and equilateral lattices),
 //! a simply supported square plate under uniform pressure, and a cantilever strip under
 //! self-weight. `D_eff` is the lattice's effective plate stiffness (`docs/shells.md`). The
-//! set-ups are shared with `chute validate` (`chute::validate::shell_cases`).
+//! set-ups are shared with `chute validate` (`chute::verify::shell_cases`).
 use chute::mesh::{generate, CanopyMesh};
-use chute::validate::shell_cases::{
+use chute::verify::shell_cases::{
     cantilever_strip, cylinder_energies, ss_plate_deflection, ss_plate_load, MAT,
 };
 use engine::shell::Lattice;

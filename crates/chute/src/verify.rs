@@ -1,4 +1,4 @@
-//! `chute validate`: the verification cases against analytic references, as a command.
+//! The verification suite, run by `chute validate`: the cases against analytic references.
 //!
 //! Every case returns one or more [`Check`]s: a quantity, its reference value and source,
 //! the simulated value and a tolerance set from physics and discretisation error. The table
