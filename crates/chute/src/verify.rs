@@ -52,17 +52,13 @@ impl Check {
         tolerance: f64,
     ) -> Self {
         let rel_error = ((simulated - reference) / reference).abs();
-        Self {
-            name: name.into(),
-            quantity: quantity.into(),
+        Self::judged(
+            [name, quantity, source],
             reference,
-            source: source.into(),
             simulated,
             rel_error,
             tolerance,
-            pass: rel_error <= tolerance && simulated.is_finite(),
-            wall_s: 0.0,
-        }
+        )
     }
     /// A check of a dimensionless quantity whose exact value is zero (a symmetry): the
     /// error is `|simulated|` itself, i.e. relative to the scale the quantity was divided
@@ -74,8 +70,24 @@ impl Check {
         simulated: f64,
         tolerance: f64,
     ) -> Self {
-        let reference = 0.0;
-        let rel_error = (simulated - reference).abs();
+        let rel_error = (simulated - 0.0).abs();
+        Self::judged(
+            [name, quantity, source],
+            0.0,
+            simulated,
+            rel_error,
+            tolerance,
+        )
+    }
+    /// `[name, quantity, source]` and the numbers; it passes when the error is within the
+    /// tolerance and the simulated value is finite.
+    fn judged(
+        [name, quantity, source]: [&str; 3],
+        reference: f64,
+        simulated: f64,
+        rel_error: f64,
+        tolerance: f64,
+    ) -> Self {
         Self {
             name: name.into(),
             quantity: quantity.into(),

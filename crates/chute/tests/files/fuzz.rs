@@ -2,15 +2,14 @@
 //! every error names the file; a defect injected on a random line (non-finite coordinate,
 //! out-of-range index, degenerate triangle, duplicate node) is reported at exactly that
 //! line; mutated scenarios that parse never make the builders (or the stepper set-up) panic.
-mod reliability_common;
-use reliability_common::repo;
+use crate::common::{mutate, repo};
 
 use chute::mesh::{dismech, generate, obj};
 use chute::scenario::{schema, Scenario};
 use proptest::prelude::*;
 
-const N4: &str = include_str!("../data/meshes/hexparachute_n4_python.txt");
-const N6: &str = include_str!("../data/meshes/hexparachute_n6_python.txt");
+const N4: &str = include_str!("../../data/meshes/hexparachute_n4_python.txt");
+const N6: &str = include_str!("../../data/meshes/hexparachute_n6_python.txt");
 
 /// A small OBJ seed: the generated 2 m × 1 m rectangle (edge 0.5 m) written as `v`/`f` lines.
 fn obj_seed() -> String {
@@ -55,14 +54,6 @@ const MESH_TOKENS: &[&str] = &[
     "\0",
 ];
 
-fn floor_boundary(s: &str, mut i: usize) -> usize {
-    i = i.min(s.len());
-    while !s.is_char_boundary(i) {
-        i -= 1;
-    }
-    i
-}
-
 /// Apply byte- and line-level mutations (insert, delete, replace, duplicate, swap lines,
 /// replace a token of a line).
 fn mutate(text: &str, ops: &[(u8, usize, String)]) -> String {
@@ -72,25 +63,10 @@ fn mutate(text: &str, ops: &[(u8, usize, String)]) -> String {
         let n = lines.len().max(1);
         let tok = MESH_TOKENS[pos % MESH_TOKENS.len()];
         t = match op % 6 {
-            0 => {
-                let i = floor_boundary(&t, pos % (t.len() + 1));
-                format!("{}{}{}", &t[..i], payload, &t[i..])
-            }
-            1 => {
-                let i = floor_boundary(&t, pos % (t.len() + 1));
-                let j = floor_boundary(&t, i + payload.len() + 1);
-                format!("{}{}", &t[..i], &t[j..])
-            }
-            2 if !lines.is_empty() => {
-                let k = pos % n;
-                lines.insert(k, lines[k].clone());
-                lines.join("\n")
-            }
-            3 if lines.len() > 1 => {
-                let k = pos % (n - 1);
-                lines.swap(k, k + 1);
-                lines.join("\n")
-            }
+            0 => mutate::insert(&t, *pos, payload),
+            1 => mutate::delete(&t, *pos, payload.len()),
+            2 if !lines.is_empty() => mutate::duplicate_line(lines, *pos),
+            3 if lines.len() > 1 => mutate::swap_lines(lines, *pos),
             4 if !lines.is_empty() => {
                 // Replace one whitespace/comma-separated field of a line with a token.
                 let k = pos % n;
@@ -101,10 +77,7 @@ fn mutate(text: &str, ops: &[(u8, usize, String)]) -> String {
                 lines[k] = fields.join(" ");
                 lines.join("\n")
             }
-            _ => {
-                let i = floor_boundary(&t, pos % (t.len() + 1));
-                format!("{}{}{}", &t[..i], tok, &t[i..])
-            }
+            _ => mutate::insert(&t, *pos, tok),
         };
     }
     t

@@ -2,8 +2,7 @@
 //! step and halve dt; a short blow-up is recovered from (dt grows back), a lasting one stops
 //! the run with a clear reason and valid partial outputs and a checkpoint of the last good
 //! state.
-mod reliability_common;
-use reliability_common::*;
+use crate::common::*;
 
 use chute::checkpoint::Checkpoint;
 use chute::runner::{simulate, RunResult, GROW_AFTER};

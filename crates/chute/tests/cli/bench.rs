@@ -4,22 +4,29 @@
 //! the peer's hexagonal n6), so these tests take well under a second; the real ladder is
 //! exercised by running `chute bench` (docs/performance.md).
 
-use std::process::Command;
-
 use chute::bench::CaseResult;
+
+use crate::common::{chute, repo, stderr, stdout};
+
+/// `chute bench --json --tiny EXTRA…`: its stdout, after checking it succeeded.
+fn tiny_bench_json(extra: &[&str]) -> String {
+    let args: Vec<&str> = ["bench", "--json", "--tiny"]
+        .iter()
+        .chain(extra)
+        .copied()
+        .collect();
+    let out = chute(&repo(), &args);
+    assert!(out.status.success(), "chute bench failed: {}", stderr(&out));
+    stdout(&out)
+}
+
+fn tiny_bench(extra: &[&str]) -> Vec<CaseResult> {
+    serde_json::from_str(&tiny_bench_json(extra)).expect("CaseResult list")
+}
 
 #[test]
 fn bench_quick_json_has_documented_fields() {
-    let out = Command::new(env!("CARGO_BIN_EXE_chute"))
-        .args(["bench", "--quick", "--json", "--tiny"])
-        .output()
-        .expect("run chute");
-    assert!(
-        out.status.success(),
-        "chute bench failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8(out.stdout).expect("utf-8");
+    let text = tiny_bench_json(&["--quick"]);
     // The documented contract, checked on the raw JSON (not only through our own type).
     let raw: serde_json::Value = serde_json::from_str(&text).expect("JSON on stdout");
     let list = raw.as_array().expect("a list");
@@ -45,20 +52,6 @@ fn bench_quick_json_has_documented_fields() {
     let n6 = cases.iter().find(|c| c.name.contains("n6")).unwrap();
     // The peer's mesh: 188 nodes, 3 DOFs each plus one twist per rod edge (66 edges).
     assert_eq!((n6.nodes, n6.dofs), (188, 188 * 3 + 66));
-}
-
-fn tiny_bench(extra: &[&str]) -> Vec<CaseResult> {
-    let out = Command::new(env!("CARGO_BIN_EXE_chute"))
-        .args(["bench", "--json", "--tiny"])
-        .args(extra)
-        .output()
-        .expect("run chute");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("CaseResult list")
 }
 
 /// The experiment options reach every case's child process: without modified Newton every
@@ -92,12 +85,9 @@ fn bench_options_reach_the_cases() {
 /// A bad `--set` is a scenario error (exit 2) naming the key, before any case runs.
 #[test]
 fn bench_rejects_a_bad_override() {
-    let out = Command::new(env!("CARGO_BIN_EXE_chute"))
-        .args(["bench", "--tiny", "--set", "canopy.spam_m=1"])
-        .output()
-        .expect("run chute");
+    let out = chute(&repo(), &["bench", "--tiny", "--set", "canopy.spam_m=1"]);
     assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = stderr(&out);
     assert!(
         err.contains("unknown key `canopy.spam_m`") && err.contains("did you mean `canopy.span_m`"),
         "{err}"

@@ -9,9 +9,7 @@ use chute::build::{build, Built};
 use chute::runner::{simulate, RunResult};
 use chute::scenario::Scenario;
 
-fn repo() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use crate::common::repo;
 
 fn scenario(file: &str, set: &[&str]) -> Scenario {
     let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
@@ -143,23 +141,7 @@ fn bundled_scenarios_run_briefly_and_write_every_output() {
             .count();
         assert!(frames >= 4, "{f}: {frames} frames");
         let j = json(dir.path());
-        for key in [
-            "terminal_velocity_mps",
-            "terminal_velocity_std_mps",
-            "reached_terminal",
-            "time_to_terminal_s",
-            "max_extended_height_m",
-            "final_extended_height_m",
-            "total_weight_n",
-            "drag_area_m2",
-            "force_balance_error",
-            "horizontal_velocity_mps",
-            "reynolds_number",
-            "steps",
-            "newton_iterations",
-            "wall_time_s",
-            "dofs",
-        ] {
+        for key in crate::common::SUMMARY_FIELDS {
             assert!(j.get(key).is_some(), "{f}: summary lacks {key}");
         }
         let mut rd = csv::Reader::from_path(dir.path().join("timeseries.csv")).unwrap();

@@ -147,44 +147,6 @@ fn canopy_means_are_mass_weighted() {
     assert!(canopy_means(&x, &v, &m, &[]).is_none());
 }
 
-/// Every field documented in docs/outputs.md §summary.json.
-const SUMMARY_FIELDS: [&str; 34] = [
-    "summary_version",
-    "scenario_name",
-    "complete",
-    "stop_reason",
-    "simulated_time_s",
-    "terminal_velocity_mps",
-    "terminal_velocity_std_mps",
-    "terminal_velocity_trend_mps",
-    "reached_terminal",
-    "time_to_terminal_s",
-    "final_window_start_s",
-    "max_extended_height_m",
-    "final_extended_height_m",
-    "total_weight_n",
-    "mean_drag_z_n",
-    "drag_area_m2",
-    "force_balance_error",
-    "horizontal_velocity_mps",
-    "reynolds_number",
-    "steps",
-    "newton_iterations",
-    "wall_time_s",
-    "dofs",
-    "dt_s",
-    "adaptive",
-    "error_tolerance_m",
-    "dt_min_s",
-    "dt_max_s",
-    "rejected_steps_error",
-    "rejected_steps_newton",
-    "dt_used_min_s",
-    "dt_used_mean_s",
-    "dt_used_max_s",
-    "warnings",
-];
-
 #[test]
 fn summary_json_has_every_documented_field() {
     let mut d = DecimatedSeries::default();
@@ -228,12 +190,12 @@ fn summary_json_has_every_documented_field() {
     s.write(&path).unwrap();
     let v: serde_json::Value = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
     let obj = v.as_object().unwrap();
-    for f in SUMMARY_FIELDS {
+    for f in crate::common::SUMMARY_FIELDS {
         assert!(obj.contains_key(f), "missing {f}");
     }
     assert_eq!(
         obj.len(),
-        SUMMARY_FIELDS.len(),
+        crate::common::SUMMARY_FIELDS.len(),
         "undocumented field? {:?}",
         obj.keys()
     );

@@ -1,11 +1,7 @@
 //! `chute validate` through the binary: the quick suite passes, its JSON has the documented
 //! fields, and a deliberately broken reference (the hidden test option `--break-reference`)
 //! makes the command exit non-zero.
-use std::process::Command;
-
-fn chute() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_chute"))
-}
+use crate::common::chute_command as chute;
 
 #[test]
 fn quick_suite_passes_and_json_has_the_documented_fields() {

@@ -4,11 +4,13 @@
 use chute::scenario::{schema, Scenario};
 use proptest::prelude::*;
 
+use crate::common::mutate;
+
 const SEEDS: &[&str] = &[
-    include_str!("../../../scenarios/report-rod-200n.toml"),
-    include_str!("../../../scenarios/report-shell-6-sites.toml"),
-    include_str!("../../../scenarios/round-parachute.toml"),
-    include_str!("../../../scenarios/dismech-hex-n6.toml"),
+    include_str!("../../../../scenarios/report-rod-200n.toml"),
+    include_str!("../../../../scenarios/report-shell-6-sites.toml"),
+    include_str!("../../../../scenarios/round-parachute.toml"),
+    include_str!("../../../../scenarios/dismech-hex-n6.toml"),
 ];
 
 const TOKENS: &[&str] = &[
@@ -62,29 +64,14 @@ const TOKENS: &[&str] = &[
     "mode = \"node_mass_scale\"",
 ];
 
-fn floor_boundary(s: &str, mut i: usize) -> usize {
-    i = i.min(s.len());
-    while !s.is_char_boundary(i) {
-        i -= 1;
-    }
-    i
-}
-
 fn mutate(text: &str, ops: &[(u8, usize, String)]) -> String {
     let mut t = text.to_string();
     for (op, pos, payload) in ops {
         let lines: Vec<String> = t.lines().map(str::to_string).collect();
         let n = lines.len().max(1);
         t = match op % 8 {
-            0 => {
-                let i = floor_boundary(&t, pos % (t.len() + 1));
-                format!("{}{}{}", &t[..i], payload, &t[i..])
-            }
-            1 => {
-                let i = floor_boundary(&t, pos % (t.len() + 1));
-                let j = floor_boundary(&t, i + payload.len() + 1);
-                format!("{}{}", &t[..i], &t[j..])
-            }
+            0 => mutate::insert(&t, *pos, payload),
+            1 => mutate::delete(&t, *pos, payload.len()),
             2 => {
                 let mut l = lines.clone();
                 if !l.is_empty() {
@@ -92,22 +79,9 @@ fn mutate(text: &str, ops: &[(u8, usize, String)]) -> String {
                 }
                 l.join("\n")
             }
-            3 => {
-                let mut l = lines.clone();
-                if !l.is_empty() {
-                    let k = pos % n;
-                    l.insert(k, l[k].clone());
-                }
-                l.join("\n")
-            }
-            4 => {
-                let mut l = lines.clone();
-                if l.len() > 1 {
-                    let k = pos % (n - 1);
-                    l.swap(k, k + 1);
-                }
-                l.join("\n")
-            }
+            3 if !lines.is_empty() => mutate::duplicate_line(lines, *pos),
+            4 if lines.len() > 1 => mutate::swap_lines(lines, *pos),
+            3 | 4 => lines.join("\n"),
             // Keep a `key = value` line's key and give it a wild value: valid TOML that
             // reaches the schema and physical checks.
             5 | 6 => {
@@ -125,10 +99,7 @@ fn mutate(text: &str, ops: &[(u8, usize, String)]) -> String {
                 }
                 l.join("\n")
             }
-            _ => {
-                let i = floor_boundary(&t, pos % (t.len() + 1));
-                format!("{}{}{}", &t[..i], TOKENS[pos % TOKENS.len()], &t[i..])
-            }
+            _ => mutate::insert(&t, *pos, TOKENS[pos % TOKENS.len()]),
         };
     }
     t

@@ -1,15 +1,49 @@
-//! Shared helpers of the reliability tests: scenarios, test-only forces, directory diffs.
+//! Helpers shared by the test crates: the `chute` binary, the repository, small scenarios,
+//! test-only forces, directory diffs. Each test crate uses a part of them.
 #![allow(dead_code)]
+pub mod mutate;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use chute::scenario::Scenario;
 use engine::{EvalInput, Force, JacobianKind, LocalBlocks};
 
+/// The repository root (absolute).
 pub fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    root.canonicalize().unwrap_or(root)
+}
+
+/// The `chute` binary as a command, without the SLURM array variables of the environment
+/// (they would select a study shard).
+pub fn chute_command() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_chute"));
+    c.env_remove("SLURM_ARRAY_TASK_ID")
+        .env_remove("SLURM_ARRAY_TASK_COUNT");
+    c
+}
+
+/// Run `chute ARGS` in `cwd` and wait for it.
+pub fn chute(cwd: &Path, args: &[&str]) -> Output {
+    chute_command()
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("binary runs")
+}
+
+/// The process's stderr as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The process's stdout as text.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
 /// The rod strip of the report, coarse (21 nodes) and short: ~0.3 s of wall time per 0.1 s.
@@ -148,3 +182,41 @@ pub fn csv_rows(path: &Path) -> Vec<Vec<f64>> {
         .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
         .collect()
 }
+
+/// Every field documented in docs/outputs.md §summary.json.
+pub const SUMMARY_FIELDS: [&str; 34] = [
+    "summary_version",
+    "scenario_name",
+    "complete",
+    "stop_reason",
+    "simulated_time_s",
+    "terminal_velocity_mps",
+    "terminal_velocity_std_mps",
+    "terminal_velocity_trend_mps",
+    "reached_terminal",
+    "time_to_terminal_s",
+    "final_window_start_s",
+    "max_extended_height_m",
+    "final_extended_height_m",
+    "total_weight_n",
+    "mean_drag_z_n",
+    "drag_area_m2",
+    "force_balance_error",
+    "horizontal_velocity_mps",
+    "reynolds_number",
+    "steps",
+    "newton_iterations",
+    "wall_time_s",
+    "dofs",
+    "dt_s",
+    "adaptive",
+    "error_tolerance_m",
+    "dt_min_s",
+    "dt_max_s",
+    "rejected_steps_error",
+    "rejected_steps_newton",
+    "dt_used_min_s",
+    "dt_used_mean_s",
+    "dt_used_max_s",
+    "warnings",
+];

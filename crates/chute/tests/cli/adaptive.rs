@@ -2,11 +2,9 @@
 //! rod (coarse) ends exactly on its duration, on every frame, snapshot and sync time, and
 //! reports its steps; Newton failures keep their halving policy; bad keys exit with status 2.
 //! (Resume equality of adaptive runs: `reliability_resume.rs`.)
-mod reliability_common;
-use reliability_common::*;
+use crate::common::*;
 
 use std::path::Path;
-use std::process::Command;
 use std::sync::atomic::AtomicBool;
 
 use chute::app::{run as app_run, RunOptions};
@@ -140,14 +138,6 @@ fn adaptive_newton_failures_halve_the_step_and_are_counted() {
         .filter(|w| w.contains("step rejected"))
         .count();
     assert_eq!(rejected, 3);
-}
-
-fn chute(cwd: &Path, args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_chute"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("binary runs")
 }
 
 /// Each new key with a bad value: exit status 2, a message naming the key (and where it came

@@ -1,8 +1,7 @@
 //! Checkpoint and resume: a run stopped part-way and resumed from its checkpoint writes the
 //! same files, bit for bit, as the uninterrupted run (wall time aside), for the rod model
 //! (whose DER frames are history) and the shell model.
-mod reliability_common;
-use reliability_common::*;
+use crate::common::*;
 
 use std::path::Path;
 use std::sync::atomic::AtomicBool;

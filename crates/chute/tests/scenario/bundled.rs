@@ -4,9 +4,7 @@ use std::path::{Path, PathBuf};
 
 use chute::scenario::{CanopyShape, LoadMode, ModelKind, Scenario, ScenarioError, SiteSet, Sites};
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use crate::common::repo;
 
 fn bundled() -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(repo().join("scenarios"))

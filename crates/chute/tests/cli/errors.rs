@@ -1,26 +1,9 @@
 //! The `chute` binary: exit codes, `error: …` messages on stderr, no panics, output-directory
 //! safety, and argument parsing of every subcommand.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn chute(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_chute"))
-        .args(args)
-        .current_dir(cwd)
-        .env_remove("SLURM_ARRAY_TASK_ID")
-        .env_remove("SLURM_ARRAY_TASK_COUNT")
-        .output()
-        .expect("binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
+use crate::common::{chute, chute_command, repo, stderr, stdout};
 
 /// Exit code `code` and a final `error: ` line; stderr contains every `want`.
 fn assert_error(o: &Output, code: i32, want: &[&str]) {
@@ -39,13 +22,6 @@ fn assert_error(o: &Output, code: i32, want: &[&str]) {
     for w in want {
         assert!(err.contains(w), "want `{w}` in: {err}");
     }
-}
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .unwrap()
 }
 
 const HEAD: &str = "name = \"t\"\n[model]\nkind = \"shell\"\n";
@@ -310,7 +286,7 @@ fn study_runs_cases_and_reports_failures_with_exit_3() {
     assert_eq!(csv.lines().count(), 4, "{csv}");
     assert!(stdout(&o).contains("| weight_n-20 |"), "{}", stdout(&o));
     // Shard from SLURM variables: task 1 of 2 runs only case index 1.
-    let o = Command::new(env!("CARGO_BIN_EXE_chute"))
+    let o = chute_command()
         .args(["study", "st.toml", "--out", "slurm"])
         .current_dir(dir.path())
         .env("SLURM_ARRAY_TASK_ID", "1")

@@ -1,28 +1,13 @@
 //! Reliability through the binary: exit code 3 with valid partial outputs, SIGTERM leaving a
 //! checkpoint that resumes to the uninterrupted result, and bit-identical outputs for the
 //! same inputs whatever `--jobs` is.
-mod reliability_common;
-use reliability_common::*;
+use crate::common::*;
 
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use chute::checkpoint::Checkpoint;
-
-fn chute(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_chute"))
-        .args(args)
-        .current_dir(cwd)
-        .env_remove("SLURM_ARRAY_TASK_ID")
-        .env_remove("SLURM_ARRAY_TASK_COUNT")
-        .output()
-        .expect("binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 fn rod_file() -> String {
     repo()
@@ -119,7 +104,7 @@ fn sigterm_leaves_a_checkpoint_and_the_resumed_run_equals_the_uninterrupted_one(
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 
     let args = run_args("part", dur, &["--checkpoint-every", "0.1"]);
-    let child = Command::new(env!("CARGO_BIN_EXE_chute"))
+    let child = chute_command()
         .args(&args)
         .current_dir(tmp.path())
         .stdout(Stdio::null())
@@ -255,7 +240,7 @@ fn parallel_element_loops_give_identical_files_whatever_the_threads() {
     let tmp = tempfile::tempdir().unwrap();
     let shell = repo().join("scenarios/report-shell-4-sites.toml");
     for (out, threads) in [("t1", "1"), ("t4", "4")] {
-        let o = Command::new(env!("CARGO_BIN_EXE_chute"))
+        let o = chute_command()
             .args(["run", shell.to_str().unwrap(), "--quiet", "--out", out])
             .args(["--set", "canopy.edge_length_m=0.1"])
             .args(["--set", "time.duration_s=0.003"])
