@@ -72,7 +72,13 @@ impl<'a> Checker<'a> {
 /// Check every declared rule and cross-key rule; `Ok` means the builders can use `s`.
 pub fn validate(s: &Scenario, prov: &Provenance) -> Result<(), ScenarioError> {
     let mut c = Checker::new(prov);
-    let tree = toml::Table::try_from(s).unwrap_or_default();
+    // The declared rules read the resolved tree, exactly what `to_toml` writes.
+    let tree = toml::Table::try_from(s).map_err(|e| ScenarioError::Syntax {
+        file: prov.file.clone(),
+        line: 1,
+        col: 1,
+        message: format!("cannot represent the scenario as TOML: {e}"),
+    })?;
     super::rules::declared(&mut c, SECTIONS, &tree);
     name(&mut c, &s.name);
     canopy(&mut c, s);
