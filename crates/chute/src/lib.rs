@@ -1,4 +1,6 @@
-//! chute: parachute scenarios, builders, metrics, outputs and the command line.
+//! chute: parachute scenarios, builders, metrics, outputs and the command line. How the
+//! layers fit together (scenario → builders → engine → observers → outputs, and how a
+//! scenario key flows) is described in docs/architecture.md §Application.
 
 pub mod app;
 pub mod bench;
