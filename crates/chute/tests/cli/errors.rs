@@ -1,6 +1,7 @@
 //! The `chute` binary: exit codes, `error: …` messages on stderr, no panics, output-directory
 //! safety, and argument parsing of every subcommand.
 
+use std::path::Path;
 use std::process::Output;
 
 use crate::common::{chute, chute_command, repo, stderr, stdout};
@@ -21,6 +22,13 @@ fn assert_error(o: &Output, code: i32, want: &[&str]) {
     assert!(!err.contains("panicked"), "{err}");
     for w in want {
         assert!(err.contains(w), "want `{w}` in: {err}");
+    }
+}
+
+/// Each `(args, code, wants)`: `chute ARGS` in `dir` exits with `code`, saying every want.
+fn assert_errors(dir: &Path, cases: &[(&[&str], i32, &[&str])]) {
+    for (args, code, want) in cases {
+        assert_error(&chute(dir, args), *code, want);
     }
 }
 
@@ -144,20 +152,25 @@ fn missing_file_and_bad_overrides_exit_2() {
         &["cannot read scenario file `nope.toml`"],
     );
     std::fs::write(dir.path().join("s.toml"), HEAD).unwrap();
-    assert_error(
-        &chute(dir.path(), &["check", "s.toml", "--set", "fluid.wind_mps=[4,0]"]),
-        2,
-        &["`fluid.wind_mps` (from `--set fluid.wind_mps=[4,0]`) must be an array of three numbers"],
-    );
-    assert_error(
-        &chute(dir.path(), &["check", "s.toml", "--set", "novalue"]),
-        2,
-        &["invalid override `--set novalue`"],
-    );
-    assert_error(
-        &chute(dir.path(), &["check", "s.toml", "--set", "time.dtt_s=1"]),
-        2,
-        &["unknown key `time.dtt_s` (from `--set time.dtt_s=1`); did you mean `time.dt_s`?"],
+    assert_errors(
+        dir.path(),
+        &[
+            (
+                &["check", "s.toml", "--set", "fluid.wind_mps=[4,0]"],
+                2,
+                &["`fluid.wind_mps` (from `--set fluid.wind_mps=[4,0]`) must be an array of three numbers"],
+            ),
+            (
+                &["check", "s.toml", "--set", "novalue"],
+                2,
+                &["invalid override `--set novalue`"],
+            ),
+            (
+                &["check", "s.toml", "--set", "time.dtt_s=1"],
+                2,
+                &["unknown key `time.dtt_s` (from `--set time.dtt_s=1`); did you mean `time.dt_s`?"],
+            ),
+        ],
     );
     let o = chute(
         dir.path(),
@@ -220,25 +233,30 @@ fn run_refuses_to_overwrite_and_checks_writability() {
     assert!(!dir.path().join("fresh").exists());
     // Not a directory / not creatable.
     std::fs::write(dir.path().join("afile"), "").unwrap();
-    assert_error(
-        &chute(dir.path(), &["run", "s.toml", "--out", "afile"]),
-        2,
-        &["exists and is not a directory"],
-    );
-    assert_error(
-        &chute(dir.path(), &["run", "s.toml", "--out", "afile/sub"]),
-        2,
-        &["cannot create output directory"],
-    );
-    assert_error(
-        &chute(dir.path(), &["run", "s.toml", "--checkpoint-every", "0"]),
-        2,
-        &["--checkpoint-every"],
-    );
-    assert_error(
-        &chute(dir.path(), &["run", "s.toml", "--resume", "nowhere"]),
-        2,
-        &["--resume `nowhere`"],
+    assert_errors(
+        dir.path(),
+        &[
+            (
+                &["run", "s.toml", "--out", "afile"],
+                2,
+                &["exists and is not a directory"],
+            ),
+            (
+                &["run", "s.toml", "--out", "afile/sub"],
+                2,
+                &["cannot create output directory"],
+            ),
+            (
+                &["run", "s.toml", "--checkpoint-every", "0"],
+                2,
+                &["--checkpoint-every"],
+            ),
+            (
+                &["run", "s.toml", "--resume", "nowhere"],
+                2,
+                &["--resume `nowhere`"],
+            ),
+        ],
     );
 }
 
@@ -301,15 +319,16 @@ fn study_runs_cases_and_reports_failures_with_exit_3() {
         .collect();
     assert_eq!(done, [false, true, false]);
     // Input errors.
-    assert_error(
-        &chute(dir.path(), &["study", "st.toml", "--shard", "2/2"]),
-        2,
-        &["invalid shard `2/2`"],
-    );
-    assert_error(
-        &chute(dir.path(), &["study", "st.toml", "--jobs", "0"]),
-        2,
-        &["--jobs"],
+    assert_errors(
+        dir.path(),
+        &[
+            (
+                &["study", "st.toml", "--shard", "2/2"],
+                2,
+                &["invalid shard `2/2`"],
+            ),
+            (&["study", "st.toml", "--jobs", "0"], 2, &["--jobs"]),
+        ],
     );
     assert_error(
         &chute(
