@@ -33,9 +33,9 @@ pub enum Command {
     /// Merge finished study cases (e.g. from several shards) into study.csv and study.md.
     Collect(CollectArgs),
     /// Run the verification cases against analytic references.
-    Validate(ValidateArgs),
+    Validate(crate::verify::ValidateArgs),
     /// Time the solver on a ladder of mesh sizes.
-    Bench(BenchArgs),
+    Bench(crate::bench::BenchArgs),
     /// Write RUN_DIR/viewer.html: the run in 3-D in a browser (one offline file).
     View(ViewArgs),
 }
@@ -125,34 +125,6 @@ pub struct CollectArgs {
     pub out: Option<PathBuf>,
 }
 
-/// `chute validate`.
-#[derive(Debug, Args)]
-pub struct ValidateArgs {
-    /// Short versions of the cases.
-    #[arg(long)]
-    pub quick: bool,
-    /// Where to write the report.
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Print the results as JSON.
-    #[arg(long)]
-    pub json: bool,
-    /// Only the cases whose name contains this text (e.g. `elastica`).
-    #[arg(long, value_name = "TEXT")]
-    pub case: Option<String>,
-}
-
-/// `chute bench`.
-#[derive(Debug, Args)]
-pub struct BenchArgs {
-    /// Fewer and smaller sizes.
-    #[arg(long)]
-    pub quick: bool,
-    /// Print the timings as JSON.
-    #[arg(long)]
-    pub json: bool,
-}
-
 /// Entry point of the binary: parse `std::env::args`, dispatch, print any error.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -185,16 +157,8 @@ pub fn dispatch(cli: Cli) -> Result<(), AppError> {
         Command::Check(a) => cmd_check(&a),
         Command::Study(a) => cmd_study(&a),
         Command::Collect(a) => cmd_collect(&a),
-        Command::Validate(a) => app::validate::main(&app::validate::ValidateArgs {
-            quick: a.quick,
-            out: a.out,
-            json: a.json,
-            case: a.case,
-        }),
-        Command::Bench(a) => app::bench::main(&app::bench::BenchArgs {
-            quick: a.quick,
-            json: a.json,
-        }),
+        Command::Validate(a) => crate::verify::main(&a),
+        Command::Bench(a) => crate::bench::main(&a),
         Command::View(a) => cmd_view(&a),
     }
 }

@@ -30,10 +30,13 @@ use crate::output::summary::{RunInfo, Summary};
 use crate::output::timeseries::{DecimatedSeries, TimeSeriesWriter};
 use crate::output::vtk::VtkSeries;
 
+mod advance;
 pub mod dt_policy;
 mod observe;
 mod persist;
-use dt_policy::{DtPolicy, Plan, Verdict};
+pub use advance::Driver;
+use advance::Outcome;
+use dt_policy::{DtPolicy, Plan};
 pub use dt_policy::{GROW_AFTER, SYNC_STEPS};
 use observe::Observer;
 
@@ -333,20 +336,13 @@ impl Run {
         out_dir: &Path,
         plan: &Plan,
     ) -> Result<Attempt, RunError> {
-        let trial = match stepper.try_step(&built.model, &self.state, plan.h) {
-            Ok(trial) => trial,
-            Err(e) => return Ok(Attempt::Failed(e)),
-        };
-        let (next, err) = match self.dt.judge(&built.model, &self.state.v, trial.v(), plan) {
-            Verdict::Accept { next, err } => (next, err),
-            Verdict::Reject => return Ok(Attempt::Rejected),
-        };
-        let iterations = trial.report().iterations;
-        trial.commit(&mut built.model, &mut self.state);
-        if let Some(t) = plan.lands_at {
-            // Exactly on the event (the sum t + h may be an ulp off).
-            self.state.t = t;
-        }
+        let state = &mut self.state;
+        let (iterations, err) =
+            match advance::attempt(&mut self.dt, stepper, &mut built.model, state, plan) {
+                Outcome::Accepted { iterations, err } => (iterations, err),
+                Outcome::Rejected => return Ok(Attempt::Rejected),
+                Outcome::Failed(e) => return Ok(Attempt::Failed(e)),
+            };
         if err > 1.0 && self.warnings.len() < 20 {
             // Accepted only because the step is already the smallest allowed.
             self.warnings.push(format!(
@@ -354,7 +350,6 @@ impl Run {
                 err, self.state.t, plan.h
             ));
         }
-        self.dt.accepted(plan.h, next);
         self.steps += 1;
         self.newton_total += iterations as u64;
         let s = self

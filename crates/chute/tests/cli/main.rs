@@ -1,0 +1,11 @@
+//! The `chute` binary: exit codes and messages, reliability (partial outputs, signals,
+//! resume), adaptive runs, `bench` and `validate`.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod adaptive;
+mod bench;
+mod errors;
+mod reliability;
+mod validate;
