@@ -8,4 +8,5 @@ mod failure;
 mod metrics;
 mod resume;
 mod runs;
+mod session;
 mod shell_bending;
