@@ -52,7 +52,7 @@ pub struct ViewArgs {
 pub struct RunArgs {
     /// Scenario file (TOML).
     pub scenario: PathBuf,
-    /// Output directory [default: runs/<scenario name>].
+    /// Output directory (default: `runs/<scenario name>`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Override a scenario key, e.g. `--set load.weight_n=20` (repeatable).
@@ -96,7 +96,7 @@ pub struct CheckArgs {
 pub struct StudyArgs {
     /// Study file (TOML).
     pub study: PathBuf,
-    /// Output directory [default: runs/<study name>].
+    /// Output directory (default: `runs/<study name>`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Cases run in parallel [default: one per core].
