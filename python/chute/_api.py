@@ -150,13 +150,13 @@ def run(path, set=None, out=None, progress=False, force=False, viewer=True):
         complete, message = _native.run(
             os.fspath(path), overrides(set), out_dir, force, viewer, bar
         )
-    except (ScenarioError, RunError, OSError):
+    except (ScenarioError, OSError):
         raise
     except BaseException as e:
-        # A signal handler's exception (KeyboardInterrupt) or the progress bar's: the run
-        # has stopped gracefully and its partial outputs are complete files.
-        if os.path.exists(os.path.join(out_dir, "summary.json")):
-            e.result = Result(out_dir, tmp)
+        # A failed run, a signal handler's exception (KeyboardInterrupt) or the progress
+        # bar's: the run has stopped gracefully and its partial outputs are complete files.
+        has_outputs = os.path.exists(os.path.join(out_dir, "summary.json"))
+        e.result = Result(out_dir, tmp) if has_outputs else None
         raise
     finally:
         if bar is not None:

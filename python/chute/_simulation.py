@@ -3,6 +3,7 @@
 import os
 
 from . import _native
+from ._native import RunError
 from ._overrides import overrides
 
 __all__ = ["Simulation"]
@@ -29,16 +30,24 @@ class Simulation:
         attempts are retried inside it). The GIL is released while stepping; Ctrl-C raises
         KeyboardInterrupt between two steps. Raises :class:`chute.RunError` when a step
         fails even at the smallest step allowed (the state stays the last good one)."""
-        return self._sim.step(int(n))
+        try:
+            return self._sim.step(int(n))
+        except RunError as e:
+            e.result = None  # a Simulation writes no outputs
+            raise
 
     def advance_to(self, t):
         """Step until the time reaches ``t`` (s) or the end; steps are not shortened to land
         on ``t``. Returns the number of steps taken."""
-        return self._sim.advance_to(float(t))
+        try:
+            return self._sim.advance_to(float(t))
+        except RunError as e:
+            e.result = None  # a Simulation writes no outputs
+            raise
 
     def run(self):
         """Step to the end; returns the number of steps taken."""
-        return self._sim.advance_to(self.duration)
+        return self.advance_to(self.duration)
 
     @property
     def time(self):

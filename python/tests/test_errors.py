@@ -74,4 +74,4 @@ def test_a_failed_run_raises_run_error_with_the_partial_result():
     with pytest.raises(chute.RunError) as e2:
         sim.run()
     assert sim.finished and sim.stop_reason == r.summary["stop_reason"]
-    assert str(e2.value) == r.summary["stop_reason"]
+    assert str(e2.value) == r.summary["stop_reason"] and e2.value.result is None
