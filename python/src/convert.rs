@@ -77,7 +77,12 @@ pub fn frames<'py>(py: Python<'py>, dir: &Path) -> PyResult<Bound<'py, PyTuple>>
         if k == 0 {
             mesh = m;
         } else if m.n_nodes != mesh.n_nodes {
-            let msg = format!("{}: {} nodes, the first frame has {}", path.display(), m.n_nodes, mesh.n_nodes);
+            let msg = format!(
+                "{}: {} nodes, the first frame has {}",
+                path.display(),
+                m.n_nodes,
+                mesh.n_nodes
+            );
             return Err(PyOSError::new_err(msg));
         }
         times.push(*t);

@@ -112,13 +112,8 @@ fn study(
         };
         app::run_watched(s, o, watch)
     };
-    let report = watch::watched(
-        py,
-        &stop,
-        || run_study_with(&st, &opts, &runner),
-        || Ok(()),
-    )?
-    .map_err(convert::app_err)?;
+    let report = watch::watched(py, &stop, || run_study_with(&st, &opts, &runner), || Ok(()))?
+        .map_err(convert::app_err)?;
     Ok(report
         .cases
         .into_iter()

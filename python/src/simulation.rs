@@ -1,6 +1,6 @@
 //! `chute._native.Simulation`: a run stepped from Python (`chute::runner::Session`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use pyo3::prelude::*;
 
@@ -17,7 +17,7 @@ pub struct Simulation {
     session: Session,
 }
 
-fn session(path: &PathBuf, set: &[String]) -> Result<Session, AppError> {
+fn session(path: &Path, set: &[String]) -> Result<Session, AppError> {
     let s = Scenario::load(path, set)?;
     let built = chute::build::build(&s)?;
     Session::new(built, chute::app::run_config(&s, false))
