@@ -13,7 +13,7 @@ import numpy as np
 from . import _native
 from ._native import RunError, ScenarioError
 from ._overrides import overrides
-from ._progress import ProgressBar
+from ._progress import ProgressBar, cases_label
 
 __all__ = ["Frames", "Result", "run", "study", "validate"]
 
@@ -201,7 +201,7 @@ def _case_row(study_dir, name, status, message):
     return row
 
 
-def study(path, jobs=None, out=None, set=None, force=False, as_frame=False):
+def study(path, jobs=None, out=None, set=None, force=False, as_frame=False, progress=False):
     """Run a study file as ``chute study`` does and return one row per case.
 
     Every case is validated before any runs; then ``jobs`` cases run in parallel (default
@@ -216,7 +216,10 @@ def study(path, jobs=None, out=None, set=None, force=False, as_frame=False):
     DataFrame of the same rows (ImportError when pandas is not installed).
 
     ``set`` overrides keys in every case, before the cases' own; ``force`` re-runs complete
-    cases. Raises ScenarioError for a bad study file or case (nothing has run then).
+    cases; ``progress`` draws a text progress bar of the cases on ``sys.stderr``. Raises
+    ScenarioError for a bad study file or case (nothing has run then); a case that fails
+    does not raise (its row says so). Ctrl-C stops every running case at its next step
+    (their partial outputs stay in ``out``) and raises KeyboardInterrupt.
     """
     if as_frame:
         try:
@@ -228,10 +231,13 @@ def study(path, jobs=None, out=None, set=None, force=False, as_frame=False):
             ) from e
     tmp = tempfile.TemporaryDirectory(prefix="chute-study-") if out is None else None
     study_dir = tmp.name if tmp is not None else os.fspath(out)
+    bar = ProgressBar(label=cases_label) if progress else None
     try:
-        cases = _native.study(os.fspath(path), study_dir, jobs, overrides(set), force)
+        cases = _native.study(os.fspath(path), study_dir, jobs, overrides(set), force, bar)
         rows = [_case_row(study_dir, *c) for c in cases]
     finally:
+        if bar is not None:
+            bar.close()
         if tmp is not None:
             tmp.cleanup()
     if tmp is not None:

@@ -12,7 +12,7 @@ mod simulation;
 mod watch;
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 
 use pyo3::prelude::*;
 
@@ -81,9 +81,11 @@ fn run(
 /// Run study file `path` (every case validated first, then `jobs` in parallel, each into
 /// `out/<case>/`) as `chute study` does. Returns `(case, status, message)` per selected case
 /// in case order, status one of `complete`, `incomplete`, `failed`, `skipped` (complete
-/// from an earlier invocation). Signals stop every running case gracefully (see `run`).
+/// from an earlier invocation). `progress(finished, to_run)` is called about ten times a
+/// second with the number of cases that have ended and of those to run (not skipped).
+/// Signals stop every running case gracefully (see `run`).
 #[pyfunction]
-#[pyo3(signature = (path, out, jobs=None, set=Vec::new(), force=false))]
+#[pyo3(signature = (path, out, jobs=None, set=Vec::new(), force=false, progress=None))]
 fn study(
     py: Python<'_>,
     path: PathBuf,
@@ -91,11 +93,15 @@ fn study(
     jobs: Option<usize>,
     set: Vec<String>,
     force: bool,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Vec<(String, String, Option<String>)>> {
     let st = Study::load(&path).map_err(convert::app_err)?;
     if jobs == Some(0) {
         return Err(ScenarioError::new_err("jobs must be at least 1"));
     }
+    let to_run = (st.cases.iter())
+        .filter(|c| force || !convert::case_complete(&out.join(&c.name)))
+        .count();
     let opts = StudyOptions {
         out_dir: out,
         jobs,
@@ -105,14 +111,23 @@ fn study(
         verbose: false,
     };
     let stop = AtomicBool::new(false);
+    let finished = AtomicUsize::new(0);
     let runner = |s: &Scenario, o: &RunOptions| {
         let watch = Watch {
             stop: &stop,
             sim_time: None,
         };
-        app::run_watched(s, o, watch)
+        let r = app::run_watched(s, o, watch);
+        finished.fetch_add(1, Ordering::Relaxed);
+        r
     };
-    let report = watch::watched(py, &stop, || run_study_with(&st, &opts, &runner), || Ok(()))?
+    let tick = || match &progress {
+        Some(p) => p
+            .call1((finished.load(Ordering::Relaxed), to_run))
+            .map(drop),
+        None => Ok(()),
+    };
+    let report = watch::watched(py, &stop, || run_study_with(&st, &opts, &runner), tick)?
         .map_err(convert::app_err)?;
     Ok(report
         .cases

@@ -31,9 +31,12 @@ def study_file(tmp_path):
     return p
 
 
-def test_study_rows_equal_single_runs(study_file, tmp_path):
+def test_study_rows_equal_single_runs(study_file, tmp_path, capsys):
     out = tmp_path / "out"
-    rows = chute.study(study_file, jobs=2, out=out, set=SHORT)
+    rows = chute.study(study_file, jobs=2, out=out, set=SHORT, progress=True)
+    bar = capsys.readouterr().err
+    assert bar.startswith("\r[") and bar.endswith("\n")
+    assert "100%  2 / 2 cases" in bar.rsplit("\r", 1)[-1]
     assert [r["case"] for r in rows] == ["20N", "2000N"]
     assert [r["load.weight_n"] for r in rows] == [20, 2000]
     assert all(r["status"] == "complete" and r["complete"] for r in rows)
@@ -44,8 +47,9 @@ def test_study_rows_equal_single_runs(study_file, tmp_path):
     assert summary_without_wall_time(row) == summary_without_wall_time(single.summary)
     assert rows[0]["terminal_velocity_mps"] > rows[1]["terminal_velocity_mps"]  # heavier falls faster
     # Complete cases are skipped on a second call into the same directory.
-    again = chute.study(study_file, out=out, set=SHORT)
+    again = chute.study(study_file, out=out, set=SHORT, progress=True)
     assert [r["status"] for r in again] == ["skipped", "skipped"]
+    assert "100%  0 / 0 cases" in capsys.readouterr().err
 
 
 def test_study_as_frame(study_file):
