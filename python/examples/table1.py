@@ -3,9 +3,9 @@
 
     python python/examples/table1.py [--out DIR] [--jobs N] [--quick]
 
-The three 10 s flights take about half a minute on 2 cores. ``--quick`` runs 1 s flights
-of a coarser strip instead (a smoke test: not the converged results of
-docs/report-study.md). The plot, ``OUT/table1.png``, shows vz(t) of each case and the
+The three 10 s flights take well under a minute on 2 cores and give the numbers of
+docs/report-study.md's Table I. ``--quick`` runs 1 s flights of a coarser strip instead (a
+smoke test, not those results). The plot, ``OUT/table1.png``, shows vz(t) of each case and the
 terminal speed against the load.
 """
 
@@ -19,7 +19,7 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 STUDY = REPO / "studies" / "table1.toml"
 COLUMNS = [
     ("case", "case", "{}"),
-    ("load.weight_n", "W (N)", "{:g}"),
+    ("load.weight_n", "load (N)", "{:g}"),
     ("terminal_velocity_mps", "v_t (m/s)", "{:.4g}"),
     ("time_to_terminal_s", "t_terminal (s)", "{:.3g}"),
     ("reached_terminal", "reached", "{}"),
@@ -53,13 +53,13 @@ def plot(rows, path):
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
     for r in rows:
         ts = chute.Result(r["out_dir"]).timeseries
-        ax1.plot(ts["t_s"], ts["vz_mps"], label=f"W = {r['load.weight_n']:g} N")
+        ax1.plot(ts["t_s"], ts["vz_mps"], label=f"load {r['load.weight_n']:g} N")
     ax1.set(xlabel="t (s)", ylabel="canopy vz (m/s)", title="descent velocity")
     ax1.legend()
     w = [r["load.weight_n"] for r in rows]
     v = [abs(r["terminal_velocity_mps"]) for r in rows]
     ax2.loglog(w, v, "o-")
-    ax2.set(xlabel="load W (N)", ylabel="|v_t| (m/s)", title="terminal speed")
+    ax2.set(xlabel="load (N)", ylabel="|v_t| (m/s)", title="terminal speed")
     ax2.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
