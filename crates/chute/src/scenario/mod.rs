@@ -115,6 +115,15 @@ pub struct Canopy {
     pub mesh_file: Option<PathBuf>,
     /// Hexagon circumradius or circle radius (m). Default 1.
     pub radius_m: f64,
+    /// Shell: amplitude of the initial out-of-plane perturbation (m), the fixed asymmetric mode
+    /// of [`crate::build`]'s `imperfection` (docs/scenarios.md). Default 0: a flat start (and
+    /// then not written to the resolved scenario, which stays as before the key existed).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub imperfection_m: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl Default for Canopy {
@@ -128,6 +137,7 @@ impl Default for Canopy {
             edge_length_m: 0.25,
             mesh_file: None,
             radius_m: 1.0,
+            imperfection_m: 0.0,
         }
     }
 }

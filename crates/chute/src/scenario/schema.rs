@@ -56,6 +56,7 @@ pub const SCHEMA: &[(&str, &[(&str, Kind)])] = &[
             ("edge_length_m", Kind::Float),
             ("mesh_file", Kind::Str),
             ("radius_m", Kind::Float),
+            ("imperfection_m", Kind::Float),
         ],
     ),
     (
