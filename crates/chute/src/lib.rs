@@ -6,6 +6,7 @@ pub mod bench_plot;
 pub mod build;
 pub mod checkpoint;
 pub mod cli;
+pub mod converge;
 pub mod mesh;
 pub mod metrics;
 pub mod output;
