@@ -77,6 +77,10 @@ fn panel(
     } else {
         "h (m)"
     };
+    // Enough decimals that neighbouring tick labels differ, however tight the range.
+    let span = (hi - lo + 2.0 * pad).abs().max(f64::MIN_POSITIVE);
+    let decimals = ((-span.log10()).ceil() + 2.0).clamp(0.0, 15.0) as usize;
+    let y_fmt = move |y: &f64| format!("{y:.decimals$}");
     let mut chart = ChartBuilder::on(area)
         .caption(
             format!("{label}: {}", q.verdict.unwrap_or("—")),
@@ -84,7 +88,7 @@ fn panel(
         )
         .margin(10)
         .x_label_area_size(38)
-        .y_label_area_size(70)
+        .y_label_area_size(90)
         .build_cartesian_2d(0.0..h_max, (lo - pad)..(hi + pad))
         .map_err(de)?;
     chart
@@ -93,6 +97,7 @@ fn panel(
         .label_style(("sans-serif", 13))
         .x_labels(5)
         .y_labels(6)
+        .y_label_formatter(&y_fmt)
         .draw()
         .map_err(de)?;
     if let Some((b0, b1)) = band {
