@@ -56,7 +56,8 @@ pub struct Estimate {
     pub approximate_error: f64,
     /// e_ext = |(φ_ext − φ₁)/φ_ext|.
     pub extrapolated_error: Option<f64>,
-    /// GCI_fine = Fs e_a / (r₂₁^p − 1); round-off: the resolution itself.
+    /// GCI_fine = Fs e_a / (r₂₁^p − 1); round-off: the resolution itself; divergent: the
+    /// range band 3 max(|φ₁ − φ₂|, |φ₁ − φ₃|)/|φ₁|.
     pub gci: Option<f64>,
 }
 
@@ -154,6 +155,13 @@ pub fn three_levels(h: [f64; 3], phi: [f64; 3], resolution: f64) -> Estimate {
         extrapolated_error: None,
         gci: None,
     };
+    if verdict == Verdict::Divergent {
+        // No order and no extrapolation; a range band (Fs = 3 on the largest spread) so a
+        // sequence whose differences are tiny but erratic still gets a bound.
+        let spread = rel(p1, p2).max(rel(p1, p3));
+        est.safety_factor = FS_ASSUMED;
+        est.gci = Some(FS_ASSUMED * spread);
+    }
     if let Some(p) = p {
         let ext = richardson(r21, p, p1, p2);
         est.extrapolated = Some(ext);
