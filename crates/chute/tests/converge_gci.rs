@@ -165,6 +165,29 @@ mod levels {
         assert!((r.relative_force_resolution / (1000.0 * 5e-7 / 708.6) - 1.0).abs() < 0.05);
     }
 
+    /// Every level of the estimate but the coarsest gets its GCI from the next coarser one at
+    /// the observed order: the medium level's is Fs e_a³² / (r₃₂^p − 1).
+    #[test]
+    fn medium_level_gets_its_own_gci() {
+        let h = [0.2, 0.13, 0.1];
+        let ladder = Ladder {
+            key: "canopy.edge_length_m".into(),
+            axis: Axis::Space,
+            levels: h.iter().map(|&h| level(&h.to_string(), h)).collect(),
+        };
+        let vt = |h: f64| -9.8 + 0.6 * h * h;
+        let r = analyse(&ladder, &h.map(|h| done(vt(h), 2.4)));
+        let q = &r.quantities["terminal_velocity_mps"];
+        assert_eq!(q.levels_used, vec![2, 1, 0]);
+        assert_eq!(q.gci_by_level[2], q.gci);
+        let p = q.observed_order.unwrap();
+        assert!((p - 2.0).abs() < 1e-6, "p = {p}");
+        let e32 = ((vt(0.13) - vt(0.2)) / vt(0.13)).abs();
+        let want = 1.25 * e32 / ((0.2f64 / 0.13).powf(p) - 1.0);
+        assert!((q.gci_by_level[1].unwrap() - want).abs() < 1e-12);
+        assert_eq!(q.gci_by_level[0], None);
+    }
+
     /// A failed level is reported and the others still estimated; a dt ladder carries its note.
     #[test]
     fn a_failed_level_is_reported_and_the_rest_estimated() {

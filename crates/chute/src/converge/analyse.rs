@@ -147,6 +147,10 @@ pub struct QuantityReport {
     pub extrapolated_error: Option<f64>,
     /// GCI of the finest level used (fraction).
     pub gci: Option<f64>,
+    /// GCI of each level of the estimate from its next coarser one, at the same order and
+    /// safety factor (null for the coarsest and for levels not used): the medium level's
+    /// uncertainty when the scenario's default is not the finest level.
+    pub gci_by_level: Vec<Option<f64>>,
     /// `monotone`, `oscillatory`, `divergent`, `round-off`; null with fewer than 2 levels.
     pub verdict: Option<&'static str>,
     /// Indices (into `results`) of the levels the estimate used, finest first.
@@ -315,7 +319,25 @@ fn quantity(
             gci::FS_ASSUMED
         ));
     }
+    let mut gci_by_level = vec![None; levels.len()];
+    if let Some(e) = est {
+        let fine = used.iter().take(3).copied().collect::<Vec<_>>();
+        for w in fine.windows(2) {
+            let (f, c) = (w[0], w[1]);
+            gci_by_level[f] = match (e.verdict, e.order_used, values[f], values[c]) {
+                (Verdict::RoundOff, ..) => e.gci,
+                (_, Some(p), Some(a), Some(b)) => Some(gci::pair_gci(
+                    [levels[f].h, levels[c].h],
+                    [a, b],
+                    p,
+                    e.safety_factor,
+                )),
+                _ => None,
+            };
+        }
+    }
     QuantityReport {
+        gci_by_level,
         results: values,
         h: levels.iter().map(|l| l.h).collect(),
         observed_order: est.and_then(|e| e.observed_order),

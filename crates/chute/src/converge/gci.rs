@@ -94,6 +94,13 @@ pub fn richardson(r21: f64, p: f64, phi1: f64, phi2: f64) -> f64 {
     (rp * phi1 - phi2) / (rp - 1.0)
 }
 
+/// The GCI of a level from the next coarser one, at order `p` and safety factor `fs`:
+/// Fs |(φ_f − φ_c)/φ_f| / ((h_c/h_f)^p − 1). With the pair (1, 2) it is [`Estimate::gci`];
+/// with (2, 3) it is the uncertainty of the medium level.
+pub fn pair_gci(h: [f64; 2], phi: [f64; 2], p: f64, fs: f64) -> f64 {
+    fs * rel(phi[0], phi[1]) / ((h[1] / h[0]).powf(p) - 1.0)
+}
+
 fn rel(a: f64, b: f64) -> f64 {
     ((a - b) / a).abs()
 }

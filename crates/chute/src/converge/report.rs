@@ -89,7 +89,7 @@ fn study_markdown(st: &StudyReport) -> String {
             l.wall_time_s.map_or("—".into(), |w| format!("{w:.0}"))
         ));
     }
-    md.push_str("\n| quantity | verdict | finest | p | extrapolated | e_a | e_ext | GCI (fine) |\n|---|---|---|---|---|---|---|---|\n");
+    md.push_str("\n| quantity | verdict | finest | p | extrapolated | e_a | e_ext | GCI (fine) | GCI by level |\n|---|---|---|---|---|---|---|---|---|\n");
     for q in QUANTITIES {
         let Some(r) = st.quantities.get(q.name) else {
             continue;
@@ -100,15 +100,26 @@ fn study_markdown(st: &StudyReport) -> String {
             (None, Some(p)) => format!("{p} (assumed)"),
             _ => "—".into(),
         };
+        let by_level: Vec<String> = st
+            .levels
+            .iter()
+            .zip(&r.gci_by_level)
+            .filter_map(|(l, g)| g.map(|g| format!("{}: {}", l.text, pct(Some(g)))))
+            .collect();
         md.push_str(&format!(
-            "| {} | {} | {} | {p} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {p} | {} | {} | {} | {} | {} |\n",
             q.label,
             r.verdict.unwrap_or("—"),
             opt(finest),
             opt(r.extrapolated),
             pct(r.approximate_error),
             pct(r.extrapolated_error),
-            pct(r.gci)
+            pct(r.gci),
+            if by_level.is_empty() {
+                "—".to_string()
+            } else {
+                by_level.join(", ")
+            }
         ));
     }
     md.push_str(&format!(
