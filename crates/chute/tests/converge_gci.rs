@@ -43,7 +43,27 @@ fn monotone_second_order_sequence() {
     assert!(e.gci.unwrap() >= true_error);
 }
 
-/// ε₂₁/ε₃₂ < 0 with |ratio| < 1: oscillatory; ≥ 1: divergent (no order, no GCI).
+/// Non-uniform refinement: with r₂₁ = 1.5 after r₃₂ = 1.333 a first-order (or slower)
+/// sequence has |ε₂₁| ≥ |ε₃₂| and still converges; the order is recovered.
+#[test]
+fn larger_finer_difference_can_still_converge() {
+    let h = [0.0625, 0.09375, 0.125];
+    for p in [0.5, 1.0] {
+        let phi = h.map(|h: f64| -9.9 + 2.0 * h.powf(p));
+        assert!((phi[1] - phi[0]).abs() >= (phi[2] - phi[1]).abs() * 0.999);
+        let e = three_levels(h, phi, 1e-9);
+        assert_eq!(e.verdict, Verdict::Monotone, "p = {p}");
+        assert!(
+            (e.observed_order.unwrap() - p).abs() < 1e-8,
+            "{:?}",
+            e.observed_order
+        );
+        assert!((e.extrapolated.unwrap() + 9.9).abs() < 1e-10);
+    }
+}
+
+/// |ε₂₁/ε₃₂| below R_max = ln r₂₁/ln r₃₂ (1 for uniform refinement) and negative:
+/// oscillatory; at or above it: divergent (no order, a range band only).
 #[test]
 fn oscillatory_and_divergent_sequences() {
     let h = [0.125, 0.18, 0.25];

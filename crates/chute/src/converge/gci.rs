@@ -17,11 +17,11 @@ pub const FS_ASSUMED: f64 = 3.0;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Verdict {
-    /// Differences shrink without changing sign: 0 ≤ ε₂₁/ε₃₂ < 1.
+    /// Differences shrink without changing sign: 0 ≤ R < R_max (see [`three_levels`]).
     Monotone,
-    /// Differences shrink and alternate in sign: −1 < ε₂₁/ε₃₂ < 0.
+    /// Differences shrink and alternate in sign: −R_max < R < 0.
     Oscillatory,
-    /// The finer difference is not smaller: |ε₂₁/ε₃₂| ≥ 1.
+    /// The finer difference does not shrink with h at any positive order: |R| ≥ R_max.
     Divergent,
     /// The finest difference is below what the Newton tolerance can resolve.
     RoundOff,
@@ -63,14 +63,20 @@ pub struct Estimate {
 
 /// Apparent order by Celik's fixed-point iteration
 /// p = |ln|ε₃₂/ε₂₁| + q(p)| / ln r₂₁, q(p) = ln((r₂₁^p − s)/(r₃₂^p − s)), s = sign(ε₃₂/ε₂₁);
-/// `None` when it does not converge (or an argument of a logarithm is not positive).
+/// `None` when it does not converge (or an argument of a logarithm is not positive). The
+/// start is Celik's q = 0 value, or p = 1 when that is below 0.1.
 pub fn apparent_order(r21: f64, r32: f64, e21: f64, e32: f64) -> Option<f64> {
     if !(r21 > 1.0 && r32 > 1.0 && e21 != 0.0 && e32 != 0.0) {
         return None;
     }
     let s = (e32 / e21).signum();
     let ln_ratio = (e32 / e21).abs().ln();
+    // Celik starts from q = 0; on non-uniform levels that start can be p ≈ 0, where q(p) is
+    // undefined (r^p − 1 → 0), so start from first order there.
     let mut p = (ln_ratio / r21.ln()).abs();
+    if p < 0.1 {
+        p = 1.0;
+    }
     for _ in 0..1000 {
         let (a, b) = (r21.powf(p) - s, r32.powf(p) - s);
         if !(a > 0.0 && b > 0.0) {
@@ -131,7 +137,16 @@ fn round_off(phi1: f64, e_a: f64, resolution: f64, fs: f64) -> Estimate {
     }
 }
 
-/// Celik's procedure on three levels, with the verdict from R = ε₂₁/ε₃₂.
+/// The largest |ε₂₁/ε₃₂| of a sequence φ = φ₀ + c h^p with p > 0: R(p) =
+/// (r₂₁^p − 1)/(r₂₁^p (r₃₂^p − 1)) falls from ln r₂₁/ln r₃₂ at p → 0 to 0 at p → ∞; 1 for
+/// uniform refinement. (A finer difference larger than the coarser one is still convergence
+/// when the finer step refines more: r₂₁ = 1.5 after r₃₂ = 1.333 gives R = 1 at p = 1.)
+pub fn r_max(r21: f64, r32: f64) -> f64 {
+    r21.ln() / r32.ln()
+}
+
+/// Celik's procedure on three levels, with the verdict from R = ε₂₁/ε₃₂ against
+/// [`r_max`].
 pub fn three_levels(h: [f64; 3], phi: [f64; 3], resolution: f64) -> Estimate {
     let [p1, p2, p3] = phi;
     let (r21, r32) = (h[1] / h[0], h[2] / h[1]);
@@ -141,7 +156,7 @@ pub fn three_levels(h: [f64; 3], phi: [f64; 3], resolution: f64) -> Estimate {
         return round_off(p1, e_a, resolution, FS_OBSERVED);
     }
     let ratio = if e32 == 0.0 { f64::INFINITY } else { e21 / e32 };
-    let verdict = if ratio.abs() >= 1.0 {
+    let verdict = if ratio.abs() >= r_max(r21, r32) {
         Verdict::Divergent
     } else if ratio < 0.0 {
         Verdict::Oscillatory
