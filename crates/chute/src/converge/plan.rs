@@ -248,30 +248,9 @@ pub fn plan(
         let mut levels = Vec::new();
         let mut axis = Axis::Space;
         for (text, value) in values {
+            let (s, a) = level_scenario(scenario, set, &key, &text)?;
+            axis = a;
             let what = format!("--vary {key}={text}");
-            let mut s_set = set.to_vec();
-            s_set.push(format!("{key}={text}"));
-            s_set.push("name=level".into());
-            let s = Scenario::load(scenario, &s_set).map_err(|e| input(format!("{what}: {e}")))?;
-            axis = VARY_KEYS
-                .iter()
-                .find(|(k, _)| *k == key)
-                .map(|(_, a)| *a)
-                .ok_or_else(|| {
-                    input(format!(
-                        "--vary {key}: not a discretisation parameter; chute converge refines {}",
-                        VARY_KEYS
-                            .iter()
-                            .map(|(k, _)| format!("`{k}`"))
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ))
-                })?;
-            if axis == Axis::Time && s.time.adaptive {
-                return Err(input(format!(
-                    "{what}: with time.adaptive = true, time.dt_s is only the first step; a dt ladder needs a fixed step"
-                )));
-            }
             let built = crate::build::build(&s).map_err(|e| input(format!("{what}: {e}")))?;
             let h = match axis {
                 Axis::Time => s.time.dt_s,
@@ -284,11 +263,11 @@ pub fn plan(
                     let name = safe(&format!("{short}-{text}"));
                     study.cases.push(Case {
                         index: study.cases.len(),
-                        name,
+                        name: name.clone(),
                         set: vec![format!("{key}={text}")],
                     });
                     seen.push(s.clone());
-                    study.cases[study.cases.len() - 1].name.clone()
+                    name
                 }
             };
             levels.push(Level {
@@ -305,6 +284,41 @@ pub fn plan(
     }
     dedupe_names(&mut study)?;
     Ok(Plan { ladders, study })
+}
+
+/// The validated scenario of one level (named `level`, so equal levels compare equal) and
+/// what its key refines; errors name the key and the value.
+fn level_scenario(
+    scenario: &Path,
+    set: &[String],
+    key: &str,
+    text: &str,
+) -> Result<(Scenario, Axis), AppError> {
+    let what = format!("--vary {key}={text}");
+    let mut s_set = set.to_vec();
+    s_set.push(format!("{key}={text}"));
+    s_set.push("name=level".into());
+    let s = Scenario::load(scenario, &s_set).map_err(|e| input(format!("{what}: {e}")))?;
+    let axis = VARY_KEYS
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map(|(_, a)| *a)
+        .ok_or_else(|| {
+            input(format!(
+                "--vary {key}: not a discretisation parameter; chute converge refines {}",
+                VARY_KEYS
+                    .iter()
+                    .map(|(k, _)| format!("`{k}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })?;
+    if axis == Axis::Time && s.time.adaptive {
+        return Err(input(format!(
+            "{what}: with time.adaptive = true, time.dt_s is only the first step; a dt ladder needs a fixed step"
+        )));
+    }
+    Ok((s, axis))
 }
 
 /// The sizes h must change strictly with the values, or the key does not refine this model.

@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::analyse::{QuantityReport, StudyReport, QUANTITIES};
@@ -58,19 +59,7 @@ fn panel(
         (Some(f), Some(g)) => Some((f - g * f.abs(), f + g * f.abs())),
         _ => None,
     };
-    let ys = pts
-        .iter()
-        .map(|p| p.1)
-        .chain(q.extrapolated)
-        .chain(band.into_iter().flat_map(|b| [b.0, b.1]));
-    let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |a, y| {
-        (a.0.min(y), a.1.max(y))
-    });
-    let pad = if hi > lo {
-        0.08 * (hi - lo)
-    } else {
-        0.05 * hi.abs().max(1e-6)
-    };
+    let (lo, hi) = y_range(&pts, q.extrapolated, band);
     let h_max = pts.iter().map(|p| p.0).fold(0.0, f64::max) * 1.1;
     let unit = if st.axis == Axis::Time {
         "dt (s)"
@@ -78,8 +67,7 @@ fn panel(
         "h (m)"
     };
     // Enough decimals that neighbouring tick labels differ, however tight the range.
-    let span = (hi - lo + 2.0 * pad).abs().max(f64::MIN_POSITIVE);
-    let decimals = ((-span.log10()).ceil() + 2.0).clamp(0.0, 15.0) as usize;
+    let decimals = ((-(hi - lo).log10()).ceil() + 2.0).clamp(0.0, 15.0) as usize;
     let y_fmt = move |y: &f64| format!("{y:.decimals$}");
     let mut chart = ChartBuilder::on(area)
         .caption(
@@ -89,7 +77,7 @@ fn panel(
         .margin(10)
         .x_label_area_size(38)
         .y_label_area_size(90)
-        .build_cartesian_2d(0.0..h_max, (lo - pad)..(hi + pad))
+        .build_cartesian_2d(0.0..h_max, lo..hi)
         .map_err(de)?;
     chart
         .configure_mesh()
@@ -100,26 +88,11 @@ fn panel(
         .y_label_formatter(&y_fmt)
         .draw()
         .map_err(de)?;
-    if let Some((b0, b1)) = band {
-        chart
-            .draw_series([Rectangle::new(
-                [(0.0, b0), (h_max, b1)],
-                RED.mix(0.15).filled(),
-            )])
-            .map_err(de)?;
+    if let Some(b) = band {
+        draw_band(&mut chart, b, h_max)?;
     }
     if let Some(x) = q.extrapolated {
-        chart
-            .draw_series(DashedLineSeries::new(
-                [(0.0, x), (h_max, x)],
-                6,
-                4,
-                RED.stroke_width(1),
-            ))
-            .map_err(de)?;
-        chart
-            .draw_series([Cross::new((0.0, x), 7, RED.stroke_width(2))])
-            .map_err(de)?;
+        draw_extrapolation(&mut chart, x, h_max)?;
     }
     let mut line: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.1)).collect();
     line.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -135,6 +108,53 @@ fn panel(
             };
             Circle::new((h, v), 5, style)
         }))
+        .map_err(de)?;
+    Ok(())
+}
+
+type Chart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// The y range of the panel: values, extrapolation and band, padded by 8 % (5 % of the
+/// value, or 1e-6, when flat).
+fn y_range(pts: &[(f64, f64, bool)], ext: Option<f64>, band: Option<(f64, f64)>) -> (f64, f64) {
+    let ys = pts
+        .iter()
+        .map(|p| p.1)
+        .chain(ext)
+        .chain(band.into_iter().flat_map(|b| [b.0, b.1]));
+    let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |a, y| {
+        (a.0.min(y), a.1.max(y))
+    });
+    let pad = if hi > lo {
+        0.08 * (hi - lo)
+    } else {
+        0.05 * hi.abs().max(1e-6)
+    };
+    (lo - pad, hi + pad)
+}
+
+fn draw_band(chart: &mut Chart<'_, '_>, (b0, b1): (f64, f64), h_max: f64) -> Result<(), PlotError> {
+    chart
+        .draw_series([Rectangle::new(
+            [(0.0, b0), (h_max, b1)],
+            RED.mix(0.15).filled(),
+        )])
+        .map_err(de)?;
+    Ok(())
+}
+
+fn draw_extrapolation(chart: &mut Chart<'_, '_>, x: f64, h_max: f64) -> Result<(), PlotError> {
+    chart
+        .draw_series(DashedLineSeries::new(
+            [(0.0, x), (h_max, x)],
+            6,
+            4,
+            RED.stroke_width(1),
+        ))
+        .map_err(de)?;
+    chart
+        .draw_series([Cross::new((0.0, x), 7, RED.stroke_width(2))])
         .map_err(de)?;
     Ok(())
 }

@@ -64,7 +64,29 @@ fn study_markdown(st: &StudyReport) -> String {
             super::plan::Axis::Time => "time-step",
         }
     );
-    md.push_str("| value | h | nodes | status | used |");
+    md.push_str(&levels_table(st));
+    md.push_str(&estimates_table(st));
+    md.push_str(&format!(
+        "\nRound-off resolution: the Newton tolerance leaves a fraction ε_F = {:.2e} of the weight unresolved; a quantity whose finest difference is below its share of it is `round-off` (docs/convergence.md).\n",
+        st.relative_force_resolution
+    ));
+    let msgs: Vec<String> = QUANTITIES
+        .iter()
+        .filter_map(|q| {
+            let r = st.quantities.get(q.name)?;
+            r.message.as_ref().map(|m| format!("{}: {m}", q.label))
+        })
+        .collect();
+    for n in st.notes.iter().chain(&msgs) {
+        md.push_str(&format!("\n- {n}"));
+    }
+    md.push_str("\n\n");
+    md
+}
+
+/// One row per level: value, h, nodes, status, the quantities, wall time.
+fn levels_table(st: &StudyReport) -> String {
+    let mut md = String::from("| value | h | nodes | status | used |");
     for q in QUANTITIES {
         md.push_str(&format!(" {} |", q.label));
     }
@@ -89,7 +111,12 @@ fn study_markdown(st: &StudyReport) -> String {
             l.wall_time_s.map_or("—".into(), |w| format!("{w:.0}"))
         ));
     }
-    md.push_str("\n| quantity | verdict | finest | p | extrapolated | e_a | e_ext | GCI (fine) | GCI by level |\n|---|---|---|---|---|---|---|---|---|\n");
+    md
+}
+
+/// One row per quantity: verdict, finest value, order, extrapolation, errors, GCIs.
+fn estimates_table(st: &StudyReport) -> String {
+    let mut md = String::from("\n| quantity | verdict | finest | p | extrapolated | e_a | e_ext | GCI (fine) | GCI by level |\n|---|---|---|---|---|---|---|---|---|\n");
     for q in QUANTITIES {
         let Some(r) = st.quantities.get(q.name) else {
             continue;
@@ -122,20 +149,5 @@ fn study_markdown(st: &StudyReport) -> String {
             }
         ));
     }
-    md.push_str(&format!(
-        "\nRound-off resolution: the Newton tolerance leaves a fraction ε_F = {:.2e} of the weight unresolved; a quantity whose finest difference is below its share of it is `round-off` (docs/convergence.md).\n",
-        st.relative_force_resolution
-    ));
-    let msgs: Vec<String> = QUANTITIES
-        .iter()
-        .filter_map(|q| {
-            let r = st.quantities.get(q.name)?;
-            r.message.as_ref().map(|m| format!("{}: {m}", q.label))
-        })
-        .collect();
-    for n in st.notes.iter().chain(&msgs) {
-        md.push_str(&format!("\n- {n}"));
-    }
-    md.push_str("\n\n");
     md
 }
