@@ -1,7 +1,6 @@
-//! The interface between the command line and the simulation: `check` and `run` a scenario,
-//! and the `validate` / `bench` entry points.
-//!
-//! `validate::main` runs [`crate::validate`]; `bench` lives in [`crate::bench`].
+//! The interface between the command line and the simulation: `check` and `run` a scenario.
+//! The other commands live in their own modules: [`crate::verify`] (`chute validate`), [`crate::bench`],
+//! [`crate::study`].
 
 use std::path::PathBuf;
 
@@ -25,7 +24,7 @@ pub struct RunOptions {
 /// What a run produced.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunOutcome {
-    /// The contents of `summary.json` (DESIGN.md §Output directory).
+    /// The contents of `summary.json` (docs/outputs.md).
     pub summary: serde_json::Value,
     /// Whether the run reached `time.duration_s`.
     pub complete: bool,
@@ -39,6 +38,9 @@ pub enum AppError {
     /// A bad scenario (exit 2). Boxed: it is the largest variant.
     #[error(transparent)]
     Scenario(Box<ScenarioError>),
+    /// A scenario the builders cannot turn into a model, e.g. a bad mesh file (exit 2).
+    #[error(transparent)]
+    Build(#[from] crate::build::BuildError),
     /// Any other bad input: output directory, study file, shard spec (exit 2).
     #[error("{0}")]
     Input(String),
@@ -59,9 +61,6 @@ pub enum AppError {
         /// Number of failed cases.
         failed: usize,
     },
-    /// A part of the application that is not built yet (exit 1).
-    #[error("not implemented yet: {0}")]
-    NotImplemented(&'static str),
 }
 
 impl From<ScenarioError> for AppError {
@@ -74,11 +73,9 @@ impl AppError {
     /// Process exit status: 2 for input errors, 3 for a failed run, 1 for anything else.
     pub fn exit_code(&self) -> i32 {
         match self {
-            AppError::Scenario(_) | AppError::Input(_) => 2,
+            AppError::Scenario(_) | AppError::Build(_) | AppError::Input(_) => 2,
             AppError::RunFailed(_) => 3,
-            AppError::Io { .. }
-            | AppError::ValidationFailed { .. }
-            | AppError::NotImplemented(_) => 1,
+            AppError::Io { .. } | AppError::ValidationFailed { .. } => 1,
         }
     }
 
@@ -95,7 +92,7 @@ impl AppError {
 /// model is built (meshes generated or read, masses lumped) so every number is the one a run
 /// would use.
 pub fn check(s: &Scenario) -> Result<Vec<(String, String)>, AppError> {
-    let built = crate::build::build(s).map_err(|e| AppError::Input(e.to_string()))?;
+    let built = crate::build::build(s)?;
     let mut out = built.derived;
     let t = &s.time;
     match s.adaptive_settings() {
@@ -133,14 +130,6 @@ pub fn check(s: &Scenario) -> Result<Vec<(String, String)>, AppError> {
 /// The run loop's settings for scenario `s`.
 pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
     use crate::scenario::DragLaw;
-    let snapshots_s = if s.output.snapshots_s.is_empty() {
-        [0.3, 0.6, 0.9]
-            .iter()
-            .map(|f| f * s.time.duration_s)
-            .collect()
-    } else {
-        s.output.snapshots_s.clone()
-    };
     crate::runner::RunConfig {
         name: s.name.clone(),
         dt_s: s.time.dt_s,
@@ -151,10 +140,13 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
         adaptive: s.adaptive_settings(),
         duration_s: s.time.duration_s,
         frame_interval_s: s.output.frame_interval_s,
-        snapshots_s,
+        // The loader fills the default times; an empty list means none.
+        snapshots_s: s.output.snapshots_s.clone(),
         newton: engine::NewtonOptions {
             max_iterations: s.time.newton_max_iterations,
             force_tol_abs: s.time.newton_tolerance_n,
+            // The default absolute tolerance is 1e-9 of the total weight (+ 1 N).
+            reference_acceleration: s.fluid.gravity_mps2,
             force_tol_rel: s
                 .time
                 .newton_relative_tolerance
@@ -163,16 +155,9 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
                 .time
                 .newton_step_tolerance_m
                 .unwrap_or(engine::NewtonOptions::default().step_tol),
-            reuse_jacobian: true,
-            // Cholesky of ½(J + Jᵀ) instead of LU of J (drag is the only skew part); exact LU
-            // when it does not contract. docs/performance.md has the measurements.
-            symmetric_approx: true,
-            // A solve whose residual grows 1e4× is abandoned at once (dt is halved) instead of
-            // using its 25 iterations: converging solves grow it by ≤ ~100×.
-            divergence_limit: 1e4,
-            // Extrapolating predictor while it helps (engine::Predictor::Adaptive).
-            predictor: engine::Predictor::Adaptive,
-            ..Default::default()
+            // Modified Newton, Cholesky of ½(J + Jᵀ), divergence limit, adaptive predictor
+            // (docs/performance.md has the measurements).
+            ..engine::NewtonOptions::recommended()
         },
         air_density: s.fluid.density_kg_m3,
         air_viscosity: s.fluid.viscosity_pa_s,
@@ -189,7 +174,7 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
 /// checkpoint is written periodically. The process-wide [`crate::runner::STOP`] flag (set by
 /// the Ctrl-C / SIGTERM handler of the binary) stops the run gracefully.
 pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunOutcome, AppError> {
-    let mut built = crate::build::build(s).map_err(|e| AppError::Input(e.to_string()))?;
+    let mut built = crate::build::build(s)?;
     let scenario_toml = s.to_toml();
     let resume = match &opts.resume {
         Some(dir) => Some(load_checkpoint(dir, &opts.out_dir, &scenario_toml)?),
@@ -266,59 +251,3 @@ pub fn scenario_difference(was: &str, now: &str) -> Option<(usize, String, Strin
         })
     })
 }
-
-/// `chute validate`: the verification cases against analytic references.
-pub mod validate {
-    use super::AppError;
-    use std::path::PathBuf;
-
-    /// Arguments of `chute validate`.
-    #[derive(Debug, Clone, PartialEq, Default)]
-    pub struct ValidateArgs {
-        /// Run the short versions of the cases.
-        pub quick: bool,
-        /// Where to write the report and plots.
-        pub out: Option<PathBuf>,
-        /// Print the table as JSON on stdout.
-        pub json: bool,
-        /// Only the cases whose name contains this text.
-        pub case: Option<String>,
-    }
-
-    /// Run the verification suite, print the table (or JSON) on stdout and write the
-    /// convergence studies when `out` is given; `Err(ValidationFailed)` when any check fails.
-    pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
-        let opts = crate::validate::ValidateOptions {
-            quick: args.quick,
-            json: args.json,
-            out: args.out.clone(),
-            filter: args.case.clone(),
-        };
-        if let Some(dir) = &args.out {
-            std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
-        }
-        let checks = crate::validate::run_suite(&opts);
-        if let Some(dir) = &args.out {
-            let path = dir.join("validation_table.md");
-            crate::output::atomic::write_atomic(
-                &path,
-                crate::validate::markdown(&checks).as_bytes(),
-            )
-            .map_err(|e| AppError::io(&path, e))?;
-        }
-        if args.json {
-            let text = serde_json::to_string_pretty(&checks)
-                .map_err(|e| AppError::RunFailed(format!("JSON: {e}")))?;
-            println!("{text}");
-        } else {
-            print!("{}", crate::validate::table(&checks));
-        }
-        match checks.iter().filter(|c| !c.pass).count() {
-            0 => Ok(()),
-            failed => Err(AppError::ValidationFailed { failed }),
-        }
-    }
-}
-
-/// `chute bench`: timings on a ladder of mesh sizes (implemented in [`crate::bench`]).
-pub use crate::bench;

@@ -4,28 +4,27 @@
 //! report's rectangular shell canopy at ≈ 250, 1k, 4k, 16k and 33k nodes (≈ 100k DOFs), and
 //! the DisMech peer's hexagonal parachutes `dismech-hex-n6` / `dismech-hex-n12`.
 //!
-//! Every case runs in its own child process (this executable re-run with
-//! `CHUTE_BENCH_CASE=<name>`), so its peak resident memory (`VmHWM` of `/proc/self/status`)
-//! is its own and not the high-water mark of a larger case run earlier. The child builds the
-//! model, takes `warmup` untimed steps, zeroes the stepper's [`engine::Timings`], then times
-//! `steps` steps and prints one JSON object.
+//! Every case runs in its own child process (this executable re-run as `chute bench --case
+//! <name>` with the same experiment options), so its peak resident memory (`VmHWM` of
+//! `/proc/self/status`) is its own and not the high-water mark of a larger case run earlier.
+//! The child builds the model, takes `warmup` untimed steps, zeroes the stepper's
+//! [`engine::Timings`], then times `steps` steps and prints one JSON object. Steps are taken
+//! as a run takes them ([`crate::runner::Driver`]): a failed Newton solve halves the step.
 //!
 //! Why a warm-up: a canopy released flat and at rest first falls almost rigidly, so the
 //! constant-velocity predictor nearly solves the first steps and they cost one cheap Newton
 //! iteration each; timing them would flatter the solver. After the warm-up the loads have
 //! bent the canopy and drag has built up, which is the regime of most of a flight. The
 //! peer-comparison cases instead time the peer's whole run (300 steps of 1e-2 s from rest,
-//! no warm-up), which is exactly what the peer's 116 ms/step figure averages over.
+//! no warm-up), which is exactly what the peer's per-step figure averages over.
 //!
-//! Environment (for tests and documentation tooling; not part of the stable CLI):
-//! - `CHUTE_BENCH_TINY=1`: three small cases with a handful of steps (the CLI test).
-//! - `CHUTE_BENCH_PLOT=<file.png>`: also draw ms per Newton iteration against DOFs.
-//! - `CHUTE_BENCH_CASE=<name>`: run only that case, in-process (what the children do).
-//! - `CHUTE_BENCH_MEM=1`: resident memory after each stage (build, stepper, first step,
-//!   warm-up) and the stepper's counters on stderr.
-//! - `CHUTE_BENCH_SET="key=value key=value"`: extra scenario overrides for every case (A/B
-//!   experiments, e.g. of the Newton tolerances).
+//! The options besides `--quick`, `--json`, `--plot`, `--set` and `--case` are hidden: the
+//! test ladder (`--tiny`), diagnostics (`--mem`, `--trace`) and the Newton experiment knobs
+//! for A/B comparisons ([`NewtonExperiment`]); docs/performance.md lists them.
 
+pub mod plot;
+
+use std::path::PathBuf;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -33,13 +32,137 @@ use serde::{Deserialize, Serialize};
 use crate::app::AppError;
 use crate::scenario::Scenario;
 
-/// Arguments of `chute bench`.
-#[derive(Debug, Clone, PartialEq, Default)]
+/// `chute bench`.
+#[derive(Debug, Clone, Default, PartialEq, clap::Args)]
 pub struct BenchArgs {
     /// Fewer and smaller sizes.
+    #[arg(long)]
     pub quick: bool,
-    /// Print the timings as JSON on stdout.
+    /// Print the timings as JSON.
+    #[arg(long)]
     pub json: bool,
+    /// Also draw the scaling plot (ms per Newton iteration against DOFs) to this PNG.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Override a scenario key in every case (repeatable), e.g. a Newton tolerance.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Run only this case, in this process, and print its JSON object (what the child
+    /// process of each case does; e.g. to profile one case).
+    #[arg(long, value_name = "NAME")]
+    pub case: Option<String>,
+    /// Three small cases of a few steps (the CLI test's ladder).
+    #[arg(long, hide = true)]
+    pub tiny: bool,
+    /// Resident memory after each stage, and the stepper's counters, on stderr.
+    #[arg(long, hide = true)]
+    pub mem: bool,
+    /// Every step attempt and its Newton residual history on stderr.
+    #[arg(long, hide = true)]
+    pub trace: bool,
+    /// Newton experiment knobs.
+    #[command(flatten)]
+    pub newton: NewtonExperiment,
+}
+
+/// Changes to the run's Newton settings, for A/B experiments (hidden flags of `chute bench`).
+#[derive(Debug, Clone, Default, PartialEq, clap::Args)]
+pub struct NewtonExperiment {
+    /// A fresh Jacobian at every iteration (no modified Newton).
+    #[arg(long, hide = true)]
+    pub no_reuse: bool,
+    /// Exact LU of J instead of Cholesky of its symmetric part.
+    #[arg(long, hide = true)]
+    pub no_symmetric: bool,
+    /// No line search.
+    #[arg(long, hide = true)]
+    pub no_line_search: bool,
+    /// Contraction factor up to which a reused factorisation is kept.
+    #[arg(long, hide = true, value_name = "C")]
+    pub contraction: Option<f64>,
+    /// The predictor of the first Newton iterate.
+    #[arg(long, hide = true, value_enum)]
+    pub predictor: Option<PredictorChoice>,
+}
+
+/// `--predictor`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PredictorChoice {
+    /// [`engine::Predictor::ConstantVelocity`].
+    Velocity,
+    /// [`engine::Predictor::ConstantAcceleration`].
+    Acceleration,
+    /// [`engine::Predictor::Adaptive`].
+    Adaptive,
+}
+
+impl NewtonExperiment {
+    /// Apply the knobs to the run's settings.
+    pub fn apply(&self, n: &mut engine::NewtonOptions) {
+        if self.no_reuse {
+            n.reuse_jacobian = false;
+        }
+        if self.no_symmetric {
+            n.symmetric_approx = false;
+        }
+        if self.no_line_search {
+            n.line_search = false;
+        }
+        if let Some(c) = self.contraction {
+            n.reuse_contraction = c;
+        }
+        if let Some(p) = self.predictor {
+            n.predictor = match p {
+                PredictorChoice::Velocity => engine::Predictor::ConstantVelocity,
+                PredictorChoice::Acceleration => engine::Predictor::ConstantAcceleration,
+                PredictorChoice::Adaptive => engine::Predictor::Adaptive,
+            };
+        }
+    }
+
+    /// The same knobs as command-line arguments (for a case's child process).
+    fn args(&self) -> Vec<String> {
+        let mut a: Vec<String> = [
+            (self.no_reuse, "--no-reuse"),
+            (self.no_symmetric, "--no-symmetric"),
+            (self.no_line_search, "--no-line-search"),
+        ]
+        .iter()
+        .filter(|(on, _)| *on)
+        .map(|(_, flag)| flag.to_string())
+        .collect();
+        if let Some(c) = self.contraction {
+            a.extend(["--contraction".into(), c.to_string()]);
+        }
+        if let Some(p) = self.predictor {
+            let name = match p {
+                PredictorChoice::Velocity => "velocity",
+                PredictorChoice::Acceleration => "acceleration",
+                PredictorChoice::Adaptive => "adaptive",
+            };
+            a.extend(["--predictor".into(), name.into()]);
+        }
+        a
+    }
+}
+
+impl BenchArgs {
+    /// The arguments of the child process that runs case `name` with these options.
+    fn child_args(&self, name: &str) -> Vec<String> {
+        let mut a = vec!["bench".to_string(), "--case".into(), name.into()];
+        let flags = [
+            (self.quick, "--quick"),
+            (self.tiny, "--tiny"),
+            (self.mem, "--mem"),
+            (self.trace, "--trace"),
+        ];
+        a.extend(flags.iter().filter(|f| f.0).map(|f| f.1.to_string()));
+        for kv in &self.set {
+            a.extend(["--set".into(), kv.clone()]);
+        }
+        a.extend(self.newton.args());
+        a
+    }
 }
 
 const SHELL: &str = include_str!("../../../scenarios/report-shell-4-sites.toml");
@@ -185,8 +308,9 @@ pub struct CaseResult {
     pub lu_factorizations: u64,
     /// Factorisations by LBLᵀ (symmetric matrix not positive definite).
     pub lblt_factorizations: u64,
-    /// Failed steps retried as two half steps during the timed run (the run loop's policy;
-    /// their cost is included in `ms_per_step`, which stays per step of the nominal `dt`).
+    /// Steps of the timed run whose Newton solve failed and that were retried with half the
+    /// step, as in a run (their cost is included in `ms_per_step`, which stays per step of
+    /// the nominal `dt`).
     pub halvings: usize,
     /// Peak resident memory of the case's process (MiB), model build included.
     pub peak_rss_mib: f64,
@@ -194,20 +318,23 @@ pub struct CaseResult {
     pub t_end_s: f64,
 }
 
-/// Run the benchmark ladder.
+/// Run the benchmark ladder, or with `--case` one case in this process.
 pub fn main(args: &BenchArgs) -> Result<(), AppError> {
-    let tiny = std::env::var_os("CHUTE_BENCH_TINY").is_some();
-    let cases = ladder(args.quick, tiny);
-    if let Ok(name) = std::env::var("CHUTE_BENCH_CASE") {
+    let cases = ladder(args.quick, args.tiny);
+    if let Some(name) = &args.case {
         let c = cases
             .iter()
             .chain(ladder(false, false).iter())
-            .find(|c| c.name == name)
+            .find(|c| &c.name == name)
             .cloned()
             .ok_or_else(|| AppError::Input(format!("no bench case `{name}`")))?;
-        let r = run_case(&c)?;
+        let r = run_case(&c, args)?;
         println!("{}", serde_json::to_string(&r).expect("serialisable"));
         return Ok(());
+    }
+    // Bad `--set` values are reported here, once, rather than by every child.
+    for c in &cases {
+        scenario_of(c, &args.set)?;
     }
     let exe = std::env::current_exe().map_err(|e| AppError::io("current_exe", e))?;
     let mut results = Vec::new();
@@ -215,7 +342,7 @@ pub fn main(args: &BenchArgs) -> Result<(), AppError> {
         println!("{}", header());
     }
     for c in &cases {
-        let r = run_child(&exe, c)?;
+        let r = run_child(&exe, c, args)?;
         if !args.json {
             println!("{}", row(&r));
         }
@@ -227,17 +354,16 @@ pub fn main(args: &BenchArgs) -> Result<(), AppError> {
             serde_json::to_string_pretty(&results).expect("serialisable")
         );
     }
-    if let Some(path) = std::env::var_os("CHUTE_BENCH_PLOT") {
-        crate::bench_plot::scaling_plot(std::path::Path::new(&path), &results)
+    if let Some(path) = &args.plot {
+        plot::scaling_plot(path, &results)
             .map_err(|e| AppError::RunFailed(format!("plot: {e}")))?;
     }
     Ok(())
 }
 
-fn run_child(exe: &std::path::Path, c: &Case) -> Result<CaseResult, AppError> {
+fn run_child(exe: &std::path::Path, c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
     let out = std::process::Command::new(exe)
-        .arg("bench")
-        .env("CHUTE_BENCH_CASE", &c.name)
+        .args(args.child_args(&c.name))
         .stderr(std::process::Stdio::inherit())
         .output()
         .map_err(|e| AppError::io(exe, e))?;
@@ -252,52 +378,33 @@ fn run_child(exe: &std::path::Path, c: &Case) -> Result<CaseResult, AppError> {
         .map_err(|e| AppError::RunFailed(format!("bench case `{}`: bad output: {e}", c.name)))
 }
 
-fn scenario_of(c: &Case) -> Result<Scenario, AppError> {
+/// The case's scenario with its own overrides, then `set` (the `--set` options).
+fn scenario_of(c: &Case, set: &[String]) -> Result<Scenario, AppError> {
     let (text, path) = match c.base {
         "rod" => (ROD, ROD_PATH),
         "shell" => (SHELL, SHELL_PATH),
         _ => (HEX, HEX_PATH),
     };
-    // A/B experiments: extra `key=value` overrides, separated by spaces.
-    let extra = std::env::var("CHUTE_BENCH_SET").unwrap_or_default();
     let mut overrides = c.overrides.clone();
-    overrides.extend(extra.split_whitespace().map(str::to_string));
+    overrides.extend(set.iter().cloned());
     Ok(Scenario::from_str_with_name(text, path, &overrides)?)
 }
 
 /// Build and time one case in this process.
-pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
-    let s = scenario_of(c)?;
-    let mut built = crate::build::build(&s).map_err(|e| AppError::Input(e.to_string()))?;
+pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
+    let s = scenario_of(c, &args.set)?;
+    let mut built = crate::build::build(&s)?;
     let mut cfg = crate::app::run_config(&s, false);
-    if std::env::var_os("CHUTE_BENCH_NOREUSE").is_some() {
-        cfg.newton.reuse_jacobian = false;
-    }
-    if std::env::var_os("CHUTE_BENCH_NOSYM").is_some() {
-        cfg.newton.symmetric_approx = false;
-    }
-    if let Some(c) = std::env::var("CHUTE_BENCH_CONTRACTION")
-        .ok()
-        .and_then(|c| c.parse().ok())
-    {
-        cfg.newton.reuse_contraction = c;
-    }
-    match std::env::var("CHUTE_BENCH_PREDICTOR").as_deref() {
-        Ok("velocity") => cfg.newton.predictor = engine::Predictor::ConstantVelocity,
-        Ok("acceleration") => cfg.newton.predictor = engine::Predictor::ConstantAcceleration,
-        Ok("adaptive") => cfg.newton.predictor = engine::Predictor::Adaptive,
-        _ => {}
-    }
-    if std::env::var_os("CHUTE_BENCH_NOLS").is_some() {
-        cfg.newton.line_search = false;
-    }
-    let mem = std::env::var_os("CHUTE_BENCH_MEM").is_some();
-    if mem {
-        eprintln!("after build: {}", rss_mib());
-    }
+    args.newton.apply(&mut cfg.newton);
+    let mem = |stage: &str| {
+        if args.mem {
+            eprintln!("{stage}: {}", rss_mib());
+        }
+    };
+    mem("after build");
     let mut stepper = engine::ImplicitEuler::new(&built.model, cfg.newton)
         .map_err(|e| AppError::RunFailed(e.to_string()))?;
-    if mem {
+    if args.mem {
         let (l, s) = stepper.solver_memory_bytes();
         eprintln!(
             "after stepper: {} (L {} MiB, scratch {} MiB)",
@@ -307,35 +414,33 @@ pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
         );
     }
     let dt = cfg.dt_s;
-    let trace = std::env::var_os("CHUTE_BENCH_TRACE").is_some();
-    let mut retries = 0usize;
-    let run = |b: &mut crate::build::Built, st: &mut engine::ImplicitEuler, n, r: &mut usize| {
-        for _ in 0..n {
-            step_halving(b, st, dt, 0, r, trace)
-                .map_err(|e| AppError::RunFailed(format!("{}: t = {}: {e}", c.name, b.state.t)))?;
-        }
-        Ok::<(), AppError>(())
+    let mut driver = crate::runner::Driver::new(&cfg)
+        .map_err(|e| AppError::RunFailed(e.to_string()))?
+        .with_trace(args.trace);
+    let mut run = |b: &mut crate::build::Built, st: &mut engine::ImplicitEuler, n: usize| {
+        let t_end = b.state.t + n as f64 * dt;
+        driver
+            .advance_to(st, b, t_end)
+            .map_err(|e| AppError::RunFailed(format!("{}: t = {}: {e}", c.name, b.state.t)))
     };
-    run(&mut built, &mut stepper, 1, &mut retries)?;
-    if mem {
-        eprintln!("after 1 step: {}", rss_mib());
+    if c.warmup > 0 {
+        run(&mut built, &mut stepper, 1)?;
+        mem("after 1 step");
+        run(&mut built, &mut stepper, c.warmup - 1)?;
     }
-    run(
-        &mut built,
-        &mut stepper,
-        c.warmup.saturating_sub(1),
-        &mut retries,
-    )?;
-    retries = 0;
-    if mem {
+    if args.mem {
         eprintln!("after warm-up: {}\n{:?}", rss_mib(), stepper.timings());
     }
+    let failures_before = driver.newton_failures();
     stepper.reset_timings();
     let t0 = Instant::now();
-    run(&mut built, &mut stepper, c.steps, &mut retries)?;
+    let t_end = built.state.t + c.steps as f64 * dt;
+    driver
+        .advance_to(&mut stepper, &mut built, t_end)
+        .map_err(|e| AppError::RunFailed(format!("{}: t = {}: {e}", c.name, built.state.t)))?;
     let wall = t0.elapsed().as_secs_f64();
     let tm = *stepper.timings();
-    if mem {
+    if args.mem {
         eprintln!("timed: {tm:?}");
     }
     let n = c.steps.max(1) as f64;
@@ -360,35 +465,10 @@ pub fn run_case(c: &Case) -> Result<CaseResult, AppError> {
         cholesky: tm.factorizations > 0 && tm.lu_factorizations == 0 && tm.lblt_factorizations == 0,
         lu_factorizations: tm.lu_factorizations,
         lblt_factorizations: tm.lblt_factorizations,
-        halvings: retries,
+        halvings: (driver.newton_failures() - failures_before) as usize,
         peak_rss_mib: peak_rss_mib(),
         t_end_s: built.state.t,
     })
-}
-
-/// Advance by `dt`; a failed step is retried as two steps of `dt/2`, down to `dt/16`, as the
-/// run loop does.
-fn step_halving(
-    b: &mut crate::build::Built,
-    st: &mut engine::ImplicitEuler,
-    dt: f64,
-    depth: u32,
-    retries: &mut usize,
-    trace: bool,
-) -> Result<(), engine::StepError> {
-    let r = st.step(&mut b.model, &mut b.state, dt);
-    if trace {
-        eprintln!("t={:.5} {:?} {:?}", b.state.t, r, st.residual_history());
-    }
-    match r {
-        Ok(_) => Ok(()),
-        Err(_) if depth < 4 => {
-            *retries += 1;
-            step_halving(b, st, 0.5 * dt, depth + 1, retries, trace)?;
-            step_halving(b, st, 0.5 * dt, depth + 1, retries, trace)
-        }
-        Err(e) => Err(e),
-    }
 }
 
 /// A `/proc/self/status` memory field (`VmRSS`, `VmHWM`, …) in MiB; 0 where `/proc` is
@@ -405,7 +485,7 @@ fn status_mib(field: &str) -> f64 {
         .map_or(0.0, |kb| kb / 1024.0)
 }
 
-/// Current and peak resident memory, for the `CHUTE_BENCH_MEM` stage report.
+/// Current and peak resident memory, for the `--mem` stage report.
 fn rss_mib() -> String {
     format!(
         "RSS {:.1} MiB (peak {:.1} MiB)",

@@ -36,9 +36,18 @@ pub enum Command {
     /// and GCI; write convergence.json, convergence.md and convergence.png.
     Converge(ConvergeArgs),
     /// Run the verification cases against analytic references.
-    Validate(ValidateArgs),
+    Validate(crate::verify::ValidateArgs),
     /// Time the solver on a ladder of mesh sizes.
-    Bench(BenchArgs),
+    Bench(crate::bench::BenchArgs),
+    /// Write RUN_DIR/viewer.html: the run in 3-D in a browser (one offline file).
+    View(ViewArgs),
+}
+
+/// `chute view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// A run directory (as written by `chute run`).
+    pub run_dir: PathBuf,
 }
 
 /// `chute run`.
@@ -46,7 +55,7 @@ pub enum Command {
 pub struct RunArgs {
     /// Scenario file (TOML).
     pub scenario: PathBuf,
-    /// Output directory [default: runs/<scenario name>].
+    /// Output directory (default: `runs/<scenario name>`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Override a scenario key, e.g. `--set load.weight_n=20` (repeatable).
@@ -64,6 +73,12 @@ pub struct RunArgs {
     /// Resume from the checkpoint in this run directory (the default output directory).
     #[arg(long, value_name = "DIR")]
     pub resume: Option<PathBuf>,
+    /// Do not write viewer.html.
+    #[arg(long)]
+    pub no_viewer: bool,
+    /// Print summary.json on stdout (and nothing else there) instead of the summary for people.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `chute check`.
@@ -84,7 +99,7 @@ pub struct CheckArgs {
 pub struct StudyArgs {
     /// Study file (TOML).
     pub study: PathBuf,
-    /// Output directory [default: runs/<study name>].
+    /// Output directory (default: `runs/<study name>`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Cases run in parallel [default: one per core].
@@ -125,7 +140,7 @@ pub struct ConvergeArgs {
     /// Override a scenario key on every level (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Output directory [default: runs/<scenario name>-converge].
+    /// Output directory (default: `runs/<scenario name>-converge`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Levels run in parallel [default: one per core].
@@ -137,34 +152,6 @@ pub struct ConvergeArgs {
     /// Re-run levels that are already complete.
     #[arg(long)]
     pub force: bool,
-}
-
-/// `chute validate`.
-#[derive(Debug, Args)]
-pub struct ValidateArgs {
-    /// Short versions of the cases.
-    #[arg(long)]
-    pub quick: bool,
-    /// Where to write the report.
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Print the results as JSON.
-    #[arg(long)]
-    pub json: bool,
-    /// Only the cases whose name contains this text (e.g. `elastica`).
-    #[arg(long, value_name = "TEXT")]
-    pub case: Option<String>,
-}
-
-/// `chute bench`.
-#[derive(Debug, Args)]
-pub struct BenchArgs {
-    /// Fewer and smaller sizes.
-    #[arg(long)]
-    pub quick: bool,
-    /// Print the timings as JSON.
-    #[arg(long)]
-    pub json: bool,
 }
 
 /// Entry point of the binary: parse `std::env::args`, dispatch, print any error.
@@ -200,16 +187,9 @@ pub fn dispatch(cli: Cli) -> Result<(), AppError> {
         Command::Study(a) => cmd_study(&a),
         Command::Collect(a) => cmd_collect(&a),
         Command::Converge(a) => cmd_converge(&a),
-        Command::Validate(a) => app::validate::main(&app::validate::ValidateArgs {
-            quick: a.quick,
-            out: a.out,
-            json: a.json,
-            case: a.case,
-        }),
-        Command::Bench(a) => app::bench::main(&app::bench::BenchArgs {
-            quick: a.quick,
-            json: a.json,
-        }),
+        Command::Validate(a) => crate::verify::main(&a),
+        Command::Bench(a) => crate::bench::main(&a),
+        Command::View(a) => cmd_view(&a),
     }
 }
 
@@ -339,14 +319,13 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
             return Err(e);
         }
     };
-    println!("run `{}` → {}", s.name, out.display());
-    if let Some(obj) = outcome.summary.as_object() {
-        let pairs: Vec<(String, String)> = obj
-            .iter()
-            .map(|(k, v)| (k.clone(), v.to_string()))
-            .collect();
-        print_pairs(&pairs);
+    if !a.no_viewer {
+        if let Err(e) = crate::output::viewer::write_viewer(&out) {
+            eprintln!("warning: viewer.html not written: {e}");
+        }
     }
+    crate::output::console::print_run_report(&out, &outcome.summary, a.json, a.quiet)
+        .map_err(|e| AppError::io(out.join("summary.json"), e))?;
     match (outcome.complete, outcome.message) {
         (true, Some(m)) => {
             eprintln!("warning: {m}");
@@ -361,6 +340,29 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
             out.display()
         ))),
     }
+}
+
+fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
+    use crate::output::run_dir::RunDirError;
+    if !a.run_dir.is_dir() {
+        return Err(AppError::Input(format!(
+            "`{}` is not a directory (give a run directory written by `chute run`)",
+            a.run_dir.display()
+        )));
+    }
+    let r = crate::output::viewer::write_viewer(&a.run_dir).map_err(|e| match e {
+        RunDirError::Io { path, source } => AppError::Io { path, source },
+        e @ RunDirError::Format { .. } => AppError::Input(e.to_string()),
+    })?;
+    println!(
+        "wrote {} ({} bytes: {} of {} frames, {} triangles)",
+        r.path.display(),
+        r.bytes,
+        r.frames_embedded,
+        r.frames_total,
+        r.triangles
+    );
+    Ok(())
 }
 
 fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {

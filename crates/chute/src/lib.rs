@@ -1,8 +1,9 @@
-//! chute: parachute scenarios, builders, metrics, outputs and the command line.
+//! chute: parachute scenarios, builders, metrics, outputs and the command line. How the
+//! layers fit together (scenario → builders → engine → observers → outputs, and how a
+//! scenario key flows) is described in docs/architecture.md §Application.
 
 pub mod app;
 pub mod bench;
-pub mod bench_plot;
 pub mod build;
 pub mod checkpoint;
 pub mod cli;
@@ -13,4 +14,4 @@ pub mod output;
 pub mod runner;
 pub mod scenario;
 pub mod study;
-pub mod validate;
+pub mod verify;

@@ -1,7 +1,7 @@
 //! The run loop: step the model, observe it, stream outputs, recover from failed steps.
 //!
 //! Step sizes (fixed, or adaptive with local-error control) are chosen by
-//! [`dt_policy`](self::dt_policy): a step whose Newton solve fails or produces a non-finite
+//! [`dt_policy`]: a step whose Newton solve fails or produces a non-finite
 //! value is rejected (state unchanged) and retried with half the step; an adaptive step whose
 //! local error exceeds the tolerance is rejected and retried with the controller's smaller
 //! step. Below the smallest step the run stops: the summary is marked incomplete with the
@@ -30,10 +30,13 @@ use crate::output::summary::{RunInfo, Summary};
 use crate::output::timeseries::{DecimatedSeries, TimeSeriesWriter};
 use crate::output::vtk::VtkSeries;
 
+mod advance;
 pub mod dt_policy;
 mod observe;
 mod persist;
-use dt_policy::{DtPolicy, Plan, Verdict};
+pub use advance::Driver;
+use advance::Outcome;
+use dt_policy::{DtPolicy, Plan};
 pub use dt_policy::{GROW_AFTER, SYNC_STEPS};
 use observe::Observer;
 
@@ -264,6 +267,8 @@ impl Run {
     ) -> Result<Self, RunError> {
         let mut snaps = cfg.snapshots_s.clone();
         snaps.sort_by(f64::total_cmp);
+        let mut vtk = vtk;
+        vtk.set_roles(node_roles(built));
         Ok(Self {
             state: built.state.clone(),
             dt: DtPolicy::new(cfg)?,
@@ -331,20 +336,13 @@ impl Run {
         out_dir: &Path,
         plan: &Plan,
     ) -> Result<Attempt, RunError> {
-        let trial = match stepper.try_step(&built.model, &self.state, plan.h) {
-            Ok(trial) => trial,
-            Err(e) => return Ok(Attempt::Failed(e)),
-        };
-        let (next, err) = match self.dt.judge(&built.model, &self.state.v, trial.v(), plan) {
-            Verdict::Accept { next, err } => (next, err),
-            Verdict::Reject => return Ok(Attempt::Rejected),
-        };
-        let iterations = trial.report().iterations;
-        trial.commit(&mut built.model, &mut self.state);
-        if let Some(t) = plan.lands_at {
-            // Exactly on the event (the sum t + h may be an ulp off).
-            self.state.t = t;
-        }
+        let state = &mut self.state;
+        let (iterations, err) =
+            match advance::attempt(&mut self.dt, stepper, &mut built.model, state, plan) {
+                Outcome::Accepted { iterations, err } => (iterations, err),
+                Outcome::Rejected => return Ok(Attempt::Rejected),
+                Outcome::Failed(e) => return Ok(Attempt::Failed(e)),
+            };
         if err > 1.0 && self.warnings.len() < 20 {
             // Accepted only because the step is already the smallest allowed.
             self.warnings.push(format!(
@@ -352,7 +350,6 @@ impl Run {
                 err, self.state.t, plan.h
             ));
         }
-        self.dt.accepted(plan.h, next);
         self.steps += 1;
         self.newton_total += iterations as u64;
         let s = self
@@ -408,13 +405,9 @@ impl Run {
             }
         }
         while self.snap_idx < snaps.len() && s.t >= snaps[self.snap_idx] - half {
-            let _ = plots::snapshot_plot(
-                out_dir,
-                snaps[self.snap_idx],
-                &self.obs.pos,
-                &b.triangles,
-                &b.segments,
-            );
+            let roles = node_roles(b);
+            let scene = shape_scene(b, &self.obs.pos, &roles);
+            let _ = plots::snapshot_plot(out_dir, snaps[self.snap_idx], &scene);
             self.snap_idx += 1;
         }
         Ok(())
@@ -431,9 +424,15 @@ impl Run {
         wall: &Instant,
     ) -> Result<RunResult, RunError> {
         let mut warnings = std::mem::take(&mut self.warnings);
-        for t in &self.snaps[self.snap_idx..] {
+        let missed = &self.snaps[self.snap_idx..];
+        if !missed.is_empty() {
+            // One warning for all of them: a short run with the default snapshot times would
+            // otherwise repeat the same sentence.
+            let times: Vec<String> = missed.iter().map(|t| format!("{t} s")).collect();
             warnings.push(format!(
-                "snapshot at {t} s not drawn: the run ended at {:.6} s",
+                "snapshot{} at {} not drawn: the run ended at {:.6} s",
+                if missed.len() > 1 { "s" } else { "" },
+                times.join(", "),
                 self.state.t
             ));
         }
@@ -441,13 +440,9 @@ impl Run {
         let complete = stop_reason.is_none();
         // The final state is always drawn, whether or not the run completed.
         self.obs.load(&self.state.q, &self.state.v);
-        let _ = plots::final_shape_plot(
-            out_dir,
-            self.state.t,
-            &self.obs.pos,
-            &built.triangles,
-            &built.segments,
-        );
+        let roles = node_roles(built);
+        let scene = shape_scene(built, &self.obs.pos, &roles);
+        let _ = plots::final_shape_plot(out_dir, self.state.t, &scene);
         let stepping = self.dt.stepping(cfg);
         built.state = self.state;
         let params = metrics::Params {
@@ -472,19 +467,27 @@ impl Run {
         };
         let summary = match metrics::compute(&dec.series(), &params) {
             Ok(m) => {
+                let summary = Summary::new(info, &m);
+                let reason = crate::output::console::not_reached_reason(&summary);
+                let mark = match &reason {
+                    None => plots::TerminalMark::Reached {
+                        v_mps: m.terminal_velocity_mps,
+                        time_to_terminal_s: m.time_to_terminal_s,
+                    },
+                    Some(r) => plots::TerminalMark::NotReached { reason: r },
+                };
                 let _ = plots::velocity_plot(
                     &out_dir.join("velocity.png"),
                     &dec.t_s,
                     &dec.vz_mps,
-                    Some(m.terminal_velocity_mps),
-                    m.time_to_terminal_s,
+                    &mark,
                 );
                 let _ = plots::height_plot(
                     &out_dir.join("height.png"),
                     &dec.t_s,
                     &dec.extended_height_m,
                 );
-                Summary::new(info, &m)
+                summary
             }
             Err(e) => {
                 let mut info = info;
@@ -499,6 +502,24 @@ impl Run {
             complete,
             stop_reason,
         })
+    }
+}
+
+/// What each node is (point data `role` of the frames, markers of the pictures).
+fn node_roles(b: &Built) -> Vec<u8> {
+    crate::output::vtk::point_roles(
+        b.model.layout.n_nodes,
+        &b.canopy_nodes,
+        &b.load_sites,
+        b.payload_node,
+    )
+}
+
+/// The picture of positions `pos` of model `b`, coloured by height.
+fn shape_scene<'a>(b: &'a Built, pos: &'a [[f64; 3]], roles: &'a [u8]) -> plots::ShapeScene<'a> {
+    plots::ShapeScene {
+        roles,
+        ..plots::ShapeScene::new(pos, &b.triangles, &b.segments)
     }
 }
 

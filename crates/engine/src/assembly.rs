@@ -27,8 +27,6 @@ pub struct Coefficients {
 pub struct Assembler {
     /// Number of free DOFs (matrix size).
     pub n_free: usize,
-    /// `free_of[d]` = row of DOF `d` in the system, or `u32::MAX` if fixed.
-    pub free_of: Vec<u32>,
     /// `dof_of[r]` = global DOF of system row `r`.
     pub dof_of: Vec<usize>,
     /// CSC column pointers.
@@ -135,7 +133,6 @@ impl Assembler {
         Self {
             transpose,
             n_free,
-            free_of,
             dof_of,
             col_ptr,
             row_idx,

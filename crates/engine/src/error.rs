@@ -2,20 +2,160 @@
 use thiserror::Error;
 
 /// Errors raised while building a model or its solver.
-#[derive(Debug, Error)]
+#[derive(Debug, Clone, PartialEq, Error)]
 pub enum EngineError {
     /// A force referenced a DOF outside the model.
     #[error("force `{force}` references DOF {dof}, but the model has only {n} DOFs")]
-    DofOutOfRange { force: String, dof: usize, n: usize },
+    DofOutOfRange {
+        /// Name of the force.
+        force: String,
+        /// The offending DOF.
+        dof: usize,
+        /// Number of DOFs of the model.
+        n: usize,
+    },
     /// A free DOF has zero mass, so the dynamic Jacobian could be singular.
     #[error("free DOF {dof} has non-positive mass {mass}")]
-    NonPositiveMass { dof: usize, mass: f64 },
+    NonPositiveMass {
+        /// The DOF.
+        dof: usize,
+        /// Its mass (kg or kg·m²).
+        mass: f64,
+    },
     /// The sparse symbolic analysis failed.
     #[error("sparse symbolic factorisation failed: {0}")]
-    Symbolic(String),
+    Symbolic(SparseError),
     /// Invalid input to a model builder.
     #[error("invalid model: {0}")]
-    Invalid(String),
+    Invalid(InvalidModel),
+}
+
+/// What is wrong with the input of a model builder ([`crate::rod::RodNetwork::install`],
+/// [`crate::shell::install`], [`crate::ErrorController::new`]).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum InvalidModel {
+    /// The configuration vector does not match the DOF layout.
+    #[error("q has {got} entries, layout {expected}")]
+    StateLength {
+        /// Entries of `q`.
+        got: usize,
+        /// DOFs of the layout.
+        expected: usize,
+    },
+    /// The layout has too few twist DOFs for the rod network.
+    #[error("rod network needs twist DOFs {start}..{end}, layout has {available}")]
+    TwistDofs {
+        /// First twist DOF needed (index among the twists).
+        start: usize,
+        /// One past the last twist DOF needed.
+        end: usize,
+        /// Twist DOFs in the layout.
+        available: usize,
+    },
+    /// A rod with fewer than two nodes.
+    #[error("rod {rod} has fewer than 2 nodes")]
+    RodTooShort {
+        /// Index of the rod.
+        rod: usize,
+    },
+    /// A rod references a node outside the layout.
+    #[error("rod {rod} uses node {node} of {n_nodes}")]
+    NodeOutOfRange {
+        /// Index of the rod.
+        rod: usize,
+        /// The offending node.
+        node: usize,
+        /// Nodes in the layout.
+        n_nodes: usize,
+    },
+    /// A rod's material constants are out of range.
+    #[error("rod {rod}: E and G must be positive, ρ non-negative")]
+    Material {
+        /// Index of the rod.
+        rod: usize,
+    },
+    /// A rod's cross-section is invalid.
+    #[error("rod {rod}: {reason}")]
+    Section {
+        /// Index of the rod.
+        rod: usize,
+        /// What is wrong with the section.
+        reason: crate::rod::SectionError,
+    },
+    /// Two consecutive nodes of a rod coincide.
+    #[error("rod {rod}: zero-length edge {a}–{b}")]
+    ZeroLengthEdge {
+        /// Index of the rod.
+        rod: usize,
+        /// First node of the edge.
+        a: usize,
+        /// Second node of the edge.
+        b: usize,
+    },
+    /// The requested first material director is parallel to the rod's first edge.
+    #[error("rod {rod}: first director parallel to first edge")]
+    DirectorParallel {
+        /// Index of the rod.
+        rod: usize,
+    },
+    /// A shell mesh has more nodes than the model, or the rest shape is too short.
+    #[error("shell mesh with {mesh_nodes} nodes does not fit the model ({model_nodes} nodes, q_rest of length {q_len})")]
+    MeshTooLarge {
+        /// Nodes of the mesh.
+        mesh_nodes: usize,
+        /// Nodes of the model.
+        model_nodes: usize,
+        /// Length of the rest configuration.
+        q_len: usize,
+    },
+    /// Error-controller settings out of range.
+    #[error("error controller needs tol > 0 and 0 < h_min ≤ h_max, got tol = {tol_m} m, h_min = {h_min} s, h_max = {h_max} s")]
+    ErrorController {
+        /// Local error tolerance (m).
+        tol_m: f64,
+        /// Smallest step (s).
+        h_min: f64,
+        /// Largest step (s).
+        h_max: f64,
+    },
+}
+
+impl From<InvalidModel> for EngineError {
+    fn from(e: InvalidModel) -> Self {
+        Self::Invalid(e)
+    }
+}
+
+/// Why a sparse factorisation (symbolic or numeric) failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+pub enum SparseError {
+    /// An index exceeds what the sparse solver's index type can hold.
+    #[error("index overflow")]
+    IndexOverflow,
+    /// The solver could not allocate its storage.
+    #[error("out of memory")]
+    OutOfMemory,
+    /// LU found no pivot: the matrix is singular.
+    #[error("singular matrix (no pivot at elimination step {step})")]
+    Singular {
+        /// Elimination step without a pivot.
+        step: usize,
+    },
+    /// The CSC pattern handed to the solver is malformed (a bug in the caller).
+    #[error("invalid CSC pattern: {0}")]
+    InvalidPattern(&'static str),
+}
+
+/// Why [`crate::Force::restore_history`] refused a history.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("{force}: history of {got} values, expected {expected}")]
+pub struct HistoryError {
+    /// Name of the force.
+    pub force: String,
+    /// Values given.
+    pub got: usize,
+    /// Values this force's history has.
+    pub expected: usize,
 }
 
 /// Why a time step (or a static solve) failed. The state is left unchanged.
@@ -24,24 +164,38 @@ pub enum StepError {
     /// Newton did not converge within the iteration limit.
     #[error("Newton did not converge in {iterations} iterations: residual {residual:.3e} N (tolerance {tolerance:.3e} N), worst DOF {worst_dof}")]
     NotConverged {
+        /// Iterations taken.
         iterations: usize,
+        /// Final `‖R‖∞` (N).
         residual: f64,
+        /// Tolerance it had to meet (N).
         tolerance: f64,
+        /// DOF with the largest residual.
         worst_dof: usize,
     },
     /// The residual grew beyond `NewtonOptions::divergence_limit` × its initial value.
     #[error("Newton diverged after {iterations} iterations: residual {residual:.3e} N grew beyond {limit:.0e} × the initial {initial:.3e} N, worst DOF {worst_dof}")]
     Diverged {
+        /// Iterations taken.
         iterations: usize,
+        /// `‖R‖∞` when the solve was abandoned (N).
         residual: f64,
+        /// `‖R‖∞` at the first iterate (N).
         initial: f64,
+        /// The divergence limit.
         limit: f64,
+        /// DOF with the largest residual.
         worst_dof: usize,
     },
     /// A force, residual or solution became NaN or infinite.
     #[error("non-finite value in {what} (DOF {dof})")]
-    NonFinite { what: &'static str, dof: usize },
+    NonFinite {
+        /// Which quantity.
+        what: &'static str,
+        /// The first offending DOF.
+        dof: usize,
+    },
     /// The sparse factorisation failed (singular Jacobian).
     #[error("linear solve failed: {0}")]
-    Linear(String),
+    Linear(SparseError),
 }

@@ -58,7 +58,8 @@ impl FdReport {
     }
 }
 
-fn rel_err(a: &[f64], b: &[f64]) -> f64 {
+/// `max|a − b| / max(max|a|, 1e-300)`, 0 when `a == b`.
+pub fn rel_err(a: &[f64], b: &[f64]) -> f64 {
     let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs())).max(1e-300);
     let diff = a
         .iter()
@@ -91,17 +92,19 @@ pub fn check_force(force: &dyn Force, q: &[f64], v: &[f64], h: f64) -> FdReport 
     }
     let kind = force.jacobian_kind();
     if kind.dq {
-        let fd = column_fd(force, q, v, h, true);
+        let fd = fd_jacobian(force, q, v, h, true);
         report.dfdq = rel_err(&kq, &fd);
     }
     if kind.dv {
-        let fd = column_fd(force, q, v, h, false);
+        let fd = fd_jacobian(force, q, v, h, false);
         report.dfdv = rel_err(&kv, &fd);
     }
     report
 }
 
-fn column_fd(force: &dyn Force, q: &[f64], v: &[f64], h: f64, wrt_q: bool) -> Vec<f64> {
+/// Central-difference Jacobian of the global force of `force` at `(q, v)` with respect to
+/// `q` (`wrt_q`) or `v`, row-major `n × n`, step `h`.
+pub fn fd_jacobian(force: &dyn Force, q: &[f64], v: &[f64], h: f64, wrt_q: bool) -> Vec<f64> {
     let n = q.len();
     let mut out = vec![0.0; n * n];
     let mut qp = q.to_vec();

@@ -6,7 +6,11 @@
 //! and, when it has them, the local Jacobians `∂f/∂q` and `∂f/∂v` (`k × k`, row-major:
 //! entry `[a k + b]` is `∂f_a/∂q_b`). The assembler scatters these blocks into the global
 //! sparse system through indices computed once, so adding a force never touches the stepper.
+//!
+//! Forces made of identical fixed-size elements implement [`crate::element::Element`]
+//! instead and get this trait from [`crate::element::Family`].
 
+use crate::error::HistoryError;
 use rayon::prelude::*;
 
 /// What the stepper passes to a force: the trial configuration and velocity.
@@ -40,6 +44,19 @@ impl JacobianKind {
         dq: true,
         dv: false,
         symmetric: true,
+    };
+    /// A force on velocities only with symmetric `∂f/∂v` (isotropic drag on nodes).
+    pub const VISCOUS: Self = Self {
+        dq: false,
+        dv: true,
+        symmetric: true,
+    };
+    /// A force on positions and velocities with non-symmetric Jacobians (drag on deforming
+    /// triangles).
+    pub const GENERAL: Self = Self {
+        dq: true,
+        dv: true,
+        symmetric: false,
     };
     /// A constant force: no Jacobian at all.
     pub const CONSTANT: Self = Self {
@@ -117,7 +134,7 @@ impl LocalBlocks {
             return;
         }
         // Below this many stencils per task, waking rayon's threads costs more than the
-        // elements (measured on the shell canopy: ~10 % of the run in sched_yield at 256).
+        // elements (docs/performance.md §Engine tuning).
         const MIN_PAR: usize = 2048;
         type Item<'a> = (usize, (&'a mut [f64], (&'a mut [f64], &'a mut [f64])));
         let body = |(i, (f, (q, v))): Item<'_>| {
@@ -187,16 +204,16 @@ pub trait Force: Send + Sync {
         Vec::new()
     }
     /// Restore a history produced by [`Force::history`] on an identically built force.
-    /// Errors (with a reason) when `h` has the wrong length for this force.
-    fn restore_history(&mut self, h: &[f64]) -> Result<(), String> {
+    /// Errors when `h` has the wrong length for this force.
+    fn restore_history(&mut self, h: &[f64]) -> Result<(), HistoryError> {
         if h.is_empty() {
             Ok(())
         } else {
-            Err(format!(
-                "{}: has no history, got {} values",
-                self.name(),
-                h.len()
-            ))
+            Err(HistoryError {
+                force: self.name().to_string(),
+                got: h.len(),
+                expected: 0,
+            })
         }
     }
     /// Scale applied to external loads (gravity, point loads) by load-stepping solvers;

@@ -6,36 +6,83 @@
 //!
 //! Generalised coordinates `q` are laid out as `[x0 y0 z0 x1 y1 z1 … θ0 θ1 …]`: three
 //! Cartesian positions per node (m) followed by one twist angle per rod edge (rad). See
-//! [`dof::DofLayout`].
+//! [`DofLayout`].
 //!
-//! Layers (nothing points upward):
-//! - [`force`]: the one trait every force implements, and the local blocks it writes;
-//! - [`assembly`]: the global sparse pattern built once, and scatter maps into it;
-//! - [`linsolve`]: sparse LLᵀ / LU with the symbolic factorisation reused;
+//! Layers (nothing points upward; docs/architecture.md has the picture):
+//! - [`force`]: the one trait the stepper sees, and the local blocks a force writes;
+//! - [`element`]: fixed-size elements and the [`element::Family`] that implements [`Force`]
+//!   for them, so that a force law is one `impl Element`;
+//! - elements: [`rod`] (DER), [`shell`] (hinge shells), [`aero`] (drag), [`loads`];
 //! - [`stepper`]: implicit Euler with Newton–Raphson and a line search, a static solver, and
-//!   local-error control for adaptive steps ([`stepper::error_control`]).
-//! - elements: [`rod`] (DER), [`shell`] (hinge shells), [`aero`] (drag), [`loads`].
+//!   local-error control for adaptive steps ([`stepper::error_control`]); internally a
+//!   sparse assembler (pattern built once) and sparse LLᵀ / LU with the symbolic
+//!   factorisation reused;
+//! - verification: [`fdcheck`] and [`conformance`] (the checks [`force_conformance!`] stamps
+//!   on every force).
+//!
+//! ## Example: a mass on a spring, released from a stretch
+//!
+//! ```
+//! use engine::prelude::*;
+//!
+//! // Two nodes 1 m apart along x; node 0 is clamped, node 1 (1 kg) hangs on a spring.
+//! let q0 = vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+//! let mut model = Model::new(DofLayout::new(2, 0));
+//! model.add_node_mass(0, 1.0);
+//! model.add_node_mass(1, 1.0);
+//! model.fix_node(0);
+//! // Axial stiffness 100 N over a rest length of 1 m: spring constant 100 N/m.
+//! model.add_force(Stretch::new("spring", &[[0, 1]], &q0, vec![100.0]));
+//!
+//! let mut state = State::at_rest(q0);
+//! state.q[3] = 1.1; // 10 cm stretch
+//! let mut stepper = ImplicitEuler::new(&model, NewtonOptions::recommended())?;
+//! for _ in 0..100 {
+//!     stepper.step(&mut model, &mut state, 1e-3)?;
+//! }
+//! // ω = 10 rad/s: after 0.1 s the stretch is ≈ 0.1 cos(1) m (backward Euler damps a little).
+//! let stretch = state.q[3] - 1.0;
+//! assert!((stretch - 0.1 * 1f64.cos()).abs() < 2e-3, "{stretch}");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+#![warn(missing_docs)]
 
 pub mod aero;
-pub mod assembly;
+pub(crate) mod assembly;
+pub mod conformance;
 pub mod dof;
+pub mod element;
 pub mod error;
 pub mod fdcheck;
 pub mod force;
-pub mod linsolve;
+pub(crate) mod linsolve;
 pub mod loads;
 pub mod model;
+#[cfg(feature = "reference")]
 pub mod reference;
 pub mod rod;
 pub mod shell;
 pub mod stepper;
-pub mod vec3;
+pub(crate) mod vec3;
 
 pub use dof::DofLayout;
-pub use error::{EngineError, StepError};
+pub use error::{EngineError, HistoryError, InvalidModel, SparseError, StepError};
 pub use force::{EvalInput, Force, JacobianKind, LocalBlocks};
-pub use model::{Model, State};
+pub use model::{ForceId, Model, State};
 pub use stepper::{
     ErrorController, ImplicitEuler, NewtonOptions, Predictor, StaticSolver, StepReport, Timings,
     Trial,
 };
+
+/// The types most programs need: `use engine::prelude::*;`.
+pub mod prelude {
+    pub use crate::aero::{Fluid, LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
+    pub use crate::element::{Element, Family};
+    pub use crate::loads::{DofForces, Gravity, PlanarEdgeMoment, PointForces};
+    pub use crate::rod::{RodNetwork, RodSpec, Section, Stretch};
+    pub use crate::shell::{HingeBending, ShellMaterial, TriMesh};
+    pub use crate::{
+        DofLayout, EngineError, EvalInput, Force, ForceId, ImplicitEuler, JacobianKind, Model,
+        NewtonOptions, Predictor, State, StaticSolver, StepError,
+    };
+}

@@ -26,6 +26,18 @@ impl State {
     }
 }
 
+/// Handle of a force added to a [`Model`] ([`Model::add_force`]): its position in
+/// [`Model::forces`], which never changes (forces are only ever appended).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ForceId(usize);
+
+impl ForceId {
+    /// Position of the force in [`Model::forces`].
+    pub fn index(self) -> usize {
+        self.0
+    }
+}
+
 /// Everything the stepper needs: masses, constraints and forces.
 pub struct Model {
     /// DOF layout.
@@ -34,7 +46,8 @@ pub struct Model {
     pub mass: Vec<f64>,
     /// `fixed[d]` is true when DOF `d` is prescribed (kept at its value, zero velocity).
     pub fixed: Vec<bool>,
-    /// All force families.
+    /// All force families, in the order they were added (a [`ForceId`] indexes this list;
+    /// append with [`Model::add_force`], do not remove).
     pub forces: Vec<Box<dyn Force>>,
 }
 
@@ -53,9 +66,18 @@ impl Model {
     pub fn n_dofs(&self) -> usize {
         self.layout.len()
     }
-    /// Add a force family.
-    pub fn add_force(&mut self, f: impl Force + 'static) {
+    /// Add a force family; the returned id gets it back ([`Model::force`]).
+    pub fn add_force(&mut self, f: impl Force + 'static) -> ForceId {
         self.forces.push(Box::new(f));
+        ForceId(self.forces.len() - 1)
+    }
+    /// The force added as `id`.
+    pub fn force(&self, id: ForceId) -> &dyn Force {
+        self.forces[id.0].as_ref()
+    }
+    /// The force added as `id`, mutably (e.g. to change its load scale).
+    pub fn force_mut(&mut self, id: ForceId) -> &mut dyn Force {
+        self.forces[id.0].as_mut()
     }
     /// Add a point mass `m` (kg) to node `i`.
     pub fn add_node_mass(&mut self, i: usize, m: f64) {

@@ -4,14 +4,14 @@ use super::load::Plan;
 use crate::scenario::{DragLaw, ModelKind, Scenario, ShellDrag};
 use engine::aero::{Fluid, LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
 use engine::rod::RodHandles;
-use engine::Model;
+use engine::{ForceId, Model};
 
 /// What was installed.
 pub struct DragInstall {
-    /// Indices into `model.forces`.
-    pub forces: Vec<usize>,
+    /// The drag families.
+    pub forces: Vec<ForceId>,
     /// The per-triangle family.
-    pub triangle: Option<usize>,
+    pub triangle: Option<ForceId>,
     /// Σ C_D A of the flat canopy facing the flow (m²).
     pub flat_cd_area: f64,
 }
@@ -58,18 +58,16 @@ pub fn install(
         (DragLaw::Linear, _) => {
             let c = f.linear_drag_coefficient_n_s_m.unwrap_or(0.0);
             let coeffs: Vec<f64> = areas.iter().map(|a| c * a / area).collect();
-            out.forces.push(model.forces.len());
-            model.add_force(LinearDrag::new(&nodes, &coeffs, &fluid));
+            out.forces
+                .push(model.add_force(LinearDrag::new(&nodes, &coeffs, &fluid)));
         }
         (DragLaw::Quadratic, ModelKind::Rod) => {
-            out.forces.push(model.forces.len());
-            model.add_force(NodeDrag::new(&nodes, &areas, cd, &fluid));
+            out.forces
+                .push(model.add_force(NodeDrag::new(&nodes, &areas, cd, &fluid)));
         }
         (DragLaw::Quadratic, ModelKind::Shell) => {
             let faces = geo.triangles();
-            out.forces.push(model.forces.len());
-            out.triangle = Some(model.forces.len());
-            match f.shell_drag {
+            let id = match f.shell_drag {
                 ShellDrag::Report => model.add_force(TriangleDrag::new(
                     &faces,
                     cd,
@@ -82,7 +80,9 @@ pub fn install(
                     qfull.resize(model.n_dofs(), 0.0);
                     model.add_force(PressureDrag::new(&faces, &qfull, cd, &fluid))
                 }
-            }
+            };
+            out.forces.push(id);
+            out.triangle = Some(id);
         }
     }
     // Lines: isotropic node drag with the line diameter as projected width.
@@ -96,8 +96,8 @@ pub fn install(
     }
     let cd_lines = s.lines.drag_coefficient.unwrap_or(cd);
     if !ln.is_empty() && f.drag == DragLaw::Quadratic && cd_lines > 0.0 {
-        out.forces.push(model.forces.len());
-        model.add_force(NodeDrag::new(&ln, &la, cd_lines, &fluid));
+        out.forces
+            .push(model.add_force(NodeDrag::new(&ln, &la, cd_lines, &fluid)));
     }
     out
 }

@@ -4,17 +4,19 @@
 //! target directory and renamed into place, so a plot is either absent, the old one, or
 //! complete.
 
-use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
+use super::scene3d;
+pub use super::scene3d::{ColourBy, ShapeScene, View};
+
 /// Size of the time-series plots (pixels).
 pub const PLOT_SIZE: (u32, u32) = (1024, 640);
-/// Size of the two-panel side views (pixels).
-pub const SHAPE_SIZE: (u32, u32) = (1400, 700);
+/// Size of the shape pictures `shape.png` and `snapshot_*.png` (pixels).
+pub const SHAPE_SIZE: (u32, u32) = (1400, 1300);
 /// Name of the velocity plot in the output directory.
 pub const VELOCITY_PNG: &str = "velocity.png";
 /// Name of the extended-height plot.
@@ -117,16 +119,42 @@ fn finite_points<'a>(t: &'a [f64], y: &'a [f64]) -> impl Iterator<Item = (f64, f
         .filter(|(a, b)| a.is_finite() && b.is_finite())
 }
 
-/// `velocity.png`: vz(t), with the terminal velocity v_t, its ±2 % band and the time to
-/// terminal marked when given. Units: s, m/s.
+/// What `velocity.png` says about terminal velocity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TerminalMark<'a> {
+    /// Reached: draw v_t (m/s), its ±2 % band and the time to terminal (s) when known.
+    Reached {
+        /// Terminal velocity v_t (m/s, signed).
+        v_mps: f64,
+        /// Time to terminal (s).
+        time_to_terminal_s: Option<f64>,
+    },
+    /// Not reached (or not judged): no line or band, the reason is written on the plot.
+    NotReached {
+        /// Why, in a few words (e.g. "run too short to judge").
+        reason: &'a str,
+    },
+}
+
+/// `velocity.png`: vz(t); with [`TerminalMark::Reached`] the terminal velocity v_t, its ±2 %
+/// band and the time to terminal, otherwise a note saying it was not reached and why.
+/// Units: s, m/s.
 pub fn velocity_plot(
     path: &Path,
     t: &[f64],
     vz: &[f64],
-    terminal_velocity: Option<f64>,
-    time_to_terminal: Option<f64>,
+    mark: &TerminalMark<'_>,
 ) -> Result<(), PlotError> {
-    let band = terminal_velocity.map(|v| (v, crate::metrics::TERMINAL_BAND * v.abs()));
+    let (band, time_to_terminal) = match *mark {
+        TerminalMark::Reached {
+            v_mps,
+            time_to_terminal_s,
+        } => (
+            Some((v_mps, crate::metrics::TERMINAL_BAND * v_mps.abs())),
+            time_to_terminal_s,
+        ),
+        TerminalMark::NotReached { .. } => (None, None),
+    };
     let (t0, t1) = padded_range(t.iter().copied()).ok_or(PlotError::NoData("empty time"))?;
     let extra = band.into_iter().flat_map(|(v, b)| [v - b, v + b]);
     let (y0, y1) = padded_range(vz.iter().copied().chain(extra)).ok_or(PlotError::NoData("vz"))?;
@@ -160,6 +188,9 @@ pub fn velocity_plot(
                 .label(format!("terminal velocity v_t = {v:.4} m/s"))
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
         }
+        if let TerminalMark::NotReached { reason } = mark {
+            draw_not_reached(root, reason)?;
+        }
         if let Some(tt) = time_to_terminal {
             let style = BLACK.stroke_width(2);
             chart
@@ -176,6 +207,33 @@ pub fn velocity_plot(
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], line));
         draw_legend(&mut chart)
     })
+}
+
+/// The "terminal velocity not reached" note, lower left on a white box: a falling vz(t)
+/// leaves that corner empty. Dark orange, not the red of the v_t line, so it cannot pass for
+/// one.
+fn draw_not_reached<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    reason: &str,
+) -> Result<(), PlotError> {
+    let font = (FONT, 18).into_font().color(&RGBColor(150, 40, 0));
+    let x = (Y_LABEL_AREA + MARGIN + 16) as i32;
+    let y = (PLOT_SIZE.1 - X_LABEL_AREA - MARGIN - 64) as i32;
+    let width = 18 * reason.chars().count().max(30) as i32 / 2 + 16;
+    let background = WHITE.mix(0.9).filled();
+    root.draw(&Rectangle::new(
+        [(x - 8, y - 8), (x + width, y + 48)],
+        background,
+    ))
+    .map_err(de)?;
+    root.draw(&Text::new(
+        "terminal velocity not reached:",
+        (x, y),
+        font.clone(),
+    ))
+    .map_err(de)?;
+    root.draw(&Text::new(reason.to_string(), (x, y + 24), font))
+        .map_err(de)
 }
 
 fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
@@ -221,116 +279,71 @@ pub fn height_plot(path: &Path, t: &[f64], height: &[f64]) -> Result<(), PlotErr
     })
 }
 
-/// Unique undirected edges of the triangles, plus the segments (kept apart for colouring).
-fn unique_edges(triangles: &[[usize; 3]]) -> Vec<[usize; 2]> {
-    let mut seen = HashSet::with_capacity(triangles.len() * 2);
-    let mut out = Vec::with_capacity(triangles.len() * 2);
-    for t in triangles {
-        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-            let key = (a.min(b), a.max(b));
-            if seen.insert(key) {
-                out.push([key.0, key.1]);
-            }
-        }
-    }
-    out
-}
-
-/// Equal-aspect ranges for the two panels (horizontal axis x resp. y, vertical axis z) given
-/// the plotting-area size in pixels: one metre spans the same number of pixels on every axis of
-/// both panels, so the side views are not distorted.
-fn side_view_ranges(pos: &[[f64; 3]], plot_px: (u32, u32)) -> Option<[(f64, f64); 3]> {
-    let r: Vec<(f64, f64)> = (0..3)
-        .map(|c| padded_range(pos.iter().map(|p| p[c])))
-        .collect::<Option<_>>()?;
-    let (w, h) = (f64::from(plot_px.0.max(1)), f64::from(plot_px.1.max(1)));
-    let span = |c: usize| r[c].1 - r[c].0;
-    let metres_per_px = (span(0) / w).max(span(1) / w).max(span(2) / h);
-    let centred = |c: usize, px: f64| {
-        let mid = 0.5 * (r[c].0 + r[c].1);
-        (
-            mid - 0.5 * metres_per_px * px,
-            mid + 0.5 * metres_per_px * px,
-        )
-    };
-    Some([centred(0, w), centred(1, w), centred(2, h)])
-}
-
-/// Two side views of the canopy: x–z (left) and y–z (right), triangle edges in blue and
-/// segments (e.g. suspension lines) in red, equal aspect ratio. Units: m.
-pub fn shape_plot(
-    path: &Path,
-    title: &str,
-    positions: &[[f64; 3]],
-    triangles: &[[usize; 3]],
-    segments: &[[usize; 2]],
-) -> Result<(), PlotError> {
-    let n = positions.len();
-    let all = triangles.iter().flatten().chain(segments.iter().flatten());
-    if all.clone().any(|&i| i >= n) {
-        return Err(PlotError::NoData("cell node index out of range"));
-    }
-    if positions.is_empty() {
-        return Err(PlotError::NoData("no nodes"));
-    }
-    let edges = unique_edges(triangles);
+/// The shape of a state: an oblique shaded 3-D view (with a colour bar and axis triad) and,
+/// for shells, a top view on the upper row; the side views x–z and y–z, shaded too, with
+/// axes in metres on the lower row. Load sites and the payload are marked when the scene has
+/// roles. Every panel has an equal aspect ratio. Units: m.
+pub fn shape_plot(path: &Path, title: &str, scene: &ShapeScene<'_>) -> Result<(), PlotError> {
+    scene.check().map_err(PlotError::NoData)?;
     render_atomic(path, SHAPE_SIZE, |root| {
         let root = root.titled(title, (FONT, CAPTION_PX + 4)).map_err(de)?;
-        for (k, panel) in root.split_evenly((1, 2)).iter().enumerate() {
-            let (axis, name) = if k == 0 { (0, "x") } else { (1, "y") };
-            let area = panel
-                .titled(&format!("side view {name}–z"), (FONT, CAPTION_PX - 4))
-                .map_err(de)?;
-            // The chart below has no caption, so its plotting area is exactly the panel minus
-            // the margins and label areas; both panels have the same size.
-            let (w, h) = area.dim_in_pixel();
-            let plot_px = (
-                w.saturating_sub(2 * MARGIN + Y_LABEL_AREA),
-                h.saturating_sub(2 * MARGIN + X_LABEL_AREA),
-            );
-            let ranges = side_view_ranges(positions, plot_px).ok_or(PlotError::NoData("nodes"))?;
-            let mut chart = ChartBuilder::on(&area)
-                .margin(MARGIN)
-                .x_label_area_size(X_LABEL_AREA)
-                .y_label_area_size(Y_LABEL_AREA)
-                .build_cartesian_2d(ranges[axis].0..ranges[axis].1, ranges[2].0..ranges[2].1)
-                .map_err(de)?;
-            chart
-                .configure_mesh()
-                .label_style((FONT, 15))
-                .axis_desc_style((FONT, 18))
-                .x_desc(format!("{name} (m)"))
-                .y_desc("z (m)")
-                .draw()
-                .map_err(de)?;
-            let project = |i: usize| (positions[i][axis], positions[i][2]);
-            let seg = |e: &[usize; 2], style: ShapeStyle| {
-                PathElement::new([project(e[0]), project(e[1])], style)
-            };
-            let canopy = BLUE.mix(0.7).stroke_width(1);
-            chart
-                .draw_series(edges.iter().map(|e| seg(e, canopy)))
-                .map_err(de)?;
-            let lines = RED.stroke_width(1);
-            chart
-                .draw_series(segments.iter().map(|e| seg(e, lines)))
-                .map_err(de)?;
+        let (w, h) = root.dim_in_pixel();
+        let (upper, lower) = root.split_vertically(h * 11 / 20);
+        let shell = !scene.triangles.is_empty();
+        let (oblique, top) = if shell {
+            let (a, b) = upper.split_horizontally(w * 11 / 20);
+            (a, Some(b))
+        } else {
+            (upper, None)
+        };
+        let what = match scene.colour_by {
+            ColourBy::Height => "height",
+            ColourBy::Speed => "speed",
+        };
+        let panel = caption(&oblique, &format!("3-D view (coloured by {what})"))?;
+        scene3d::draw_view(&panel, scene, &View::oblique(), None).map_err(PlotError::Draw)?;
+        let (pw, ph) = panel.dim_in_pixel();
+        let bar_h = (ph as i32 / 3).max(40);
+        scene3d::draw_colour_bar(&panel, scene, (pw as i32 - 180, 40, bar_h))
+            .map_err(PlotError::Draw)?;
+        scene3d::draw_triad(&panel, &View::oblique(), (50, ph as i32 - 50))
+            .map_err(PlotError::Draw)?;
+        if let Some(top) = top {
+            let panel = caption(&top, "top view (looking down)")?;
+            scene3d::draw_view(&panel, scene, &View::top(), Some(("x (m)", "y (m)")))
+                .map_err(PlotError::Draw)?;
+        }
+        let sides = lower.split_evenly((1, 2));
+        let views = [
+            (View::side_xz(), "side view x–z", "x (m)"),
+            (View::side_yz(), "side view y–z", "y (m)"),
+        ];
+        for (area, (view, name, x_desc)) in sides.iter().zip(views) {
+            let panel = caption(area, name)?;
+            scene3d::draw_view(&panel, scene, &view, Some((x_desc, "z (m)")))
+                .map_err(PlotError::Draw)?;
         }
         Ok(())
     })
+}
+
+/// `area` with a panel caption `t` above it.
+fn caption<DB: DrawingBackend>(
+    a: &DrawingArea<DB, plotters::coord::Shift>,
+    t: &str,
+) -> Result<DrawingArea<DB, plotters::coord::Shift>, PlotError> {
+    a.titled(t, (FONT, CAPTION_PX - 4)).map_err(de)
 }
 
 /// `shape.png` in `out_dir`: the final shape at time `t_s`.
 pub fn final_shape_plot(
     out_dir: &Path,
     t_s: f64,
-    positions: &[[f64; 3]],
-    triangles: &[[usize; 3]],
-    segments: &[[usize; 2]],
+    scene: &ShapeScene<'_>,
 ) -> Result<PathBuf, PlotError> {
     let path = out_dir.join(SHAPE_PNG);
     let title = format!("Final canopy shape (t = {t_s:.3} s)");
-    shape_plot(&path, &title, positions, triangles, segments)?;
+    shape_plot(&path, &title, scene)?;
     Ok(path)
 }
 
@@ -342,18 +355,16 @@ pub fn snapshot_file_name(t_s: f64) -> String {
     format!("snapshot_{s}s.png")
 }
 
-/// `snapshot_<t>s.png` in `out_dir`: the side views at time `t_s` (the caller passes the
-/// positions at that time).
+/// `snapshot_<t>s.png` in `out_dir`: the shape at time `t_s` (the caller passes the state at
+/// that time).
 pub fn snapshot_plot(
     out_dir: &Path,
     t_s: f64,
-    positions: &[[f64; 3]],
-    triangles: &[[usize; 3]],
-    segments: &[[usize; 2]],
+    scene: &ShapeScene<'_>,
 ) -> Result<PathBuf, PlotError> {
     let path = out_dir.join(snapshot_file_name(t_s));
     let title = format!("Canopy shape at t = {t_s:.3} s");
-    shape_plot(&path, &title, positions, triangles, segments)?;
+    shape_plot(&path, &title, scene)?;
     Ok(path)
 }
 

@@ -73,40 +73,53 @@ pub struct Summary {
     /// Why the run stopped early; null if complete.
     pub stop_reason: Option<String>,
     /// Simulated time reached (s).
+    #[serde(deserialize_with = "null_as_nan")]
     pub simulated_time_s: f64,
     /// Mean vz over the final 20 % of the run (m/s, signed; negative = descending).
+    #[serde(deserialize_with = "null_as_nan")]
     pub terminal_velocity_mps: f64,
     /// Standard deviation of vz over the final window (m/s).
+    #[serde(deserialize_with = "null_as_nan")]
     pub terminal_velocity_std_mps: f64,
     /// Change of vz across the final window along its least-squares line (m/s).
+    #[serde(deserialize_with = "null_as_nan")]
     pub terminal_velocity_trend_mps: f64,
     /// Whether the final window is a steady descent.
     pub reached_terminal: bool,
     /// First time after which vz stays within ±2 % of v_t (s); null when not reached.
     pub time_to_terminal_s: Option<f64>,
     /// Start of the final window (s).
+    #[serde(deserialize_with = "null_as_nan")]
     pub final_window_start_s: f64,
     /// Maximum extended height over the run (m).
+    #[serde(deserialize_with = "null_as_nan")]
     pub max_extended_height_m: f64,
     /// Extended height at the end of the run (m).
+    #[serde(deserialize_with = "null_as_nan")]
     pub final_extended_height_m: f64,
     /// Total weight W of the system (N).
+    #[serde(deserialize_with = "null_as_nan")]
     pub total_weight_n: f64,
     /// Mean drag along z over the final window (N).
+    #[serde(deserialize_with = "null_as_nan")]
     pub mean_drag_z_n: f64,
     /// C_D·A_eff = 2W/(ρ v_t²) (m²); null when v_t ≈ 0.
     pub drag_area_m2: Option<f64>,
     /// |mean drag_z − W| / W over the final window (dimensionless).
+    #[serde(deserialize_with = "null_as_nan")]
     pub force_balance_error: f64,
     /// Mean [vx, vy] over the final window (m/s).
+    #[serde(deserialize_with = "nulls_as_nan")]
     pub horizontal_velocity_mps: [f64; 2],
     /// ρ |v_t| L / μ (dimensionless).
+    #[serde(deserialize_with = "null_as_nan")]
     pub reynolds_number: f64,
     /// Accepted time steps.
     pub steps: u64,
     /// Total Newton iterations.
     pub newton_iterations: u64,
     /// Wall-clock time (s).
+    #[serde(deserialize_with = "null_as_nan")]
     pub wall_time_s: f64,
     /// Degrees of freedom.
     pub dofs: usize,
@@ -115,6 +128,20 @@ pub struct Summary {
     pub stepping: Stepping,
     /// Run-loop warnings followed by metric warnings.
     pub warnings: Vec<String>,
+}
+
+/// serde_json writes a non-finite float as `null` (the metrics of a run that could not judge
+/// them are NaN); read `null` back as NaN so every summary.json parses into a [`Summary`].
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// [`null_as_nan`] for a pair.
+fn nulls_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
+    use serde::Deserialize;
+    let [a, b] = <[Option<f64>; 2]>::deserialize(d)?;
+    Ok([a.unwrap_or(f64::NAN), b.unwrap_or(f64::NAN)])
 }
 
 impl Summary {

@@ -19,6 +19,36 @@ pub const FRAMES_DIR: &str = "frames";
 /// Name of the collection file in the output directory.
 pub const PVD_NAME: &str = "canopy.pvd";
 
+/// Point data `role` (UInt8) of a canopy node.
+pub const ROLE_CANOPY: u8 = 0;
+/// `role` of a node of a suspension line or other non-canopy rod.
+pub const ROLE_LINE: u8 = 1;
+/// `role` of the payload node.
+pub const ROLE_PAYLOAD: u8 = 2;
+/// `role` of a canopy node that is a load site (carries the load or a line attachment).
+pub const ROLE_LOAD_SITE: u8 = 3;
+
+/// The `role` of each of `n_nodes` nodes: canopy, load site (a canopy node), payload, or line
+/// (every node that is none of these). The payload wins over the others, load sites over
+/// canopy.
+pub fn point_roles(
+    n_nodes: usize,
+    canopy: &[usize],
+    load_sites: &[usize],
+    payload: Option<usize>,
+) -> Vec<u8> {
+    let mut roles = vec![ROLE_LINE; n_nodes];
+    let mut set = |nodes: &mut dyn Iterator<Item = usize>, role: u8| {
+        for i in nodes.filter(|&i| i < n_nodes) {
+            roles[i] = role;
+        }
+    };
+    set(&mut canopy.iter().copied(), ROLE_CANOPY);
+    set(&mut load_sites.iter().copied(), ROLE_LOAD_SITE);
+    set(&mut payload.into_iter(), ROLE_PAYLOAD);
+    roles
+}
+
 /// One mesh state to write. Cells are the triangles followed by the segments.
 #[derive(Debug, Clone, Copy)]
 pub struct Frame<'a> {
@@ -34,6 +64,8 @@ pub struct Frame<'a> {
     pub segments: &'a [[usize; 2]],
     /// Aerodynamic drag force on each triangle (N), cell data `drag`; segments get zeros.
     pub triangle_drag: &'a [[f64; 3]],
+    /// What each node is ([`point_roles`]), point data `role`; empty to leave it out.
+    pub roles: &'a [u8],
 }
 
 /// Writer of a frame series into one output directory.
@@ -42,6 +74,8 @@ pub struct VtkSeries {
     out_dir: PathBuf,
     /// (time, file name relative to `out_dir`) of every frame written so far.
     entries: Vec<(f64, String)>,
+    /// Point data `role` written with every frame (empty: none).
+    roles: Vec<u8>,
 }
 
 impl VtkSeries {
@@ -51,6 +85,7 @@ impl VtkSeries {
         Ok(Self {
             out_dir: out_dir.to_path_buf(),
             entries: Vec::new(),
+            roles: Vec::new(),
         })
     }
 
@@ -80,6 +115,12 @@ impl VtkSeries {
         Ok(me)
     }
 
+    /// Write `roles` ([`point_roles`]) as point data `role` with every later frame, so a
+    /// reader (the viewer, ParaView) knows the canopy, lines, payload and load sites.
+    pub fn set_roles(&mut self, roles: Vec<u8>) {
+        self.roles = roles;
+    }
+
     /// Times (s) of the frames written so far, in order.
     pub fn times(&self) -> Vec<f64> {
         self.entries.iter().map(|(t, _)| *t).collect()
@@ -102,6 +143,8 @@ impl VtkSeries {
         segments: &[[usize; 2]],
         triangle_drag: &[[f64; 3]],
     ) -> io::Result<PathBuf> {
+        // Moved out for the call: `write` borrows `self` mutably.
+        let roles = std::mem::take(&mut self.roles);
         let frame = Frame {
             t_s: t,
             positions,
@@ -109,8 +152,11 @@ impl VtkSeries {
             triangles,
             segments,
             triangle_drag,
+            roles: &roles,
         };
-        self.write(&frame)
+        let written = self.write(&frame);
+        self.roles = roles;
+        written
     }
 
     /// Same as [`write_frame`](Self::write_frame), taking a [`Frame`].
@@ -152,6 +198,9 @@ fn validate(f: &Frame<'_>) -> io::Result<()> {
             "{} velocities for {n} points",
             f.velocities.len()
         )));
+    }
+    if !f.roles.is_empty() && f.roles.len() != n {
+        return Err(invalid(format!("{} roles for {n} points", f.roles.len())));
     }
     if f.triangle_drag.len() != f.triangles.len() {
         return Err(invalid(format!(
@@ -203,6 +252,13 @@ pub fn vtu_string(f: &Frame<'_>) -> String {
         n_tri + n_seg
     );
     vec3_array(&mut s, "velocity", "        ", f.velocities.iter().copied());
+    if !f.roles.is_empty() {
+        s.push_str("        <DataArray type=\"UInt8\" Name=\"role\" format=\"ascii\">\n          ");
+        for r in f.roles {
+            let _ = write!(s, "{r} ");
+        }
+        s.push_str("\n        </DataArray>\n");
+    }
     s.push_str("      </PointData>\n      <CellData Vectors=\"drag\">\n");
     let zeros = std::iter::repeat_n([0.0; 3], n_seg);
     vec3_array(

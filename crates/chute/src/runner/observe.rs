@@ -23,7 +23,7 @@ impl Observer {
             drag_blocks: b
                 .drag_forces
                 .iter()
-                .map(|&i| b.model.forces[i].new_blocks())
+                .map(|&id| b.model.force(id).new_blocks())
                 .collect(),
             tri_drag: vec![[0.0; 3]; b.triangles.len()],
         }
@@ -46,8 +46,8 @@ impl Observer {
             jacobian: false,
         };
         let mut total = [0.0; 3];
-        for (k, &fi) in b.drag_forces.iter().enumerate() {
-            let force = &b.model.forces[fi];
+        for (k, &id) in b.drag_forces.iter().enumerate() {
+            let force = b.model.force(id);
             let blocks = &mut self.drag_blocks[k];
             force.evaluate(&input, blocks);
             let st = force.stencils();
@@ -56,7 +56,7 @@ impl Observer {
                     total[d % 3] += f;
                 }
             }
-            if Some(fi) == b.triangle_drag {
+            if Some(id) == b.triangle_drag {
                 for (t, f) in self.tri_drag.iter_mut().zip(blocks.f.chunks(9)) {
                     *t = [f[0] + f[3] + f[6], f[1] + f[4] + f[7], f[2] + f[5] + f[8]];
                 }

@@ -24,7 +24,7 @@ impl Run {
         c.check_shape(built.model.n_dofs(), built.model.forces.len())
             .map_err(bad)?;
         for (f, h) in built.model.forces.iter_mut().zip(&c.histories) {
-            f.restore_history(h).map_err(bad)?;
+            f.restore_history(h).map_err(|e| bad(e.to_string()))?;
         }
         let ts_path = out_dir.join("timeseries.csv");
         let rows =
@@ -103,6 +103,7 @@ pub(super) fn remove_stale_outputs(out_dir: &Path) -> Result<(), RunError> {
         "velocity.png",
         "height.png",
         "shape.png",
+        crate::output::viewer::VIEWER_HTML,
     ];
     let snapshots = std::fs::read_dir(out_dir)
         .map_err(io_err(out_dir))?

@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use super::error::ScenarioError;
+use super::sections::SECTIONS;
 use super::source::Provenance;
 use super::{overrides, schema, source, validate, Scenario};
 
@@ -66,15 +67,13 @@ pub fn parse_scenario(
     let (mut table, mut prov) = source::parse(text, file)?;
     overrides::apply(&mut table, &mut prov, overrides_)?;
     schema::check(&table, &prov)?;
-    let kind = get(&table, "model", "kind").and_then(|v| v.as_str().map(str::to_string));
-    let Some(kind) = kind else {
-        return Err(ScenarioError::Missing {
-            key: "model.kind".into(),
-            reason: "say which structural model to use: `[model] kind = \"rod\"` or \"shell\""
-                .into(),
-        });
-    };
+    schema::required(&table)?;
+    let kind = get(&table, "model", "kind")
+        .and_then(|v| v.as_str())
+        .unwrap_or_default()
+        .to_string();
     fill_context_defaults(&mut table, &kind, &default_name(file));
+    fill_declared_defaults(&mut table);
     let mut s: Scenario = toml::Value::Table(table)
         .try_into()
         .map_err(|e: toml::de::Error| conversion(e, &prov))?;
@@ -151,11 +150,11 @@ fn number(t: &toml::Table, sec: &str, key: &str) -> Option<f64> {
     }
 }
 
-/// With `time.adaptive = true`, the error-control keys that are absent get their defaults
-/// (so the resolved scenario shows them): `error_tolerance_m` = 1e-5 m,
-/// `dt_min_s = dt_s/1024`, `dt_max_s = min(100 dt_s, output.frame_interval_s)` (steps end on
-/// frame times, so a longer one would never be taken). Without it nothing is added: those keys
-/// are then refused by validation.
+/// With `time.adaptive = true`, the step bounds that are absent get their defaults (so the
+/// resolved scenario shows them): `dt_min_s = dt_s/1024`, `dt_max_s = min(100 dt_s,
+/// output.frame_interval_s)` (steps end on frame times, so a longer one would never be
+/// taken); `error_tolerance_m` is a declared conditional default ([`fill_declared_defaults`]).
+/// Without it nothing is added: those keys are then refused by validation.
 fn fill_adaptive_defaults(t: &mut toml::Table) {
     if get(t, "time", "adaptive").and_then(|v| v.as_bool()) != Some(true) {
         return;
@@ -164,7 +163,6 @@ fn fill_adaptive_defaults(t: &mut toml::Table) {
     let frame = number(t, "output", "frame_interval_s")
         .unwrap_or(super::Output::default().frame_interval_s);
     let defaults = [
-        ("error_tolerance_m", super::DEFAULT_ERROR_TOLERANCE_M),
         ("dt_min_s", dt / 1024.0),
         ("dt_max_s", (100.0 * dt).min(frame)),
     ];
@@ -174,4 +172,33 @@ fn fill_adaptive_defaults(t: &mut toml::Table) {
             time.insert(key.into(), toml::Value::Float(value));
         }
     }
+}
+
+/// The declared conditional defaults ([`super::keys::Key::default_with`]): an absent key of a
+/// table section gets its value when the condition holds on the tree (or its defaults).
+fn fill_declared_defaults(t: &mut toml::Table) {
+    for sec in SECTIONS.iter().filter(|s| !s.array && !s.name.is_empty()) {
+        for k in sec.keys {
+            let Some((cond, value)) = k.meta.default_with else {
+                continue;
+            };
+            if get(t, sec.name, k.name).is_some() || !cond.holds(lookup(t, cond.key).as_ref()) {
+                continue;
+            }
+            section_mut(t, sec.name).insert(k.name.into(), toml::Value::Float(value));
+        }
+    }
+}
+
+/// The value of a table key in the raw tree, else its declared default.
+fn lookup(t: &toml::Table, path: &str) -> Option<toml::Value> {
+    let p = schema::KeyPath::parse(path);
+    let sec = schema::section(p.section)?;
+    let written = match p.section {
+        "" => t.get(p.key),
+        s => get(t, s, p.key),
+    };
+    written
+        .cloned()
+        .or_else(|| (sec.defaults)().get(p.key).cloned())
 }

@@ -1,213 +1,145 @@
-//! The scenario's key table: every section, key and value type, checked on the raw TOML tree
-//! before it is converted to typed structs, so that each mistake is reported with its key,
-//! its line and (for a misspelt key) the closest known key.
-//!
-//! A unit test checks that this table and the serde structs name exactly the same keys.
+//! The raw-tree check: every section, key and value type of a scenario, before the tree is
+//! converted to typed structs, so that each mistake is reported with its key, its line and
+//! (for a misspelt key) the closest known key. The keys and their kinds come from the
+//! declarations in [`super::sections`]; every function here also takes an explicit section
+//! list (`*_in`), which the unit tests use for sections the format does not have yet.
 
 use super::error::ScenarioError;
+pub use super::keys::Kind;
+use super::keys::Section;
+use super::sections::{SiteSet, SECTIONS};
 use super::source::Provenance;
 
-/// The TOML type (and finer constraint) a key accepts.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Kind {
-    /// Any string.
-    Str,
-    /// A finite number (integers are accepted and widened).
-    Float,
-    /// A non-negative integer.
-    Count,
-    /// `true` or `false`.
-    Bool,
-    /// One string of a fixed set.
-    Choice(&'static [&'static str]),
-    /// An array of exactly three finite numbers.
-    Vec3,
-    /// An array of finite numbers.
-    FloatList,
-    /// A named site set, or a non-empty array of `[x, y]` pairs.
-    Sites,
+/// A key path split into its parts: `name`, `canopy.span_m`, `control[1].lines`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct KeyPath<'a> {
+    /// Section name (`""` for a top-level key).
+    pub section: &'a str,
+    /// Entry of an array of tables.
+    pub index: Option<usize>,
+    /// Key name.
+    pub key: &'a str,
 }
 
-/// Model kinds.
-pub const MODEL_KINDS: &[&str] = &["rod", "shell"];
-/// Canopy shapes.
-pub const SHAPES: &[&str] = &["rectangle", "hexagon", "circle", "mesh"];
-/// Load modes.
-pub const LOAD_MODES: &[&str] = &["force", "payload", "mass", "node_mass_scale"];
-/// Named load-site sets.
-pub const SITE_NAMES: &[&str] = &["ends", "corners", "corners_and_midspan", "center", "rim"];
-/// Drag laws.
-pub const DRAG_LAWS: &[&str] = &["quadratic", "linear"];
-/// Shell drag models.
-pub const SHELL_DRAG: &[&str] = &["report", "pressure"];
+impl<'a> KeyPath<'a> {
+    /// Split a dotted path (a path without a dot is a top-level key).
+    pub fn parse(path: &'a str) -> Self {
+        let Some((head, key)) = path.split_once('.') else {
+            return KeyPath {
+                section: "",
+                index: None,
+                key: path,
+            };
+        };
+        let (section, index) = match head.strip_suffix(']').and_then(|h| h.split_once('[')) {
+            Some((s, i)) => (s, i.parse().ok()),
+            None => (head, None),
+        };
+        KeyPath {
+            section,
+            index,
+            key,
+        }
+    }
+}
 
-/// Section name, then (key, kind) pairs. The top-level `name` key is listed under "".
-pub const SCHEMA: &[(&str, &[(&str, Kind)])] = &[
-    ("", &[("name", Kind::Str)]),
-    ("model", &[("kind", Kind::Choice(MODEL_KINDS))]),
-    (
-        "canopy",
-        &[
-            ("shape", Kind::Choice(SHAPES)),
-            ("span_m", Kind::Float),
-            ("width_m", Kind::Float),
-            ("thickness_m", Kind::Float),
-            ("nodes", Kind::Count),
-            ("edge_length_m", Kind::Float),
-            ("mesh_file", Kind::Str),
-            ("radius_m", Kind::Float),
-            ("imperfection_m", Kind::Float),
-        ],
-    ),
-    (
-        "material",
-        &[
-            ("youngs_modulus_pa", Kind::Float),
-            ("poisson_ratio", Kind::Float),
-            ("density_kg_m3", Kind::Float),
-        ],
-    ),
-    (
-        "load",
-        &[
-            ("weight_n", Kind::Float),
-            ("mode", Kind::Choice(LOAD_MODES)),
-            ("sites", Kind::Sites),
-            ("rim_site_count", Kind::Count),
-            ("node", Kind::Count),
-            ("mass_scale", Kind::Float),
-        ],
-    ),
-    (
-        "lines",
-        &[
-            ("length_m", Kind::Float),
-            ("segments", Kind::Count),
-            ("radius_m", Kind::Float),
-            ("youngs_modulus_pa", Kind::Float),
-            ("poisson_ratio", Kind::Float),
-            ("density_kg_m3", Kind::Float),
-            ("drag_coefficient", Kind::Float),
-        ],
-    ),
-    (
-        "fluid",
-        &[
-            ("density_kg_m3", Kind::Float),
-            ("viscosity_pa_s", Kind::Float),
-            ("wind_mps", Kind::Vec3),
-            ("drag", Kind::Choice(DRAG_LAWS)),
-            ("drag_coefficient", Kind::Float),
-            ("tangential_drag_coefficient", Kind::Float),
-            ("shell_drag", Kind::Choice(SHELL_DRAG)),
-            ("linear_drag_coefficient_n_s_m", Kind::Float),
-            ("gravity_mps2", Kind::Float),
-        ],
-    ),
-    (
-        "time",
-        &[
-            ("dt_s", Kind::Float),
-            ("duration_s", Kind::Float),
-            ("newton_max_iterations", Kind::Count),
-            ("newton_tolerance_n", Kind::Float),
-            ("newton_relative_tolerance", Kind::Float),
-            ("newton_step_tolerance_m", Kind::Float),
-            ("adaptive", Kind::Bool),
-            ("error_tolerance_m", Kind::Float),
-            ("dt_min_s", Kind::Float),
-            ("dt_max_s", Kind::Float),
-        ],
-    ),
-    (
-        "output",
-        &[
-            ("frame_interval_s", Kind::Float),
-            ("snapshots_s", Kind::FloatList),
-        ],
-    ),
-];
+/// `section.key`, `section[i].key` or `key`.
+pub fn join(section: &str, index: Option<usize>, key: &str) -> String {
+    match (section.is_empty(), index) {
+        (true, _) => key.to_string(),
+        (false, None) => format!("{section}.{key}"),
+        (false, Some(i)) => format!("{section}[{i}].{key}"),
+    }
+}
 
-/// The keys of a section, or `None` when the section does not exist.
-pub fn section(name: &str) -> Option<&'static [(&'static str, Kind)]> {
-    SCHEMA
-        .iter()
-        .find(|(s, _)| *s == name)
-        .map(|(_, keys)| *keys)
+/// The section named `name` (`""`: the top-level keys).
+pub fn section_in<'s>(sections: &'s [Section], name: &str) -> Option<&'s Section> {
+    sections.iter().find(|s| s.name == name)
+}
+
+/// The section named `name` of the scenario format.
+pub fn section(name: &str) -> Option<&'static Section> {
+    section_in(SECTIONS, name)
+}
+
+/// The kind of a key path in `sections`, or `None` when unknown (an array entry's key needs
+/// its index, a table's key must not have one).
+pub fn kind_in(sections: &[Section], path: &str) -> Option<Kind> {
+    let p = KeyPath::parse(path);
+    let sec = section_in(sections, p.section)?;
+    if sec.array != p.index.is_some() {
+        return None;
+    }
+    sec.key(p.key).map(|k| k.kind)
 }
 
 /// The kind of a dotted key (`"canopy.span_m"` or `"name"`), or `None` when unknown.
 pub fn kind_of(path: &str) -> Option<Kind> {
-    let (sec, key) = split(path);
-    section(sec)?
-        .iter()
-        .find(|(k, _)| *k == key)
-        .map(|(_, kind)| *kind)
+    kind_in(SECTIONS, path)
 }
 
-/// Every dotted key the format knows.
+/// Every key path the format knows (array entries as entry 0).
 pub fn all_keys() -> Vec<String> {
-    SCHEMA
+    SECTIONS
         .iter()
-        .flat_map(|(s, keys)| keys.iter().map(move |(k, _)| join(s, k)))
+        .flat_map(|s| {
+            let index = s.array.then_some(0);
+            s.keys.iter().map(move |k| join(s.name, index, k.name))
+        })
         .collect()
 }
 
-fn split(path: &str) -> (&str, &str) {
-    path.split_once('.').unwrap_or(("", path))
-}
-
-fn join(sec: &str, key: &str) -> String {
-    if sec.is_empty() {
-        key.to_string()
-    } else {
-        format!("{sec}.{key}")
-    }
-}
-
-/// The closest known dotted key to an unknown one, when it is close enough to be a typo
-/// (or the same key name in another section).
+/// The closest known key to an unknown one, when it is close enough to be a typo (or the
+/// same key name in another section).
 pub fn suggest(path: &str) -> Option<String> {
-    let (sec, key) = split(path);
+    suggest_in(SECTIONS, path)
+}
+
+/// [`suggest`] over `sections`; an array entry's index is kept.
+pub fn suggest_in(sections: &[Section], path: &str) -> Option<String> {
+    let p = KeyPath::parse(path);
+    let dotted = path.contains('.');
     let close = |a: &str, b: &str| {
         let d = strsim::levenshtein(a, b);
         (d <= (a.len().max(b.len()) / 3).max(2)).then_some(d)
     };
+    let at = |s: &Section, key: &str| join(s.name, s.array.then_some(p.index.unwrap_or(0)), key);
     let mut cands: Vec<(usize, String)> = Vec::new();
-    match section(sec) {
+    match section_in(sections, p.section) {
         // Known section: a typo of one of its keys, else the same key in another section.
-        Some(keys) if path.contains('.') => {
-            for (k, _) in keys {
-                if let Some(d) = close(key, k) {
-                    cands.push((d, join(sec, k)));
+        Some(sec) if dotted => {
+            for k in sec.keys {
+                if let Some(d) = close(p.key, k.name) {
+                    cands.push((d, at(sec, k.name)));
                 }
             }
             if cands.is_empty() {
-                for (s, keys) in SCHEMA {
-                    if keys.iter().any(|(k, _)| *k == key) {
-                        cands.push((0, join(s, key)));
+                for s in sections {
+                    if s.key(p.key).is_some() {
+                        cands.push((0, at(s, p.key)));
                     }
                 }
             }
         }
         // Unknown section, or a misplaced top-level key: compare with sections and keys.
         _ => {
-            for (s, keys) in SCHEMA {
-                if !s.is_empty() && path.contains('.') {
-                    if let Some(d) = close(sec, s) {
-                        if keys.iter().any(|(k, _)| *k == key) {
-                            cands.push((d, join(s, key)));
+            for s in sections {
+                if !s.name.is_empty() && dotted {
+                    if let Some(d) = close(p.section, s.name) {
+                        if s.key(p.key).is_some() {
+                            cands.push((d, at(s, p.key)));
                         }
                     }
                 }
-                if !s.is_empty() && !path.contains('.') {
-                    if let Some(d) = close(key, s) {
-                        cands.push((d, format!("[{s}]")));
+                if !s.name.is_empty() && !dotted {
+                    if let Some(d) = close(p.key, s.name) {
+                        let header = if s.array { "[[{}]]" } else { "[{}]" };
+                        cands.push((d, header.replace("{}", s.name)));
                     }
                 }
-                for (k, _) in keys.iter() {
-                    if let Some(d) = close(key, k) {
-                        cands.push((d, join(s, k)));
+                for k in s.keys {
+                    if let Some(d) = close(p.key, k.name) {
+                        cands.push((d, at(s, k.name)));
                     }
                 }
             }
@@ -232,50 +164,147 @@ pub fn describe(v: &toml::Value) -> String {
 /// Check every key and value type of a raw scenario tree; returns the first problem in
 /// reading order.
 pub fn check(table: &toml::Table, prov: &Provenance) -> Result<(), ScenarioError> {
-    let mut errors: Vec<((u8, usize, usize), ScenarioError)> = Vec::new();
-    let mut push = |path: &str, e: ScenarioError| errors.push((prov.rank(path), e));
+    check_in(SECTIONS, table, prov)
+}
+
+/// [`check`] against `sections`.
+pub fn check_in(
+    sections: &[Section],
+    table: &toml::Table,
+    prov: &Provenance,
+) -> Result<(), ScenarioError> {
+    let mut errors = Errors::default();
+    let top = section_in(sections, "");
     for (k, v) in table {
-        let is_section = !k.is_empty() && section(k).is_some();
-        if !is_section {
-            match kind_of(k) {
-                Some(kind) => check_value(k, kind, v, prov).unwrap_or_else(|e| push(k, e)),
-                None => push(k, unknown(k, prov)),
+        let sec = section_in(sections, k).filter(|s| !s.name.is_empty());
+        let Some(sec) = sec else {
+            // A top-level key (or an unknown section or key).
+            match top.and_then(|t| t.key(k)) {
+                Some(d) => errors.value(k, d.kind, v, prov),
+                None => errors.push(k, unknown_in(sections, k, prov), prov),
             }
-            continue;
-        }
-        let Some(t) = v.as_table() else {
-            push(
-                k,
-                ScenarioError::WrongType {
-                    key: k.clone(),
-                    expected: "a table (a `[section]`)",
-                    found: describe(v),
-                    origin: prov.origin(k),
-                },
-            );
             continue;
         };
-        for (kk, vv) in t {
-            let path = join(k, kk);
-            match kind_of(&path) {
-                Some(kind) => check_value(&path, kind, vv, prov).unwrap_or_else(|e| push(&path, e)),
-                None => push(&path, unknown(&path, prov)),
+        match (sec.array, v) {
+            (false, toml::Value::Table(t)) => errors.keys(sections, sec, None, t, prov),
+            (true, toml::Value::Array(entries)) => {
+                for (i, e) in entries.iter().enumerate() {
+                    match e.as_table() {
+                        Some(t) => errors.keys(sections, sec, Some(i), t, prov),
+                        None => {
+                            let path = format!("{k}[{i}]");
+                            errors.push(&path, wrong(&path, "a table", e, prov), prov);
+                        }
+                    }
+                }
+            }
+            (array, _) => {
+                let expected = if array {
+                    "an array of tables (`[[section]]` entries)"
+                } else {
+                    "a table (a `[section]`)"
+                };
+                errors.push(k, wrong(k, expected, v, prov), prov);
             }
         }
     }
-    errors.sort_by_key(|(rank, _)| *rank);
-    match errors.into_iter().next() {
-        Some((_, e)) => Err(e),
-        None => Ok(()),
+    errors.first()
+}
+
+/// Problems found so far, each with its place in reading order.
+#[derive(Default)]
+struct Errors(Vec<((u8, usize, usize), ScenarioError)>);
+
+impl Errors {
+    fn push(&mut self, path: &str, e: ScenarioError, prov: &Provenance) {
+        self.0.push((prov.rank(path), e));
     }
+
+    fn value(&mut self, path: &str, kind: Kind, v: &toml::Value, prov: &Provenance) {
+        if let Err(e) = check_value(path, kind, v, prov) {
+            self.push(path, e, prov);
+        }
+    }
+
+    /// The keys of one table of section `sec` (entry `index` of an array of tables).
+    fn keys(
+        &mut self,
+        sections: &[Section],
+        sec: &Section,
+        index: Option<usize>,
+        t: &toml::Table,
+        prov: &Provenance,
+    ) {
+        for (k, v) in t {
+            let path = join(sec.name, index, k);
+            match sec.key(k) {
+                Some(d) => self.value(&path, d.kind, v, prov),
+                None => self.push(&path, unknown_in(sections, &path, prov), prov),
+            }
+        }
+    }
+
+    fn first(mut self) -> Result<(), ScenarioError> {
+        self.0.sort_by_key(|(rank, _)| *rank);
+        match self.0.into_iter().next() {
+            Some((_, e)) => Err(e),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The first required key that is absent: keys of every section that is not optional, of
+/// an optional section that is written, and of every entry of an array of tables.
+pub fn required(table: &toml::Table) -> Result<(), ScenarioError> {
+    required_in(SECTIONS, table)
+}
+
+/// [`required`] against `sections`.
+pub fn required_in(sections: &[Section], table: &toml::Table) -> Result<(), ScenarioError> {
+    for sec in sections {
+        let written = if sec.name.is_empty() {
+            Some(toml::Value::Table(table.clone()))
+        } else {
+            table.get(sec.name).cloned()
+        };
+        let entries: Vec<(Option<usize>, Option<toml::Table>)> = match written {
+            Some(toml::Value::Array(a)) => a
+                .into_iter()
+                .enumerate()
+                .map(|(i, e)| (Some(i), e.as_table().cloned()))
+                .collect(),
+            Some(toml::Value::Table(t)) => vec![(None, Some(t))],
+            _ if sec.optional || sec.array => Vec::new(),
+            _ => vec![(None, None)],
+        };
+        for (index, t) in entries {
+            for k in sec.keys {
+                let (Some(reason), false) = (
+                    k.meta.required,
+                    t.as_ref().is_some_and(|t| t.contains_key(k.name)),
+                ) else {
+                    continue;
+                };
+                return Err(ScenarioError::Missing {
+                    key: join(sec.name, index, k.name),
+                    reason: reason.into(),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The error for an unknown dotted key, with a suggestion when one is close.
 pub fn unknown(path: &str, prov: &Provenance) -> ScenarioError {
+    unknown_in(SECTIONS, path, prov)
+}
+
+fn unknown_in(sections: &[Section], path: &str, prov: &Provenance) -> ScenarioError {
     ScenarioError::UnknownKey {
         key: path.to_string(),
         origin: prov.origin(path),
-        suggestion: suggest(path),
+        suggestion: suggest_in(sections, path),
     }
 }
 
@@ -322,6 +351,18 @@ fn number_array(
     Ok(a.len())
 }
 
+fn count_array(path: &str, v: &toml::Value, prov: &Provenance) -> Result<(), ScenarioError> {
+    let expected = "an array of non-negative integers";
+    let a = v.as_array().ok_or_else(|| wrong(path, expected, v, prov))?;
+    for x in a {
+        match x {
+            toml::Value::Integer(i) if *i >= 0 => {}
+            _ => return Err(wrong(path, expected, v, prov)),
+        }
+    }
+    Ok(())
+}
+
 fn check_value(
     path: &str,
     kind: Kind,
@@ -361,6 +402,7 @@ fn check_value(
             }
         }
         Kind::FloatList => number_array(path, v, "an array of numbers", prov).map(|_| ()),
+        Kind::CountList => count_array(path, v, prov),
         Kind::Sites => sites(path, v, prov),
     }
 }
@@ -389,7 +431,7 @@ const SITES_EXPECTED: &str = "a site name or a non-empty array of [x, y] pairs";
 
 fn sites(path: &str, v: &toml::Value, prov: &Provenance) -> Result<(), ScenarioError> {
     match v {
-        toml::Value::String(_) => choice(path, v, SITE_NAMES, prov),
+        toml::Value::String(_) => choice(path, v, SiteSet::NAMES, prov),
         toml::Value::Array(a) if !a.is_empty() => {
             for p in a {
                 if number_array(path, p, SITES_EXPECTED, prov)? != 2 {

@@ -17,12 +17,20 @@ pub struct Provenance {
 }
 
 impl Provenance {
-    /// The origin of a dotted key: the last `--set`, else the file, else a default.
+    /// The origin of a dotted key: the last `--set`, else the file, else a default. A key
+    /// of an array-of-tables entry (`control[1].lines`) not written itself takes the origin
+    /// of its entry, or of the whole array.
     pub fn origin(&self, key: &str) -> Origin {
-        if let Some(arg) = self.overrides.get(key) {
+        let mut paths = vec![key];
+        if let Some((entry, _)) = key.split_once("].") {
+            let entry = &key[..entry.len() + 1];
+            paths.push(entry);
+            paths.extend(entry.split_once('[').map(|(array, _)| array));
+        }
+        if let Some(arg) = paths.iter().find_map(|p| self.overrides.get(*p)) {
             return Origin::Set(arg.clone());
         }
-        match self.positions.get(key) {
+        match paths.iter().find_map(|p| self.positions.get(*p)) {
             Some(&(line, col)) => Origin::File {
                 file: self.file.clone(),
                 line,
@@ -127,6 +135,22 @@ fn collect_item(
 ) {
     match item {
         toml_edit::Item::Table(t) => collect_table(text, t, path, out),
+        toml_edit::Item::ArrayOfTables(a) => {
+            for (i, t) in a.iter().enumerate() {
+                let p = format!("{path}[{i}]");
+                record(text, &p, t.span(), out);
+                collect_table(text, t, &p, out);
+            }
+        }
+        toml_edit::Item::Value(toml_edit::Value::Array(a)) => {
+            for (i, v) in a.iter().enumerate() {
+                if let toml_edit::Value::InlineTable(_) = v {
+                    let p = format!("{path}[{i}]");
+                    record(text, &p, v.span(), out);
+                    collect_item(text, &toml_edit::Item::Value(v.clone()), &p, out);
+                }
+            }
+        }
         toml_edit::Item::Value(toml_edit::Value::InlineTable(t)) => {
             for (k, v) in t.iter() {
                 let p = join(path, k);

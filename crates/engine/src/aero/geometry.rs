@@ -1,22 +1,6 @@
-//! Stencils and triangle geometry shared by the drag elements.
+//! Triangle geometry shared by the drag elements.
 
 use crate::vec3::{skew, M3, V3};
-
-/// Node stencils `[3i, 3i+1, 3i+2]` for each node, flattened.
-pub(crate) fn node_stencils(nodes: &[usize]) -> Vec<usize> {
-    nodes
-        .iter()
-        .flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2])
-        .collect()
-}
-
-/// Triangle stencils (the three coordinates of its three nodes), flattened (9 per triangle).
-pub(crate) fn triangle_stencils(triangles: &[[usize; 3]]) -> Vec<usize> {
-    triangles
-        .iter()
-        .flat_map(|t| t.iter().flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]))
-        .collect()
-}
 
 /// Area vector `N = ½ (x₁ − x₀) × (x₂ − x₀)` (m²): `|N|` is the area, `N/|N|` the unit
 /// normal (right-handed with the node order).

@@ -6,8 +6,8 @@
 //! (see [`DragRegime`](super::DragRegime)).
 
 use super::fluid::Fluid;
-use super::geometry::node_stencils;
-use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::element::{node_stencils, Element, Family};
+use crate::force::{BlockMut, EvalInput, JacobianKind};
 
 /// Stokes drag coefficient of a sphere, `c = 6π μ r` (N·s/m), from the dynamic viscosity μ
 /// (Pa·s) and the radius r (m).
@@ -15,66 +15,47 @@ pub fn stokes_sphere(viscosity: f64, radius: f64) -> f64 {
     6.0 * std::f64::consts::PI * viscosity * radius
 }
 
-/// Linear drag on a set of nodes.
-#[derive(Debug, Clone)]
-pub struct LinearDrag {
-    stencils: Vec<usize>,
-    /// `c_k` per node (N·s/m).
-    coeff: Vec<f64>,
+/// The linear drag law: the wind; each node has its coefficient `c_k` (N·s/m).
+#[derive(Debug, Clone, Copy)]
+pub struct LinearDragLaw {
     wind: [f64; 3],
 }
+
+/// Linear drag on a set of nodes.
+pub type LinearDrag = Family<LinearDragLaw>;
 
 impl LinearDrag {
     /// Drag `−c_k (v_k − U∞)` on `nodes` with coefficients `coeffs` (N·s/m, one per node);
     /// only the fluid's wind is used (the viscosity is already in `c_k`).
     pub fn new(nodes: &[usize], coeffs: &[f64], fluid: &Fluid) -> Self {
         assert_eq!(nodes.len(), coeffs.len(), "one coefficient per node");
-        Self {
-            stencils: node_stencils(nodes),
-            coeff: coeffs.to_vec(),
-            wind: fluid.wind,
-        }
+        let nodes: Vec<[usize; 1]> = nodes.iter().map(|&i| [i]).collect();
+        let law = LinearDragLaw { wind: fluid.wind };
+        Family::from_elements("linear-drag", law, node_stencils(&nodes), coeffs.to_vec())
     }
 
     /// Total coefficient `Σ c_k` (N·s/m).
     pub fn total_coefficient(&self) -> f64 {
-        self.coeff.iter().sum()
+        self.data.iter().sum()
     }
 }
 
-impl Force for LinearDrag {
-    fn name(&self) -> &str {
-        "linear-drag"
-    }
-    fn stencil_size(&self) -> usize {
-        3
-    }
-    fn stencils(&self) -> &[usize] {
-        &self.stencils
-    }
-    fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind {
-            dq: false,
-            dv: true,
-            symmetric: true,
+impl Element for LinearDragLaw {
+    const STENCIL: usize = 3;
+    const KIND: JacobianKind = JacobianKind::VISCOUS;
+    type Data = f64;
+
+    fn evaluate(&self, &c: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+        for r in 0..3 {
+            b.f[r] = -c * (input.v[st[r]] - self.wind[r]);
         }
-    }
-    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
-        let v = input.v;
-        out.par_for_each(input.jacobian, |b| {
-            let i = b.index;
-            let c = self.coeff[i];
-            for r in 0..3 {
-                b.f[r] = -c * (v[self.stencils[3 * i + r]] - self.wind[r]);
+        if b.dfdv.is_empty() {
+            return;
+        }
+        for r in 0..3 {
+            for s in 0..3 {
+                b.dfdv[3 * r + s] = if r == s { -c } else { 0.0 };
             }
-            if b.dfdv.is_empty() {
-                return;
-            }
-            for r in 0..3 {
-                for s in 0..3 {
-                    b.dfdv[3 * r + s] = if r == s { -c } else { 0.0 };
-                }
-            }
-        });
+        }
     }
 }

@@ -15,17 +15,17 @@
 mod fluid;
 mod geometry;
 mod linear;
+mod node_drag;
 mod pressure;
-mod quadratic;
 mod regularize;
 mod triangle;
 
 pub use fluid::{reynolds, DragRegime, Fluid};
-pub use linear::{stokes_sphere, LinearDrag};
-pub use pressure::PressureDrag;
-pub use quadratic::NodeDrag;
+pub use linear::{stokes_sphere, LinearDrag, LinearDragLaw};
+pub use node_drag::{NodeDrag, NodeDragLaw};
+pub use pressure::{PressureDrag, PressureDragLaw};
 pub use regularize::{reg_norm, DEFAULT_EPSILON};
-pub use triangle::TriangleDrag;
+pub use triangle::{TriangleDrag, TriangleDragLaw};
 
 use crate::dof::DofLayout;
 use crate::force::{EvalInput, Force};

@@ -19,18 +19,19 @@
 //! its Newton iteration, and is not reproduced here.
 
 use super::fluid::Fluid;
-use super::geometry::{area_vector, area_vector_jacobians, stencil_vec, triangle_stencils};
-use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
+use crate::element::{node_stencils, Element, Family};
+use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, outer, M3, V3};
 
-/// Per-node normal pressure drag on a family of triangles.
-#[derive(Debug, Clone)]
-pub struct PressureDrag {
-    stencils: Vec<usize>,
-    /// `k = ½ ρ C_D A₀/3` per triangle (kg/m).
-    coeff: Vec<f64>,
+/// The pressure-drag law: the wind; each triangle has its `k = ½ ρ C_D A₀/3` (kg/m).
+#[derive(Debug, Clone, Copy)]
+pub struct PressureDragLaw {
     wind: V3,
 }
+
+/// Per-node normal pressure drag on a family of triangles.
+pub type PressureDrag = Family<PressureDragLaw>;
 
 impl PressureDrag {
     /// Pressure drag on `triangles` with undeformed areas taken from `q_rest`, drag
@@ -51,81 +52,65 @@ impl PressureDrag {
         fluid: &Fluid,
     ) -> Self {
         assert_eq!(triangles.len(), rest_areas.len(), "one area per triangle");
-        Self {
-            stencils: triangle_stencils(triangles),
-            coeff: rest_areas
-                .iter()
-                .map(|&a| 0.5 * fluid.density * cd * a / 3.0)
-                .collect(),
+        let coeff = rest_areas
+            .iter()
+            .map(|&a| 0.5 * fluid.density * cd * a / 3.0)
+            .collect();
+        let law = PressureDragLaw {
             wind: V3::from(fluid.wind),
-        }
+        };
+        Family::from_elements("pressure-drag", law, node_stencils(triangles), coeff)
     }
 }
 
-impl Force for PressureDrag {
-    fn name(&self) -> &str {
-        "pressure-drag"
-    }
-    fn stencil_size(&self) -> usize {
-        9
-    }
-    fn stencils(&self) -> &[usize] {
-        &self.stencils
-    }
-    fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind {
-            dq: true,
-            dv: true,
-            symmetric: false,
-        }
-    }
-    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
+impl Element for PressureDragLaw {
+    const STENCIL: usize = 9;
+    const KIND: JacobianKind = JacobianKind::GENERAL;
+    type Data = f64;
+
+    fn evaluate(&self, &k: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
         let (q, v) = (input.q, input.v);
-        out.par_for_each(input.jacobian, |b| {
-            let st = &self.stencils[9 * b.index..9 * b.index + 9];
-            let k = self.coeff[b.index];
-            let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
-            let nv = area_vector(&x);
-            let a = nv.norm();
-            b.dfdq.fill(0.0);
-            b.dfdv.fill(0.0);
-            let jac = !b.dfdq.is_empty();
-            if a < f64::MIN_POSITIVE {
-                // A collapsed triangle has no normal; it carries no drag.
-                b.f.fill(0.0);
-                return;
+        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+        let nv = area_vector(&x);
+        let a = nv.norm();
+        b.dfdq.fill(0.0);
+        b.dfdv.fill(0.0);
+        let jac = !b.dfdq.is_empty();
+        if a < f64::MIN_POSITIVE {
+            // A collapsed triangle has no normal; it carries no drag.
+            b.f.fill(0.0);
+            return;
+        }
+        let n = nv / a;
+        let dn_dn = (M3::identity() - outer(&n, &n)) / a;
+        let dn = area_vector_jacobians(&x);
+        let nn = outer(&n, &n);
+        for i in 0..3 {
+            let u = stencil_vec(v, st, i) - self.wind;
+            let s = n.dot(&u);
+            let f = -k * s.abs() * s * n;
+            let dv = -2.0 * k * s.abs() * nn;
+            let df_dnhat = -k * (s.abs() * s * M3::identity() + 2.0 * s.abs() * outer(&n, &u));
+            let df_dnvec = df_dnhat * dn_dn;
+            for r in 0..3 {
+                b.f[3 * i + r] = f[r];
             }
-            let n = nv / a;
-            let dn_dn = (M3::identity() - outer(&n, &n)) / a;
-            let dn = area_vector_jacobians(&x);
-            let nn = outer(&n, &n);
-            for i in 0..3 {
-                let u = stencil_vec(v, st, i) - self.wind;
-                let s = n.dot(&u);
-                let f = -k * s.abs() * s * n;
-                let dv = -2.0 * k * s.abs() * nn;
-                let df_dnhat = -k * (s.abs() * s * M3::identity() + 2.0 * s.abs() * outer(&n, &u));
-                let df_dnvec = df_dnhat * dn_dn;
-                for r in 0..3 {
-                    b.f[3 * i + r] = f[r];
+            if !jac {
+                continue;
+            }
+            for r in 0..3 {
+                for c in 0..3 {
+                    b.dfdv[(3 * i + r) * 9 + 3 * i + c] = dv[(r, c)];
                 }
-                if !jac {
-                    continue;
-                }
+            }
+            for bn in 0..3 {
+                let dq = df_dnvec * dn[bn];
                 for r in 0..3 {
                     for c in 0..3 {
-                        b.dfdv[(3 * i + r) * 9 + 3 * i + c] = dv[(r, c)];
-                    }
-                }
-                for bn in 0..3 {
-                    let dq = df_dnvec * dn[bn];
-                    for r in 0..3 {
-                        for c in 0..3 {
-                            b.dfdq[(3 * i + r) * 9 + 3 * bn + c] = dq[(r, c)];
-                        }
+                        b.dfdq[(3 * i + r) * 9 + 3 * bn + c] = dq[(r, c)];
                     }
                 }
             }
-        });
+        }
     }
 }

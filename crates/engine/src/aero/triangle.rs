@@ -17,15 +17,15 @@
 //! Neither Jacobian is symmetric.
 
 use super::fluid::Fluid;
-use super::geometry::{area_vector, area_vector_jacobians, stencil_vec, triangle_stencils};
+use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
 use super::regularize::{quadratic, reg_norm, DEFAULT_EPSILON};
-use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::element::{node_stencils, Element, Family};
+use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{outer, M3, V3};
 
-/// Normal + tangential quadratic drag on a family of triangles.
-#[derive(Debug, Clone)]
-pub struct TriangleDrag {
-    stencils: Vec<usize>,
+/// The triangle-drag law: coefficients, wind and regularisation, shared by all triangles.
+#[derive(Debug, Clone, Copy)]
+pub struct TriangleDragLaw {
     /// `c_n = ½ ρ C_n` (kg/m³).
     c_n: f64,
     /// `c_t = ½ ρ C_t` (kg/m³).
@@ -33,6 +33,9 @@ pub struct TriangleDrag {
     wind: V3,
     epsilon: f64,
 }
+
+/// Normal + tangential quadratic drag on a family of triangles.
+pub type TriangleDrag = Family<TriangleDragLaw>;
 
 /// Drag on one triangle and its derivatives.
 struct TriDrag {
@@ -105,38 +108,42 @@ impl TriangleDrag {
         cd_tangential: f64,
         fluid: &Fluid,
     ) -> Self {
-        Self {
-            stencils: triangle_stencils(triangles),
+        let law = TriangleDragLaw {
             c_n: 0.5 * fluid.density * cd_normal,
             c_t: 0.5 * fluid.density * cd_tangential,
             wind: V3::from(fluid.wind),
             epsilon: DEFAULT_EPSILON,
-        }
+        };
+        let data = vec![(); triangles.len()];
+        Family::from_elements("triangle-drag", law, node_stencils(triangles), data)
     }
 
     /// Use the regularisation speed `eps` (m/s) for `|u|` and `|u_t|` instead of
-    /// [`DEFAULT_EPSILON`](super::DEFAULT_EPSILON).
+    /// [`DEFAULT_EPSILON`].
     pub fn with_epsilon(mut self, eps: f64) -> Self {
-        self.epsilon = eps;
+        self.law.epsilon = eps;
         self
     }
 
     /// Number of triangles.
     pub fn n_triangles(&self) -> usize {
-        self.stencils.len() / 9
+        self.len()
     }
 
     /// Total drag `f_n + f_t` (N) of every triangle at `(q, v)` into `out` (one entry per
     /// triangle; each of its nodes carries a third). For output, not for the solver.
     pub fn triangle_forces(&self, q: &[f64], v: &[f64], out: &mut [[f64; 3]]) {
         assert_eq!(out.len(), self.n_triangles(), "one output per triangle");
+        let l = &self.law;
         for (st, o) in self.stencils.chunks(9).zip(out.iter_mut()) {
-            let (_, n, u) = self.kinematics(q, v, st);
-            let d = triangle_drag(&n, &u, self.c_n, self.c_t, self.epsilon);
+            let (_, n, u) = l.kinematics(q, v, st);
+            let d = triangle_drag(&n, &u, l.c_n, l.c_t, l.epsilon);
             *o = d.f.into();
         }
     }
+}
 
+impl TriangleDragLaw {
     /// Node positions, area vector and relative mean velocity of the triangle `st`.
     #[inline]
     fn kinematics(&self, q: &[f64], v: &[f64], st: &[usize]) -> ([V3; 3], V3, V3) {
@@ -147,57 +154,41 @@ impl TriangleDrag {
     }
 }
 
-impl Force for TriangleDrag {
-    fn name(&self) -> &str {
-        "triangle-drag"
-    }
-    fn stencil_size(&self) -> usize {
-        9
-    }
-    fn stencils(&self) -> &[usize] {
-        &self.stencils
-    }
-    fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind {
-            dq: true,
-            dv: true,
-            symmetric: false,
-        }
-    }
-    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
-        let (q, v) = (input.q, input.v);
-        out.par_for_each(input.jacobian, |b| {
-            let st = &self.stencils[9 * b.index..9 * b.index + 9];
-            let (x, n, u) = self.kinematics(q, v, st);
-            if b.dfdq.is_empty() {
-                let f = triangle_drag_force(&n, &u, self.c_n, self.c_t, self.epsilon);
-                for an in 0..3 {
-                    for r in 0..3 {
-                        b.f[3 * an + r] = f[r] / 3.0;
-                    }
-                }
-                return;
-            }
-            let d = triangle_drag(&n, &u, self.c_n, self.c_t, self.epsilon);
+impl Element for TriangleDragLaw {
+    const STENCIL: usize = 9;
+    const KIND: JacobianKind = JacobianKind::GENERAL;
+    type Data = ();
+
+    fn evaluate(&self, _: &(), st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+        let (x, n, u) = self.kinematics(input.q, input.v, st);
+        if b.dfdq.is_empty() {
+            let f = triangle_drag_force(&n, &u, self.c_n, self.c_t, self.epsilon);
             for an in 0..3 {
                 for r in 0..3 {
-                    b.f[3 * an + r] = d.f[r] / 3.0;
+                    b.f[3 * an + r] = f[r] / 3.0;
                 }
             }
-            let dn = area_vector_jacobians(&x);
-            let dv = d.dfdu / 9.0;
-            for bn in 0..3 {
-                let dq = d.dfdn * dn[bn] / 3.0;
-                for an in 0..3 {
-                    for r in 0..3 {
-                        for c in 0..3 {
-                            let idx = (3 * an + r) * 9 + 3 * bn + c;
-                            b.dfdq[idx] = dq[(r, c)];
-                            b.dfdv[idx] = dv[(r, c)];
-                        }
+            return;
+        }
+        let d = triangle_drag(&n, &u, self.c_n, self.c_t, self.epsilon);
+        for an in 0..3 {
+            for r in 0..3 {
+                b.f[3 * an + r] = d.f[r] / 3.0;
+            }
+        }
+        let dn = area_vector_jacobians(&x);
+        let dv = d.dfdu / 9.0;
+        for bn in 0..3 {
+            let dq = d.dfdn * dn[bn] / 3.0;
+            for an in 0..3 {
+                for r in 0..3 {
+                    for c in 0..3 {
+                        let idx = (3 * an + r) * 9 + 3 * bn + c;
+                        b.dfdq[idx] = dq[(r, c)];
+                        b.dfdv[idx] = dv[(r, c)];
                     }
                 }
             }
-        });
+        }
     }
 }

@@ -25,10 +25,44 @@ use faer::sparse::linalg::lu::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-use crate::error::{EngineError, StepError};
+use crate::error::{EngineError, SparseError, StepError};
+use faer::sparse::linalg::LuError;
+use faer::sparse::FaerError;
 
 mod krylov;
 pub use krylov::KrylovReport;
+
+/// The engine's name for a faer failure.
+fn sparse_error(e: FaerError) -> SparseError {
+    match e {
+        FaerError::IndexOverflow => SparseError::IndexOverflow,
+        _ => SparseError::OutOfMemory,
+    }
+}
+
+/// Check that `(col_ptr, row_idx)` is an `n × n` CSC pattern: `col_ptr` of length `n + 1`,
+/// starting at 0, non-decreasing, ending at `row_idx.len()`; row indices in range and strictly
+/// increasing within each column. This is what faer's unchecked constructor requires.
+fn check_pattern(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<(), SparseError> {
+    let bad = |m| Err(SparseError::InvalidPattern(m));
+    if col_ptr.len() != n + 1 || col_ptr[0] != 0 || col_ptr[n] != row_idx.len() {
+        return bad("column pointers do not span the row indices");
+    }
+    for c in 0..n {
+        let (a, b) = (col_ptr[c], col_ptr[c + 1]);
+        if a > b {
+            return bad("column pointers decrease");
+        }
+        let rows = &row_idx[a..b];
+        if rows.iter().any(|&r| r >= n) {
+            return bad("row index out of range");
+        }
+        if rows.windows(2).any(|w| w[0] >= w[1]) {
+            return bad("row indices not strictly increasing within a column");
+        }
+    }
+    Ok(())
+}
 
 /// Which factorisation solved the last system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,13 +98,15 @@ pub struct LinearSolver {
 }
 
 impl LinearSolver {
-    /// Analyse the pattern (CSC, sorted rows, no duplicates). `symmetric` enables LLᵀ.
+    /// Analyse the pattern (CSC, sorted rows, no duplicates; checked, an invalid pattern is
+    /// [`SparseError::InvalidPattern`]). `symmetric` enables LLᵀ.
     pub fn new(
         n: usize,
         col_ptr: &[usize],
         row_idx: &[usize],
         symmetric: bool,
     ) -> Result<Self, EngineError> {
+        check_pattern(n, col_ptr, row_idx).map_err(EngineError::Symbolic)?;
         let par = if n > 20_000 { Par::rayon(0) } else { Par::Seq };
         let mut s = Self {
             n,
@@ -87,8 +123,7 @@ impl LinearSolver {
             last: Factorization::Lu,
             valid: false,
         };
-        // SAFETY: the assembler builds a valid CSC pattern (monotone col_ptr, sorted unique
-        // in-range row indices).
+        // SAFETY: `check_pattern` verified the CSC invariants faer requires.
         let sym = unsafe { SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx) };
         let mut req = StackReq::EMPTY;
         if symmetric {
@@ -100,7 +135,7 @@ impl LinearSolver {
                 SymmetricOrdering::Amd,
                 CholeskySymbolicParams::default(),
             )
-            .map_err(|e| EngineError::Symbolic(format!("{e:?}")))?;
+            .map_err(|e| EngineError::Symbolic(sparse_error(e)))?;
             req = req
                 .or(chol.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
                 .or(chol.factorize_numeric_intranode_lblt_scratch::<f64>(par, Default::default()))
@@ -118,8 +153,7 @@ impl LinearSolver {
 
     /// The pattern given to [`LinearSolver::new`], as a faer view.
     fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
-        // SAFETY: `new` received a valid CSC pattern (monotone col_ptr, sorted unique in-range
-        // row indices) from the assembler, and it is never modified.
+        // SAFETY: `new` checked the pattern (`check_pattern`), and it is never modified.
         unsafe {
             SymbolicSparseColMatRef::new_unchecked(
                 self.n,
@@ -138,7 +172,7 @@ impl LinearSolver {
         }
         let sym = self.pattern();
         let lu = factorize_symbolic_lu(sym, LuSymbolicParams::default())
-            .map_err(|e| EngineError::Symbolic(format!("{e:?}")))?;
+            .map_err(|e| EngineError::Symbolic(sparse_error(e)))?;
         self.lu_sym = Some(lu);
         Ok(())
     }
@@ -164,12 +198,6 @@ impl LinearSolver {
         self.factor_impl(Some(spd), full)
     }
 
-    /// Factorise `A` by LU even when LLᵀ is available (e.g. after the symmetric
-    /// approximation of a non-symmetric `A` failed to contract).
-    pub fn factor_lu(&mut self, values: &[f64]) -> Result<Factorization, StepError> {
-        self.factor_impl(None, values)
-    }
-
     fn factor_impl(
         &mut self,
         spd: Option<&[f64]>,
@@ -182,8 +210,10 @@ impl LinearSolver {
             return Ok(self.last);
         }
         if (self.llt.is_none() || spd.is_none()) && self.lu_sym.is_none() {
-            self.ensure_lu()
-                .map_err(|e| StepError::Linear(e.to_string()))?;
+            self.ensure_lu().map_err(|e| match e {
+                EngineError::Symbolic(s) => StepError::Linear(s),
+                _ => unreachable!("ensure_lu only fails in the symbolic analysis"),
+            })?;
             self.mem = MemBuffer::new(self.req.or(self.lu_scratch()));
         }
         // SAFETY: the same valid pattern as in `new` (borrowed field by field: the factors
@@ -231,7 +261,12 @@ impl LinearSolver {
         let lu_sym = self.lu_sym.as_ref().expect("LU analysed above");
         lu_sym
             .factorize_numeric_lu::<f64>(&mut self.lu_num, a, self.par, stack, Default::default())
-            .map_err(|e| StepError::Linear(format!("{e:?}")))?;
+            .map_err(|e| {
+                StepError::Linear(match e {
+                    LuError::SymbolicSingular { index } => SparseError::Singular { step: index },
+                    LuError::Generic(g) => sparse_error(g),
+                })
+            })?;
         self.last = Factorization::Lu;
         self.valid = true;
         Ok(Factorization::Lu)
@@ -336,3 +371,6 @@ impl LinearSolver {
         rep
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,58 +1,40 @@
 //! Constant generalised forces on single DOFs (a torque on a twist angle, a force on one
 //! coordinate), e.g. the end torque of a torsion test.
-use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::element::{Element, Family};
+use crate::force::{BlockMut, EvalInput, JacobianKind};
 
-/// Constant generalised forces on single DOFs (N or N·m), honouring the load scale.
-pub struct DofForces {
-    dofs: Vec<usize>,
-    values: Vec<f64>,
+/// The single-DOF load law: the load scale `s`; each DOF has its value (N or N·m).
+#[derive(Debug, Clone, Copy)]
+pub struct DofLoad {
     scale: f64,
 }
+
+/// Constant generalised forces on single DOFs (N or N·m), honouring the load scale:
+/// energy `E = −s Σ f_j q_j`.
+pub type DofForces = Family<DofLoad>;
 
 impl DofForces {
     /// Force (or torque) `values[j]` (N or N·m) on global DOF `dofs[j]`.
     pub fn new(dofs: Vec<usize>, values: Vec<f64>) -> Self {
-        Self {
-            dofs,
-            values,
-            scale: 1.0,
-        }
+        Family::from_elements("dof-forces", DofLoad { scale: 1.0 }, dofs, values)
     }
 }
 
-impl Force for DofForces {
-    fn name(&self) -> &str {
-        "dof-forces"
+impl Element for DofLoad {
+    const STENCIL: usize = 1;
+    const KIND: JacobianKind = JacobianKind::CONSTANT;
+    const CONSERVATIVE: bool = true;
+    type Data = f64;
+
+    fn evaluate(&self, &value: &f64, _: &[usize], _: &EvalInput<'_>, b: BlockMut<'_>) {
+        b.f[0] = self.scale * value;
     }
-    fn stencil_size(&self) -> usize {
-        1
+
+    fn add_energy(&self, &value: &f64, st: &[usize], q: &[f64], acc: &mut f64) {
+        *acc -= self.scale * value * q[st[0]];
     }
-    fn stencils(&self) -> &[usize] {
-        &self.dofs
-    }
-    fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind::CONSTANT
-    }
-    fn evaluate(&self, _input: &EvalInput<'_>, out: &mut LocalBlocks) {
-        for (f, v) in out.f.iter_mut().zip(&self.values) {
-            *f = self.scale * v;
-        }
-    }
-    fn conservative(&self) -> bool {
-        true
-    }
-    fn energy(&self, q: &[f64]) -> Option<f64> {
-        Some(
-            -self.scale
-                * self
-                    .dofs
-                    .iter()
-                    .zip(&self.values)
-                    .map(|(&d, v)| v * q[d])
-                    .sum::<f64>(),
-        )
-    }
-    fn set_load_scale(&mut self, s: f64) {
-        self.scale = s;
+
+    fn set_load_scale(&mut self, scale: f64) {
+        self.scale = scale;
     }
 }

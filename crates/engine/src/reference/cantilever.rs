@@ -107,12 +107,14 @@ pub fn ei_round(r: f64) -> f64 {
     Section::Circle { radius: r }.ei1(STEEL_E)
 }
 
-/// Static solver options for the cantilevers: the default tolerances (the axial round-off
-/// floor of a stiff steel rod, EA·1e-16/l ≈ 1e-7 N, is above any tighter absolute force
-/// tolerance; the step criterion then certifies convergence) and up to 40 iterations.
+/// Static solver options for the cantilevers: the default tolerances with the force scale of
+/// the rod's weight (`reference_acceleration` = [`G`]; the axial round-off floor of a stiff
+/// steel rod, EA·1e-16/l ≈ 1e-7 N, is above any tighter absolute force tolerance; the step
+/// criterion then certifies convergence) and up to 40 iterations.
 pub fn static_opts() -> NewtonOptions {
     NewtonOptions {
         max_iterations: 40,
+        reference_acceleration: G,
         ..Default::default()
     }
 }

@@ -68,15 +68,20 @@ pub fn mean_velocity(model: &Model, state: &State) -> [f64; 3] {
     p.map(|x| x / model.total_mass())
 }
 
-/// Step `model` from `state` with `dt` for `steps` steps (default Newton options); return
-/// `(t, mean velocity)` after every step.
+/// Step `model` from `state` with `dt` for `steps` steps (default Newton options, force
+/// scale set by the weight: `reference_acceleration` = [`G`]); return `(t, mean velocity)`
+/// after every step.
 pub fn run(
     model: &mut Model,
     state: &mut State,
     dt: f64,
     steps: usize,
 ) -> Result<Vec<(f64, [f64; 3])>, RefError> {
-    let mut stepper = ImplicitEuler::new(model, NewtonOptions::default())?;
+    let opts = NewtonOptions {
+        reference_acceleration: G,
+        ..Default::default()
+    };
+    let mut stepper = ImplicitEuler::new(model, opts)?;
     let mut out = Vec::with_capacity(steps);
     for _ in 0..steps {
         stepper.step(model, state, dt)?;
@@ -113,7 +118,7 @@ pub fn build(body: Body, fluid: &Fluid) -> (Model, State) {
             match body {
                 Body::SheetTriangle => model.add_force(TriangleDrag::new(&s.tris, CD, CD_T, fluid)),
                 _ => model.add_force(PressureDrag::new(&s.tris, &s.q, CD, fluid)),
-            }
+            };
             (model, State::at_rest(s.q))
         }
         Body::StripNodes => strip(11, 2.0, 0.5, m, 10.0, fluid),

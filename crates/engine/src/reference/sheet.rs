@@ -1,6 +1,7 @@
 //! Flat rectangular triangulated sheets with stiff edge springs: rigid bodies for the drag
 //! references and test meshes for the drag laws.
 use crate::rod::Stretch;
+use crate::shell::mesh::twice_area;
 
 /// A flat rectangular sheet in the plane z = `z0`, normals +z.
 pub struct Sheet {
@@ -55,15 +56,7 @@ impl Sheet {
             let n = self.tris[t][i];
             [self.q[3 * n], self.q[3 * n + 1], self.q[3 * n + 2]]
         };
-        let (a, b, c) = (p(0), p(1), p(2));
-        let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let n = [
-            e1[1] * e2[2] - e1[2] * e2[1],
-            e1[2] * e2[0] - e1[0] * e2[2],
-            e1[0] * e2[1] - e1[1] * e2[0],
-        ];
-        0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+        0.5 * twice_area(p(0), p(1), p(2))
     }
 
     /// Lumped node masses for a total mass `m` spread in proportion to area (A/3 per

@@ -1,6 +1,6 @@
 //! First natural period of a clamped cantilever, stepped with implicit Euler, against
 //! Euler–Bernoulli beam theory: `T₁ = 2π / ((1.8751)² √(EI/(ρ A L⁴)))`.
-use super::cantilever::{cantilever, ei_round, round, STEEL_RHO};
+use super::cantilever::{cantilever, ei_round, round, G, STEEL_RHO};
 use super::RefError;
 use crate::loads::PointForces;
 use crate::rod::Section;
@@ -48,7 +48,12 @@ pub fn first_period(
     }
 
     let dt = exact / steps_per_period as f64;
-    let mut stepper = ImplicitEuler::new(&c.model, NewtonOptions::default())?;
+    // Force scale of the reference problems (the rod's weight scale, as in `static_opts`).
+    let opts = NewtonOptions {
+        reference_acceleration: G,
+        ..Default::default()
+    };
+    let mut stepper = ImplicitEuler::new(&c.model, opts)?;
     let mut crossings = Vec::new();
     let mut z_prev = c.state.q[3 * tip + 2];
     let mut iters = 0;

@@ -14,7 +14,7 @@
 //! **Frames within a step.** The reference frame of each edge is a function of the current
 //! edge: `a1(e) = P(u → e/|e|) a1_old`, the time-parallel transport from the tangent `u`
 //! and director `a1_old` of the last accepted configuration (the history, advanced in
-//! [`Force::commit`]). So within a step the energy is an ordinary function of `q`, and the
+//! [`crate::Force::commit`]). So within a step the energy is an ordinary function of `q`, and the
 //! force and Jacobian written here are its *exact* gradient and Hessian — including the twist
 //! `g_k = −(u_k × t_k)/((1 + u_k·t_k)|e_k|)` that transported frames pick up when
 //! `t_k ≠ u_k`, which the textbook DER gradient omits (it is exact only at `t_k = u_k`).
@@ -42,7 +42,8 @@ use super::bend::{curvature_gradients, curvatures};
 use super::frames::{transport, RodFrames};
 use super::scalar::{Dual, Real, G3};
 use super::twist::{reference_twist, reference_twist_gradient};
-use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::element::{Element, Family};
+use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, V3};
 use nalgebra::SMatrix;
 
@@ -169,17 +170,23 @@ fn gradient<T: Real>(l: &Local<T>, m: T, c: &Consts) -> [T; 8] {
     out
 }
 
-/// Bending and twisting of a set of rods (see the module docs).
-pub struct BendTwist {
-    name: String,
-    stencils: Vec<usize>,
-    elems: Vec<BendTwistElement>,
-    consts: Vec<Consts>,
-    /// Reference twist of each element at the last accepted configuration (rad).
-    ref_twist: Vec<f64>,
+/// One element of the family: its description, rest values and reference twist.
+pub struct BendTwistData {
+    elem: BendTwistElement,
+    consts: Consts,
+    /// Reference twist at the last accepted configuration (rad): history.
+    ref_twist: f64,
+}
+
+/// The bend–twist law: the reference frames of every edge (the history shared by the
+/// elements).
+pub struct BendTwistLaw {
     edge_nodes: Vec<[usize; 2]>,
     frames: RodFrames,
 }
+
+/// Bending and twisting of a set of rods (see the module docs).
+pub type BendTwist = Family<BendTwistLaw>;
 
 impl BendTwist {
     /// Elements `elems` over frame edges `edge_nodes` (node pairs, oriented), whose twist
@@ -207,107 +214,121 @@ impl BendTwist {
             }
             stencils.extend(el.edges.iter().map(|&e| twist_dofs[e]));
         }
-        let mut me = Self {
-            name: name.to_string(),
-            stencils,
-            consts: elems
-                .iter()
-                .map(|el| Consts {
-                    ei: [el.ei2, el.ei1],
-                    gj: el.gj,
-                    inv_len: 1.0 / el.voronoi_len,
+        let data = elems
+            .into_iter()
+            .map(|elem| BendTwistData {
+                consts: Consts {
+                    ei: [elem.ei2, elem.ei1],
+                    gj: elem.gj,
+                    inv_len: 1.0 / elem.voronoi_len,
                     kappa_bar: [0.0; 2],
                     tau_bar: 0.0,
                     align: 0.0,
-                })
-                .collect(),
-            ref_twist: vec![0.0; elems.len()],
-            elems,
-            edge_nodes,
-            frames,
-        };
+                },
+                ref_twist: 0.0,
+                elem,
+            })
+            .collect();
+        let law = BendTwistLaw { edge_nodes, frames };
+        let mut me = Family::from_elements(name, law, stencils, data);
         let mut q0 = q_rest.to_vec();
-        for i in 0..me.elems.len() {
-            let st = &me.stencils[11 * i..11 * i + 11];
+        for st in me.stencils.chunks(11) {
             q0[st[9]] = 0.0;
             q0[st[10]] = 0.0;
         }
-        for i in 0..me.elems.len() {
-            let m = reference_twist(&me.local_f64(&q0, i), 0.0);
-            me.ref_twist[i] = m;
-            me.consts[i].align = -m;
-            let l = me.local_f64(&q0, i);
-            me.consts[i].kappa_bar = curvatures(&l);
-            me.consts[i].tau_bar = l.th[1] - l.th[0] + m;
+        let Family {
+            law,
+            stencils,
+            data,
+            ..
+        } = &mut me;
+        for (el, st) in data.iter_mut().zip(stencils.chunks(11)) {
+            let m = reference_twist(&law.local_f64(&q0, el, st), 0.0);
+            el.ref_twist = m;
+            el.consts.align = -m;
+            let l = law.local_f64(&q0, el, st);
+            el.consts.kappa_bar = curvatures(&l);
+            el.consts.tau_bar = l.th[1] - l.th[0] + m;
         }
         me
     }
 
     /// The elements.
-    pub fn elements(&self) -> &[BendTwistElement] {
-        &self.elems
+    pub fn elements(&self) -> impl ExactSizeIterator<Item = &BendTwistElement> {
+        self.data.iter().map(|d| &d.elem)
     }
     /// Reference frames at the last accepted configuration.
     pub fn frames(&self) -> &RodFrames {
-        &self.frames
+        &self.law.frames
     }
     /// Reference twist of each element at the last accepted configuration (rad).
-    pub fn ref_twists(&self) -> &[f64] {
-        &self.ref_twist
+    pub fn ref_twists(&self) -> Vec<f64> {
+        self.data.iter().map(|d| d.ref_twist).collect()
     }
     /// Natural curvatures `[κ̄1, κ̄2]` of each element.
     pub fn natural_curvatures(&self) -> Vec<[f64; 2]> {
-        self.consts.iter().map(|c| c.kappa_bar).collect()
+        self.data.iter().map(|d| d.consts.kappa_bar).collect()
     }
     /// Material curvatures `[κ1, κ2]` and twist `τ` of each element at `q`.
     pub fn strains(&self, q: &[f64]) -> Vec<([f64; 2], f64)> {
-        (0..self.elems.len())
-            .map(|i| {
-                let l = self.local_f64(q, i);
-                let m = reference_twist(&l, self.ref_twist[i]);
+        self.data
+            .iter()
+            .zip(self.stencils.chunks(11))
+            .map(|(el, st)| {
+                let l = self.law.local_f64(q, el, st);
+                let m = reference_twist(&l, el.ref_twist);
                 (curvatures(&l), l.th[1] - l.th[0] + m)
             })
             .collect()
     }
+}
 
-    /// Edge vectors, local twists and local history of element `i`.
-    fn gather(&self, q: &[f64], i: usize) -> ([V3; 2], [f64; 2], Hist) {
-        let el = &self.elems[i];
-        let st = &self.stencils[11 * i..11 * i + 11];
-        let x = el.nodes.map(|n| node(q, n));
-        let s = el.signs;
+impl BendTwistLaw {
+    /// Edge vectors, local twists and local history of element `el` on stencil `st`.
+    fn gather(&self, q: &[f64], el: &BendTwistData, st: &[usize]) -> ([V3; 2], [f64; 2], Hist) {
+        let e = &el.elem;
+        let x = e.nodes.map(|n| node(q, n));
+        let s = e.signs;
         let hist = Hist {
             u: [
-                self.frames.tangent[el.edges[0]] * s[0],
-                self.frames.tangent[el.edges[1]] * s[1],
+                self.frames.tangent[e.edges[0]] * s[0],
+                self.frames.tangent[e.edges[1]] * s[1],
             ],
-            a: [self.frames.a1[el.edges[0]], self.frames.a1[el.edges[1]]],
+            a: [self.frames.a1[e.edges[0]], self.frames.a1[e.edges[1]]],
         };
         (
             [x[1] - x[0], x[2] - x[1]],
-            [s[0] * q[st[9]], s[1] * q[st[10]] + self.consts[i].align],
+            [s[0] * q[st[9]], s[1] * q[st[10]] + el.consts.align],
             hist,
         )
     }
 
-    fn local_f64(&self, q: &[f64], i: usize) -> Local<f64> {
-        let (e, th, h) = self.gather(q, i);
+    fn local_f64(&self, q: &[f64], el: &BendTwistData, st: &[usize]) -> Local<f64> {
+        let (e, th, h) = self.gather(q, el, st);
         Local::new([G3::cst(&e[0]), G3::cst(&e[1])], th, &h)
     }
+}
 
-    /// Local force (11) and `∂f/∂q` (11×11, row-major) of element `i`.
-    fn element_blocks(&self, q: &[f64], i: usize, f: &mut [f64], dfdq: &mut [f64]) {
-        let s = self.elems[i].signs;
+impl Element for BendTwistLaw {
+    const STENCIL: usize = 11;
+    const KIND: JacobianKind = JacobianKind::ELASTIC;
+    const CONSERVATIVE: bool = true;
+    type Data = BendTwistData;
+
+    /// Local force (11) and `∂f/∂q` (11×11, row-major) of one element.
+    fn evaluate(&self, el: &BendTwistData, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+        let (q, f, dfdq) = (input.q, b.f, b.dfdq);
+        let s = el.elem.signs;
         if dfdq.is_empty() {
             // Force only (modified-Newton trial residuals): the same closed-form gradient in
             // plain f64, ~8× cheaper than carrying 8 dual components through it.
-            let l = self.local_f64(q, i);
-            let m = reference_twist(&l, self.ref_twist[i]);
-            let g = gradient(&l, m, &self.consts[i]);
+            let l = self.local_f64(q, el, st);
+            let m = reference_twist(&l, el.ref_twist);
+            let g = gradient(&l, m, &el.consts);
             write_force(&g, s, f);
             return;
         }
-        let (e, th, h) = self.gather(q, i);
+        let (e, th, h) = self.gather(q, el, st);
         let mut ev = [G3([Dual::<8>::cst(0.0); 3]); 2];
         for k in 0..2 {
             for c in 0..3 {
@@ -316,22 +337,67 @@ impl BendTwist {
         }
         let thd = [Dual::var(th[0], 6), Dual::var(th[1], 7)];
         let l = Local::new(ev, thd, &h);
-        let m = reference_twist(&l, self.ref_twist[i]);
-        let g = gradient(&l, m, &self.consts[i]);
+        let m = reference_twist(&l, el.ref_twist);
+        let g = gradient(&l, m, &el.consts);
         write_force(&g, s, f);
         let hl = SMatrix::<f64, 8, 8>::from_fn(|r, c| 0.5 * (g[r].d[c] + g[c].d[r]));
-        let mut b = SMatrix::<f64, 8, 11>::zeros();
+        let mut bm = SMatrix::<f64, 8, 11>::zeros();
         for r in 0..6 {
-            b[(r, r)] = -1.0;
-            b[(r, r + 3)] = 1.0;
+            bm[(r, r)] = -1.0;
+            bm[(r, r + 3)] = 1.0;
         }
-        b[(6, 9)] = s[0];
-        b[(7, 10)] = s[1];
-        let k = b.transpose() * hl * b;
+        bm[(6, 9)] = s[0];
+        bm[(7, 10)] = s[1];
+        let k = bm.transpose() * hl * bm;
         for r in 0..11 {
             for c in 0..11 {
                 dfdq[r * 11 + c] = -k[(r, c)];
             }
+        }
+    }
+
+    fn add_energy(&self, el: &BendTwistData, st: &[usize], q: &[f64], acc: &mut f64) {
+        let l = self.local_f64(q, el, st);
+        let m = reference_twist(&l, el.ref_twist);
+        *acc += energy_of(&l, m, &el.consts);
+    }
+
+    /// Advance the history: reference twists on their branch, then time-parallel transport
+    /// of every edge's reference frame to its new tangent.
+    fn commit(&mut self, els: &mut [BendTwistData], stencils: &[usize], q: &[f64]) {
+        for (el, st) in els.iter_mut().zip(stencils.chunks(11)) {
+            let l = self.local_f64(q, el, st);
+            el.ref_twist = reference_twist(&l, el.ref_twist);
+        }
+        for (e, &[a, b]) in self.edge_nodes.iter().enumerate() {
+            let t = (node(q, b) - node(q, a)).normalize();
+            self.frames.time_transport(e, &t);
+        }
+    }
+
+    fn history_len(&self, n_elements: usize) -> usize {
+        n_elements + 6 * self.frames.tangent.len()
+    }
+
+    /// `[ref_twist…, (tangent, a1) per edge…]`: everything `commit` advances.
+    fn history(&self, els: &[BendTwistData]) -> Vec<f64> {
+        let mut h: Vec<f64> = els.iter().map(|d| d.ref_twist).collect();
+        h.reserve(6 * self.frames.tangent.len());
+        for (t, a) in self.frames.tangent.iter().zip(&self.frames.a1) {
+            h.extend_from_slice(t.as_slice());
+            h.extend_from_slice(a.as_slice());
+        }
+        h
+    }
+
+    fn restore_history(&mut self, els: &mut [BendTwistData], h: &[f64]) {
+        let n_el = els.len();
+        for (el, &m) in els.iter_mut().zip(&h[..n_el]) {
+            el.ref_twist = m;
+        }
+        for (e, c) in h[n_el..].chunks_exact(6).enumerate() {
+            self.frames.tangent[e] = V3::new(c[0], c[1], c[2]);
+            self.frames.a1[e] = V3::new(c[3], c[4], c[5]);
         }
     }
 }
@@ -346,76 +412,4 @@ fn write_force<T: Real>(g: &[T; 8], s: [f64; 2], f: &mut [f64]) {
     }
     f[9] = -s[0] * g[6].val();
     f[10] = -s[1] * g[7].val();
-}
-
-impl Force for BendTwist {
-    fn name(&self) -> &str {
-        &self.name
-    }
-    fn stencil_size(&self) -> usize {
-        11
-    }
-    fn stencils(&self) -> &[usize] {
-        &self.stencils
-    }
-    fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind::ELASTIC
-    }
-    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
-        let q = input.q;
-        out.par_for_each(input.jacobian, |b| {
-            self.element_blocks(q, b.index, b.f, b.dfdq)
-        });
-    }
-    fn conservative(&self) -> bool {
-        true
-    }
-    fn energy(&self, q: &[f64]) -> Option<f64> {
-        let mut e = 0.0;
-        for i in 0..self.elems.len() {
-            let l = self.local_f64(q, i);
-            let m = reference_twist(&l, self.ref_twist[i]);
-            e += energy_of(&l, m, &self.consts[i]);
-        }
-        Some(e)
-    }
-    /// Advance the history: reference twists on their branch, then time-parallel transport
-    /// of every edge's reference frame to its new tangent.
-    fn commit(&mut self, q: &[f64]) {
-        for i in 0..self.elems.len() {
-            let l = self.local_f64(q, i);
-            self.ref_twist[i] = reference_twist(&l, self.ref_twist[i]);
-        }
-        for (e, &[a, b]) in self.edge_nodes.iter().enumerate() {
-            let t = (node(q, b) - node(q, a)).normalize();
-            self.frames.time_transport(e, &t);
-        }
-    }
-    /// `[ref_twist…, (tangent, a1) per edge…]`: everything `commit` advances.
-    fn history(&self) -> Vec<f64> {
-        let mut h = self.ref_twist.clone();
-        h.reserve(6 * self.frames.tangent.len());
-        for (t, a) in self.frames.tangent.iter().zip(&self.frames.a1) {
-            h.extend_from_slice(t.as_slice());
-            h.extend_from_slice(a.as_slice());
-        }
-        h
-    }
-    fn restore_history(&mut self, h: &[f64]) -> Result<(), String> {
-        let (n_el, n_e) = (self.ref_twist.len(), self.frames.tangent.len());
-        if h.len() != n_el + 6 * n_e {
-            return Err(format!(
-                "{}: history of {} values, expected {} ({n_el} elements, {n_e} edges)",
-                self.name,
-                h.len(),
-                n_el + 6 * n_e
-            ));
-        }
-        self.ref_twist.copy_from_slice(&h[..n_el]);
-        for (e, c) in h[n_el..].chunks_exact(6).enumerate() {
-            self.frames.tangent[e] = V3::new(c[0], c[1], c[2]);
-            self.frames.a1[e] = V3::new(c[3], c[4], c[5]);
-        }
-        Ok(())
-    }
 }

@@ -16,8 +16,8 @@ pub mod section;
 pub mod stretch;
 mod twist;
 
-pub use bend_twist::{BendTwist, BendTwistElement};
+pub use bend_twist::{BendTwist, BendTwistData, BendTwistElement, BendTwistLaw};
 pub use frames::RodFrames;
 pub use network::{RodHandles, RodNetwork, RodSpec};
-pub use section::Section;
-pub use stretch::Stretch;
+pub use section::{Section, SectionError};
+pub use stretch::{EdgeSpring, Stretch, StretchLaw};

@@ -15,7 +15,7 @@ use super::bend_twist::{BendTwist, BendTwistElement};
 use super::frames::first_director;
 use super::section::Section;
 use super::stretch::Stretch;
-use crate::error::EngineError;
+use crate::error::{EngineError, InvalidModel};
 use crate::model::Model;
 use crate::vec3::{node, V3};
 use std::ops::Range;
@@ -142,37 +142,46 @@ impl RodNetwork {
         off
     }
 
-    fn validate(&self, model: &Model, q: &[f64], twist_offset: usize) -> Result<(), EngineError> {
-        let bad = |m: String| Err(EngineError::Invalid(m));
+    fn validate(&self, model: &Model, q: &[f64], twist_offset: usize) -> Result<(), InvalidModel> {
         let lay = model.layout;
         if q.len() != lay.len() {
-            return bad(format!("q has {} entries, layout {}", q.len(), lay.len()));
+            return Err(InvalidModel::StateLength {
+                got: q.len(),
+                expected: lay.len(),
+            });
         }
         if twist_offset + self.n_edges() > lay.n_twists {
-            return bad(format!(
-                "rod network needs twist DOFs {}..{}, layout has {}",
-                twist_offset,
-                twist_offset + self.n_edges(),
-                lay.n_twists
-            ));
+            return Err(InvalidModel::TwistDofs {
+                start: twist_offset,
+                end: twist_offset + self.n_edges(),
+                available: lay.n_twists,
+            });
         }
         let pos = |x: f64| x.is_finite() && x > 0.0;
-        for (r, s) in self.rods.iter().enumerate() {
+        for (rod, s) in self.rods.iter().enumerate() {
             if s.nodes.len() < 2 {
-                return bad(format!("rod {r} has fewer than 2 nodes"));
+                return Err(InvalidModel::RodTooShort { rod });
             }
-            if let Some(&n) = s.nodes.iter().find(|&&n| n >= lay.n_nodes) {
-                return bad(format!("rod {r} uses node {n} of {}", lay.n_nodes));
+            if let Some(&node) = s.nodes.iter().find(|&&n| n >= lay.n_nodes) {
+                return Err(InvalidModel::NodeOutOfRange {
+                    rod,
+                    node,
+                    n_nodes: lay.n_nodes,
+                });
             }
             if !(pos(s.youngs_modulus) && pos(s.shear_modulus) && s.density >= 0.0) {
-                return bad(format!("rod {r}: E and G must be positive, ρ non-negative"));
+                return Err(InvalidModel::Material { rod });
             }
             s.section
                 .validate()
-                .map_err(|m| EngineError::Invalid(format!("rod {r}: {m}")))?;
+                .map_err(|reason| InvalidModel::Section { rod, reason })?;
             for w in s.nodes.windows(2) {
                 if (node(q, w[1]) - node(q, w[0])).norm() <= 0.0 {
-                    return bad(format!("rod {r}: zero-length edge {}–{}", w[0], w[1]));
+                    return Err(InvalidModel::ZeroLengthEdge {
+                        rod,
+                        a: w[0],
+                        b: w[1],
+                    });
                 }
             }
         }
@@ -180,17 +189,16 @@ impl RodNetwork {
     }
 
     /// First reference director of every edge: space-parallel transport along each rod.
-    fn reference_directors(&self, q: &[f64]) -> Result<Vec<V3>, EngineError> {
+    fn reference_directors(&self, q: &[f64]) -> Result<Vec<V3>, InvalidModel> {
         let mut out = Vec::with_capacity(self.n_edges());
-        for (r, s) in self.rods.iter().enumerate() {
+        for (rod, s) in self.rods.iter().enumerate() {
             let t: Vec<V3> = s
                 .nodes
                 .windows(2)
                 .map(|w| (node(q, w[1]) - node(q, w[0])).normalize())
                 .collect();
-            let d1 = first_director(&t[0], s.first_director).ok_or_else(|| {
-                EngineError::Invalid(format!("rod {r}: first director parallel to first edge"))
-            })?;
+            let d1 = first_director(&t[0], s.first_director)
+                .ok_or(InvalidModel::DirectorParallel { rod })?;
             out.extend(super::frames::space_parallel_frames(&t, &d1));
         }
         Ok(out)

@@ -107,18 +107,32 @@ impl Section {
     }
 
     /// Check that the dimensions are positive and finite.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), SectionError> {
         let ok = |x: f64| x.is_finite() && x > 0.0;
         match *self {
-            Section::Circle { radius } if !ok(radius) => {
-                Err(format!("circle radius must be positive, got {radius}"))
+            Section::Circle { radius } if !ok(radius) => Err(SectionError::Radius(radius)),
+            Section::Rectangle { width, height } if !(ok(width) && ok(height)) => {
+                Err(SectionError::Rectangle { width, height })
             }
-            Section::Rectangle { width, height } if !(ok(width) && ok(height)) => Err(format!(
-                "rectangle width and height must be positive, got {width} × {height}"
-            )),
             _ => Ok(()),
         }
     }
+}
+
+/// A cross-section dimension that is not positive and finite.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum SectionError {
+    /// The circle's radius (m).
+    #[error("circle radius must be positive, got {0}")]
+    Radius(f64),
+    /// The rectangle's width and height (m).
+    #[error("rectangle width and height must be positive, got {width} × {height}")]
+    Rectangle {
+        /// Width (m).
+        width: f64,
+        /// Height (m).
+        height: f64,
+    },
 }
 
 #[cfg(test)]

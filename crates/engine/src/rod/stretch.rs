@@ -7,18 +7,25 @@
 //!
 //! For a rod `k = E A`; for a shell edge `k = k_s = (√3/2) E h |ē|` (see `shell`).
 
-use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::element::{node_stencils, Element, Family};
+use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, outer, M3, V3};
 
-/// A family of edge springs.
-pub struct Stretch {
-    name: String,
-    stencils: Vec<usize>,
-    /// Rest length `l̄` per edge (m).
-    pub rest_len: Vec<f64>,
-    /// Axial stiffness `k` per edge (N).
-    pub stiffness: Vec<f64>,
+/// The edge-spring law (stateless: everything is per edge).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StretchLaw;
+
+/// Rest length and stiffness of one edge spring.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeSpring {
+    /// Rest length `l̄` (m).
+    pub rest_len: f64,
+    /// Axial stiffness `k` (N).
+    pub stiffness: f64,
 }
+
+/// A family of edge springs.
+pub type Stretch = Family<StretchLaw>;
 
 impl Stretch {
     /// Springs on `edges` (node pairs) with rest lengths from `q_rest` and stiffness `k`.
@@ -39,25 +46,25 @@ impl Stretch {
     ) -> Self {
         assert_eq!(edges.len(), rest_len.len());
         assert_eq!(edges.len(), stiffness.len());
-        let stencils = edges
+        let data = rest_len
             .iter()
-            .flat_map(|&[a, b]| [3 * a, 3 * a + 1, 3 * a + 2, 3 * b, 3 * b + 1, 3 * b + 2])
+            .zip(&stiffness)
+            .map(|(&rest_len, &stiffness)| EdgeSpring {
+                rest_len,
+                stiffness,
+            })
             .collect();
-        Self {
-            name: name.to_string(),
-            stencils,
-            rest_len,
-            stiffness,
-        }
+        Family::from_elements(name, StretchLaw, node_stencils(edges), data)
     }
 
     /// Node indices of edge `i`.
     pub fn edge(&self, i: usize) -> [usize; 2] {
-        [self.stencils[6 * i] / 3, self.stencils[6 * i + 3] / 3]
+        let st = self.stencil(i);
+        [st[0] / 3, st[3] / 3]
     }
 }
 
-/// Edge vector, length and strain of edge `i`.
+/// Edge vector, length and strain of the edge on stencil `st`.
 #[inline]
 fn kinematics(q: &[f64], st: &[usize], rest: f64) -> (V3, f64, f64) {
     let e = node(q, st[3] / 3) - node(q, st[0] / 3);
@@ -65,57 +72,39 @@ fn kinematics(q: &[f64], st: &[usize], rest: f64) -> (V3, f64, f64) {
     (e, l, l / rest - 1.0)
 }
 
-impl Force for Stretch {
-    fn name(&self) -> &str {
-        &self.name
-    }
-    fn stencil_size(&self) -> usize {
-        6
-    }
-    fn stencils(&self) -> &[usize] {
-        &self.stencils
-    }
-    fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind::ELASTIC
-    }
-    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
-        let q = input.q;
-        out.par_for_each(input.jacobian, |b| {
-            let i = b.index;
-            let st = &self.stencils[6 * i..6 * i + 6];
-            let (k, rest) = (self.stiffness[i], self.rest_len[i]);
-            let (e, l, eps) = kinematics(q, st, rest);
-            let t = e / l;
-            let f1 = -k * eps * t;
-            for c in 0..3 {
-                b.f[c] = -f1[c];
-                b.f[3 + c] = f1[c];
-            }
-            if b.dfdq.is_empty() {
-                return;
-            }
-            let tt = outer(&t, &t);
-            let h: M3 = tt * (k / rest) + (M3::identity() - tt) * (k * eps / l);
-            for r in 0..3 {
-                for c in 0..3 {
-                    let x = h[(r, c)];
-                    b.dfdq[r * 6 + c] = -x;
-                    b.dfdq[r * 6 + 3 + c] = x;
-                    b.dfdq[(3 + r) * 6 + c] = x;
-                    b.dfdq[(3 + r) * 6 + 3 + c] = -x;
-                }
-            }
-        });
-    }
-    fn conservative(&self) -> bool {
-        true
-    }
-    fn energy(&self, q: &[f64]) -> Option<f64> {
-        let mut e = 0.0;
-        for (i, st) in self.stencils.chunks(6).enumerate() {
-            let (_, _, eps) = kinematics(q, st, self.rest_len[i]);
-            e += 0.5 * self.stiffness[i] * eps * eps * self.rest_len[i];
+impl Element for StretchLaw {
+    const STENCIL: usize = 6;
+    const KIND: JacobianKind = JacobianKind::ELASTIC;
+    const CONSERVATIVE: bool = true;
+    type Data = EdgeSpring;
+
+    fn evaluate(&self, el: &EdgeSpring, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+        let (k, rest) = (el.stiffness, el.rest_len);
+        let (e, l, eps) = kinematics(input.q, st, rest);
+        let t = e / l;
+        let f1 = -k * eps * t;
+        for c in 0..3 {
+            b.f[c] = -f1[c];
+            b.f[3 + c] = f1[c];
         }
-        Some(e)
+        if b.dfdq.is_empty() {
+            return;
+        }
+        let tt = outer(&t, &t);
+        let h: M3 = tt * (k / rest) + (M3::identity() - tt) * (k * eps / l);
+        for r in 0..3 {
+            for c in 0..3 {
+                let x = h[(r, c)];
+                b.dfdq[r * 6 + c] = -x;
+                b.dfdq[r * 6 + 3 + c] = x;
+                b.dfdq[(3 + r) * 6 + c] = x;
+                b.dfdq[(3 + r) * 6 + 3 + c] = -x;
+            }
+        }
+    }
+
+    fn add_energy(&self, el: &EdgeSpring, st: &[usize], q: &[f64], acc: &mut f64) {
+        let (_, _, eps) = kinematics(q, st, el.rest_len);
+        *acc += 0.5 * el.stiffness * eps * eps * el.rest_len;
     }
 }

@@ -10,7 +10,8 @@
 
 use super::dihedral::{angle, angle_grad, angle_grad_hess};
 use super::mesh::Hinge;
-use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::element::{node_stencils, Element, Family};
+use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, V3};
 
 /// `θ − θ̄` wrapped into `(−π, π]`, so that a rest angle near ±π does not see the
@@ -27,15 +28,21 @@ pub fn wrap_angle(d: f64) -> f64 {
     }
 }
 
-/// A family of bending hinges, stencil `[x0, x1, x2, x3]` (12 DOFs).
-pub struct HingeBending {
-    name: String,
-    stencils: Vec<usize>,
-    /// Rest dihedral angle `θ̄` per hinge (rad).
-    pub rest_angle: Vec<f64>,
-    /// Bending stiffness `k_b` per hinge (N·m).
-    pub stiffness: Vec<f64>,
+/// The hinge-bending law (stateless: everything is per hinge).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct HingeLaw;
+
+/// Rest angle and stiffness of one hinge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HingeData {
+    /// Rest dihedral angle `θ̄` (rad).
+    pub rest_angle: f64,
+    /// Bending stiffness `k_b` (N·m).
+    pub stiffness: f64,
 }
+
+/// A family of bending hinges, stencil `[x0, x1, x2, x3]` (12 DOFs).
+pub type HingeBending = Family<HingeLaw>;
 
 /// Hinge vertex positions read from `q` through a 12-DOF stencil.
 #[inline]
@@ -48,7 +55,7 @@ impl HingeBending {
     pub fn new(name: &str, hinges: &[Hinge], q_rest: &[f64], stiffness: Vec<f64>) -> Self {
         let mut s = Self::with_rest_angles(name, hinges, vec![0.0; hinges.len()], stiffness);
         for i in 0..hinges.len() {
-            s.rest_angle[i] = s.angle(q_rest, i);
+            s.data[i].rest_angle = s.angle(q_rest, i);
         }
         s
     }
@@ -62,85 +69,68 @@ impl HingeBending {
     ) -> Self {
         assert_eq!(hinges.len(), rest_angle.len());
         assert_eq!(hinges.len(), stiffness.len());
-        let stencils = hinges
+        let nodes: Vec<[usize; 4]> = hinges.iter().map(|h| h.nodes()).collect();
+        let data = rest_angle
             .iter()
-            .flat_map(|h| h.nodes())
-            .flat_map(|n| [3 * n, 3 * n + 1, 3 * n + 2])
+            .zip(&stiffness)
+            .map(|(&rest_angle, &stiffness)| HingeData {
+                rest_angle,
+                stiffness,
+            })
             .collect();
-        Self {
-            name: name.to_string(),
-            stencils,
-            rest_angle,
-            stiffness,
-        }
+        Family::from_elements(name, HingeLaw, node_stencils(&nodes), data)
     }
 
     /// Current dihedral angle θ (rad) of hinge `i` at configuration `q`.
     pub fn angle(&self, q: &[f64], i: usize) -> f64 {
-        angle(&positions(q, &self.stencils[12 * i..12 * i + 12]))
+        angle(&positions(q, self.stencil(i)))
     }
 
     /// Nodes `[x0, x1, x2, x3]` of hinge `i`.
     pub fn nodes(&self, i: usize) -> [usize; 4] {
-        [0, 1, 2, 3].map(|k| self.stencils[12 * i + 3 * k] / 3)
+        let st = self.stencil(i);
+        [0, 1, 2, 3].map(|k| st[3 * k] / 3)
     }
 
     /// Energy ½ k_b (θ − θ̄)² of hinge `i` (J).
     pub fn hinge_energy(&self, q: &[f64], i: usize) -> f64 {
-        let d = wrap_angle(self.angle(q, i) - self.rest_angle[i]);
-        0.5 * self.stiffness[i] * d * d
+        let mut e = 0.0;
+        HingeLaw.add_energy(&self.data[i], self.stencil(i), q, &mut e);
+        e
     }
 }
 
-impl Force for HingeBending {
-    fn name(&self) -> &str {
-        &self.name
-    }
-    fn stencil_size(&self) -> usize {
-        12
-    }
-    fn stencils(&self) -> &[usize] {
-        &self.stencils
-    }
-    fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind::ELASTIC
-    }
-    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
-        let q = input.q;
-        out.par_for_each(input.jacobian, |b| {
-            let i = b.index;
-            let x = positions(q, &self.stencils[12 * i..12 * i + 12]);
-            let k = self.stiffness[i];
-            if b.dfdq.is_empty() {
-                let (theta, g) = angle_grad(&x);
-                let d = wrap_angle(theta - self.rest_angle[i]);
-                for a in 0..12 {
-                    b.f[a] = -k * d * g[a];
-                }
-                return;
-            }
-            let (theta, g, h) = angle_grad_hess(&x);
-            let d = wrap_angle(theta - self.rest_angle[i]);
+impl Element for HingeLaw {
+    const STENCIL: usize = 12;
+    const KIND: JacobianKind = JacobianKind::ELASTIC;
+    const CONSERVATIVE: bool = true;
+    type Data = HingeData;
+
+    fn evaluate(&self, el: &HingeData, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+        let x = positions(input.q, st);
+        let k = el.stiffness;
+        if b.dfdq.is_empty() {
+            let (theta, g) = angle_grad(&x);
+            let d = wrap_angle(theta - el.rest_angle);
             for a in 0..12 {
                 b.f[a] = -k * d * g[a];
             }
-            {
-                for r in 0..12 {
-                    for c in 0..12 {
-                        b.dfdq[r * 12 + c] = -k * (g[r] * g[c] + d * h[(r, c)]);
-                    }
-                }
+            return;
+        }
+        let (theta, g, h) = angle_grad_hess(&x);
+        let d = wrap_angle(theta - el.rest_angle);
+        for a in 0..12 {
+            b.f[a] = -k * d * g[a];
+        }
+        for r in 0..12 {
+            for c in 0..12 {
+                b.dfdq[r * 12 + c] = -k * (g[r] * g[c] + d * h[(r, c)]);
             }
-        });
+        }
     }
-    fn conservative(&self) -> bool {
-        true
-    }
-    fn energy(&self, q: &[f64]) -> Option<f64> {
-        Some(
-            (0..self.rest_angle.len())
-                .map(|i| self.hinge_energy(q, i))
-                .sum(),
-        )
+
+    fn add_energy(&self, el: &HingeData, st: &[usize], q: &[f64], acc: &mut f64) {
+        let d = wrap_angle(angle(&positions(q, st)) - el.rest_angle);
+        *acc += 0.5 * el.stiffness * d * d;
     }
 }

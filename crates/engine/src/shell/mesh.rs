@@ -13,30 +13,47 @@ pub enum MeshError {
     /// A face references a node that does not exist.
     #[error("face {face} references node {node}, but there are only {n_nodes} nodes")]
     IndexOutOfRange {
+        /// The face.
         face: usize,
+        /// The node it references.
         node: usize,
+        /// Nodes there are.
         n_nodes: usize,
     },
     /// A face repeats a vertex or has (numerically) zero area.
     #[error("face {face} {nodes:?} is degenerate ({reason})")]
     DegenerateFace {
+        /// The face.
         face: usize,
+        /// Its nodes.
         nodes: [usize; 3],
+        /// "repeated vertex" or "zero area".
         reason: &'static str,
     },
     /// More than two faces share an edge.
     #[error("edge {edge:?} is shared by {count} faces (faces {faces:?}); a shell edge may have at most 2")]
     NonManifoldEdge {
+        /// The edge (node pair).
         edge: [usize; 2],
+        /// Faces sharing it.
         count: usize,
+        /// Those faces.
         faces: Vec<usize>,
     },
     /// Two faces traverse their shared edge in the same direction.
     #[error("faces {faces:?} traverse edge {edge:?} in the same direction: orient all faces consistently")]
-    InconsistentOrientation { edge: [usize; 2], faces: [usize; 2] },
+    InconsistentOrientation {
+        /// The shared edge (node pair).
+        edge: [usize; 2],
+        /// The two faces.
+        faces: [usize; 2],
+    },
     /// A position is NaN or infinite.
     #[error("node {node} has a non-finite coordinate")]
-    NonFinite { node: usize },
+    NonFinite {
+        /// The node.
+        node: usize,
+    },
 }
 
 /// An interior edge and its two wings, ordered so that the faces `(edge[0], edge[1],
@@ -90,19 +107,27 @@ pub struct TriMesh {
 /// Relative area below which a face counts as degenerate: `A ≤ tol · (longest edge)²`.
 const ZERO_AREA_TOL: f64 = 1e-12;
 
-/// Twice the area vector `(b − a) × (c − a)` of a triangle.
-fn area_vector(p: &[[f64; 3]], f: [usize; 3]) -> ([f64; 3], f64) {
-    let [a, b, c] = f.map(|i| p[i]);
+/// Twice the area vector `(b − a) × (c − a)` of the triangle `a, b, c` (m²).
+pub(crate) fn twice_area_vector(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
     let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let n = [
+    [
         u[1] * v[2] - u[2] * v[1],
         u[2] * v[0] - u[0] * v[2],
         u[0] * v[1] - u[1] * v[0],
-    ];
+    ]
+}
+
+/// Twice the area `|(b − a) × (c − a)|` of the triangle `a, b, c` (m²).
+pub(crate) fn twice_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    let n = twice_area_vector(a, b, c);
+    (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+}
+
+/// Squared length of the longest edge of the triangle `a, b, c` (m²).
+fn longest_edge2(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     let d2 = |x: [f64; 3], y: [f64; 3]| (0..3).map(|k| (x[k] - y[k]).powi(2)).sum::<f64>();
-    let longest = d2(a, b).max(d2(b, c)).max(d2(c, a));
-    (n, longest)
+    d2(a, b).max(d2(b, c)).max(d2(c, a))
 }
 
 impl TriMesh {
@@ -135,9 +160,9 @@ impl TriMesh {
                     reason: "repeated vertex",
                 });
             }
-            let (n, longest2) = area_vector(positions, f);
-            let twice_area = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            if twice_area <= 2.0 * ZERO_AREA_TOL * longest2 {
+            let [a, b, c] = f.map(|i| positions[i]);
+            let twice_area = twice_area(a, b, c);
+            if twice_area <= 2.0 * ZERO_AREA_TOL * longest_edge2(a, b, c) {
                 return Err(MeshError::DegenerateFace {
                     face: fi,
                     nodes: f,

@@ -10,9 +10,10 @@ pub mod dihedral;
 pub mod hinge;
 pub mod mesh;
 
-pub use hinge::HingeBending;
+pub use hinge::{HingeBending, HingeData, HingeLaw};
 pub use mesh::{Hinge, MeshError, TriMesh};
 
+use crate::error::{EngineError, InvalidModel};
 use crate::model::Model;
 use crate::rod::Stretch;
 use crate::vec3::node;
@@ -103,16 +104,22 @@ impl ShellMaterial {
 /// masses `ρ h A/3` per vertex of every face. Rest lengths, rest angles and areas are
 /// measured in `q_rest`. Empty families (no edges or no interior edges) are not added.
 ///
-/// # Panics
-/// If the mesh has more nodes than the model or `q_rest` is too short.
-pub fn install(mesh: &TriMesh, mat: &ShellMaterial, model: &mut Model, q_rest: &[f64]) {
-    assert!(
-        mesh.n_nodes <= model.layout.n_nodes && q_rest.len() >= 3 * mesh.n_nodes,
-        "shell mesh with {} nodes does not fit the model ({} nodes, q_rest of length {})",
-        mesh.n_nodes,
-        model.layout.n_nodes,
-        q_rest.len()
-    );
+/// Errors ([`InvalidModel::MeshTooLarge`]) if the mesh has more nodes than the model or
+/// `q_rest` is too short; the model is then unchanged.
+pub fn install(
+    mesh: &TriMesh,
+    mat: &ShellMaterial,
+    model: &mut Model,
+    q_rest: &[f64],
+) -> Result<(), EngineError> {
+    if mesh.n_nodes > model.layout.n_nodes || q_rest.len() < 3 * mesh.n_nodes {
+        return Err(InvalidModel::MeshTooLarge {
+            mesh_nodes: mesh.n_nodes,
+            model_nodes: model.layout.n_nodes,
+            q_len: q_rest.len(),
+        }
+        .into());
+    }
     if !mesh.edges.is_empty() {
         let rest_len: Vec<f64> = mesh
             .edges
@@ -138,4 +145,5 @@ pub fn install(mesh: &TriMesh, mat: &ShellMaterial, model: &mut Model, q_rest: &
             model.add_node_mass(i, mat.areal_density() * area / 3.0);
         }
     }
+    Ok(())
 }

@@ -39,10 +39,10 @@
 //!
 //! Global error: with `err ≈ 1` every step, `h ≈ √(2 tol / |a|)`, and backward Euler's global
 //! error is `O(h) ∝ √tol` — a 4× tighter tolerance halves it (tested against the tanh fall
-//! in `tests/error_control.rs`).
+//! in `tests/solver/error_control.rs`).
 
 use super::implicit_euler::ImplicitEuler;
-use crate::error::{EngineError, StepError};
+use crate::error::{EngineError, InvalidModel, StepError};
 use crate::model::{Model, State};
 
 /// Safety factor on the proposed step: aim at `err ≈ 0.81`, not 1, so that the next step is
@@ -107,10 +107,12 @@ impl ErrorController {
     pub fn new(tol_m: f64, h_min: f64, h_max: f64) -> Result<Self, EngineError> {
         let ok = |x: f64| x.is_finite() && x > 0.0;
         if !(ok(tol_m) && ok(h_min) && ok(h_max) && h_min <= h_max) {
-            return Err(EngineError::Invalid(format!(
-                "error controller needs tol > 0 and 0 < h_min ≤ h_max, got tol = {tol_m} m, \
-                 h_min = {h_min} s, h_max = {h_max} s"
-            )));
+            return Err(InvalidModel::ErrorController {
+                tol_m,
+                h_min,
+                h_max,
+            }
+            .into());
         }
         Ok(Self {
             tol_m,

@@ -5,7 +5,8 @@
 //! of angular frequency ω loses amplitude by the factor `1/√(1 + (ω dt)²)` per step, which is
 //! the numerical damping users see at large `dt` (tested exactly).
 
-use super::newton::{NewtonCore, NewtonOptions, Predictor, StepReport, Target, Timings};
+use super::newton::{NewtonCore, Target};
+use super::options::{NewtonOptions, Predictor, StepReport, Timings};
 use crate::error::{EngineError, StepError};
 use crate::model::{Model, State};
 

@@ -3,10 +3,11 @@
 pub mod error_control;
 mod implicit_euler;
 mod newton;
-pub mod start_policy;
+mod options;
+mod start_policy;
 mod statics;
 
 pub use error_control::{advance, local_error_norm, Advance, Decision, ErrorController};
 pub use implicit_euler::{ImplicitEuler, Trial};
-pub use newton::{NewtonOptions, Predictor, StepReport, Timings};
+pub use options::{NewtonOptions, Predictor, StepReport, Timings};
 pub use statics::StaticSolver;

@@ -1,21 +1,21 @@
 //! Whether a modified-Newton solve starts from the factorisation held from earlier steps
 //! (*stale start*) or refactorises at the predictor (*fresh start*).
 //!
-//! Which is cheaper depends on the problem, and no fixed rule wins everywhere (measured with
-//! `chute bench`): the report's Kevlar canopies converge fastest from the stale factors of
-//! the last step (the Jacobian at the unconverged predictor is a worse model of the solution
-//! than the one of the previous converged state), while the DisMech hexagonal parachute at
-//! `dt = 1e-2` takes ~1.3 iterations from a fresh start against ~3.3 and some failed steps
-//! from a stale one. So the policy *measures*: it keeps an exponential moving average of the
-//! work of solves started each way and starts the next one the cheaper way, trying the other
-//! way every [`PROBE_EVERY`] solves so that a change of regime is noticed.
+//! Which is cheaper depends on the problem, and no fixed rule wins everywhere: some models
+//! converge fastest from the stale factors of the last step (the Jacobian at the unconverged
+//! predictor can be a worse model of the solution than the one of the previous converged
+//! state), others need several times fewer iterations from a fresh start
+//! (docs/performance.md §Engine tuning). So the policy *measures*: it keeps an exponential
+//! moving average of the work of solves started each way and starts the next one the cheaper
+//! way, trying the other way every [`PROBE_EVERY`] solves so that a change of regime is
+//! noticed.
 //!
 //! Work is counted deterministically (residual evaluations plus [`FACTOR_WORK`] per numeric
 //! factorisation), never by wall time, so runs stay bit-reproducible; the state is reset
 //! together with the held factors (sync points, resume).
 
-/// Work of one numeric factorisation, in residual evaluations. Measured ratios: 4.3 for the
-/// 1,035-node shell (2.5 ms against 0.58 ms), 3–4 for the hexagonal n6 and the 1k-node rod.
+/// Work of one numeric factorisation, in residual evaluations (the measured ratios of the
+/// bundled models are 3–4.3, docs/performance.md §Engine tuning).
 pub const FACTOR_WORK: f64 = 4.0;
 
 /// Every this many solves with a choice, the way not currently preferred is tried.

@@ -3,7 +3,8 @@
 //! increments, each solved from the previous equilibrium. Elements with history (DER
 //! reference frames) are committed after every increment, like a quasi-static time step.
 
-use super::newton::{NewtonCore, NewtonOptions, StepReport, Target};
+use super::newton::{NewtonCore, Target};
+use super::options::{NewtonOptions, StepReport};
 use crate::error::{EngineError, StepError};
 use crate::model::{Model, State};
 

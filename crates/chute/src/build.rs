@@ -1,0 +1,200 @@
+//! Builders: turn a validated [`Scenario`] into an engine model plus the bookkeeping the
+//! observers need (which nodes are canopy, where the payload is, which forces are drag).
+
+/// An engine model ready to run, with what observers and outputs need to know about it.
+pub struct Built {
+    /// The engine model (masses, fixed DOFs, forces).
+    pub model: engine::Model,
+    /// Initial state (at rest, flat canopy).
+    pub state: engine::State,
+    /// Canopy node indices (metrics are mass-weighted over these).
+    pub canopy_nodes: Vec<usize>,
+    /// The payload node, when the load hangs on lines.
+    pub payload_node: Option<usize>,
+    /// Load sites: the canopy nodes that carry the load (forces, masses or line attachments).
+    pub load_sites: Vec<usize>,
+    /// Canopy triangles (shell models; empty for rods).
+    pub triangles: Vec<[usize; 3]>,
+    /// Line segments drawn and written to VTK (rod canopy edges, suspension lines).
+    pub segments: Vec<[usize; 2]>,
+    /// The drag families.
+    pub drag_forces: Vec<engine::ForceId>,
+    /// The triangle drag family (per-triangle output).
+    pub triangle_drag: Option<engine::ForceId>,
+    /// Total weight of everything that falls (N).
+    pub total_weight_n: f64,
+    /// Weight of the canopy alone (N).
+    pub canopy_weight_n: f64,
+    /// Σ C_D A of the flat canopy facing the flow (m²): flat terminal velocity reference.
+    pub flat_drag_area_m2: f64,
+    /// Reference length for the Reynolds number (m): the canopy's largest dimension.
+    pub reference_length_m: f64,
+    /// Derived quantities for `chute check` (name, value with units).
+    pub derived: Vec<(String, String)>,
+}
+
+mod canopy;
+mod drag;
+pub mod imperfection;
+mod load;
+mod sites;
+
+use crate::scenario::derived::sig4;
+use crate::scenario::{ModelKind, Scenario};
+use engine::loads::Gravity;
+use engine::{DofLayout, Model, State};
+
+pub use canopy::Geometry;
+
+/// Why a scenario could not be turned into a model. Messages name the scenario key.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    /// A scenario value that only the builder can reject (e.g. lines too short).
+    #[error("{key}: {message}")]
+    Key {
+        /// The scenario key, e.g. `lines.length_m`.
+        key: &'static str,
+        /// What is wrong.
+        message: String,
+    },
+    /// A mesh file could not be read.
+    #[error("canopy.mesh_file: {0}")]
+    MeshFile(#[from] crate::mesh::MeshFileError),
+    /// The mesh is not a valid shell.
+    #[error("canopy mesh: {0}")]
+    Mesh(#[from] engine::shell::MeshError),
+    /// The engine rejected the model.
+    #[error("model: {0}")]
+    Engine(#[from] engine::EngineError),
+}
+
+impl BuildError {
+    pub(crate) fn key(key: &'static str, message: impl Into<String>) -> Self {
+        Self::Key {
+            key,
+            message: message.into(),
+        }
+    }
+}
+
+/// Build the model of scenario `s`: canopy (rod or shell), load (forces, masses or payload
+/// on lines), gravity and drag. The canopy starts flat, at rest, in the plane z = 0.
+pub fn build(s: &Scenario) -> Result<Built, BuildError> {
+    let geo = canopy::geometry(s)?;
+    let sites = sites::resolve(s, &geo)?;
+    let mut plan = load::plan(s, &geo, &sites)?;
+    let layout = DofLayout::new(plan.positions.len(), plan.rods.n_edges());
+    let mut model = Model::new(layout);
+    let mut q: Vec<f64> = plan.positions.iter().flatten().copied().collect();
+    q.resize(layout.len(), 0.0);
+    let handles = plan.rods.install(&mut model, &q, 0)?;
+    if let Some(tri) = &geo.tri_mesh {
+        engine::shell::install(tri, &canopy::shell_material(s), &mut model, &q)?;
+    }
+    plan.add_masses_and_loads(s, &mut model);
+    let g = s.fluid.gravity_mps2;
+    let nodes: Vec<usize> = (0..layout.n_nodes).collect();
+    let masses: Vec<f64> = nodes.iter().map(|&i| model.node_mass(i)).collect();
+    let gravity = Gravity::new(&nodes, &masses, [0.0, 0.0, -g]);
+    let total_weight_n = -gravity.total()[2] + plan.applied_force_n;
+    model.add_force(gravity);
+    let canopy_weight_n = geo
+        .canopy_nodes
+        .iter()
+        .map(|&i| model.node_mass(i))
+        .sum::<f64>()
+        * g
+        - plan.site_mass_kg * g;
+    let drag = drag::install(s, &geo, &plan, &handles, &mut model);
+    if s.canopy.imperfection_m != 0.0 {
+        imperfection::apply(&mut q, &geo.canopy_nodes, s.canopy.imperfection_m)?;
+    }
+    let mut built = Built {
+        state: State::at_rest(q),
+        canopy_nodes: geo.canopy_nodes.clone(),
+        payload_node: plan.payload_node,
+        load_sites: plan.sites.clone(),
+        triangles: geo.triangles(),
+        segments: plan.segments(&geo),
+        drag_forces: drag.forces,
+        triangle_drag: drag.triangle,
+        total_weight_n,
+        canopy_weight_n,
+        flat_drag_area_m2: drag.flat_cd_area,
+        reference_length_m: geo.reference_length,
+        derived: Vec::new(),
+        model,
+    };
+    built.derived = derived(s, &built, &geo);
+    Ok(built)
+}
+
+/// Quantities printed by `chute check`.
+fn derived(s: &Scenario, b: &Built, geo: &Geometry) -> Vec<(String, String)> {
+    let rho = s.fluid.density_kg_m3;
+    let v_flat = (2.0 * b.total_weight_n / (rho * b.flat_drag_area_m2)).sqrt();
+    let re = rho * v_flat * b.reference_length_m / s.fluid.viscosity_pa_s;
+    let fixed = b.model.fixed.iter().filter(|&&f| f).count();
+    let mut d = vec![
+        ("model".into(), format!("{:?}", s.model.kind).to_lowercase()),
+        ("nodes".into(), b.model.layout.n_nodes.to_string()),
+        (
+            "DOFs".into(),
+            format!("{} ({} fixed)", b.model.n_dofs(), fixed),
+        ),
+        ("canopy nodes".into(), b.canopy_nodes.len().to_string()),
+        (
+            "planform area".into(),
+            format!("{} m²", sig4(geo.planform_area)),
+        ),
+        (
+            "canopy weight".into(),
+            format!("{} N", sig4(b.canopy_weight_n)),
+        ),
+        (
+            "total weight".into(),
+            format!("{} N", sig4(b.total_weight_n)),
+        ),
+        (
+            "flat-canopy C_D·A".into(),
+            format!("{} m²", sig4(b.flat_drag_area_m2)),
+        ),
+        (
+            "flat-canopy terminal speed √(2W/(ρ C_D A))".into(),
+            format!("{} m/s", sig4(v_flat)),
+        ),
+        (
+            "Reynolds number at that speed".into(),
+            format!("{} (L = {} m)", sig4(re), sig4(b.reference_length_m)),
+        ),
+    ];
+    if s.model.kind == ModelKind::Rod {
+        let (w, h, e) = (
+            s.canopy.width_m,
+            s.canopy.thickness_m,
+            s.material.youngs_modulus_pa,
+        );
+        d.push((
+            "strip bending stiffness EI = E w h³/12".into(),
+            format!("{} N·m²", sig4(e * w * h.powi(3) / 12.0)),
+        ));
+        d.push((
+            "strip axial stiffness EA".into(),
+            format!("{} N", sig4(e * w * h)),
+        ));
+    } else {
+        let m = canopy::shell_material(s);
+        d.push((
+            "hinge plate stiffness D = E h³/12".into(),
+            format!("{} N·m", sig4(m.plate_stiffness())),
+        ));
+        d.push((
+            "membrane stiffness E h".into(),
+            format!(
+                "{} N/m",
+                sig4(s.material.youngs_modulus_pa * s.canopy.thickness_m)
+            ),
+        ));
+    }
+    d
+}

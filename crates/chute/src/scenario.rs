@@ -1,0 +1,150 @@
+//! Scenarios: the TOML input of a simulation, parsed into typed, validated structs.
+//!
+//! Every key is declared once in [`sections`] (the language is [`keys`]); its unit, default
+//! and allowed range are documented in `docs/scenarios.md`, whose key tables are generated
+//! from the declarations ([`docs`]). docs/architecture.md §How a scenario key flows has the
+//! whole path. Loading runs these stages, each of which reports the first problem with its
+//! key and origin (file line or `--set`):
+//! 1. [`source`]: TOML syntax, and the line of every key;
+//! 2. [`overrides`]: `--set section.key=value` applied to the raw tree;
+//! 3. [`schema`]: unknown keys ("did you mean"), value types, required keys;
+//! 4. context-dependent defaults (name, load sites, snapshot times, declared conditional
+//!    defaults), then serde conversion;
+//! 5. [`validate`]: the declared per-key rules (ranges, "only with", "required with"), then
+//!    the hand-written cross-key consistency checks.
+//!
+//! Coordinates: the canopy lies flat in the plane z = 0, centred on the origin. A rectangle
+//! (and a rod strip) spans x ∈ [−span/2, span/2], y ∈ [−width/2, width/2]; a hexagon has its
+//! corners at angles 0°, 60°, …, 300° on the circle of radius `radius_m`; a circle has radius
+//! `radius_m`. Load-site coordinates `[x, y]` are in this frame (m).
+
+pub mod derived;
+pub mod docs;
+pub mod error;
+pub mod keys;
+pub mod overrides;
+mod parse;
+mod rules;
+pub mod schema;
+pub mod sections;
+pub mod source;
+pub mod validate;
+
+#[cfg(test)]
+mod tests;
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+pub use error::{Origin, ScenarioError};
+/// The absolute directory against which a file's relative paths resolve.
+pub use parse::base_dir as source_dir;
+pub use sections::{
+    Canopy, CanopyShape, DragLaw, Fluid, Lines, Load, LoadMode, Material, ModelKind, ModelSection,
+    Output, ShellDrag, SiteSet, Sites, Time, DEFAULT_ERROR_TOLERANCE_M,
+};
+
+/// A complete, validated scenario with every default filled in.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Run name, used for the default output directory `runs/<name>`; default: file stem.
+    pub name: String,
+    /// Which structural model represents the canopy.
+    pub model: ModelSection,
+    /// Canopy geometry.
+    #[serde(default)]
+    pub canopy: Canopy,
+    /// Canopy material.
+    #[serde(default)]
+    pub material: Material,
+    /// The load the canopy carries.
+    #[serde(default)]
+    pub load: Load,
+    /// Suspension lines (payload mode).
+    #[serde(default)]
+    pub lines: Lines,
+    /// Air and drag law.
+    #[serde(default)]
+    pub fluid: Fluid,
+    /// Time stepping.
+    #[serde(default)]
+    pub time: Time,
+    /// What to write.
+    #[serde(default)]
+    pub output: Output,
+}
+
+/// The error-control settings of an adaptive scenario (all filled in by the loader).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdaptiveSettings {
+    /// Local position error per step (m).
+    pub error_tolerance_m: f64,
+    /// Smallest step (s).
+    pub dt_min_s: f64,
+    /// Largest step (s).
+    pub dt_max_s: f64,
+}
+
+impl Scenario {
+    /// The adaptive settings, or `None` for a fixed step. The loader fills every absent key
+    /// when `time.adaptive = true`; the same defaults apply here to hand-built structs.
+    pub fn adaptive_settings(&self) -> Option<AdaptiveSettings> {
+        let t = &self.time;
+        if !t.adaptive {
+            return None;
+        }
+        Some(AdaptiveSettings {
+            error_tolerance_m: t.error_tolerance_m.unwrap_or(DEFAULT_ERROR_TOLERANCE_M),
+            dt_min_s: t.dt_min_s.unwrap_or(t.dt_s / 1024.0),
+            dt_max_s: t
+                .dt_max_s
+                .unwrap_or((100.0 * t.dt_s).min(self.output.frame_interval_s)),
+        })
+    }
+}
+
+impl Scenario {
+    /// Read, override and validate a scenario file. Relative paths inside it (`mesh_file`)
+    /// resolve against the file's directory.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Scenario, ScenarioError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::Read {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+        let file = path.display().to_string();
+        parse::parse_scenario(&text, &file, &parse::base_dir(path), overrides)
+    }
+
+    /// Parse scenario text. `name_for_errors` is used in messages; its stem is the default
+    /// `name` and its directory (or the working directory) resolves relative paths.
+    pub fn from_str_with_name(
+        text: &str,
+        name_for_errors: &str,
+        overrides: &[String],
+    ) -> Result<Scenario, ScenarioError> {
+        let base = parse::base_dir(Path::new(name_for_errors));
+        parse::parse_scenario(text, name_for_errors, &base, overrides)
+    }
+
+    /// The fully resolved scenario as TOML (every default filled in), as written to
+    /// `scenario.resolved.toml`; parsing it gives back an equal scenario.
+    pub fn to_toml(&self) -> String {
+        let body =
+            toml::to_string(self).unwrap_or_else(|e| format!("# serialisation failed: {e}\n"));
+        format!("# Fully resolved chute scenario: every default filled in.\n{body}")
+    }
+
+    /// Canopy planform area (m²) of the flat canopy, or `None` for an imported mesh (known
+    /// only once the builder has read it).
+    pub fn planform_area_m2(&self) -> Option<f64> {
+        let c = &self.canopy;
+        match (self.model.kind, c.shape) {
+            (ModelKind::Rod, _) | (_, CanopyShape::Rectangle) => Some(c.span_m * c.width_m),
+            (_, CanopyShape::Hexagon) => Some(1.5 * 3f64.sqrt() * c.radius_m * c.radius_m),
+            (_, CanopyShape::Circle) => Some(std::f64::consts::PI * c.radius_m * c.radius_m),
+            (_, CanopyShape::Mesh) => None,
+        }
+    }
+}

@@ -1,0 +1,386 @@
+//! Every scenario key, declared once: name, type, default, unit, range, conditions and doc
+//! line. The serde structs, the schema, the per-key checks and the key tables of
+//! `docs/scenarios.md` all come from here (see [`super::keys`]; adding a key:
+//! docs/architecture.md §How a scenario key flows). Rules between keys that are more than a
+//! condition are written by hand in [`super::validate`]; the `note` of a key documents them.
+
+use std::path::PathBuf;
+
+use super::keys::{choice, key, section, when, Bound, Cond, KeyType, Kind, Section};
+
+/// `[model]`, `[canopy]`, …: every section, in file (and resolved-TOML) order.
+pub const SECTIONS: &[Section] = &[
+    Section::table::<TopLevel>(""),
+    Section::table::<ModelSection>("model"),
+    Section::table::<Canopy>("canopy"),
+    Section::table::<Material>("material"),
+    Section::table::<Load>("load"),
+    Section::table::<Lines>("lines"),
+    Section::table::<Fluid>("fluid"),
+    Section::table::<Time>("time"),
+    Section::table::<Output>("output"),
+];
+
+/// The condition of the error-control keys.
+const ADAPTIVE: Cond = when("time.adaptive", "true");
+/// The rest of their "only used with" message.
+const ADAPTIVE_ONLY: &str =
+    " (an error-controlled step); set that, or remove this key (a fixed step uses time.dt_s)";
+const NODE_MASS_SCALE: Cond = when("load.mode", "node_mass_scale");
+const MESH: Cond = when("canopy.shape", "mesh");
+
+section! {
+    /// The top-level keys (held by [`super::Scenario`] itself).
+    pub struct TopLevel {
+        /// run name; default output directory `runs/<name>`
+        name: String = String::new() => key()
+            .default_doc("file stem")
+            .note("1–100 of `A–Z a–z 0–9 - _ .`, not starting with `.`"),
+    }
+}
+
+choice! {
+    /// Structural model of the canopy.
+    pub enum ModelKind {
+        /// Discrete elastic rod along the span (report §II.A–B).
+        Rod = "rod",
+        /// Discrete shell (report §II.C–D).
+        Shell = "shell",
+    }
+}
+
+section! {
+    /// `[model]`.
+    pub struct ModelSection {
+        /// structural model: a discrete elastic rod along the span, or a discrete shell
+        kind: ModelKind = ModelKind::Rod => key().required(
+            "say which structural model to use: `[model] kind = \"rod\"` or \"shell\""
+        ),
+    }
+}
+
+choice! {
+    /// Canopy outline.
+    pub enum CanopyShape {
+        /// `span_m × width_m`.
+        Rectangle = "rectangle",
+        /// Regular hexagon of circumradius `radius_m`.
+        Hexagon = "hexagon",
+        /// Disc of radius `radius_m`.
+        Circle = "circle",
+        /// Imported from `mesh_file`.
+        Mesh = "mesh",
+    }
+}
+
+section! {
+    /// `[canopy]`: geometry.
+    pub struct Canopy {
+        /// outline
+        shape: CanopyShape = CanopyShape::Rectangle => key().note("a rod must be `rectangle`"),
+        /// length along x; for a rod, the rod length
+        span_m: f64 = 6.0 => key().unit("m").positive("a length"),
+        /// width along y; for a rod, the strip width (drag radius width/2, cross-section width)
+        width_m: f64 = 3.0 => key().unit("m").positive("a length"),
+        /// sheet thickness (rod cross-section height)
+        thickness_m: f64 = 0.002 => key().unit("m").positive("a length").note(
+            "≤ 1/10 of the in-plane size (thin-structure models; catches mm/m mix-ups)"
+        ),
+        /// rod: nodes along the span
+        nodes: usize = 61 => key()
+            .between(3.0, 100_000.0, "a rod needs 3 nodes to bend")
+            .range_when(when("model.kind", "rod")),
+        /// shell: target edge length of the generated mesh
+        edge_length_m: f64 = 0.25 => key()
+            .unit("m")
+            .positive("a length")
+            .note("≤ half the in-plane size, ≤ 2·10⁶ triangles"),
+        /// `shape = "mesh"`: DisMech `.txt` or Wavefront `.obj`; relative paths resolve
+        /// against the scenario file's directory (stored absolute)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        mesh_file: Option<PathBuf> = None => key()
+            .only_with(MESH, "")
+            .required_with(MESH, "reads the canopy from a mesh file (.txt DisMech or .obj)")
+            .note("must exist"),
+        /// hexagon circumradius or circle radius
+        radius_m: f64 = 1.0 => key().unit("m").positive("a length"),
+        /// shell: amplitude of the initial out-of-plane perturbation in a fixed asymmetric
+        /// mode (below); 0 is the flat start and is not written to the resolved scenario
+        #[serde(skip_serializing_if = "is_zero")]
+        imperfection_m: f64 = 0.0 => key()
+            .unit("m")
+            .default_doc("0 (flat)")
+            .note("shell only; magnitude ≤ 5 % of the in-plane size"),
+    }
+}
+
+/// A zero amplitude is left out of the resolved scenario (it stays as before the key existed).
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+section! {
+    /// `[material]` of the canopy.
+    pub struct Material {
+        /// Young's modulus E
+        youngs_modulus_pa: f64 = 55e9 => key()
+            .unit("Pa")
+            .positive("a stiffness")
+            .default_note("Kevlar"),
+        /// Poisson's ratio ν
+        poisson_ratio: f64 = 0.36 => key().range(
+            Bound::Excl(-1.0),
+            Bound::Incl(0.5),
+            "a stable isotropic material"
+        ),
+        /// density ρ (areal density ρ·h)
+        density_kg_m3: f64 = 1440.0 => key().unit("kg/m³").positive("the canopy needs mass"),
+    }
+}
+
+choice! {
+    /// How the load is applied.
+    pub enum LoadMode {
+        /// Constant downward forces W/n at the n sites (the report's model).
+        Force = "force",
+        /// A payload node of mass W/g hanging on suspension lines from the sites.
+        Payload = "payload",
+        /// Point masses W/(g n) added at the n sites.
+        Mass = "mass",
+        /// Mesh input: mesh node `node` (1-based) gets its lumped mass and weight ×
+        /// `mass_scale` (the DisMech hexagonal-parachute convention); `weight_n` and `sites`
+        /// are unused.
+        NodeMassScale = "node_mass_scale",
+    }
+}
+
+choice! {
+    /// Named load-site sets.
+    pub enum SiteSet {
+        /// Rod: its two end nodes.
+        Ends = "ends",
+        /// Rectangle: the 4 corners; hexagon: the 6 corners.
+        Corners = "corners",
+        /// Rectangle: the 4 corners and the 2 mid-points of the long (span) edges.
+        CornersAndMidspan = "corners_and_midspan",
+        /// The node nearest the origin.
+        Center = "center",
+        /// Circle: `rim_site_count` equally spaced rim points, the first on +x.
+        Rim = "rim",
+    }
+}
+
+/// Load sites: a named set, or explicit `[x, y]` points (m) resolved by the builder to the
+/// nearest canopy node.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(untagged)]
+pub enum Sites {
+    /// A named set.
+    Named(SiteSet),
+    /// Explicit points in the canopy plane (m).
+    Points(Vec<[f64; 2]>),
+}
+
+impl KeyType for Sites {
+    const KIND: Kind = Kind::Sites;
+}
+
+section! {
+    /// `[load]`.
+    pub struct Load {
+        /// total load W
+        weight_n: f64 = 200.0 => key()
+            .unit("N")
+            .positive("the load must pull the canopy down"),
+        /// how W is applied (below)
+        mode: LoadMode = LoadMode::Force => key()
+            .note("`node_mass_scale` only with `canopy.shape = \"mesh\"`"),
+        /// where: a named set or `[[x, y], …]` points
+        sites: Sites = Sites::Named(SiteSet::Ends) => key()
+            .unit("– / m")
+            .default_doc("rod `ends`; rectangle, hexagon `corners`; circle `rim`; mesh `center`")
+            .note("see below; points must lie inside the outline"),
+        /// `sites = "rim"`: equally spaced rim sites, the first on +x
+        rim_site_count: usize = 8 => key()
+            .between(3.0, 10_000.0, "rim sites around the circle")
+            .range_when(when("load.sites", "rim")),
+        /// `node_mass_scale`: the payload's 1-based mesh node number
+        node: usize = 1 => key()
+            .at_least(1.0, "a 1-based mesh node number")
+            .range_when(NODE_MASS_SCALE)
+            .note("≤ node count: checked by the builder"),
+        /// `node_mass_scale`: factor on that node's lumped mass and weight
+        mass_scale: f64 = 100.0 => key().positive("a mass factor").range_when(NODE_MASS_SCALE),
+    }
+}
+
+section! {
+    /// `[lines]`: suspension lines, modelled as rods, from each site to the payload.
+    pub struct Lines {
+        /// unstretched length of each line
+        length_m: f64 = 3.0 => key().unit("m").positive("a length"),
+        /// rod edges per line
+        segments: usize = 10 => key().between(1.0, 10_000.0, "rod edges per line"),
+        /// cross-section radius
+        radius_m: f64 = 0.001 => key().unit("m").positive("a length"),
+        /// Young's modulus
+        youngs_modulus_pa: f64 = 55e9 => key().unit("Pa").positive("a stiffness"),
+        /// Poisson's ratio
+        poisson_ratio: f64 = 0.36 => key().range(
+            Bound::Excl(-1.0),
+            Bound::Incl(0.5),
+            "a stable isotropic material"
+        ),
+        /// density
+        density_kg_m3: f64 = 1440.0 => key().unit("kg/m³").positive("the lines need mass"),
+        /// C_D of the lines' isotropic node drag, projected width 2r
+        #[serde(skip_serializing_if = "Option::is_none")]
+        drag_coefficient: Option<f64> = None => key()
+            .non_negative("a drag coefficient")
+            .default_doc("`fluid.drag_coefficient`")
+            .note("0 disables line drag"),
+    }
+}
+
+choice! {
+    /// Drag law.
+    pub enum DragLaw {
+        /// f = −½ ρ C_D A |u| u (high Reynolds number).
+        Quadratic = "quadratic",
+        /// f = −c (A_k / A) u (low Reynolds number), c = `linear_drag_coefficient_n_s_m`.
+        Linear = "linear",
+    }
+}
+
+choice! {
+    /// Shell drag model.
+    pub enum ShellDrag {
+        /// Report §II.D: normal (C_D) and tangential (C_t) quadratic drag per triangle.
+        Report = "report",
+        /// DisMech-style pressure drag on the normal velocity only, coefficient C_D.
+        Pressure = "pressure",
+    }
+}
+
+section! {
+    /// `[fluid]`.
+    pub struct Fluid {
+        /// air density ρ
+        density_kg_m3: f64 = 1.225 => key()
+            .unit("kg/m³")
+            .positive("drag scales with the air density"),
+        /// dynamic viscosity μ (Reynolds number Re = ρ v L / μ)
+        viscosity_pa_s: f64 = 1.81e-5 => key()
+            .unit("Pa·s")
+            .positive("the Reynolds number divides by it"),
+        /// far-field wind U∞
+        wind_mps: [f64; 3] = [0.0; 3] => key().unit("m/s"),
+        /// drag law
+        drag: DragLaw = DragLaw::Quadratic => key(),
+        /// C_D: rod drag; shell normal drag
+        drag_coefficient: f64 = 1.75 => key().positive("without drag there is no terminal velocity"),
+        /// C_t: shell tangential drag
+        tangential_drag_coefficient: f64 = 0.5 => key().non_negative("drag opposes motion"),
+        /// shell drag model: `report` (§II.D: normal C_D and tangential C_t per triangle) or
+        /// `pressure` (DisMech: normal velocity only, C_D)
+        shell_drag: ShellDrag = ShellDrag::Report => key(),
+        /// `drag = "linear"`: whole-canopy coefficient c; node k gets −c (A_k/A) u_rel,k, so a
+        /// flat rigid canopy falls at W/c
+        #[serde(skip_serializing_if = "Option::is_none")]
+        linear_drag_coefficient_n_s_m: Option<f64> = None => key()
+            .unit("N·s/m")
+            .positive("drag opposes motion")
+            .required_with(
+                when("fluid.drag", "linear"),
+                "needs the whole-canopy coefficient c (N·s/m)"
+            ),
+        /// gravitational acceleration g
+        gravity_mps2: f64 = 9.81 => key().unit("m/s²").positive("gravity points down, −z"),
+    }
+}
+
+/// Default `time.error_tolerance_m` (m per step): at the start of a fall (a = g) it allows
+/// `h = √(2 tol/g) ≈ 1.4 ms`, the report's 1 ms step with its local error `g dt²/2 ≈ 5 µm`,
+/// so an adaptive run is at least as accurate as the report's fixed step in the transient and
+/// only takes longer steps where the acceleration has decayed (docs/adaptive-dt.md).
+pub const DEFAULT_ERROR_TOLERANCE_M: f64 = 1e-5;
+
+section! {
+    /// `[time]`.
+    pub struct Time {
+        /// implicit Euler time step; with `adaptive = true` the first step
+        dt_s: f64 = 1e-3 => key()
+            .unit("s")
+            .positive("a time step")
+            .note("≤ `duration_s`, ≤ 10⁸ steps"),
+        /// simulated time
+        duration_s: f64 = 10.0 => key().unit("s").positive("a duration"),
+        /// Newton iterations per step
+        newton_max_iterations: usize = 25 => key()
+            .between(1.0, 1000.0, "Newton iterations per step"),
+        /// absolute tolerance on the residual force ‖R‖∞
+        #[serde(skip_serializing_if = "Option::is_none")]
+        newton_tolerance_n: Option<f64> = None => key()
+            .unit("N")
+            .positive("a residual force tolerance")
+            .default_doc("engine default 1e-9 (1 + Σm·g)"),
+        /// a step also converges when ‖R‖∞ ≤ this × the step's first residual
+        #[serde(skip_serializing_if = "Option::is_none")]
+        newton_relative_tolerance: Option<f64> = None => key()
+            .range(Bound::Excl(0.0), Bound::Excl(1.0), "a fraction of the step's first residual")
+            .default_doc("engine default 1e-10"),
+        /// a step also converges when a Newton update has ‖Δq‖∞ below this (and ‖R‖∞ ≤ 1e3 ×
+        /// the force tolerance)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        newton_step_tolerance_m: Option<f64> = None => key()
+            .unit("m (rad for twists)")
+            .positive("a step tolerance")
+            .default_doc("engine default 1e-12"),
+        /// choose each step from its local error estimate instead of a fixed `dt_s` (written
+        /// to the resolved scenario only when true)
+        #[serde(skip_serializing_if = "std::ops::Not::not")]
+        adaptive: bool = false => key(),
+        /// `adaptive`: largest local position error per step, `(h/2)|v_{n+1} − v_n|` at any
+        /// node
+        #[serde(skip_serializing_if = "Option::is_none")]
+        error_tolerance_m: Option<f64> = None => key()
+            .unit("m")
+            .positive("a position error per step")
+            .only_with(ADAPTIVE, ADAPTIVE_ONLY)
+            .default_with(ADAPTIVE, DEFAULT_ERROR_TOLERANCE_M),
+        /// `adaptive`: smallest step (a step this small is accepted whatever its error, with a
+        /// warning; Newton failing below it stops the run)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        dt_min_s: Option<f64> = None => key()
+            .unit("s")
+            .positive("a time step")
+            .only_with(ADAPTIVE, ADAPTIVE_ONLY)
+            .default_doc("`dt_s / 1024`")
+            .note("≤ `dt_s`"),
+        /// `adaptive`: largest step
+        #[serde(skip_serializing_if = "Option::is_none")]
+        dt_max_s: Option<f64> = None => key()
+            .unit("s")
+            .positive("a time step")
+            .only_with(ADAPTIVE, ADAPTIVE_ONLY)
+            .default_doc("min(100 `dt_s`, `output.frame_interval_s`)")
+            .note("≥ `dt_s`, ≤ `output.frame_interval_s` (steps end on every frame time, so a longer one is never taken)"),
+    }
+}
+
+section! {
+    /// `[output]`.
+    pub struct Output {
+        /// time between ParaView frames
+        frame_interval_s: f64 = 0.05 => key()
+            .unit("s")
+            .positive("a time interval")
+            .note("≥ `time.dt_s`"),
+        /// times of snapshot pictures; `[]` for none
+        snapshots_s: Vec<f64> = Vec::new() => key()
+            .unit("s")
+            .non_negative("times after time.duration_s are skipped")
+            .default_doc("30 %, 60 %, 90 % of `time.duration_s`")
+            .note("times after `time.duration_s` are skipped with a warning in the summary"),
+    }
+}

@@ -1,0 +1,273 @@
+//! The verification suite, run by `chute validate`: the cases against analytic references.
+//!
+//! Every case returns one or more [`Check`]s: a quantity, its reference value and source,
+//! the simulated value and a tolerance set from physics and discretisation error. The table
+//! (or JSON) lists them all; the command exits non-zero when any check fails.
+//!
+//! A hidden option for the tests, `--break-reference <case>`, scales the references of the
+//! checks whose name starts with it by 1.5, so they can prove that a wrong reference makes the
+//! command fail.
+
+mod cases;
+pub mod convergence;
+pub mod shell_cases;
+mod system;
+
+use serde::Serialize;
+use std::time::Instant;
+
+use crate::app::AppError;
+
+/// One verified quantity.
+#[derive(Debug, Clone, Serialize)]
+pub struct Check {
+    /// Case name (e.g. `elastica-alpha-5`).
+    pub name: String,
+    /// What is compared (with units).
+    pub quantity: String,
+    /// Reference value.
+    pub reference: f64,
+    /// Where the reference comes from.
+    pub source: String,
+    /// Simulated value.
+    pub simulated: f64,
+    /// |simulated − reference| / |reference|.
+    pub rel_error: f64,
+    /// Tolerance on `rel_error`.
+    pub tolerance: f64,
+    /// `rel_error ≤ tolerance`.
+    pub pass: bool,
+    /// Wall time of the whole case the check belongs to (s).
+    pub wall_s: f64,
+}
+
+impl Check {
+    /// A check comparing `simulated` with `reference` at relative tolerance `tolerance`.
+    pub fn new(
+        name: &str,
+        quantity: &str,
+        reference: f64,
+        source: &str,
+        simulated: f64,
+        tolerance: f64,
+    ) -> Self {
+        let rel_error = ((simulated - reference) / reference).abs();
+        Self::judged(
+            [name, quantity, source],
+            reference,
+            simulated,
+            rel_error,
+            tolerance,
+        )
+    }
+    /// A check of a dimensionless quantity whose exact value is zero (a symmetry): the
+    /// error is `|simulated|` itself, i.e. relative to the scale the quantity was divided
+    /// by (stated in `quantity`).
+    pub fn near_zero(
+        name: &str,
+        quantity: &str,
+        source: &str,
+        simulated: f64,
+        tolerance: f64,
+    ) -> Self {
+        let rel_error = (simulated - 0.0).abs();
+        Self::judged(
+            [name, quantity, source],
+            0.0,
+            simulated,
+            rel_error,
+            tolerance,
+        )
+    }
+    /// `[name, quantity, source]` and the numbers; it passes when the error is within the
+    /// tolerance and the simulated value is finite.
+    fn judged(
+        [name, quantity, source]: [&str; 3],
+        reference: f64,
+        simulated: f64,
+        rel_error: f64,
+        tolerance: f64,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            quantity: quantity.into(),
+            reference,
+            source: source.into(),
+            simulated,
+            rel_error,
+            tolerance,
+            pass: rel_error <= tolerance && simulated.is_finite(),
+            wall_s: 0.0,
+        }
+    }
+    /// A check that failed to run (the error becomes the quantity text).
+    pub fn failed(name: &str, why: &str) -> Self {
+        Self {
+            name: name.into(),
+            quantity: format!("FAILED TO RUN: {why}"),
+            reference: f64::NAN,
+            source: String::new(),
+            simulated: f64::NAN,
+            rel_error: f64::NAN,
+            tolerance: 0.0,
+            pass: false,
+            wall_s: 0.0,
+        }
+    }
+
+    /// The check against a wrong reference (1.5 × the true one, 1 for a zero reference):
+    /// the test of `--break-reference`.
+    fn break_reference(&mut self) {
+        self.reference = match self.reference {
+            0.0 => 1.0,
+            r => 1.5 * r,
+        };
+        self.rel_error = ((self.simulated - self.reference) / self.reference).abs();
+        self.pass = self.rel_error <= self.tolerance && self.simulated.is_finite();
+    }
+}
+
+/// A registered case.
+pub struct Case {
+    /// Name prefix of its checks.
+    pub name: &'static str,
+    /// Included in `--quick`.
+    pub quick: bool,
+    /// Runs the case; `quick` asks for the cheaper variant where one exists.
+    pub run: fn(quick: bool) -> Result<Vec<Check>, String>,
+}
+
+/// `chute validate`.
+#[derive(Debug, Clone, Default, PartialEq, clap::Args)]
+pub struct ValidateArgs {
+    /// Short versions of the cases (under a minute on 2 cores).
+    #[arg(long)]
+    pub quick: bool,
+    /// Where to write the report (validation_table.md) and the convergence studies.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<std::path::PathBuf>,
+    /// Print the results as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Only the cases whose name contains this text (e.g. `elastica`).
+    #[arg(long, value_name = "TEXT")]
+    pub case: Option<String>,
+    /// Scale the references of the checks whose name starts with this by 1.5 (to prove in
+    /// tests that a wrong reference fails).
+    #[arg(long, value_name = "CASE", hide = true)]
+    pub break_reference: Option<String>,
+}
+
+/// Run the verification suite, print the table (or JSON) on stdout and write the report
+/// and convergence studies when `out` is given; `Err(ValidationFailed)` when any check fails.
+pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
+    }
+    let checks = run_suite(args);
+    if let Some(dir) = &args.out {
+        let path = dir.join("validation_table.md");
+        crate::output::atomic::write_atomic(&path, markdown(&checks).as_bytes())
+            .map_err(|e| AppError::io(&path, e))?;
+    }
+    if args.json {
+        let text = serde_json::to_string_pretty(&checks)
+            .map_err(|e| AppError::RunFailed(format!("JSON: {e}")))?;
+        println!("{text}");
+    } else {
+        print!("{}", table(&checks));
+    }
+    match checks.iter().filter(|c| !c.pass).count() {
+        0 => Ok(()),
+        failed => Err(AppError::ValidationFailed { failed }),
+    }
+}
+
+/// Run the suite; returns the checks (caller prints and sets the exit code).
+pub fn run_suite(opts: &ValidateArgs) -> Vec<Check> {
+    let mut all = Vec::new();
+    for case in cases::all() {
+        if opts.quick && !case.quick {
+            continue;
+        }
+        if let Some(f) = &opts.case {
+            if !case.name.contains(f.as_str()) {
+                continue;
+            }
+        }
+        let start = Instant::now();
+        let mut checks =
+            (case.run)(opts.quick).unwrap_or_else(|e| vec![Check::failed(case.name, &e)]);
+        let wall = start.elapsed().as_secs_f64();
+        for c in &mut checks {
+            c.wall_s = wall;
+        }
+        all.extend(checks);
+    }
+    if let Some(dir) = &opts.out {
+        let start = Instant::now();
+        match convergence::write_all(dir, opts.quick) {
+            Ok(mut checks) => {
+                let wall = start.elapsed().as_secs_f64();
+                checks.iter_mut().for_each(|c| c.wall_s = wall);
+                all.extend(checks);
+            }
+            Err(e) => all.push(Check::failed("convergence-studies", &e)),
+        }
+    }
+    if let Some(prefix) = opts.break_reference.as_deref().filter(|p| !p.is_empty()) {
+        all.iter_mut()
+            .filter(|c| c.name.starts_with(prefix))
+            .for_each(Check::break_reference);
+    }
+    all
+}
+
+/// Render the checks as a Markdown table (`|` inside cells escaped), with the pass count.
+pub fn markdown(checks: &[Check]) -> String {
+    let esc = |t: &str| t.replace('|', "\\|");
+    let mut s = String::from(
+        "| case | quantity | reference | simulated | rel. error | tol. | pass | source |\n\
+         |---|---|---|---|---|---|---|---|\n",
+    );
+    for c in checks {
+        s += &format!(
+            "| {} | {} | {:.6e} | {:.6e} | {:.2e} | {:.1e} | {} | {} |\n",
+            c.name,
+            esc(&c.quantity),
+            c.reference,
+            c.simulated,
+            c.rel_error,
+            c.tolerance,
+            if c.pass { "ok" } else { "**FAIL**" },
+            esc(&c.source)
+        );
+    }
+    let failed = checks.iter().filter(|c| !c.pass).count();
+    s += &format!("\n{} passed, {} failed.\n", checks.len() - failed, failed);
+    s
+}
+
+/// Render the checks as a fixed-width table.
+pub fn table(checks: &[Check]) -> String {
+    let mut s = format!(
+        "{:<28} {:<56} {:>13} {:>13} {:>9} {:>8}  {:<4}  {}\n",
+        "case", "quantity", "reference", "simulated", "rel.err", "tol", "pass", "source"
+    );
+    for c in checks {
+        s += &format!(
+            "{:<28} {:<40} {:>13.6e} {:>13.6e} {:>9.2e} {:>8.1e}  {:<4}  {}\n",
+            c.name,
+            c.quantity,
+            c.reference,
+            c.simulated,
+            c.rel_error,
+            c.tolerance,
+            if c.pass { "ok" } else { "FAIL" },
+            c.source
+        );
+    }
+    let failed = checks.iter().filter(|c| !c.pass).count();
+    s += &format!("{} passed, {} failed\n", checks.len() - failed, failed);
+    s
+}

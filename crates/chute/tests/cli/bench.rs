@@ -1,0 +1,95 @@
+//! `chute bench --quick --json` prints a JSON list with the documented fields.
+//!
+//! The hidden `--tiny` swaps the ladder for three small cases of a few steps (rod, shell and
+//! the peer's hexagonal n6), so these tests take well under a second; the real ladder is
+//! exercised by running `chute bench` (docs/performance.md).
+
+use chute::bench::CaseResult;
+
+use crate::common::{chute, repo, stderr, stdout};
+
+/// `chute bench --json --tiny EXTRA…`: its stdout, after checking it succeeded.
+fn tiny_bench_json(extra: &[&str]) -> String {
+    let args: Vec<&str> = ["bench", "--json", "--tiny"]
+        .iter()
+        .chain(extra)
+        .copied()
+        .collect();
+    let out = chute(&repo(), &args);
+    assert!(out.status.success(), "chute bench failed: {}", stderr(&out));
+    stdout(&out)
+}
+
+fn tiny_bench(extra: &[&str]) -> Vec<CaseResult> {
+    serde_json::from_str(&tiny_bench_json(extra)).expect("CaseResult list")
+}
+
+#[test]
+fn bench_quick_json_has_documented_fields() {
+    let text = tiny_bench_json(&["--quick"]);
+    // The documented contract, checked on the raw JSON (not only through our own type).
+    let raw: serde_json::Value = serde_json::from_str(&text).expect("JSON on stdout");
+    let list = raw.as_array().expect("a list");
+    assert_eq!(list.len(), 3);
+    for obj in list {
+        for key in ["name", "dofs", "nnz", "ms_per_step", "newton_per_step"] {
+            assert!(obj.get(key).is_some(), "missing `{key}` in {obj}");
+        }
+    }
+    let cases: Vec<CaseResult> = serde_json::from_str(&text).expect("CaseResult list");
+    assert!(cases.iter().any(|c| c.name.contains("n6")));
+    for c in &cases {
+        assert!(c.dofs >= c.free_dofs && c.free_dofs > 0, "{c:?}");
+        assert!(c.nnz >= c.free_dofs, "{c:?}");
+        assert!(c.ms_per_step > 0.0 && c.ms_per_step.is_finite(), "{c:?}");
+        // Each step needs at least one Newton iteration (the predictor never solves a
+        // loaded, accelerating canopy to 1e-9 relative precision).
+        assert!(c.newton_per_step >= 1.0, "{c:?}");
+        let shares = c.share_assembly + c.share_merit + c.share_factor + c.share_solve;
+        assert!(shares > 0.0 && shares <= 1.0 + 1e-9, "{c:?}");
+        assert!(c.peak_rss_mib > 0.0, "{c:?}");
+    }
+    let n6 = cases.iter().find(|c| c.name.contains("n6")).unwrap();
+    // The peer's mesh: 188 nodes, 3 DOFs each plus one twist per rod edge (66 edges).
+    assert_eq!((n6.nodes, n6.dofs), (188, 188 * 3 + 66));
+}
+
+/// The experiment options reach every case's child process: without modified Newton every
+/// iteration factorises, with it (the default) the shell case reuses factorisations.
+#[test]
+fn bench_options_reach_the_cases() {
+    let shell = |r: &[CaseResult]| r.iter().find(|c| c.name == "shell-250").cloned().unwrap();
+    let fresh = shell(&tiny_bench(&["--no-reuse"]));
+    assert!(
+        (fresh.factorizations_per_step - fresh.newton_per_step).abs() < 1e-12,
+        "{fresh:?}"
+    );
+    let default = tiny_bench(&[]);
+    let reused = shell(&default);
+    assert!(
+        reused.factorizations_per_step < reused.newton_per_step,
+        "{reused:?}"
+    );
+    // `--set` reaches them too: three Newton iterations are too few for the rod's first
+    // steps, which fail and are retried with half the step, as a run would.
+    let rod = |r: &[CaseResult]| r.iter().find(|c| c.name == "rod-100").cloned().unwrap();
+    assert_eq!(rod(&default).halvings, 0, "{default:?}");
+    let capped = rod(&tiny_bench(&["--set", "time.newton_max_iterations=3"]));
+    assert!(capped.halvings > 0, "{capped:?}");
+    assert!(
+        (capped.t_end_s - rod(&default).t_end_s).abs() < 1e-12,
+        "{capped:?}"
+    );
+}
+
+/// A bad `--set` is a scenario error (exit 2) naming the key, before any case runs.
+#[test]
+fn bench_rejects_a_bad_override() {
+    let out = chute(&repo(), &["bench", "--tiny", "--set", "canopy.spam_m=1"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(
+        err.contains("unknown key `canopy.spam_m`") && err.contains("did you mean `canopy.span_m`"),
+        "{err}"
+    );
+}

@@ -1,0 +1,260 @@
+//! Reliability through the binary: exit code 3 with valid partial outputs, SIGTERM leaving a
+//! checkpoint that resumes to the uninterrupted result, and bit-identical outputs for the
+//! same inputs whatever `--jobs` is.
+use crate::common::*;
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use chute::checkpoint::Checkpoint;
+
+fn rod_file() -> String {
+    repo()
+        .join("scenarios/report-rod-200n.toml")
+        .to_string_lossy()
+        .into_owned()
+}
+
+const COARSE: [&str; 4] = [
+    "--set",
+    "canopy.nodes=21",
+    "--set",
+    "output.snapshots_s=[0.05]",
+];
+
+fn run_args<'a>(out: &'a str, duration: &'a str, extra: &[&'a str]) -> Vec<String> {
+    let mut a: Vec<String> = [
+        "run",
+        &rod_file(),
+        "--quiet",
+        "--out",
+        out,
+        "--set",
+        duration,
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    a.extend(COARSE.iter().chain(extra).map(|s| s.to_string()));
+    a
+}
+
+fn run(cwd: &Path, args: &[String]) -> Output {
+    let a: Vec<&str> = args.iter().map(String::as_str).collect();
+    chute(cwd, &a)
+}
+
+#[test]
+fn a_failing_run_exits_3_with_reason_and_valid_partial_outputs() {
+    let tmp = tempfile::tempdir().unwrap();
+    // One Newton iteration per step with a 1 mN tolerance under a 3 kN load: the strip is
+    // whipped so hard that after ~150 halved steps a single update no longer meets the
+    // tolerance even at dt/1024. (With
+    // the ordinary 200 N load the extrapolating predictor makes one iteration enough at small
+    // steps, so that run now completes.)
+    let args = run_args(
+        "f",
+        "time.duration_s=1",
+        &[
+            "--set",
+            "time.newton_max_iterations=1",
+            "--set",
+            "time.newton_tolerance_n=1e-3",
+            "--set",
+            "time.dt_s=0.02",
+            "--set",
+            "load.weight_n=3e3",
+        ],
+    );
+    let o = run(tmp.path(), &args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    for want in [
+        "step failed at t = ",
+        "residual",
+        "worst at node",
+        "--resume",
+    ] {
+        assert!(err.contains(want), "want `{want}` in {err}");
+    }
+    let dir = tmp.path().join("f");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["complete"], false);
+    let c = Checkpoint::read(&dir).unwrap();
+    let rows = csv_rows(&dir.join("timeseries.csv"));
+    assert!(
+        rows.len() > 10 && c.t > 0.0,
+        "{} rows, t = {}",
+        rows.len(),
+        c.t
+    );
+    assert_eq!(rows.len() as u64, c.ts_rows);
+    assert_eq!(rows.last().unwrap()[0], c.t);
+    assert_eq!(summary["simulated_time_s"].as_f64().unwrap(), c.t);
+}
+
+#[cfg(unix)]
+#[test]
+fn sigterm_leaves_a_checkpoint_and_the_resumed_run_equals_the_uninterrupted_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dur = "time.duration_s=1";
+    let o = run(tmp.path(), &run_args("full", dur, &[]));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+
+    let args = run_args("part", dur, &["--checkpoint-every", "0.1"]);
+    let child = chute_command()
+        .args(&args)
+        .current_dir(tmp.path())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Signal once the run is under way (its fifth frame, t = 0.2 s, is written).
+    let frame = tmp.path().join("part/frames/frame_000004.vtu");
+    let start = Instant::now();
+    while !frame.exists() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "run never started"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("interrupted"), "{err}");
+    let dir = tmp.path().join("part");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["complete"], false);
+    let c = Checkpoint::read(&dir).unwrap();
+    assert!(c.synced);
+    assert!(csv_rows(&dir.join("timeseries.csv")).len() as u64 >= c.ts_rows);
+
+    let o = run(
+        tmp.path(),
+        &run_args(
+            "part",
+            dur,
+            &["--checkpoint-every", "0.1", "--resume", "part"],
+        ),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_same_outputs(&tmp.path().join("full"), &dir);
+}
+
+#[test]
+fn same_inputs_give_identical_files_whatever_the_jobs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = format!(
+        "name = \"det\"\nbase = \"{}\"\n[grid]\n\"load.weight_n\" = [20, 200, 2000]\n",
+        rod_file()
+    );
+    std::fs::write(tmp.path().join("det.toml"), study).unwrap();
+    let sets = [
+        "--set",
+        "canopy.nodes=21",
+        "--set",
+        "time.duration_s=0.15",
+        "--set",
+        "output.snapshots_s=[0.05]",
+    ];
+    for (out, jobs) in [("j1", "1"), ("j3", "3")] {
+        let mut a = vec!["study", "det.toml", "--out", out, "--jobs", jobs];
+        a.extend(sets);
+        let o = chute(tmp.path(), &a);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    for case in ["weight_n-20", "weight_n-200", "weight_n-2000"] {
+        assert_same_outputs(
+            &tmp.path().join("j1").join(case),
+            &tmp.path().join("j3").join(case),
+        );
+    }
+    // A single run of the same case, twice, in other directories (without viewer.html, which
+    // study cases do not write).
+    for out in ["a", "b"] {
+        let o = run(
+            tmp.path(),
+            &run_args(
+                out,
+                "time.duration_s=0.15",
+                &[
+                    "--no-viewer",
+                    "--set",
+                    "load.weight_n=200",
+                    "--set",
+                    "name=\"det-weight_n-200\"",
+                ],
+            ),
+        );
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    assert_same_outputs(&tmp.path().join("a"), &tmp.path().join("b"));
+    assert_same_outputs(&tmp.path().join("a"), &tmp.path().join("j3/weight_n-200"));
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn an_unwritable_directory_is_refused_before_the_run_even_for_root() {
+    // /proc/self is a directory nobody, root included, can create files in.
+    let tmp = tempfile::tempdir().unwrap();
+    let a = run_args("/proc/self", "time.duration_s=0.01", &["--force"]);
+    let o = run(tmp.path(), &a);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("is not writable"), "{err}");
+}
+
+#[test]
+fn resume_elsewhere_or_without_a_checkpoint_is_an_input_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = run(tmp.path(), &run_args("r", "time.duration_s=0.01", &[]));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // No --checkpoint-every: a completed run keeps no checkpoint.
+    let o = run(
+        tmp.path(),
+        &run_args("r", "time.duration_s=0.01", &["--resume", "r"]),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("checkpoint.bin"), "{}", stderr(&o));
+    std::fs::create_dir(tmp.path().join("other")).unwrap();
+    let o = run(
+        tmp.path(),
+        &run_args("other", "time.duration_s=0.01", &["--resume", "r"]),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--out"), "{}", stderr(&o));
+}
+
+#[test]
+fn parallel_element_loops_give_identical_files_whatever_the_threads() {
+    // A shell canopy fine enough (edge 0.1 m: ~4000 triangles, ~6000 hinges) that its element
+    // loops run in parallel chunks; each element writes its own block, so the thread count
+    // must not change a bit.
+    let tmp = tempfile::tempdir().unwrap();
+    let shell = repo().join("scenarios/report-shell-4-sites.toml");
+    for (out, threads) in [("t1", "1"), ("t4", "4")] {
+        let o = chute_command()
+            .args(["run", shell.to_str().unwrap(), "--quiet", "--out", out])
+            .args(["--set", "canopy.edge_length_m=0.1"])
+            .args(["--set", "time.duration_s=0.003"])
+            .args(["--set", "output.frame_interval_s=0.001"])
+            .args(["--set", "output.snapshots_s=[0.002]"])
+            .env("RAYON_NUM_THREADS", threads)
+            .current_dir(tmp.path())
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    let dofs = std::fs::read_to_string(tmp.path().join("t1/summary.json")).unwrap();
+    assert!(dofs.contains("\"dofs\": "), "{dofs}");
+    assert_same_outputs(&tmp.path().join("t1"), &tmp.path().join("t4"));
+}

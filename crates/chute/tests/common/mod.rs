@@ -1,0 +1,223 @@
+//! Helpers shared by the test crates: the `chute` binary, the repository, small scenarios,
+//! test-only forces, directory diffs. Each test crate uses a part of them.
+#![allow(dead_code)]
+pub mod image;
+pub mod mutate;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
+
+use chute::scenario::Scenario;
+use engine::{EvalInput, Force, JacobianKind, LocalBlocks};
+
+/// The repository root (absolute).
+pub fn repo() -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    root.canonicalize().unwrap_or(root)
+}
+
+/// The `chute` binary as a command, without the SLURM array variables of the environment
+/// (they would select a study shard).
+pub fn chute_command() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_chute"));
+    c.env_remove("SLURM_ARRAY_TASK_ID")
+        .env_remove("SLURM_ARRAY_TASK_COUNT");
+    c
+}
+
+/// Run `chute ARGS` in `cwd` and wait for it.
+pub fn chute(cwd: &Path, args: &[&str]) -> Output {
+    chute_command()
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("binary runs")
+}
+
+/// The process's stderr as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The process's stdout as text.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The rod strip of the report, coarse (21 nodes) and short: ~0.3 s of wall time per 0.1 s.
+pub fn rod(duration: f64, extra: &[&str]) -> Scenario {
+    let mut sets = vec![
+        "canopy.nodes=21".to_string(),
+        format!("time.duration_s={duration}"),
+        "output.snapshots_s=[0.05, 0.3]".to_string(),
+    ];
+    sets.extend(extra.iter().map(|s| s.to_string()));
+    Scenario::load(&repo().join("scenarios/report-rod-200n.toml"), &sets).unwrap()
+}
+
+/// A coarse shell canopy (hinges, triangle drag) for the same checks on the other model.
+pub fn shell(duration: f64) -> Scenario {
+    let sets = vec![
+        "canopy.edge_length_m=1".to_string(),
+        format!("time.duration_s={duration}"),
+        "output.snapshots_s=[0.05]".to_string(),
+    ];
+    Scenario::load(&repo().join("scenarios/report-shell-4-sites.toml"), &sets).unwrap()
+}
+
+/// A test-only force acting on one DOF. It is zero (so it leaves every result unchanged)
+/// except that, once the trial time reaches `at_s`:
+/// - it sets `stop` (a deterministic stand-in for Ctrl-C), and
+/// - its first `nan_evals` evaluations from then on return NaN, whatever the time of later
+///   trials (a blow-up that persists while the run loop retries with smaller steps).
+pub struct Trigger {
+    dof: [usize; 1],
+    pub at_s: f64,
+    pub stop: Arc<AtomicBool>,
+    pub set_stop: bool,
+    pub nan_evals: usize,
+    pub evals_after: Arc<AtomicUsize>,
+    triggered: AtomicBool,
+}
+
+impl Trigger {
+    pub fn new(dof: usize, at_s: f64) -> Self {
+        Self {
+            dof: [dof],
+            at_s,
+            stop: Arc::new(AtomicBool::new(false)),
+            set_stop: false,
+            nan_evals: 0,
+            evals_after: Arc::new(AtomicUsize::new(0)),
+            triggered: AtomicBool::new(false),
+        }
+    }
+}
+
+impl Force for Trigger {
+    fn name(&self) -> &str {
+        "test-trigger"
+    }
+    fn stencil_size(&self) -> usize {
+        1
+    }
+    fn stencils(&self) -> &[usize] {
+        &self.dof
+    }
+    fn jacobian_kind(&self) -> JacobianKind {
+        JacobianKind::CONSTANT
+    }
+    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
+        out.f[0] = 0.0;
+        if input.t >= self.at_s {
+            self.triggered.store(true, Ordering::SeqCst);
+            if self.set_stop {
+                self.stop.store(true, Ordering::SeqCst);
+            }
+        }
+        if self.triggered.load(Ordering::SeqCst)
+            && self.evals_after.fetch_add(1, Ordering::SeqCst) < self.nan_evals
+        {
+            out.f[0] = f64::NAN;
+        }
+    }
+}
+
+/// Every file under `dir`, by relative path.
+pub fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    fn walk(root: &Path, d: &Path, out: &mut BTreeMap<String, Vec<u8>>) {
+        for e in std::fs::read_dir(d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                walk(root, &p, out);
+            } else {
+                let rel = p.strip_prefix(root).unwrap().to_string_lossy().into_owned();
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    let mut out = BTreeMap::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+/// Assert that two run directories hold the same files with the same bytes, except the wall
+/// time in `summary.json` (it measures the machine, not the run) and `checkpoint.bin`.
+pub fn assert_same_outputs(a: &Path, b: &Path) {
+    let strip = |name: &str, bytes: &[u8]| -> Vec<u8> {
+        if name != "summary.json" {
+            return bytes.to_vec();
+        }
+        String::from_utf8_lossy(bytes)
+            .lines()
+            .filter(|l| !l.contains("\"wall_time_s\""))
+            .collect::<Vec<_>>()
+            .join("\n")
+            .into_bytes()
+    };
+    let skip = |k: &String| k != "checkpoint.bin" && k != "done.json";
+    let fa = files(a);
+    let fb = files(b);
+    let ka: Vec<&String> = fa.keys().filter(|k| skip(k)).collect();
+    let kb: Vec<&String> = fb.keys().filter(|k| skip(k)).collect();
+    assert_eq!(ka, kb, "different file sets in {a:?} and {b:?}");
+    assert!(ka.iter().any(|k| k.ends_with(".vtu")), "no frames written");
+    for k in ka {
+        assert!(
+            strip(k, &fa[k]) == strip(k, &fb[k]),
+            "{k} differs between {a:?} and {b:?}"
+        );
+    }
+}
+
+/// Data rows of a `timeseries.csv` (header checked).
+pub fn csv_rows(path: &Path) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    assert!(lines.next().unwrap().starts_with("t_s,"));
+    assert!(text.ends_with('\n'), "a partial row at the end of {path:?}");
+    lines
+        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
+        .collect()
+}
+
+/// Every field documented in docs/outputs.md §summary.json.
+pub const SUMMARY_FIELDS: [&str; 34] = [
+    "summary_version",
+    "scenario_name",
+    "complete",
+    "stop_reason",
+    "simulated_time_s",
+    "terminal_velocity_mps",
+    "terminal_velocity_std_mps",
+    "terminal_velocity_trend_mps",
+    "reached_terminal",
+    "time_to_terminal_s",
+    "final_window_start_s",
+    "max_extended_height_m",
+    "final_extended_height_m",
+    "total_weight_n",
+    "mean_drag_z_n",
+    "drag_area_m2",
+    "force_balance_error",
+    "horizontal_velocity_mps",
+    "reynolds_number",
+    "steps",
+    "newton_iterations",
+    "wall_time_s",
+    "dofs",
+    "dt_s",
+    "adaptive",
+    "error_tolerance_m",
+    "dt_min_s",
+    "dt_max_s",
+    "rejected_steps_error",
+    "rejected_steps_newton",
+    "dt_used_min_s",
+    "dt_used_mean_s",
+    "dt_used_max_s",
+    "warnings",
+];

@@ -1,0 +1,18 @@
+//! Files in and out: mesh generators and importers (with property tests), output files
+//! (CSV, summary, PNG, VTK, the viewer page in a real browser, the console summary), and study
+//! directories.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod console;
+mod fuzz;
+mod mesh_generate;
+mod mesh_import;
+mod outputs;
+mod plots;
+mod plots_3d;
+mod study;
+mod viewer;
+mod viewer_browser;
+mod vtk;

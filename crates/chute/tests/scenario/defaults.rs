@@ -1,0 +1,162 @@
+//! Defaults: the report's values, and the context-dependent ones (name, sites, snapshots).
+
+use chute::scenario::schema;
+use chute::scenario::{CanopyShape, DragLaw, LoadMode, Scenario, ShellDrag, SiteSet, Sites};
+
+fn parse(text: &str) -> Scenario {
+    Scenario::from_str_with_name(text, "dir/my-case.toml", &[]).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn minimal_rod_scenario_gets_the_report_defaults() {
+    let s = parse("[model]\nkind = \"rod\"\n");
+    assert_eq!(s.name, "my-case", "name defaults to the file stem");
+    assert_eq!(s.canopy.shape, CanopyShape::Rectangle);
+    assert_eq!(
+        (s.canopy.span_m, s.canopy.width_m, s.canopy.thickness_m),
+        (6.0, 3.0, 0.002)
+    );
+    assert_eq!(s.canopy.nodes, 61);
+    assert_eq!(
+        (s.material.youngs_modulus_pa, s.material.density_kg_m3),
+        (55e9, 1440.0)
+    );
+    assert_eq!(s.load.mode, LoadMode::Force);
+    assert_eq!(s.load.sites, Sites::Named(SiteSet::Ends));
+    assert_eq!(
+        (
+            s.fluid.drag_coefficient,
+            s.fluid.tangential_drag_coefficient
+        ),
+        (1.75, 0.5)
+    );
+    assert_eq!(
+        (s.fluid.drag, s.fluid.shell_drag),
+        (DragLaw::Quadratic, ShellDrag::Report)
+    );
+    assert_eq!((s.fluid.density_kg_m3, s.fluid.gravity_mps2), (1.225, 9.81));
+    assert_eq!((s.time.dt_s, s.time.duration_s), (1e-3, 10.0));
+    assert_eq!(s.output.snapshots_s, vec![3.0, 6.0, 9.0]);
+}
+
+#[test]
+fn sites_default_by_model_and_shape() {
+    let cases = [
+        ("shell", "rectangle", SiteSet::Corners),
+        ("shell", "hexagon", SiteSet::Corners),
+        ("shell", "circle", SiteSet::Rim),
+    ];
+    for (kind, shape, want) in cases {
+        let s = parse(&format!(
+            "[model]\nkind = \"{kind}\"\n[canopy]\nshape = \"{shape}\"\n"
+        ));
+        assert_eq!(s.load.sites, Sites::Named(want), "{kind} {shape}");
+    }
+}
+
+#[test]
+fn snapshots_follow_the_duration_and_explicit_ones_are_kept() {
+    let s = parse("[model]\nkind = \"rod\"\n[time]\nduration_s = 2\n");
+    assert_eq!(s.output.snapshots_s, vec![0.6, 1.2, 1.8]);
+    let s = parse("[model]\nkind = \"rod\"\n[output]\nsnapshots_s = [1, 2.5]\n");
+    assert_eq!(s.output.snapshots_s, vec![1.0, 2.5]);
+}
+
+/// Absent: the default times (filled once, by the loader); `[]`: none, also in the run
+/// loop's configuration and after the resolved scenario is read back.
+#[test]
+fn empty_snapshot_list_means_no_snapshots() {
+    let s = parse("[model]\nkind = \"rod\"\n");
+    assert_eq!(
+        chute::app::run_config(&s, false).snapshots_s,
+        vec![3.0, 6.0, 9.0]
+    );
+    let s = parse("[model]\nkind = \"rod\"\n[output]\nsnapshots_s = []\n");
+    assert!(s.output.snapshots_s.is_empty());
+    assert!(chute::app::run_config(&s, false).snapshots_s.is_empty());
+    let again = parse(&s.to_toml());
+    assert!(again.output.snapshots_s.is_empty(), "{}", s.to_toml());
+    let s = Scenario::from_str_with_name(
+        "[model]\nkind = \"rod\"\n",
+        "t.toml",
+        &["output.snapshots_s=[]".to_string()],
+    )
+    .unwrap();
+    assert!(chute::app::run_config(&s, false).snapshots_s.is_empty());
+}
+
+#[test]
+fn awkward_file_names_give_safe_default_names() {
+    let s = Scenario::from_str_with_name("[model]\nkind = \"rod\"\n", "<string>", &[]).unwrap();
+    assert_eq!(s.name, "string");
+    let s = Scenario::from_str_with_name("[model]\nkind = \"rod\"\n", "a b/c d.toml", &[]).unwrap();
+    assert_eq!(s.name, "c_d");
+}
+
+/// The key table used for "unknown key" and type checks names exactly the serde fields:
+/// a scenario with every optional key set serialises to exactly the schema's keys.
+#[test]
+fn schema_matches_the_serde_structs() {
+    let text = "[model]\nkind = \"shell\"\n[canopy]\nshape = \"mesh\"\nmesh_file = \"m.obj\"\nimperfection_m = 0.01\n\
+                [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\nadaptive = true\n\
+                newton_relative_tolerance = 0.1\nnewton_step_tolerance_m = 1e-9\n\
+                [lines]\ndrag_coefficient = 1.0\n";
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("m.obj"), "").unwrap();
+    let s =
+        Scenario::from_str_with_name(text, &dir.path().join("s.toml").display().to_string(), &[])
+            .unwrap();
+    let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();
+    let mut keys = Vec::new();
+    for (k, v) in &table {
+        match v.as_table() {
+            Some(t) => keys.extend(t.keys().map(|kk| format!("{k}.{kk}"))),
+            None => keys.push(k.clone()),
+        }
+    }
+    keys.sort();
+    let mut want = schema::all_keys();
+    want.sort();
+    assert_eq!(keys, want);
+}
+
+/// `time.adaptive = true` fills the error-control keys (tolerance 1e-5 m, dt_min = dt/1024,
+/// dt_max = min(100 dt, frame interval)), the resolved scenario shows them and reads back
+/// equal; without it none of them is written, so fixed-step scenarios resolve as before.
+#[test]
+fn adaptive_defaults_are_filled_and_resolved() {
+    let s = parse("[model]\nkind = \"rod\"\n[time]\nadaptive = true\ndt_s = 2e-4\n");
+    assert!(s.time.adaptive);
+    assert_eq!(s.time.error_tolerance_m, Some(1e-5));
+    assert_eq!(s.time.dt_min_s, Some(2e-4 / 1024.0));
+    assert_eq!(s.time.dt_max_s, Some(100.0 * 2e-4));
+    let a = s.adaptive_settings().unwrap();
+    assert_eq!((a.error_tolerance_m, a.dt_max_s), (1e-5, 0.02));
+    // Bounded by the frame interval (0.05 s by default).
+    let s = parse("[model]\nkind = \"rod\"\n[time]\nadaptive = true\n");
+    assert_eq!(s.time.dt_max_s, Some(0.05));
+    let s = parse(
+        "[model]\nkind = \"rod\"\n[time]\nadaptive = true\nerror_tolerance_m = 1e-4\n\
+         dt_min_s = 1e-6\ndt_max_s = 0.01\n",
+    );
+    assert_eq!(
+        (s.time.error_tolerance_m, s.time.dt_min_s, s.time.dt_max_s),
+        (Some(1e-4), Some(1e-6), Some(0.01))
+    );
+    let text = s.to_toml();
+    assert!(
+        text.contains("adaptive = true") && text.contains("dt_max_s = 0.01"),
+        "{text}"
+    );
+    assert_eq!(parse(&text), s);
+    // Fixed step: no adaptive key in the resolved scenario, and no settings.
+    let s = parse("[model]\nkind = \"rod\"\n");
+    assert!(s.adaptive_settings().is_none());
+    let text = s.to_toml();
+    assert!(
+        !text.contains("adaptive") && !text.contains("dt_min_s"),
+        "{text}"
+    );
+    let s = parse("[model]\nkind = \"rod\"\n[time]\nadaptive = false\n");
+    assert!(!s.time.adaptive && s.time.dt_max_s.is_none());
+}

@@ -1,0 +1,480 @@
+//! Each class of scenario error, through the library: the variant, the key, the origin (file
+//! line or `--set`) and a message a user can act on.
+
+use std::path::Path;
+
+use chute::scenario::{Origin, Scenario, ScenarioError};
+
+const HEAD: &str = "name = \"t\"\n[model]\nkind = \"shell\"\n"; // lines 1–3
+
+fn err_with(text: &str, set: &[&str]) -> ScenarioError {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    match Scenario::from_str_with_name(text, "t.toml", &set) {
+        Ok(_) => panic!("accepted:\n{text}\n{set:?}"),
+        Err(e) => e,
+    }
+}
+
+fn err(body: &str) -> ScenarioError {
+    err_with(&format!("{HEAD}{body}"), &[])
+}
+
+fn at_line(e: &ScenarioError, line: usize) {
+    let msg = e.to_string();
+    assert!(
+        msg.contains(&format!("t.toml:{line}")),
+        "expected t.toml:{line} in: {msg}"
+    );
+}
+
+#[test]
+fn missing_file_names_the_path() {
+    let e = Scenario::load(Path::new("/no/such/dir/scen.toml"), &[]).unwrap_err();
+    assert!(matches!(e, ScenarioError::Read { .. }));
+    let msg = e.to_string();
+    assert!(
+        msg.contains("/no/such/dir/scen.toml") && msg.contains("cannot read"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn syntax_error_has_file_line_and_column() {
+    let e = err("[canopy]\nspan_m = = 3\n");
+    match &e {
+        ScenarioError::Syntax { line, col, .. } => assert_eq!((*line, *col), (5, 10), "{e}"),
+        other => panic!("{other:?}"),
+    }
+    assert!(
+        e.to_string().starts_with("t.toml:5:10: TOML syntax error"),
+        "{e}"
+    );
+    let e = err("[canopy\n");
+    assert!(matches!(e, ScenarioError::Syntax { line: 4, .. }), "{e}");
+}
+
+#[test]
+fn unknown_key_suggests_the_closest() {
+    let e = err("[canopy]\nspan_m = 6\nwidht_m = 3\n");
+    assert!(
+        matches!(&e, ScenarioError::UnknownKey { key, .. } if key == "canopy.widht_m"),
+        "{e:?}"
+    );
+    at_line(&e, 6);
+    assert!(
+        e.to_string().ends_with("did you mean `canopy.width_m`?"),
+        "{e}"
+    );
+    // The right key in the wrong section.
+    let e = err("[canopy]\ndensity_kg_m3 = 1000\n");
+    assert!(
+        e.to_string()
+            .contains("did you mean `material.density_kg_m3`?"),
+        "{e}"
+    );
+    // A misspelt section.
+    let e = err("[canopee]\nspan_m = 6\n");
+    assert!(
+        e.to_string().contains("unknown key `canopee`") && e.to_string().contains("[canopy]"),
+        "{e}"
+    );
+    // Nothing close: no suggestion.
+    let e = err("[canopy]\nzzzzzzzzzzzz = 1\n");
+    assert!(
+        matches!(
+            &e,
+            ScenarioError::UnknownKey {
+                suggestion: None,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    // Reported in reading order: the first of two unknown keys.
+    let e = err("[time]\nxx_dt = 1\n[canopy]\naaa = 1\n");
+    assert!(
+        matches!(&e, ScenarioError::UnknownKey { key, .. } if key == "time.xx_dt"),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn wrong_type_names_key_expected_type_and_line() {
+    let e = err("[canopy]\nspan_m = \"six\"\n");
+    assert!(
+        matches!(&e, ScenarioError::WrongType { key, expected: "a number", .. } if key == "canopy.span_m"),
+        "{e:?}"
+    );
+    at_line(&e, 5);
+    assert!(e.to_string().contains("found the string \"six\""), "{e}");
+    let e = err("[canopy]\nnodes = 6.5\n");
+    assert!(
+        e.to_string().contains("`canopy.nodes`") && e.to_string().contains("an integer"),
+        "{e}"
+    );
+    let e = err("[fluid]\nwind_mps = [1, 2]\n");
+    assert!(e.to_string().contains("three numbers"), "{e}");
+    let e = err_with("canopy = 3\n[model]\nkind = \"rod\"\n", &[]);
+    assert!(
+        e.to_string().contains("`canopy`") && e.to_string().contains("a table"),
+        "{e}"
+    );
+    let e = err("[load]\nsites = [[1, \"a\"]]\n");
+    assert!(e.to_string().contains("`load.sites`"), "{e}");
+}
+
+#[test]
+fn non_positive_physical_quantities_say_why() {
+    for (body, key, line) in [
+        ("[canopy]\nspan_m = -6\n", "canopy.span_m", 5),
+        ("[canopy]\nthickness_m = 0\n", "canopy.thickness_m", 5),
+        (
+            "[material]\nyoungs_modulus_pa = -1e9\n",
+            "material.youngs_modulus_pa",
+            5,
+        ),
+        ("[load]\nweight_n = 0\n", "load.weight_n", 5),
+        ("[fluid]\ndensity_kg_m3 = -1.2\n", "fluid.density_kg_m3", 5),
+        ("[time]\ndt_s = 0.0\n", "time.dt_s", 5),
+        ("[lines]\nradius_m = -0.001\n", "lines.radius_m", 5),
+    ] {
+        let e = err(body);
+        assert!(
+            matches!(&e, ScenarioError::Invalid { key: k, .. } if k == key),
+            "{body}: {e:?}"
+        );
+        at_line(&e, line);
+        assert!(e.to_string().contains("must be positive"), "{e}");
+    }
+    let e = err("[canopy]\nnodes = -3\n");
+    assert!(e.to_string().contains("non-negative integer"), "{e}");
+    let e = err("[material]\npoisson_ratio = 0.7\n");
+    assert!(e.to_string().contains("(−1, 0.5]"), "{e}");
+    let e = err("[canopy]\nthickness_m = 2\n");
+    assert!(e.to_string().contains("is it in metres"), "{e}");
+    let e = err("[time]\ndt_s = 20\n");
+    assert!(e.to_string().contains("longer than time.duration_s"), "{e}");
+    // Snapshots after the end are skipped with a warning (so short test runs of a bundled
+    // scenario need no override); negative ones are errors.
+    let e = err("[output]\nsnapshots_s = [1, -1]\n");
+    assert!(
+        e.to_string().contains("`output.snapshots_s`")
+            && e.to_string().contains("must not be negative"),
+        "{e}"
+    );
+}
+
+#[test]
+fn rod_needs_enough_nodes() {
+    let e = err_with("[model]\nkind = \"rod\"\n[canopy]\nnodes = 2\n", &[]);
+    assert!(
+        e.to_string()
+            .contains("`canopy.nodes` (t.toml:4) = 2 is invalid"),
+        "{e}"
+    );
+}
+
+#[test]
+fn nan_and_infinity_are_refused() {
+    for v in ["nan", "inf", "-inf", "+nan"] {
+        let e = err(&format!("[canopy]\nspan_m = {v}\n"));
+        assert!(
+            e.to_string().contains("must be a finite number"),
+            "{v}: {e}"
+        );
+        at_line(&e, 5);
+    }
+    let e = err("[fluid]\nwind_mps = [0, nan, 0]\n");
+    assert!(
+        e.to_string().contains("`fluid.wind_mps`") && e.to_string().contains("finite"),
+        "{e}"
+    );
+}
+
+#[test]
+fn out_of_set_values_list_the_allowed_ones() {
+    let e = err_with("[model]\nkind = \"membrane\"\n", &[]);
+    assert_eq!(
+        e.to_string(),
+        "`model.kind` (t.toml:2) = \"membrane\" is not allowed; allowed values: \"rod\", \"shell\""
+    );
+    let e = err("[fluid]\ndrag = \"cubic\"\n");
+    assert!(e.to_string().contains("\"quadratic\", \"linear\""), "{e}");
+    // Allowed in general, but not for this model.
+    let e = err_with(
+        "[model]\nkind = \"rod\"\n[load]\nsites = \"corners\"\n",
+        &[],
+    );
+    assert!(
+        e.to_string()
+            .contains("not allowed for a rod canopy; allowed values: \"ends\", \"center\""),
+        "{e}"
+    );
+    let e = err_with(
+        "[model]\nkind = \"rod\"\n[canopy]\nshape = \"circle\"\n",
+        &[],
+    );
+    assert!(e.to_string().contains("for a rod model"), "{e}");
+    let e = err("[canopy]\nshape = \"circle\"\n[load]\nsites = \"corners\"\n");
+    assert!(e.to_string().contains("\"rim\", \"center\""), "{e}");
+    let e = err("[load]\nmode = \"node_mass_scale\"\n");
+    assert!(
+        e.to_string().contains("`load.mode`") && e.to_string().contains("mesh"),
+        "{e}"
+    );
+}
+
+#[test]
+fn load_sites_outside_the_canopy() {
+    // Rectangle 6 × 3 centred on the origin: x ∈ [−3, 3], y ∈ [−1.5, 1.5].
+    let ok = format!("{HEAD}[load]\nsites = [[3, 1.5], [-3, -1.5], [0, 0]]\n");
+    Scenario::from_str_with_name(&ok, "t.toml", &[]).unwrap();
+    let e = err("[load]\nsites = [[0, 0], [3.01, 0]]\n");
+    assert!(
+        matches!(&e, ScenarioError::SiteOutside { index: 1, .. }),
+        "{e:?}"
+    );
+    at_line(&e, 5);
+    assert!(
+        e.to_string().contains("(3.01, 0)") && e.to_string().contains("rectangle"),
+        "{e}"
+    );
+    // Hexagon of circumradius 1 with a corner on +x: the corner is inside, (0, 0.9) is beyond
+    // the apothem √3/2 ≈ 0.866.
+    let hex = "[canopy]\nshape = \"hexagon\"\nradius_m = 1\n";
+    let ok = format!("{HEAD}{hex}[load]\nsites = [[1, 0], [0, 0.866]]\n");
+    Scenario::from_str_with_name(&ok, "t.toml", &[]).unwrap();
+    let e = err(&format!("{hex}[load]\nsites = [[0, 0.9]]\n"));
+    assert!(e.to_string().contains("hexagon"), "{e}");
+    let circle = "[canopy]\nshape = \"circle\"\nradius_m = 1\n";
+    let e = err(&format!("{circle}[load]\nsites = [[0.8, 0.8]]\n"));
+    assert!(e.to_string().contains("circle of radius 1 m"), "{e}");
+}
+
+#[test]
+fn mesh_file_must_exist_and_be_given() {
+    let e = err("[canopy]\nshape = \"mesh\"\nmesh_file = \"nope/mesh.txt\"\n");
+    assert!(matches!(&e, ScenarioError::MeshMissing { .. }), "{e:?}");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("`canopy.mesh_file` (t.toml:6)") && msg.contains("nope/mesh.txt"),
+        "{msg}"
+    );
+    let e = err("[canopy]\nshape = \"mesh\"\n");
+    assert!(
+        matches!(&e, ScenarioError::Missing { key, .. } if key == "canopy.mesh_file"),
+        "{e:?}"
+    );
+    let e = err("[canopy]\nmesh_file = \"m.txt\"\n");
+    assert!(
+        e.to_string()
+            .contains("is invalid: only used with `canopy.shape = \"mesh\"`"),
+        "{e}"
+    );
+}
+
+#[test]
+fn relative_mesh_paths_resolve_against_the_scenario_file() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("meshes")).unwrap();
+    std::fs::write(dir.path().join("meshes/m.txt"), "").unwrap();
+    std::fs::create_dir_all(dir.path().join("scen")).unwrap();
+    let file = dir.path().join("scen/s.toml");
+    std::fs::write(
+        &file,
+        format!("{HEAD}[canopy]\nshape = \"mesh\"\nmesh_file = \"../meshes/m.txt\"\n"),
+    )
+    .unwrap();
+    let s = Scenario::load(&file, &[]).unwrap();
+    assert_eq!(s.canopy.mesh_file.unwrap(), dir.path().join("meshes/m.txt"));
+    std::fs::write(dir.path().join("meshes/m.stl"), "").unwrap();
+    let e = Scenario::load(&file, &["canopy.mesh_file=../meshes/m.stl".into()]).unwrap_err();
+    assert!(e.to_string().contains("`.obj`"), "{e}");
+}
+
+#[test]
+fn missing_required_keys() {
+    let e = err_with("name = \"x\"\n", &[]);
+    assert!(
+        matches!(&e, ScenarioError::Missing { key, .. } if key == "model.kind"),
+        "{e:?}"
+    );
+    assert!(
+        e.to_string().contains("missing required key `model.kind`"),
+        "{e}"
+    );
+    let e = err("[fluid]\ndrag = \"linear\"\n");
+    assert!(
+        e.to_string()
+            .contains("fluid.linear_drag_coefficient_n_s_m"),
+        "{e}"
+    );
+}
+
+#[test]
+fn bad_names_are_refused() {
+    for n in ["", "../evil", "a/b", ".hidden", "sp ace"] {
+        let e = err_with(&format!("name = \"{n}\"\n[model]\nkind = \"rod\"\n"), &[]);
+        assert!(e.to_string().starts_with("`name` (t.toml:1)"), "{n}: {e}");
+    }
+}
+
+#[test]
+fn override_errors_say_they_came_from_set() {
+    let e = err_with(HEAD, &["canopy.span_m=-1"]);
+    assert!(
+        matches!(
+            &e,
+            ScenarioError::Invalid {
+                origin: Origin::Set(_),
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "`canopy.span_m` (from `--set canopy.span_m=-1`) = -1 is invalid: must be positive (a length)"
+    );
+    let e = err_with(HEAD, &["canopy.spam_m=1"]);
+    assert_eq!(
+        e.to_string(),
+        "unknown key `canopy.spam_m` (from `--set canopy.spam_m=1`); did you mean `canopy.span_m`?"
+    );
+    let e = err_with(HEAD, &["fluid.drag=cubic"]);
+    assert!(
+        e.to_string().contains("from `--set fluid.drag=cubic`")
+            && e.to_string().contains("\"linear\""),
+        "{e}"
+    );
+    let e = err_with(HEAD, &["canopy.nodes=many"]);
+    assert!(
+        e.to_string()
+            .contains("`canopy.nodes` (from `--set canopy.nodes=many`) must be an integer"),
+        "{e}"
+    );
+    let e = err_with(HEAD, &["canopy.span_m"]);
+    assert!(matches!(&e, ScenarioError::BadOverride { .. }), "{e:?}");
+    assert!(e.to_string().contains("expected KEY=VALUE"), "{e}");
+    let e = err_with(HEAD, &["=3"]);
+    assert!(e.to_string().contains("key before `=` is empty"), "{e}");
+    let e = err_with(HEAD, &["load.sites=[[9, 0]]"]);
+    assert!(
+        e.to_string().contains("from `--set load.sites=[[9, 0]]`")
+            && e.to_string().contains("outside"),
+        "{e}"
+    );
+}
+
+/// Every error about a key names it in its message.
+#[test]
+fn every_keyed_error_names_its_key() {
+    let bodies = [
+        "[canopy]\nspan_m = \"x\"\n",
+        "[canopy]\nspan_m = -1\n",
+        "[canopy]\nspn_m = 1\n",
+        "[fluid]\ndrag = \"x\"\n",
+        "[load]\nsites = [[99, 0]]\n",
+        "[canopy]\nshape = \"mesh\"\nmesh_file = \"x.txt\"\n",
+        "[time]\nnewton_max_iterations = 0\n",
+        "[output]\nframe_interval_s = 1e-5\n",
+    ];
+    for b in bodies {
+        let e = err(b);
+        let key = e
+            .key()
+            .unwrap_or_else(|| panic!("no key: {e:?}"))
+            .to_string();
+        assert!(e.to_string().contains(&format!("`{key}`")), "{e}");
+    }
+}
+
+/// The adaptive time-step keys: type, sign, order `dt_min_s ≤ dt_s ≤ dt_max_s ≤ frame
+/// interval`, and refused without `time.adaptive = true`; each error names its key and line.
+#[test]
+fn adaptive_keys_are_checked() {
+    let e = err("[time]\nadaptive = \"yes\"\n");
+    assert!(
+        matches!(&e, ScenarioError::WrongType { key, .. } if key == "time.adaptive"),
+        "{e:?}"
+    );
+    at_line(&e, 5);
+    assert!(e.to_string().contains("a boolean (true or false)"), "{e}");
+    let cases: &[(&str, &str, usize, &str)] = &[
+        (
+            "[time]\nerror_tolerance_m = 1e-5\n",
+            "time.error_tolerance_m",
+            5,
+            "only used with `time.adaptive = true`",
+        ),
+        (
+            "[time]\ndt_max_s = 0.01\n",
+            "time.dt_max_s",
+            5,
+            "only used with `time.adaptive = true`",
+        ),
+        (
+            "[time]\nadaptive = true\nerror_tolerance_m = 0\n",
+            "time.error_tolerance_m",
+            6,
+            "must be positive (a position error per step)",
+        ),
+        (
+            "[time]\nadaptive = true\ndt_min_s = -1e-6\n",
+            "time.dt_min_s",
+            6,
+            "must be positive",
+        ),
+        (
+            "[time]\nadaptive = true\ndt_min_s = 0.01\n",
+            "time.dt_min_s",
+            6,
+            "must not exceed the first step time.dt_s = 0.001 s",
+        ),
+        (
+            "[time]\nadaptive = true\ndt_max_s = 1e-4\n",
+            "time.dt_max_s",
+            6,
+            "must not be below the first step time.dt_s = 0.001 s",
+        ),
+        (
+            "[time]\nadaptive = true\ndt_max_s = 0.1\n",
+            "time.dt_max_s",
+            6,
+            "output.frame_interval_s = 0.05 s",
+        ),
+    ];
+    for (body, key, line, why) in cases {
+        let e = err(body);
+        assert!(
+            matches!(&e, ScenarioError::Invalid { key: k, .. } if k == key),
+            "{body}: {e:?}"
+        );
+        at_line(&e, *line);
+        assert!(e.to_string().contains(why), "{body}: {e}");
+    }
+    let e = err("[time]\nadaptive = true\ndt_max_s = nan\n");
+    assert!(
+        e.to_string().contains("`time.dt_max_s` (t.toml:6)") && e.to_string().contains("finite"),
+        "{e}"
+    );
+    // A bad default follows from a bad first step: the first step is reported.
+    let e = err("[time]\nadaptive = true\ndt_s = -1\n");
+    assert!(
+        matches!(&e, ScenarioError::Invalid { key, .. } if key == "time.dt_s"),
+        "{e:?}"
+    );
+    // Overrides name their origin.
+    let e = err_with(HEAD, &["time.adaptive=true", "time.error_tolerance_m=-1"]);
+    assert!(
+        e.to_string()
+            .contains("`time.error_tolerance_m` (from `--set time.error_tolerance_m=-1`)"),
+        "{e}"
+    );
+    let e = err_with(HEAD, &["time.adaptive=maybe"]);
+    assert!(
+        e.to_string()
+            .contains("`time.adaptive` (from `--set time.adaptive=maybe`) must be a boolean"),
+        "{e}"
+    );
+}

@@ -1,0 +1,13 @@
+//! Scenario files through the library: bundled scenarios, defaults, every error class,
+//! overrides, the generated key tables of docs/scenarios.md, and property tests.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod bundled;
+mod defaults;
+mod docs;
+mod errors;
+mod fuzz;
+mod imperfection;
+mod overrides;

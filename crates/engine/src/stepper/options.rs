@@ -1,0 +1,173 @@
+//! The settings and reports of the Newton solves ([`NewtonOptions`], [`Predictor`],
+//! [`StepReport`], [`Timings`]); the iteration itself is in `newton.rs`.
+
+/// Newton–Raphson settings.
+#[derive(Debug, Clone, Copy)]
+pub struct NewtonOptions {
+    /// Maximum Newton iterations per solve.
+    pub max_iterations: usize,
+    /// Absolute force tolerance on `‖R‖∞` (N). `None`: `1e-9 × (1 N + Σm · a_ref)` with
+    /// `a_ref` = [`NewtonOptions::reference_acceleration`], i.e. 1e-9 of the model's force
+    /// scale.
+    pub force_tol_abs: Option<f64>,
+    /// The acceleration `a_ref` (m/s²) that turns the model's total mass into the force
+    /// scale of the default absolute tolerance (see [`NewtonOptions::force_tol_abs`]): the
+    /// gravity for a body falling under its weight, a typical acceleration otherwise.
+    /// Unused when `force_tol_abs` is set.
+    pub reference_acceleration: f64,
+    /// Tolerance relative to the first residual.
+    pub force_tol_rel: f64,
+    /// Step-size tolerance on `‖Δq‖∞` (m or rad).
+    pub step_tol: f64,
+    /// Backtracking line search on `‖R‖₂`.
+    pub line_search: bool,
+    /// Maximum number of step halvings in the line search (down to α = 2^−n).
+    pub max_backtracks: usize,
+    /// Modified Newton: keep the factorised Jacobian across iterations and steps while the
+    /// residual contracts by at least `reuse_contraction` per iteration; refactorise when it
+    /// does not (and after any `dt` change). The converged state satisfies the same residual
+    /// tolerance, so accuracy is unchanged; only the iteration path differs.
+    pub reuse_jacobian: bool,
+    /// Contraction factor below which a reused Jacobian is kept (0 < c < 1).
+    pub reuse_contraction: f64,
+    /// When some force's Jacobian is not symmetric (drag), factorise its symmetric part
+    /// `J_s = ½ (J + Jᵀ)` by Cholesky (LBLᵀ if indefinite) instead of `J` by LU. The residual
+    /// stays exact, so the converged state meets the same tolerance; only the contraction
+    /// per iteration changes, by `‖(J − J_s) Δ‖ / ‖R‖` (small when drag is weak against
+    /// `M/dt² + K`). That ratio is measured after each fresh factorisation (one sparse
+    /// product); above 0.1 every update of the solve is corrected into the exact Newton
+    /// update `J Δ = −R` by BiCGStab preconditioned with the held factors
+    /// (`linsolve::krylov`). Cholesky is about half the flops of LU, needs no pivoting and no
+    /// second symbolic structure (LU's storage is several times the Cholesky factor's). No
+    /// effect when `J` is symmetric.
+    pub symmetric_approx: bool,
+    /// Give up a solve as soon as `‖R‖∞` exceeds this multiple of `max(‖R₀‖∞, tol)`, instead
+    /// of spending the rest of the iteration budget on it (the caller can then shorten `dt`
+    /// at once). Converging solves of stiff membranes can raise `‖R‖∞` by two orders of
+    /// magnitude on the way, failing ones by many more (docs/performance.md has the
+    /// measurements behind [`NewtonOptions::recommended`]'s 1e4). `f64::INFINITY` disables
+    /// the test.
+    pub divergence_limit: f64,
+    /// Initial guess of an implicit-Euler step (see [`Predictor`]).
+    pub predictor: Predictor,
+}
+
+impl NewtonOptions {
+    /// The tuned settings for time stepping large models (what `chute run` uses): modified
+    /// Newton ([`NewtonOptions::reuse_jacobian`]), Cholesky of the symmetric part for
+    /// non-symmetric Jacobians ([`NewtonOptions::symmetric_approx`]), a divergence limit of
+    /// 1e4 and the [`Predictor::Adaptive`] predictor; tolerances as in
+    /// [`NewtonOptions::default`]. Every converged step meets the same residual tolerance as
+    /// with the defaults; only the iteration path (and the cost) differs.
+    pub fn recommended() -> Self {
+        Self {
+            reuse_jacobian: true,
+            symmetric_approx: true,
+            divergence_limit: 1e4,
+            predictor: Predictor::Adaptive,
+            ..Self::default()
+        }
+    }
+}
+
+/// Initial Newton iterate of an implicit-Euler step.
+///
+/// The converged step satisfies the same residual test whatever the guess; a better guess
+/// only saves iterations (and keeps a reused factorisation within its contraction radius).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Predictor {
+    /// `q⁰ = q_n + dt v_n`.
+    #[default]
+    ConstantVelocity,
+    /// `q⁰ = q_n + dt v_n + dt² a_n`, `a_n = (v_n − v_{n−1}) / dt_{n−1}` the last step's
+    /// mean acceleration: exact to O(dt³) for smooth motion, where constant velocity leaves
+    /// the whole `dt² a` to Newton. Falls back to constant velocity on the first step and
+    /// after [`crate::ImplicitEuler::invalidate_factorization`].
+    ConstantAcceleration,
+    /// Extrapolate (constant acceleration) while the extrapolated guess of the last step was
+    /// at least 2× closer (‖·‖∞) to its solution than the constant-velocity guess, else
+    /// constant velocity (measured at no cost once a step has converged; extrapolation
+    /// first). Extrapolation wins for smooth motion and loses for violent motion at large
+    /// `dt`; the 2× margin keeps it off where it only sometimes helps (docs/performance.md
+    /// §Engine tuning has the measurements).
+    Adaptive,
+}
+
+/// The plain, exact Newton–Raphson: full Newton with a fresh Jacobian every iteration, LU for
+/// non-symmetric Jacobians, constant-velocity predictor, no divergence test. Robust and
+/// simple to reason about; [`NewtonOptions::recommended`] is much faster on large models.
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        Self {
+            max_iterations: 25,
+            force_tol_abs: None,
+            reference_acceleration: 1.0,
+            force_tol_rel: 1e-10,
+            step_tol: 1e-12,
+            line_search: true,
+            max_backtracks: 8,
+            reuse_jacobian: false,
+            reuse_contraction: 0.5,
+            symmetric_approx: false,
+            predictor: Predictor::ConstantVelocity,
+            divergence_limit: f64::INFINITY,
+        }
+    }
+}
+
+/// What one solve did.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StepReport {
+    /// Newton iterations (linear solves) taken.
+    pub iterations: usize,
+    /// Final `‖R‖∞` (N).
+    pub residual: f64,
+    /// Line-search halvings, summed over iterations.
+    pub backtracks: usize,
+    /// Whether the last factorisation was Cholesky.
+    pub used_cholesky: bool,
+    /// Numeric factorisations performed.
+    pub factorizations: usize,
+}
+
+/// Where the Newton solves spent their time (seconds of wall time) and what they did,
+/// accumulated until the owner resets it (`ImplicitEuler::reset_timings`).
+///
+/// Measured with `std::time::Instant` around each phase (≈ 20–40 ns per reading, a few
+/// readings per iteration), so the instrumentation costs well under 0.1 % of a step.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Timings {
+    /// Element evaluation plus scatter of forces (and Jacobian values when wanted) (s).
+    pub assembly_s: f64,
+    /// Energy evaluations for the line-search merit Φ (s).
+    pub merit_s: f64,
+    /// Numeric factorisations (LLᵀ, and LU after an LLᵀ failure) (s).
+    pub factor_s: f64,
+    /// Triangular solves (s).
+    pub solve_s: f64,
+    /// Residual evaluations (each one a full element pass).
+    pub evaluations: u64,
+    /// Of those, evaluations that also assembled the Jacobian.
+    pub jacobian_evaluations: u64,
+    /// Numeric factorisations.
+    pub factorizations: u64,
+    /// Of those, LU factorisations (non-symmetric J, exact path or approximation fallback).
+    pub lu_factorizations: u64,
+    /// Of those, LBLᵀ factorisations (symmetric matrix not positive definite).
+    pub lblt_factorizations: u64,
+    /// Newton iterations (linear solves).
+    pub iterations: u64,
+    /// Newton solves (time steps, or load steps in statics).
+    pub solves: u64,
+    /// Updates with a reused factorisation that were undone (non-finite residual).
+    pub rejected: u64,
+    /// Solves in which the symmetric approximation's updates were corrected towards the
+    /// exact Newton update by preconditioned BiCGStab (its linearised residual
+    /// `‖(J − J_s) Δ‖∞` exceeded `0.1 ‖R‖∞`).
+    pub approx_fallbacks: u64,
+    /// BiCGStab iterations of those corrections (each: two products with `J`, two
+    /// triangular solves with the held factors; their time is in `solve_s`).
+    pub krylov_iterations: u64,
+    /// Corrections that did not converge (the approximate update was kept).
+    pub krylov_failures: u64,
+}

@@ -1,0 +1,12 @@
+//! The engine's models against analytic and published references: drag laws and falling
+//! bodies, DER cantilevers (small and large deflection, end moment, vibration), rod networks
+//! and frames, shell meshes. Each module documents its reference and its tolerance.
+mod aero_laws;
+mod aero_linear;
+mod aero_terminal;
+mod aero_wind;
+mod rod_cantilever;
+mod rod_frames;
+mod rod_network;
+mod rod_vibration;
+mod shell_mesh;

@@ -1,0 +1,10 @@
+//! The time stepper and the Newton solver: backward Euler's exact numerical damping, local
+//! error control, quadratic convergence with exact drag Jacobians, the symmetric
+//! approximation and its Krylov correction, predictors, and bit-identical continuation from
+//! a checkpointed history.
+mod aero_newton;
+mod backward_euler;
+mod error_control;
+mod newton_symmetric_approx;
+mod predictor;
+mod rod_history;
