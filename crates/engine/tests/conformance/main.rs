@@ -8,6 +8,7 @@
 //! analytic entry with h = 1e-6; identities to 1e-12): a correct derivative passes by orders
 //! of magnitude, a missing term (∂n̂/∂x, a factor 2) fails by O(1).
 mod fixtures;
+mod membranes;
 mod rods;
 
 use engine::aero::{LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
@@ -16,6 +17,7 @@ use engine::force_conformance;
 use engine::loads::{DofForces, Gravity, PlanarEdgeMoment, PointForces};
 use engine::shell::{Hinge, HingeBending};
 use fixtures::*;
+use membranes::*;
 use nalgebra::{Rotation3, Unit, Vector3};
 use std::f64::consts::PI;
 
@@ -106,6 +108,16 @@ fn shell_case(name: &str) -> Case {
 }
 force_conformance!(shell_stretch, shell_case("shell-stretch"));
 force_conformance!(shell_bend, shell_case("shell-bend"));
+
+// Constant-strain triangles on the curved 4 × 4 rest shape: nodes displaced by up to 40 %
+// of the spacing, then a large homogeneous stretch (0.6–1.6, with shear and inversion of
+// some triangles' strain sign), rotation and shift.
+force_conformance!(
+    shell_cst,
+    Case::new(cst().0, cst().1)
+        .perturb(0.13)
+        .adjust(|rng, q, _| large_deformation(rng, q))
+);
 
 /// One hinge with edge on the x axis, wing A in the z = 0 plane and wing B rotated by one of
 /// `alphas` about the edge (θ = α), randomly rotated, translated and scaled so that no
