@@ -146,10 +146,15 @@ impl Strain {
     }
 }
 
-/// The three corner positions read from `q` through a 9-DOF stencil.
+/// The three corner positions read from `q` through a 9-DOF stencil (each node's three
+/// DOFs are consecutive).
 #[inline]
 pub fn corners(q: &[f64], st: &[usize]) -> [V3; 3] {
-    [0, 1, 2].map(|k| node(q, st[3 * k] / 3))
+    let at = |k: usize| {
+        let x = &q[st[3 * k]..st[3 * k] + 3];
+        V3::new(x[0], x[1], x[2])
+    };
+    [at(0), at(1), at(2)]
 }
 
 /// Write the force `−∂W/∂x` of rest triangle `el` at strain `s` with stress `sigma` into
@@ -176,37 +181,79 @@ pub fn write(
         }
     }
     let Some(d) = tangent else { return };
-    // M_n = ∂ε/∂x_n (rows k = 1, 2, 3; columns the 3 coordinates) and D M_n.
-    let m: [[V3; 3]; 3] = [0, 1, 2].map(|n| {
-        let (b1, b2) = (g[n][0], g[n][1]);
-        [f1 * b1, f2 * b2, f2 * b1 + f1 * b2]
-    });
-    let dm: [[V3; 3]; 3] =
-        m.map(|mn| [0, 1, 2].map(|k| mn[0] * d[k][0] + mn[1] * d[k][1] + mn[2] * d[k][2]));
-    for p in 0..3 {
-        for n in p..3 {
-            let geo = a
-                * (g[p][0] * (sigma[0] * g[n][0] + sigma[2] * g[n][1])
-                    + g[p][1] * (sigma[2] * g[n][0] + sigma[1] * g[n][1]));
+    let k: &mut [f64; 81] = b.dfdq.try_into().expect("a 9 × 9 block");
+    hessian(g, a, [f1, f2], sigma, d, k);
+    if psd {
+        project_psd(b.dfdq);
+    }
+}
+
+/// `k = −∂²W/∂x²` (row-major 9 × 9). With `J_a = ∂ε/∂x_a` (3 × 3, the `M_a` above), block
+/// (a, b) of the Hessian is `K_ab = A [J_aᵀ D J_b + (B_aᵀ S B_b) I]`. Translation invariance
+/// (`B₀ = −B₁ − B₂`, so `J₀ = −J₁ − J₂`) gives the blocks of node 0 from those of nodes 1
+/// and 2; the area enters negated, so the blocks are those of `−K` directly.
+#[inline]
+fn hessian(g: &[[f64; 2]; 3], area: f64, f: [V3; 2], sigma: &Voigt, d: &Voigt3, k: &mut [f64; 81]) {
+    let (f1, f2) = (f[0], f[1]);
+    // (Array `map` in this hot loop costs more than the arithmetic: plain loops.)
+    let mut j = [[[0.0; 3]; 3]; 2];
+    for (n, jn) in j.iter_mut().enumerate() {
+        let [b1, b2] = g[n + 1];
+        for i in 0..3 {
+            jn[0][i] = b1 * f1[i];
+            jn[1][i] = b2 * f2[i];
+            jn[2][i] = b1 * f2[i] + b2 * f1[i];
+        }
+    }
+    // (−A D) J_n.
+    let mut dj = [[[0.0; 3]; 3]; 2];
+    for n in 0..2 {
+        for r in 0..3 {
+            let (d0, d1, d2) = (-area * d[r][0], -area * d[r][1], -area * d[r][2]);
             for i in 0..3 {
-                // A diagonal block is symmetric: write each pair once.
-                let j0 = if p == n { i } else { 0 };
-                for j in j0..3 {
-                    let mat = m[p][0][i] * dm[n][0][j]
-                        + m[p][1][i] * dm[n][1][j]
-                        + m[p][2][i] * dm[n][2][j];
-                    let mut k = a * mat;
-                    if i == j {
-                        k += geo;
-                    }
-                    b.dfdq[(3 * p + i) * 9 + 3 * n + j] = -k;
-                    b.dfdq[(3 * n + j) * 9 + 3 * p + i] = -k;
-                }
+                dj[n][r][i] = d0 * j[n][0][i] + d1 * j[n][1][i] + d2 * j[n][2][i];
             }
         }
     }
-    if psd {
-        project_psd(b.dfdq);
+    let geo = |a: usize, b: usize| {
+        let ([a1, a2], [b1, b2]) = (g[a], g[b]);
+        -area * (a1 * (sigma[0] * b1 + sigma[2] * b2) + a2 * (sigma[2] * b1 + sigma[1] * b2))
+    };
+    let (g11, g12, g22) = (geo(1, 1), geo(1, 2), geo(2, 2));
+    let mut k11 = [[0.0; 3]; 3];
+    let mut k22 = [[0.0; 3]; 3];
+    let mut k12 = [[0.0; 3]; 3];
+    let (j1, j2, dj1, dj2) = (&j[0], &j[1], &dj[0], &dj[1]);
+    for i in 0..3 {
+        for c in i..3 {
+            k11[i][c] = j1[0][i] * dj1[0][c] + j1[1][i] * dj1[1][c] + j1[2][i] * dj1[2][c];
+            k11[c][i] = k11[i][c];
+            k22[i][c] = j2[0][i] * dj2[0][c] + j2[1][i] * dj2[1][c] + j2[2][i] * dj2[2][c];
+            k22[c][i] = k22[i][c];
+        }
+        for c in 0..3 {
+            k12[i][c] = j1[0][i] * dj2[0][c] + j1[1][i] * dj2[1][c] + j1[2][i] * dj2[2][c];
+        }
+        k11[i][i] += g11;
+        k22[i][i] += g22;
+        k12[i][i] += g12;
+    }
+    for i in 0..3 {
+        let r = [9 * i, 9 * (3 + i), 9 * (6 + i)];
+        for c in 0..3 {
+            let k01 = -(k11[i][c] + k12[c][i]);
+            let k02 = -(k12[i][c] + k22[i][c]);
+            // K₀₀ = −(K₀₁ᵀ + K₀₂ᵀ) = K₁₁ + K₁₂ + K₂₁ + K₂₂.
+            k[r[0] + c] = k11[i][c] + k12[i][c] + k12[c][i] + k22[i][c];
+            k[r[0] + 3 + c] = k01;
+            k[r[0] + 6 + c] = k02;
+            k[r[1] + 3 + c] = k11[i][c];
+            k[r[1] + 6 + c] = k12[i][c];
+            k[r[2] + 3 + c] = k12[c][i];
+            k[r[2] + 6 + c] = k22[i][c];
+            k[9 * (3 + c) + i] = k01;
+            k[9 * (6 + c) + i] = k02;
+        }
     }
 }
 
@@ -239,7 +286,8 @@ pub fn quadratic_energy(q: &Voigt3, e: &Voigt) -> f64 {
 /// `Q ε`.
 #[inline]
 pub fn mul(q: &Voigt3, e: &Voigt) -> Voigt {
-    [0, 1, 2].map(|r| q[r][0] * e[0] + q[r][1] * e[1] + q[r][2] * e[2])
+    let row = |r: usize| q[r][0] * e[0] + q[r][1] * e[1] + q[r][2] * e[2];
+    [row(0), row(1), row(2)]
 }
 
 /// `a · b`.

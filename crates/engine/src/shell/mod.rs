@@ -8,18 +8,24 @@
 //! - stretching by edge springs reuses [`crate::rod::Stretch`] with `k_s = (√3/2) E h |ē|`;
 //! - [`membrane`]: rest frame, deformation gradient and Green strain of a triangle, and
 //!   the element force and Hessian for any membrane law;
-//! - [`cst`]: the isotropic St Venant–Kirchhoff membrane [`CstMembrane`].
+//! - [`cst`]: the isotropic St Venant–Kirchhoff membrane [`CstMembrane`];
+//! - [`fabric`]: the orthotropic fabric membrane [`FabricMembrane`], optionally without
+//!   compression through [`tension_field`] (the barrier-regularised wrinkling relaxation).
 
 pub mod cst;
 pub mod dihedral;
+pub mod fabric;
 pub mod hinge;
 pub mod membrane;
 pub mod mesh;
+pub mod tension_field;
 
 pub use cst::{CstLaw, CstMembrane};
+pub use fabric::{FabricLaw, FabricMembrane, Orthotropic};
 pub use hinge::{HingeBending, HingeData, HingeLaw};
 pub use membrane::{MembraneError, RestTriangle};
 pub use mesh::{Hinge, MeshError, TriMesh};
+pub use tension_field::TensionField;
 
 use crate::error::{EngineError, InvalidModel};
 use crate::model::Model;

@@ -119,6 +119,39 @@ force_conformance!(
         .adjust(|rng, q, _| large_deformation(rng, q))
 );
 
+// Fabric (orthotropic, warp at 30° and tilted out of the plane), the same draws; with no
+// compression (ε_r = 1e-2) most triangles are wrinkled or slack in some draws.
+force_conformance!(
+    shell_fabric,
+    Case::new(fabric(None).0, fabric(None).1)
+        .perturb(0.13)
+        .adjust(|rng, q, _| large_deformation(rng, q))
+);
+force_conformance!(
+    shell_fabric_no_compression,
+    Case::new(fabric(Some(EPS_R)).0, fabric(Some(EPS_R)).1)
+        .perturb(0.13)
+        .adjust(|rng, q, _| large_deformation(rng, q))
+        .trials(12)
+);
+// One no-compression triangle with its elastic stress placed on both sides of and at the
+// transitions (principal values in units of their smoothing width): taut/wrinkled (s₂ near
+// 0 with s₁ large)
+// and wrinkled/slack and the fully smoothed corner (s₁ near 0).
+force_conformance!(
+    fabric_wrinkle_transitions,
+    Case::new(fabric_triangle().0, fabric_triangle().1)
+        .adjust(|rng, q, _| {
+            let near = [-4.0, -1.0, -0.2, 0.0, 0.2, 1.0, 4.0];
+            if rng.uniform(0.0, 1.0) < 0.5 {
+                set_elastic_stress(rng, q, &[5.0, 10.0], &near);
+            } else {
+                set_elastic_stress(rng, q, &near, &[-10.0, -4.0, -1.0]);
+            }
+        })
+        .trials(30)
+);
+
 /// One hinge with edge on the x axis, wing A in the z = 0 plane and wing B rotated by one of
 /// `alphas` about the edge (θ = α), randomly rotated, translated and scaled so that no
 /// coordinate is special; rest angle `rest`.

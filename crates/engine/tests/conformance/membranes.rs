@@ -5,9 +5,9 @@ use crate::fixtures::{grid, pick};
 use engine::conformance::Rng;
 use engine::fdcheck::dense_eval;
 use engine::shell::membrane::project_psd;
-use engine::shell::CstMembrane;
+use engine::shell::{CstMembrane, FabricMembrane, Orthotropic};
 use engine::Force;
-use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
+use nalgebra::{Matrix2, Matrix3, Rotation3, Unit, Vector2, Vector3};
 
 /// The faces and curved rest shape of the shell fixture: a 4 × 4-node unit square with
 /// every coordinate moved by up to ±0.05 m.
@@ -23,6 +23,84 @@ pub fn cst() -> (CstMembrane, Vec<f64>) {
     let (faces, q) = membrane_mesh();
     let m = CstMembrane::new("cst", &faces, &q, 2e9, 0.3, 5e-4).expect("valid mesh");
     (m, q)
+}
+
+/// A woven-fabric-like law: warp twice as stiff as weft, weak in shear, ν₁₂ = 0.3.
+pub const FABRIC: Orthotropic = Orthotropic {
+    warp_modulus: 1.2e9,
+    weft_modulus: 0.6e9,
+    shear_modulus: 0.05e9,
+    poisson_ratio: 0.3,
+    thickness: 1e-4,
+};
+
+/// The warp direction of the fabric cases: 30° from x in the plane, tilted out of it (each
+/// rest triangle takes its projection).
+pub const WARP: [f64; 3] = [0.866_025_403_784_438_6, 0.5, 0.1];
+
+/// Fabric triangles on [`membrane_mesh`], with the no-compression regularisation strain
+/// `no_compression` if given.
+pub fn fabric(no_compression: Option<f64>) -> (FabricMembrane, Vec<f64>) {
+    let (faces, q) = membrane_mesh();
+    let m = FabricMembrane::new("fabric", &faces, &q, &FABRIC, WARP, no_compression)
+        .expect("valid mesh");
+    (m, q)
+}
+
+/// Regularisation strain of the no-compression cases: the transitions are smooth over
+/// strains of ~ε_r, so central differences with h = 1e-6 (strain steps ~1e-6) resolve them
+/// with truncation error ~(1e-6/ε_r)² = 1e-8.
+pub const EPS_R: f64 = 1e-2;
+
+/// One fabric triangle in the plane z = 0 (warp at 30°) with no compression:
+/// `(force, q_rest)`.
+pub fn fabric_triangle() -> (FabricMembrane, Vec<f64>) {
+    let q = vec![0.0, 0.0, 0.0, 1.0, 0.1, 0.0, 0.3, 0.9, 0.0];
+    let warp = [WARP[0], WARP[1], 0.0];
+    let m = FabricMembrane::new("fabric-nc", &[[0, 1, 2]], &q, &FABRIC, warp, Some(EPS_R))
+        .expect("valid triangle");
+    (m, q)
+}
+
+/// Deform the rest triangle of [`fabric_triangle`] so that its *elastic* (unrelaxed) stress
+/// `Q ε` has principal values `s₁ ≥ s₂`, drawn from the lists (in units of `4 ε_r G₁₂ h`,
+/// the smoothing width of a principal stress whose axes are far from the warp and weft,
+/// where the weak shear sets the stiffness), with principal axes at a random angle to the
+/// warp; then rotate and shift it randomly in space.
+pub fn set_elastic_stress(rng: &mut Rng, q: &mut [f64], s1: &[f64], s2: &[f64]) {
+    let stiff = FABRIC.stiffness();
+    let unit = 4.0 * EPS_R * stiff[2][2];
+    let (a, b) = (unit * pick(rng, s1), unit * pick(rng, s2));
+    let psi = rng.uniform(0.0, 3.2);
+    let (c, s) = (psi.cos(), psi.sin());
+    // Stress tensor V diag(a, b) Vᵀ in the (warp, weft) frame, to Voigt and to strain.
+    let sig = [
+        a * c * c + b * s * s,
+        a * s * s + b * c * c,
+        (a - b) * c * s,
+    ];
+    let q3 = Matrix3::from_fn(|r, k| stiff[r][k]);
+    let eps = q3.lu().solve(&Vector3::from(sig)).expect("Q is invertible");
+    // A deformation gradient with FᵀF = I + 2E (Cholesky), applied in the material frame.
+    let cauchy_green = Matrix2::new(1.0 + 2.0 * eps[0], eps[2], eps[2], 1.0 + 2.0 * eps[1]);
+    let f = cauchy_green
+        .cholesky()
+        .expect("strains ≥ −½")
+        .l()
+        .transpose();
+    let (t1, t2) = (
+        Vector2::new(WARP[0], WARP[1]),
+        Vector2::new(-WARP[1], WARP[0]),
+    );
+    let rot = rotation(rng);
+    let shift = Vector3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0));
+    let rest = [[0.0, 0.0], [1.0, 0.1], [0.3, 0.9]];
+    for (k, x) in rest.iter().enumerate() {
+        let xv = Vector2::new(x[0], x[1]);
+        let y = f * Vector2::new(xv.dot(&t1), xv.dot(&t2));
+        let z = rot * Vector3::new(y.x, y.y, 0.0) + shift;
+        q[3 * k..3 * k + 3].copy_from_slice(z.as_slice());
+    }
 }
 
 /// A random rotation.
