@@ -22,6 +22,7 @@
 //! test ladder (`--tiny`), diagnostics (`--mem`, `--trace`) and the Newton experiment knobs
 //! for A/B comparisons ([`NewtonExperiment`]); docs/performance.md lists them.
 
+pub mod fabric;
 pub mod plot;
 
 use std::path::PathBuf;
@@ -238,6 +239,7 @@ pub fn ladder(quick: bool, tiny: bool) -> Vec<Case> {
         case("dismech-hex-n6", "hex", &[], 0, 300),
         case("dismech-hex-n12", "hex", &[n12], 0, 300),
     ];
+    v.extend(fabric::cases());
     if !quick {
         v.extend([
             case("rod-10k", "rod", &["canopy.nodes=10000"], 20, 50),

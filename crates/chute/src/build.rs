@@ -89,7 +89,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
     q.resize(layout.len(), 0.0);
     let handles = plan.rods.install(&mut model, &q, 0)?;
     if let Some(tri) = &geo.tri_mesh {
-        engine::shell::install(tri, &canopy::shell_material(s), &mut model, &q)?;
+        canopy::install_shell(s, tri, &mut model, &q)?;
     }
     plan.add_masses_and_loads(s, &mut model);
     let g = s.fluid.gravity_mps2;

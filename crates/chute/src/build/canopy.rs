@@ -1,8 +1,10 @@
 //! Canopy geometry: a rod strip along x, or a shell mesh (generated or imported).
 use super::BuildError;
 use crate::mesh::{self, CanopyMesh};
-use crate::scenario::{CanopyShape, ModelKind, Scenario};
-use engine::shell::{ShellMaterial, TriMesh};
+use crate::scenario::{CanopyShape, Membrane, ModelKind, Scenario};
+use engine::shell::{
+    CstMembrane, FabricMembrane, MembraneError, Orthotropic, ShellMaterial, TriMesh,
+};
 
 /// The canopy before loads and lines are added.
 pub struct Geometry {
@@ -38,6 +40,85 @@ pub fn shell_material(s: &Scenario) -> ShellMaterial {
         youngs_modulus: s.material.youngs_modulus_pa,
         thickness: s.canopy.thickness_m,
         density: s.material.density_kg_m3,
+    }
+}
+
+/// Default `material.wrinkle_strain`: the regularised no-compression law carries a tension
+/// of about `ε_r E h` at zero strain (docs/shells.md §No compression).
+pub const DEFAULT_WRINKLE_STRAIN: f64 = 1e-5;
+
+/// Install the shell on `tri`: the scenario's membrane, the hinges and the lumped masses.
+pub fn install_shell(
+    s: &Scenario,
+    tri: &TriMesh,
+    model: &mut engine::Model,
+    q: &[f64],
+) -> Result<(), BuildError> {
+    let mat = shell_material(s);
+    install_membrane(s, tri, model, q)?;
+    engine::shell::install_hinges(tri, &mat, model, q)?;
+    engine::shell::install_masses(tri, &mat, model, q)?;
+    Ok(())
+}
+
+/// The fabric constants of the scenario (`shell.membrane = "fabric"`; validation has
+/// checked that they are present and positive definite).
+pub fn fabric(s: &Scenario) -> Result<Orthotropic, BuildError> {
+    let m = &s.material;
+    let need = |v: Option<f64>, key: &'static str| {
+        v.ok_or_else(|| BuildError::key(key, "required with shell.membrane = \"fabric\""))
+    };
+    Ok(Orthotropic {
+        warp_modulus: need(m.warp_modulus_pa, "material.warp_modulus_pa")?,
+        weft_modulus: need(m.weft_modulus_pa, "material.weft_modulus_pa")?,
+        shear_modulus: need(m.shear_modulus_pa, "material.shear_modulus_pa")?,
+        poisson_ratio: need(m.fabric_poisson_ratio, "material.fabric_poisson_ratio")?,
+        thickness: s.canopy.thickness_m,
+    })
+}
+
+/// Add the scenario's membrane (`shell.membrane`) on `tri`: the report's edge springs,
+/// constant-strain triangles, or the fabric law, under the name
+/// [`engine::shell::STRETCH_NAME`].
+pub fn install_membrane(
+    s: &Scenario,
+    tri: &TriMesh,
+    model: &mut engine::Model,
+    q: &[f64],
+) -> Result<(), BuildError> {
+    let name = engine::shell::STRETCH_NAME;
+    let m = &s.material;
+    match s.shell.membrane.unwrap_or(Membrane::Springs) {
+        Membrane::Springs => engine::shell::install_springs(tri, &shell_material(s), model, q)?,
+        Membrane::Cst => {
+            let h = s.canopy.thickness_m;
+            let (e, nu) = (m.youngs_modulus_pa, m.poisson_ratio);
+            let f = CstMembrane::new(name, &tri.faces, q, e, nu, h)
+                .map_err(|e| membrane_error(e, "shell.membrane"))?;
+            model.add_force(f);
+        }
+        Membrane::Fabric => {
+            let angle = m.warp_direction_deg.unwrap_or(0.0).to_radians();
+            let warp = [angle.cos(), angle.sin(), 0.0];
+            let eps_r = (m.no_compression == Some(true))
+                .then(|| m.wrinkle_strain.unwrap_or(DEFAULT_WRINKLE_STRAIN));
+            let f = FabricMembrane::new(name, &tri.faces, q, &fabric(s)?, warp, eps_r)
+                .map_err(|e| membrane_error(e, "material.fabric_poisson_ratio"))?;
+            model.add_force(f);
+        }
+    }
+    Ok(())
+}
+
+/// A membrane error as a build error naming the key the user changes: the warp direction
+/// when it is normal to a triangle, the mesh for a degenerate triangle, else `law_key`.
+fn membrane_error(e: MembraneError, law_key: &'static str) -> BuildError {
+    match e {
+        MembraneError::AxisNormalToFace { .. } => {
+            BuildError::key("material.warp_direction_deg", e.to_string())
+        }
+        MembraneError::DegenerateFace { .. } => BuildError::key("canopy", e.to_string()),
+        MembraneError::Material(_) => BuildError::key(law_key, e.to_string()),
     }
 }
 

@@ -14,6 +14,7 @@ pub const SECTIONS: &[Section] = &[
     Section::table::<ModelSection>("model"),
     Section::table::<Canopy>("canopy"),
     Section::table::<Material>("material"),
+    Section::table::<Shell>("shell"),
     Section::table::<Load>("load"),
     Section::table::<Lines>("lines"),
     Section::table::<Fluid>("fluid"),
@@ -28,6 +29,12 @@ const ADAPTIVE_ONLY: &str =
     " (an error-controlled step); set that, or remove this key (a fixed step uses time.dt_s)";
 const NODE_MASS_SCALE: Cond = when("load.mode", "node_mass_scale");
 const MESH: Cond = when("canopy.shape", "mesh");
+const SHELL: Cond = when("model.kind", "shell");
+/// The condition of the fabric keys.
+const FABRIC: Cond = when("shell.membrane", "fabric");
+/// The rest of their "only used with" message.
+const FABRIC_ONLY: &str =
+    " (the other membranes are isotropic: `youngs_modulus_pa`, `poisson_ratio`)";
 
 section! {
     /// The top-level keys (held by [`super::Scenario`] itself).
@@ -135,6 +142,79 @@ section! {
         ),
         /// density ρ (areal density ρ·h)
         density_kg_m3: f64 = 1440.0 => key().unit("kg/m³").positive("the canopy needs mass"),
+        /// fabric: Young's modulus E₁ along the warp
+        #[serde(skip_serializing_if = "Option::is_none")]
+        warp_modulus_pa: Option<f64> = None => key()
+            .unit("Pa")
+            .positive("a stiffness")
+            .only_with(FABRIC, FABRIC_ONLY)
+            .required_with(FABRIC, "needs the warp modulus E₁ (Pa)"),
+        /// fabric: Young's modulus E₂ along the weft
+        #[serde(skip_serializing_if = "Option::is_none")]
+        weft_modulus_pa: Option<f64> = None => key()
+            .unit("Pa")
+            .positive("a stiffness")
+            .only_with(FABRIC, FABRIC_ONLY)
+            .required_with(FABRIC, "needs the weft modulus E₂ (Pa)"),
+        /// fabric: in-plane shear modulus G₁₂
+        #[serde(skip_serializing_if = "Option::is_none")]
+        shear_modulus_pa: Option<f64> = None => key()
+            .unit("Pa")
+            .positive("a stiffness")
+            .only_with(FABRIC, FABRIC_ONLY)
+            .required_with(FABRIC, "needs the in-plane shear modulus G₁₂ (Pa)"),
+        /// fabric: Poisson ratio ν₁₂, the weft contraction under warp stress
+        #[serde(skip_serializing_if = "Option::is_none")]
+        fabric_poisson_ratio: Option<f64> = None => key()
+            .only_with(FABRIC, FABRIC_ONLY)
+            .required_with(FABRIC, "needs the Poisson ratio ν₁₂ (weft contraction under warp stress)")
+            .note("ν₁₂² < `warp_modulus_pa`/`weft_modulus_pa` (a positive-definite law)"),
+        /// fabric: warp direction in the canopy's rest plane, from +x towards +y
+        #[serde(skip_serializing_if = "Option::is_none")]
+        warp_direction_deg: Option<f64> = None => key()
+            .unit("°")
+            .range(Bound::Incl(-360.0), Bound::Incl(360.0), "an angle in degrees")
+            .only_with(FABRIC, FABRIC_ONLY)
+            .default_doc("0 (along +x)"),
+        /// fabric: carry no compression (a wrinkling, tension-field membrane)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        no_compression: Option<bool> = None => key()
+            .only_with(FABRIC, FABRIC_ONLY)
+            .default_doc("false"),
+        /// `no_compression`: regularisation strain ε_r; the relaxed law is smooth over strains
+        /// ~ε_r and carries a tension ~ε_r·E·h at zero strain
+        #[serde(skip_serializing_if = "Option::is_none")]
+        wrinkle_strain: Option<f64> = None => key()
+            .range(Bound::Excl(0.0), Bound::Incl(0.01), "a small strain")
+            .only_with(
+                when("material.no_compression", "true"),
+                " (it regularises the no-compression law)"
+            )
+            .default_doc("1e-5"),
+    }
+}
+
+choice! {
+    /// In-plane (membrane) law of a shell canopy.
+    pub enum Membrane {
+        /// Edge springs, k_s = (√3/2) E h |ē| (the report's; ν fixed by the mesh).
+        Springs = "springs",
+        /// Constant-strain triangles: isotropic St Venant–Kirchhoff with E and ν.
+        Cst = "cst",
+        /// Constant-strain triangles with an orthotropic (warp/weft) fabric law.
+        Fabric = "fabric",
+    }
+}
+
+section! {
+    /// `[shell]`: the discrete shell's laws (shell canopies only).
+    pub struct Shell {
+        /// membrane law: `springs` (the report's), `cst` (E and ν on any mesh) or `fabric`
+        /// (orthotropic, optionally no compression; below)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        membrane: Option<Membrane> = None => key()
+            .only_with(SHELL, " (a rod canopy stretches as a rod)")
+            .default_doc("`springs`"),
     }
 }
 

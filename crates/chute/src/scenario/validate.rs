@@ -151,6 +151,29 @@ fn canopy(c: &mut Checker, s: &Scenario) {
     }
     imperfection(c, s, size);
     mesh(c, s);
+    fabric(c, s);
+}
+
+/// A fabric's law is positive definite only when `ν₁₂² < E_warp/E_weft`
+/// (`Δ = 1 − ν₁₂ν₂₁ > 0`, `ν₂₁ = ν₁₂ E_weft/E_warp`).
+fn fabric(c: &mut Checker, s: &Scenario) {
+    let m = &s.material;
+    let (Some(e1), Some(e2), Some(nu)) =
+        (m.warp_modulus_pa, m.weft_modulus_pa, m.fabric_poisson_ratio)
+    else {
+        return;
+    };
+    if e1 > 0.0 && e2 > 0.0 && (nu.is_nan() || nu * nu >= e1 / e2) {
+        c.fail(
+            "material.fabric_poisson_ratio",
+            nu,
+            format!(
+                "the orthotropic law is positive definite only for ν₁₂² < warp_modulus_pa/weft_modulus_pa = {}, i.e. |ν₁₂| < {}",
+                e1 / e2,
+                (e1 / e2).sqrt()
+            ),
+        );
+    }
 }
 
 /// `canopy.imperfection_m`: a shell-only initial perturbation, at most 5 % of the canopy size

@@ -10,4 +10,5 @@ mod docs;
 mod errors;
 mod fuzz;
 mod imperfection;
+mod membranes;
 mod overrides;

@@ -1,17 +1,31 @@
-//! Discrete shells (hinge model): edge springs for stretching, dihedral-angle hinges for
-//! bending, lumped masses. See `docs/shells.md` for the derivations quoted here.
+//! Discrete shells: membranes (edge springs, or constant-strain continuum triangles),
+//! dihedral-angle hinges for bending, lumped masses. See `docs/shells.md` for the
+//! derivations quoted here.
 //!
 //! - [`mesh`]: triangle-mesh topology ([`TriMesh`], [`Hinge`], [`MeshError`]);
 //! - [`dihedral`]: signed dihedral angle, exact gradient and Hessian;
 //! - [`hinge`]: the [`HingeBending`] force;
-//! - stretching reuses [`crate::rod::Stretch`] with `k_s = (√3/2) E h |ē|`.
+//! - stretching by edge springs reuses [`crate::rod::Stretch`] with `k_s = (√3/2) E h |ē|`;
+//! - [`membrane`]: rest frame, deformation gradient and Green strain of a triangle, and
+//!   the element force and Hessian for any membrane law;
+//! - [`cst`]: the isotropic St Venant–Kirchhoff membrane [`CstMembrane`];
+//! - [`fabric`]: the orthotropic fabric membrane [`FabricMembrane`], optionally without
+//!   compression through [`tension_field`] (the barrier-regularised wrinkling relaxation).
 
+pub mod cst;
 pub mod dihedral;
+pub mod fabric;
 pub mod hinge;
+pub mod membrane;
 pub mod mesh;
+pub mod tension_field;
 
+pub use cst::{CstLaw, CstMembrane};
+pub use fabric::{FabricLaw, FabricMembrane, Orthotropic};
 pub use hinge::{HingeBending, HingeData, HingeLaw};
+pub use membrane::{MembraneError, RestTriangle};
 pub use mesh::{Hinge, MeshError, TriMesh};
+pub use tension_field::TensionField;
 
 use crate::error::{EngineError, InvalidModel};
 use crate::model::Model;
@@ -103,6 +117,8 @@ impl ShellMaterial {
 /// `k_s = (√3/2) E h |ē|`, hinges ([`BEND_NAME`]) with `k_b = (2/√3) E h³/12`, and lumped
 /// masses `ρ h A/3` per vertex of every face. Rest lengths, rest angles and areas are
 /// measured in `q_rest`. Empty families (no edges or no interior edges) are not added.
+/// The same as [`install_springs`], [`install_hinges`] and [`install_masses`] in turn (a
+/// model with another membrane calls the last two itself).
 ///
 /// Errors ([`InvalidModel::MeshTooLarge`]) if the mesh has more nodes than the model or
 /// `q_rest` is too short; the model is then unchanged.
@@ -112,6 +128,14 @@ pub fn install(
     model: &mut Model,
     q_rest: &[f64],
 ) -> Result<(), EngineError> {
+    check_fits(mesh, model, q_rest)?;
+    install_springs(mesh, mat, model, q_rest)?;
+    install_hinges(mesh, mat, model, q_rest)?;
+    install_masses(mesh, mat, model, q_rest)
+}
+
+/// [`InvalidModel::MeshTooLarge`] unless the mesh fits the model and `q_rest`.
+fn check_fits(mesh: &TriMesh, model: &Model, q_rest: &[f64]) -> Result<(), EngineError> {
     if mesh.n_nodes > model.layout.n_nodes || q_rest.len() < 3 * mesh.n_nodes {
         return Err(InvalidModel::MeshTooLarge {
             mesh_nodes: mesh.n_nodes,
@@ -120,6 +144,17 @@ pub fn install(
         }
         .into());
     }
+    Ok(())
+}
+
+/// Add the edge springs of [`install`] (none if the mesh has no edges).
+pub fn install_springs(
+    mesh: &TriMesh,
+    mat: &ShellMaterial,
+    model: &mut Model,
+    q_rest: &[f64],
+) -> Result<(), EngineError> {
+    check_fits(mesh, model, q_rest)?;
     if !mesh.edges.is_empty() {
         let rest_len: Vec<f64> = mesh
             .edges
@@ -134,10 +169,32 @@ pub fn install(
             ks,
         ));
     }
+    Ok(())
+}
+
+/// Add the bending hinges of [`install`] (none if the mesh has no interior edges).
+pub fn install_hinges(
+    mesh: &TriMesh,
+    mat: &ShellMaterial,
+    model: &mut Model,
+    q_rest: &[f64],
+) -> Result<(), EngineError> {
+    check_fits(mesh, model, q_rest)?;
     if !mesh.hinges.is_empty() {
         let kb = vec![mat.hinge_stiffness(); mesh.hinges.len()];
         model.add_force(HingeBending::new(BEND_NAME, &mesh.hinges, q_rest, kb));
     }
+    Ok(())
+}
+
+/// Add the lumped masses `ρ h A/3` of [`install`] to every vertex of every face.
+pub fn install_masses(
+    mesh: &TriMesh,
+    mat: &ShellMaterial,
+    model: &mut Model,
+    q_rest: &[f64],
+) -> Result<(), EngineError> {
+    check_fits(mesh, model, q_rest)?;
     for f in &mesh.faces {
         let [a, b, c] = f.map(|i| node(q_rest, i));
         let area = 0.5 * (b - a).cross(&(c - a)).norm();

@@ -8,6 +8,7 @@
 //! analytic entry with h = 1e-6; identities to 1e-12): a correct derivative passes by orders
 //! of magnitude, a missing term (∂n̂/∂x, a factor 2) fails by O(1).
 mod fixtures;
+mod membranes;
 mod rods;
 
 use engine::aero::{LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
@@ -16,6 +17,7 @@ use engine::force_conformance;
 use engine::loads::{DofForces, Gravity, PlanarEdgeMoment, PointForces};
 use engine::shell::{Hinge, HingeBending};
 use fixtures::*;
+use membranes::*;
 use nalgebra::{Rotation3, Unit, Vector3};
 use std::f64::consts::PI;
 
@@ -106,6 +108,49 @@ fn shell_case(name: &str) -> Case {
 }
 force_conformance!(shell_stretch, shell_case("shell-stretch"));
 force_conformance!(shell_bend, shell_case("shell-bend"));
+
+// Constant-strain triangles on the curved 4 × 4 rest shape: nodes displaced by up to 40 %
+// of the spacing, then a large homogeneous stretch (0.6–1.6, with shear and inversion of
+// some triangles' strain sign), rotation and shift.
+force_conformance!(
+    shell_cst,
+    Case::new(cst().0, cst().1)
+        .perturb(0.13)
+        .adjust(|rng, q, _| large_deformation(rng, q))
+);
+
+// Fabric (orthotropic, warp at 30° and tilted out of the plane), the same draws; with no
+// compression (ε_r = 1e-2) most triangles are wrinkled or slack in some draws.
+force_conformance!(
+    shell_fabric,
+    Case::new(fabric(None).0, fabric(None).1)
+        .perturb(0.13)
+        .adjust(|rng, q, _| large_deformation(rng, q))
+);
+force_conformance!(
+    shell_fabric_no_compression,
+    Case::new(fabric(Some(EPS_R)).0, fabric(Some(EPS_R)).1)
+        .perturb(0.13)
+        .adjust(|rng, q, _| large_deformation(rng, q))
+        .trials(12)
+);
+// One no-compression triangle with its elastic stress placed on both sides of and at the
+// transitions (principal values in units of their smoothing width): taut/wrinkled (s₂ near
+// 0 with s₁ large)
+// and wrinkled/slack and the fully smoothed corner (s₁ near 0).
+force_conformance!(
+    fabric_wrinkle_transitions,
+    Case::new(fabric_triangle().0, fabric_triangle().1)
+        .adjust(|rng, q, _| {
+            let near = [-4.0, -1.0, -0.2, 0.0, 0.2, 1.0, 4.0];
+            if rng.uniform(0.0, 1.0) < 0.5 {
+                set_elastic_stress(rng, q, &[5.0, 10.0], &near);
+            } else {
+                set_elastic_stress(rng, q, &near, &[-10.0, -4.0, -1.0]);
+            }
+        })
+        .trials(30)
+);
 
 /// One hinge with edge on the x axis, wing A in the z = 0 plane and wing B rotated by one of
 /// `alphas` about the edge (θ = α), randomly rotated, translated and scaled so that no

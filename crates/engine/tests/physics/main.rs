@@ -9,4 +9,6 @@ mod rod_cantilever;
 mod rod_frames;
 mod rod_network;
 mod rod_vibration;
+mod shell_fabric;
+mod shell_membrane;
 mod shell_mesh;

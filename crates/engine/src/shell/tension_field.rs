@@ -1,0 +1,428 @@
+//! Tension-field (no-compression) relaxation of a quadratic membrane law, regularised by a
+//! logarithmic barrier: the stress of a wrinkling membrane, smooth, with an exact tangent.
+//!
+//! A membrane that cannot carry compression wrinkles: part of its strain is taken up by
+//! out-of-plane waves too fine for the mesh. Writing that wrinkling strain as a positive
+//! semi-definite tensor `P` (it can only shorten the elastic strain, `E_el = E + P`), the
+//! relaxed energy of a law `ψ(E) = ½ εᵀQε` is `ψ̄(E) = min_{P ⪰ 0} ψ(E + P)` (Pipkin's
+//! relaxed energy; taut, wrinkled and slack states are `P = 0`, rank 1 and rank 2). Its
+//! stress is never compressive, but it has kinks where the state changes. The barrier
+//! regularisation replaces the constraint by
+//!
+//! ```text
+//! ψ_r(E) = min_{P ≻ 0} G(E, P),   G = ½ (ε + p)ᵀ Q (ε + p) − μ ln det P,   μ = ε_r² k_ref
+//! ```
+//!
+//! (`p` the Voigt strain of `P`, `ε_r` the regularisation strain, `k_ref = (Q₁₁ + Q₂₂)/2`).
+//! `G` is strictly convex in `P`, so the minimiser is unique and smooth in `E`:
+//! - **stress** (envelope theorem) `σ = ∂ψ_r/∂ε = Q (ε + p*)`, and stationarity gives
+//!   `σ = μ P*⁻¹ ≻ 0`: the principal stresses are strictly positive — no compression at all;
+//! - **tangent** (implicit function theorem on `∂G/∂p = 0`)
+//!   `D = ∂σ/∂ε = Q (Q + B)⁻¹ B`, `B = ∂²(−μ ln det P)/∂p²` (positive definite): the
+//!   elastic stiffness in series with the barrier's, positive definite, so `ψ_r` is convex in
+//!   the Green strain and, with `σ ≻ 0`, the whole element Hessian is positive
+//!   semi-definite;
+//! - **error**: in 1-D (`k p² + s p = μ`, `s` the elastic stress) the stress is
+//!   `σ = ½(s + √(s² + 4kμ))`, a smooth `max(s, 0)` that exceeds it by at most `√(kμ)` =
+//!   `ε_r k` (at `s = 0`), by `k ε_r²/|ε|` in compression and by `(ε_r/ε)² σ` in tension.
+//!   The regularised membrane is slightly pre-tensioned: at zero strain it carries a
+//!   tension of about `ε_r k_ref`.
+//!
+//! `P*` is found by Newton on `G/μ` (self-concordant: inside `λ < ¼` full steps stay in
+//! `P ≻ 0` and converge quadratically; outside, a backtracking line search), started from
+//! the better of two guesses: the exact solution of the decoupled 1-D problems along the
+//! principal axes of the elastic stress `Qε` (good near the transitions, `|ε| ≲ ε_r`), and
+//! the exact unregularised (taut, wrinkled or slack) state perturbed to first order in `μ`
+//! (good far from them, where a poor start would cost hundreds of damped steps).
+
+use super::membrane::{dot, mul, Voigt, Voigt3};
+
+/// Newton iterations after which the inner solve gives up (it takes 2–4 on average and at
+/// most ~11 over strains 1e-8–0.3 and ε_r = 1e-8–1e-2).
+const MAX_ITERATIONS: usize = 100;
+/// Squared Newton decrement (of `G/μ`) below which the full Newton step is taken: for a
+/// self-concordant function it stays in the domain and converges quadratically.
+const QUADRATIC: f64 = 0.0625;
+/// Squared Newton decrement (of `G/μ`) below which the next step is the last: the error
+/// after it is O(λ⁴) ≈ 1e-32.
+const LAST_STEP: f64 = 1e-16;
+
+/// The barrier-regularised tension-field relaxation for one stiffness `Q`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TensionField {
+    /// The stiffness `Q` (N/m) it relaxes.
+    pub stiffness: Voigt3,
+    /// Regularisation strain `ε_r`.
+    pub strain: f64,
+    /// Barrier weight `μ = ε_r² (Q₁₁ + Q₂₂)/2` (J/m²).
+    pub mu: f64,
+    /// `min_P G(0, P)`, subtracted so that `ψ_r(0) = 0`.
+    offset: f64,
+    /// The compliance `Q⁻¹` (m/N), for the start of the inner solve.
+    compliance: Voigt3,
+}
+
+/// The relaxed state at one strain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relaxed {
+    /// Wrinkling strain `p*` (Voigt, `(P₁₁, P₂₂, 2P₁₂)`).
+    pub wrinkle: Voigt,
+    /// Stress `σ = Q(ε + p*)` (N/m).
+    pub stress: Voigt,
+    /// Energy `ψ_r(ε)` (J/m²).
+    pub energy: f64,
+    /// Newton iterations taken.
+    pub iterations: usize,
+}
+
+/// `det P` and its gradient for `P` in strain-Voigt form.
+#[inline]
+fn det_grad(p: &Voigt) -> (f64, Voigt) {
+    (p[0] * p[1] - 0.25 * p[2] * p[2], [p[1], p[0], -0.5 * p[2]])
+}
+
+/// Hessian `B` of `−μ ln det P` (strain-Voigt).
+#[inline]
+fn barrier_hessian(mu: f64, p: &Voigt) -> Voigt3 {
+    let (d, g) = det_grad(p);
+    let mut b = [[0.0; 3]; 3];
+    for r in 0..3 {
+        for c in 0..3 {
+            b[r][c] = mu * g[r] * g[c] / (d * d);
+        }
+    }
+    // −μ ∇²d / d with ∇²d = [[0, 1, 0], [1, 0, 0], [0, 0, −½]].
+    b[0][1] -= mu / d;
+    b[1][0] -= mu / d;
+    b[2][2] += 0.5 * mu / d;
+    b
+}
+
+/// Solve `A x = r` for symmetric positive-definite 3 × 3 `A` (Cholesky).
+#[inline]
+fn spd_solve(a: &Voigt3, r: &Voigt) -> Voigt {
+    let l00 = a[0][0].sqrt();
+    let l10 = a[1][0] / l00;
+    let l20 = a[2][0] / l00;
+    let l11 = (a[1][1] - l10 * l10).sqrt();
+    let l21 = (a[2][1] - l20 * l10) / l11;
+    let l22 = (a[2][2] - l20 * l20 - l21 * l21).sqrt();
+    let y0 = r[0] / l00;
+    let y1 = (r[1] - l10 * y0) / l11;
+    let y2 = (r[2] - l20 * y0 - l21 * y1) / l22;
+    let x2 = y2 / l22;
+    let x1 = (y1 - l21 * x2) / l11;
+    let x0 = (y0 - l10 * x1 - l20 * x2) / l00;
+    [x0, x1, x2]
+}
+
+/// Positive root of `k p² + s p − μ = 0`, without cancellation.
+#[inline]
+fn root(k: f64, s: f64, mu: f64) -> f64 {
+    let disc = (s * s + 4.0 * k * mu).sqrt();
+    if s > 0.0 {
+        2.0 * mu / (s + disc)
+    } else {
+        (disc - s) / (2.0 * k)
+    }
+}
+
+/// The inverse of a symmetric 2 × 2 tensor given as `(T₁₁, T₂₂, T₁₂)`, in the same form, if
+/// it is positive definite.
+#[inline]
+fn inverse_if_pd(t: &Voigt) -> Option<Voigt> {
+    let det = t[0] * t[1] - t[2] * t[2];
+    (t[0] > 0.0 && det > 0.0).then(|| [t[1] / det, t[0] / det, -t[2] / det])
+}
+
+/// `det[a, b, c]` of three column 3-vectors.
+#[inline]
+fn det3(a: &Voigt, b: &Voigt, c: &Voigt) -> f64 {
+    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0])
+}
+
+/// A root of `f` in `[a, b]`, where `f(a) = fa` and `f(b) = fb` differ in sign, by the
+/// Illinois variant of regula falsi (superlinear, and never leaves the bracket) to 1e-12
+/// rad.
+fn bracketed_root(
+    f: &impl Fn(f64) -> f64,
+    mut a: f64,
+    mut b: f64,
+    mut fa: f64,
+    mut fb: f64,
+) -> f64 {
+    let mut side = 0;
+    for _ in 0..100 {
+        if fa == fb || (b - a).abs() < 1e-12 {
+            break;
+        }
+        let x = (a * fb - b * fa) / (fb - fa);
+        let fx = f(x);
+        if fx == 0.0 {
+            return x;
+        }
+        if fx * fb < 0.0 {
+            (a, fa) = (b, fb);
+            side = 0;
+        } else {
+            // The same end kept twice: halve its value so the bracket shrinks on both sides.
+            side += 1;
+            if side > 1 {
+                fa *= 0.5;
+            }
+        }
+        (b, fb) = (x, fx);
+    }
+    0.5 * (a + b)
+}
+
+impl TensionField {
+    /// The relaxation of `stiffness` with regularisation strain `strain` (> 0).
+    pub fn new(stiffness: Voigt3, strain: f64) -> Self {
+        let mu = strain * strain * 0.5 * (stiffness[0][0] + stiffness[1][1]);
+        let cols = [0, 1, 2].map(|j| {
+            let mut e = [0.0; 3];
+            e[j] = 1.0;
+            spd_solve(&stiffness, &e)
+        });
+        let compliance = [0, 1, 2].map(|i| [cols[0][i], cols[1][i], cols[2][i]]);
+        let mut tf = Self {
+            stiffness,
+            strain,
+            mu,
+            offset: 0.0,
+            compliance,
+        };
+        tf.offset = tf.relax(&[0.0; 3]).energy;
+        tf
+    }
+
+    /// `G(ε, p)`.
+    fn objective(&self, eps: &Voigt, p: &Voigt) -> f64 {
+        let el = [eps[0] + p[0], eps[1] + p[1], eps[2] + p[2]];
+        0.5 * dot(&el, &mul(&self.stiffness, &el)) - self.mu * det_grad(p).0.ln()
+    }
+
+    /// The exact minimiser of the 1-D problems along the principal axes of `Qε`.
+    fn start(&self, eps: &Voigt) -> Voigt {
+        let q = &self.stiffness;
+        let s = mul(q, eps);
+        let mean = 0.5 * (s[0] + s[1]);
+        let half = 0.5 * (s[0] - s[1]);
+        let r = half.hypot(s[2]);
+        let phi = 0.5 * s[2].atan2(half);
+        let (c, sn) = (phi.cos(), phi.sin());
+        let mut p = [0.0; 3];
+        for (v, sigma) in [([c, sn], mean + r), ([-sn, c], mean - r)] {
+            let m = [v[0] * v[0], v[1] * v[1], 2.0 * v[0] * v[1]];
+            let pi = root(dot(&m, &mul(q, &m)), sigma, self.mu);
+            for k in 0..3 {
+                p[k] += pi * m[k];
+            }
+        }
+        p
+    }
+
+    /// The start from the exact (unregularised, `μ = 0`) relaxed state, perturbed to first
+    /// order in `μ` so that it satisfies `σ = μ P⁻¹` along the axes it does not constrain.
+    /// At `μ = 0` exactly one of three states holds (the KKT conditions `σ ⪰ 0`, `P ⪰ 0`,
+    /// `σP = 0` are met by one of them, and the problem is convex):
+    /// - **taut** when the elastic stress `S = Qε` is positive definite: `P = 0`, so
+    ///   `P ≈ μ S⁻¹`;
+    /// - **slack** when `−E` is positive definite: `P = −E`, `σ = 0`, so
+    ///   `σ ≈ μ (−E)⁻¹` and `p ≈ −ε + Q⁻¹σ`;
+    /// - **wrinkled** otherwise: uniaxial tension `s` along `t` with wrinkles `γ n nᵀ` along
+    ///   `n ⊥ t`, from [`Self::wrinkle`]; `P ≈ γ n nᵀ + (μ/s) t tᵀ`.
+    ///
+    /// `None` when the perturbed state is not in `P ≻ 0` (near a transition, where the
+    /// 1-D start of [`Self::start`] is as good).
+    fn unregularised_start(&self, eps: &Voigt) -> Option<Voigt> {
+        let mu = self.mu;
+        let s = mul(&self.stiffness, eps);
+        let p = if let Some(inv) = inverse_if_pd(&s) {
+            [mu * inv[0], mu * inv[1], 2.0 * mu * inv[2]]
+        } else if let Some(inv) = inverse_if_pd(&[-eps[0], -eps[1], -0.5 * eps[2]]) {
+            let sigma = inv.map(|x| mu * x);
+            let e_el = mul(&self.compliance, &sigma);
+            [0, 1, 2].map(|k| e_el[k] - eps[k])
+        } else {
+            let (c, sn, tension, gamma) = self.wrinkle(eps)?;
+            let slack = mu / tension;
+            [
+                gamma * c * c + slack * sn * sn,
+                gamma * sn * sn + slack * c * c,
+                2.0 * (gamma - slack) * c * sn,
+            ]
+        };
+        (p[0] > 0.0 && det_grad(&p).0 > 0.0).then_some(p)
+    }
+
+    /// The unregularised wrinkled state at strain `eps`: wrinkle normal `n = (c, s)`,
+    /// uniaxial tension `s_t > 0` along `t = (−s, c)` and wrinkle strain `γ > 0`, with
+    /// `ε = s_t Q⁻¹ w(θ) − γ m(θ)` (`m` the Voigt strain of `n nᵀ`, `w` the Voigt stress
+    /// of `t tᵀ`). That needs `φ(θ) = det[ε, Q⁻¹w, m] = 0`, a quartic form in
+    /// `(cos θ, sin θ)`: its roots are bracketed on 16 samples of `[0, π)` and refined by
+    /// regula falsi; of the admissible ones the lowest energy wins.
+    fn wrinkle(&self, eps: &Voigt) -> Option<(f64, f64, f64, f64)> {
+        const SAMPLES: usize = 16;
+        let phi = |theta: f64| {
+            let (m, cw) = self.wrinkle_axes(theta);
+            det3(eps, &cw, &m)
+        };
+        let step = std::f64::consts::PI / SAMPLES as f64;
+        let mut best: Option<(f64, (f64, f64, f64, f64))> = None;
+        let (mut a, mut fa) = (0.0, phi(0.0));
+        for k in 1..=SAMPLES {
+            let b = k as f64 * step;
+            let fb = phi(b);
+            if fa * fb <= 0.0 {
+                let theta = bracketed_root(&phi, a, b, fa, fb);
+                if let Some((energy, state)) = self.wrinkle_at(eps, theta) {
+                    if best.is_none_or(|(e, _)| energy < e) {
+                        best = Some((energy, state));
+                    }
+                }
+            }
+            (a, fa) = (b, fb);
+        }
+        best.map(|(_, state)| state)
+    }
+
+    /// `m(θ)` and `Q⁻¹ w(θ)`.
+    #[inline]
+    fn wrinkle_axes(&self, theta: f64) -> (Voigt, Voigt) {
+        let (s, c) = theta.sin_cos();
+        let m = [c * c, s * s, 2.0 * c * s];
+        let w = [s * s, c * c, -c * s];
+        (m, mul(&self.compliance, &w))
+    }
+
+    /// Energy and state `(c, s, s_t, γ)` of the wrinkled state with normal at `theta`, if
+    /// admissible (`s_t, γ > 0`): `(s_t, γ)` by least squares of `s_t Q⁻¹w − γ m = ε`.
+    fn wrinkle_at(&self, eps: &Voigt, theta: f64) -> Option<(f64, (f64, f64, f64, f64))> {
+        let (m, cw) = self.wrinkle_axes(theta);
+        let (aa, ab, bb) = (dot(&cw, &cw), -dot(&cw, &m), dot(&m, &m));
+        let (ra, rb) = (dot(&cw, eps), -dot(&m, eps));
+        let det = aa * bb - ab * ab;
+        let tension = (ra * bb - rb * ab) / det;
+        let gamma = (aa * rb - ab * ra) / det;
+        if !(tension > 0.0 && gamma > 0.0) {
+            return None;
+        }
+        let el = [0, 1, 2].map(|k| eps[k] + gamma * m[k]);
+        let (s, c) = theta.sin_cos();
+        Some((dot(&el, &mul(&self.stiffness, &el)), (c, s, tension, gamma)))
+    }
+
+    /// `p + t·step` for the first `t = 1, ½, ¼, …` that keeps `P ≻ 0` and decreases `G`
+    /// by at least a tenth of the linear prediction `t·decrement` (Armijo). The barrier's
+    /// own damped step `1/(1 + λ)` is safe but, far from the minimiser (λ ≫ 1, typical for
+    /// small `μ`), takes hundreds of steps; backtracking takes the full Newton step as
+    /// soon as it is admissible.
+    fn line_search(&self, eps: &Voigt, p: &Voigt, step: &Voigt, decrement: f64) -> Voigt {
+        let g0 = self.objective(eps, p);
+        let mut t = 1.0;
+        loop {
+            let trial = [0, 1, 2].map(|k| p[k] + t * step[k]);
+            let admissible = trial[0] > 0.0 && det_grad(&trial).0 > 0.0;
+            if admissible && self.objective(eps, &trial) <= g0 - 0.1 * t * decrement {
+                return trial;
+            }
+            t *= 0.5;
+            if t < 1e-12 {
+                // No decrease measurable above round-off: stay.
+                return *p;
+            }
+        }
+    }
+
+    /// The relaxed state at strain `eps` (Voigt `(E₁₁, E₂₂, 2E₁₂)`).
+    pub fn relax(&self, eps: &Voigt) -> Relaxed {
+        let q = &self.stiffness;
+        let mu = self.mu;
+        let mut p = self.start(eps);
+        if let Some(near) = self.unregularised_start(eps) {
+            // Far from the transitions (|ε| ≫ ε_r) the unregularised state is the better
+            // start, near them the 1-D one.
+            if self.objective(eps, &near) < self.objective(eps, &p) {
+                p = near;
+            }
+        }
+        let mut iterations = 0;
+        let mut previous = f64::INFINITY;
+        while iterations < MAX_ITERATIONS {
+            iterations += 1;
+            let (d, gd) = det_grad(&p);
+            let el = [eps[0] + p[0], eps[1] + p[1], eps[2] + p[2]];
+            let qe = mul(q, &el);
+            let g = [0, 1, 2].map(|k| qe[k] - mu * gd[k] / d);
+            let b = barrier_hessian(mu, &p);
+            let mut h = *q;
+            for r in 0..3 {
+                for c in 0..3 {
+                    h[r][c] += b[r][c];
+                }
+            }
+            let step = spd_solve(&h, &g).map(|x| -x);
+            let lambda2 = -dot(&g, &step) / mu;
+            if !lambda2.is_finite() {
+                break;
+            }
+            if lambda2 < QUADRATIC {
+                // Inside the region of quadratic convergence the full step is admissible
+                // (self-concordance) and needs no line search (whose test of G would be
+                // below G's round-off here).
+                for k in 0..3 {
+                    p[k] += step[k];
+                }
+            } else {
+                p = self.line_search(eps, &p, &step, lambda2 * mu);
+            }
+            // Converged, or at the round-off floor: after a full step inside the quadratic
+            // region the squared decrement must fall by ≥ 9× (λ⁺ ≤ (λ/(1 − λ))²); when it
+            // does not, round-off in `P` (whose smaller eigenvalue, ~μ/σ, can be 1e-10 of
+            // its larger one) dominates.
+            if lambda2 < LAST_STEP || (previous < QUADRATIC && lambda2 > 0.25 * previous) {
+                break;
+            }
+            previous = lambda2;
+        }
+        let el = [eps[0] + p[0], eps[1] + p[1], eps[2] + p[2]];
+        Relaxed {
+            wrinkle: p,
+            stress: mul(q, &el),
+            energy: self.objective(eps, &p) - self.offset,
+            iterations,
+        }
+    }
+
+    /// The relaxed state and the tangent `D = ∂σ/∂ε = Q (Q + B)⁻¹ B` (N/m), symmetrised.
+    pub fn relax_with_tangent(&self, eps: &Voigt) -> (Relaxed, Voigt3) {
+        let r = self.relax(eps);
+        let q = &self.stiffness;
+        let b = barrier_hessian(self.mu, &r.wrinkle);
+        let mut h = *q;
+        for i in 0..3 {
+            for j in 0..3 {
+                h[i][j] += b[i][j];
+            }
+        }
+        // X = (Q + B)⁻¹ B column by column, then D = Q X.
+        let cols = [0, 1, 2].map(|j| spd_solve(&h, &[b[0][j], b[1][j], b[2][j]]));
+        let mut d = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                d[i][j] = q[i][0] * cols[j][0] + q[i][1] * cols[j][1] + q[i][2] * cols[j][2];
+            }
+        }
+        for i in 0..3 {
+            for j in 0..i {
+                let s = 0.5 * (d[i][j] + d[j][i]);
+                d[i][j] = s;
+                d[j][i] = s;
+            }
+        }
+        (r, d)
+    }
+}
