@@ -4,14 +4,17 @@
 //! - [`mesh`]: triangle-mesh topology ([`TriMesh`], [`Hinge`], [`MeshError`]);
 //! - [`dihedral`]: signed dihedral angle, exact gradient and Hessian;
 //! - [`hinge`]: the [`HingeBending`] force;
+//! - [`midedge`]: the [`MidedgeBending`] force (mid-edge normals, one angle DOF per edge);
 //! - stretching reuses [`crate::rod::Stretch`] with `k_s = (√3/2) E h |ē|`.
 
 pub mod dihedral;
 pub mod hinge;
 pub mod mesh;
+pub mod midedge;
 
 pub use hinge::{HingeBending, HingeData, HingeLaw};
 pub use mesh::{Hinge, MeshError, TriMesh};
+pub use midedge::{MidedgeBending, PlateBending};
 
 use crate::error::{EngineError, InvalidModel};
 use crate::model::Model;
@@ -112,6 +115,22 @@ pub fn install(
     model: &mut Model,
     q_rest: &[f64],
 ) -> Result<(), EngineError> {
+    install_stretch_and_mass(mesh, mat, model, q_rest)?;
+    if !mesh.hinges.is_empty() {
+        let kb = vec![mat.hinge_stiffness(); mesh.hinges.len()];
+        model.add_force(HingeBending::new(BEND_NAME, &mesh.hinges, q_rest, kb));
+    }
+    Ok(())
+}
+
+/// [`install`] without the hinges: the edge springs and the lumped masses only, for a shell
+/// whose bending is another law (e.g. [`midedge::install`]).
+pub fn install_stretch_and_mass(
+    mesh: &TriMesh,
+    mat: &ShellMaterial,
+    model: &mut Model,
+    q_rest: &[f64],
+) -> Result<(), EngineError> {
     if mesh.n_nodes > model.layout.n_nodes || q_rest.len() < 3 * mesh.n_nodes {
         return Err(InvalidModel::MeshTooLarge {
             mesh_nodes: mesh.n_nodes,
@@ -133,10 +152,6 @@ pub fn install(
             rest_len,
             ks,
         ));
-    }
-    if !mesh.hinges.is_empty() {
-        let kb = vec![mat.hinge_stiffness(); mesh.hinges.len()];
-        model.add_force(HingeBending::new(BEND_NAME, &mesh.hinges, q_rest, kb));
     }
     for f in &mesh.faces {
         let [a, b, c] = f.map(|i| node(q_rest, i));
