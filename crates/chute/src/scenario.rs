@@ -41,8 +41,9 @@ pub use error::{Origin, ScenarioError};
 /// The absolute directory against which a file's relative paths resolve.
 pub use parse::base_dir as source_dir;
 pub use sections::{
-    Canopy, CanopyShape, DragLaw, Fluid, Lines, Load, LoadMode, Material, ModelKind, ModelSection,
-    Output, ShellDrag, SiteSet, Sites, Time, DEFAULT_ERROR_TOLERANCE_M,
+    Bending, Canopy, CanopyShape, DragLaw, Fluid, Lines, Load, LoadMode, Material, MeshPattern,
+    ModelKind, ModelSection, Output, Shell, ShellDrag, SiteSet, Sites, Time,
+    DEFAULT_ERROR_TOLERANCE_M,
 };
 
 /// A complete, validated scenario with every default filled in.
@@ -59,6 +60,9 @@ pub struct Scenario {
     /// Canopy material.
     #[serde(default)]
     pub material: Material,
+    /// The shell's laws (shell canopies).
+    #[serde(default)]
+    pub shell: Shell,
     /// The load the canopy carries.
     #[serde(default)]
     pub load: Load,

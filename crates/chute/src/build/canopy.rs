@@ -1,8 +1,9 @@
 //! Canopy geometry: a rod strip along x, or a shell mesh (generated or imported).
 use super::BuildError;
 use crate::mesh::{self, CanopyMesh};
-use crate::scenario::{CanopyShape, ModelKind, Scenario};
-use engine::shell::{ShellMaterial, TriMesh};
+use crate::mesh::generate::Pattern;
+use crate::scenario::{Bending, CanopyShape, MeshPattern, ModelKind, Scenario};
+use engine::shell::{midedge, PlateBending, ShellMaterial, TriMesh};
 
 /// The canopy before loads and lines are added.
 pub struct Geometry {
@@ -41,6 +42,36 @@ pub fn shell_material(s: &Scenario) -> ShellMaterial {
     }
 }
 
+/// The plate bending constants of the scenario's canopy (mid-edge bending).
+pub fn plate_bending(s: &Scenario) -> PlateBending {
+    PlateBending {
+        youngs_modulus: s.material.youngs_modulus_pa,
+        poisson_ratio: s.material.poisson_ratio,
+        thickness: s.canopy.thickness_m,
+    }
+}
+
+/// Install the shell on `tri`: membrane springs, lumped masses and the scenario's bending law;
+/// mid-edge angles take the per-edge DOFs from `first_twist` on.
+pub fn install_shell(
+    s: &Scenario,
+    tri: &TriMesh,
+    model: &mut engine::Model,
+    q: &[f64],
+    first_twist: usize,
+) -> Result<(), BuildError> {
+    let mat = shell_material(s);
+    match s.shell.bending.unwrap_or(Bending::Hinge) {
+        Bending::Hinge => engine::shell::install(tri, &mat, model, q)?,
+        Bending::Midedge => {
+            engine::shell::install_stretch_and_mass(tri, &mat, model, q)?;
+            let plate = plate_bending(s);
+            midedge::install(tri, &plate, mat.density, model, q, first_twist)?;
+        }
+    }
+    Ok(())
+}
+
 /// Build the canopy geometry of `s`.
 pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
     let c = &s.canopy;
@@ -65,7 +96,12 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
         });
     }
     let mesh = match c.shape {
-        CanopyShape::Rectangle => mesh::generate::rectangle(c.span_m, c.width_m, c.edge_length_m),
+        CanopyShape::Rectangle => mesh::generate::rectangle_pattern(
+            c.span_m,
+            c.width_m,
+            c.edge_length_m,
+            pattern(c.mesh_pattern),
+        ),
         CanopyShape::Hexagon => mesh::generate::hexagon(c.radius_m, c.edge_length_m),
         CanopyShape::Circle => mesh::generate::circle(c.radius_m, c.edge_length_m),
         CanopyShape::Mesh => {
@@ -95,6 +131,15 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
         reference_length,
         mesh,
     })
+}
+
+/// The generator's pattern for `canopy.mesh_pattern` (absent: the report's union-jack).
+fn pattern(p: Option<MeshPattern>) -> Pattern {
+    match p.unwrap_or(MeshPattern::UnionJack) {
+        MeshPattern::UnionJack => Pattern::UnionJack,
+        MeshPattern::Cross => Pattern::Cross,
+        MeshPattern::Unstructured => Pattern::Unstructured,
+    }
 }
 
 fn read_mesh(path: &std::path::Path) -> Result<CanopyMesh, BuildError> {

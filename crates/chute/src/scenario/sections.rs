@@ -14,6 +14,7 @@ pub const SECTIONS: &[Section] = &[
     Section::table::<ModelSection>("model"),
     Section::table::<Canopy>("canopy"),
     Section::table::<Material>("material"),
+    Section::table::<Shell>("shell"),
     Section::table::<Load>("load"),
     Section::table::<Lines>("lines"),
     Section::table::<Fluid>("fluid"),
@@ -28,6 +29,7 @@ const ADAPTIVE_ONLY: &str =
     " (an error-controlled step); set that, or remove this key (a fixed step uses time.dt_s)";
 const NODE_MASS_SCALE: Cond = when("load.mode", "node_mass_scale");
 const MESH: Cond = when("canopy.shape", "mesh");
+const SHELL: Cond = when("model.kind", "shell");
 
 section! {
     /// The top-level keys (held by [`super::Scenario`] itself).
@@ -73,6 +75,18 @@ choice! {
     }
 }
 
+choice! {
+    /// How the generated rectangle is triangulated.
+    pub enum MeshPattern {
+        /// Cells split by one diagonal each, alternating like a union-jack (the report's).
+        UnionJack = "union_jack",
+        /// Cells split into four triangles through a node at the cell centre.
+        Cross = "cross",
+        /// Irregular Delaunay mesh refined to angles ≥ 25° (seeded: always the same mesh).
+        Unstructured = "unstructured",
+    }
+}
+
 section! {
     /// `[canopy]`: geometry.
     pub struct Canopy {
@@ -104,6 +118,11 @@ section! {
             .note("must exist"),
         /// hexagon circumradius or circle radius
         radius_m: f64 = 1.0 => key().unit("m").positive("a length"),
+        /// `shape = "rectangle"` shell: triangulation of the generated mesh (below)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        mesh_pattern: Option<MeshPattern> = None => key()
+            .only_with(when("canopy.shape", "rectangle"), "")
+            .default_doc("`union_jack`"),
     }
 }
 
@@ -123,6 +142,28 @@ section! {
         ),
         /// density ρ (areal density ρ·h)
         density_kg_m3: f64 = 1440.0 => key().unit("kg/m³").positive("the canopy needs mass"),
+    }
+}
+
+choice! {
+    /// Bending law of a shell canopy.
+    pub enum Bending {
+        /// Dihedral-angle hinges, ½ k_b (θ − θ̄)² (the report's).
+        Hinge = "hinge",
+        /// Mid-edge normals: a discrete shape operator per triangle with one normal angle per
+        /// edge as an extra DOF; Kirchhoff plate bending with the material's ν.
+        Midedge = "midedge",
+    }
+}
+
+section! {
+    /// `[shell]`: the discrete shell's laws (shell canopies only).
+    pub struct Shell {
+        /// bending law: `hinge` (the report's) or `midedge` (converges on any mesh; below)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        bending: Option<Bending> = None => key()
+            .only_with(SHELL, " (a rod canopy bends as a rod)")
+            .default_doc("`hinge`"),
     }
 }
 

@@ -100,7 +100,7 @@ fn schema_matches_the_serde_structs() {
     let text = "[model]\nkind = \"shell\"\n[canopy]\nshape = \"mesh\"\nmesh_file = \"m.obj\"\n\
                 [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\nadaptive = true\n\
                 newton_relative_tolerance = 0.1\nnewton_step_tolerance_m = 1e-9\n\
-                [lines]\ndrag_coefficient = 1.0\n";
+                [lines]\ndrag_coefficient = 1.0\n[shell]\nbending = \"midedge\"\n";
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("m.obj"), "").unwrap();
     let s =
@@ -116,6 +116,8 @@ fn schema_matches_the_serde_structs() {
     }
     keys.sort();
     let mut want = schema::all_keys();
+    // A generated rectangle's pattern excludes a mesh file (its round trip: shell_laws.rs).
+    want.retain(|k| k != "canopy.mesh_pattern");
     want.sort();
     assert_eq!(keys, want);
 }

@@ -10,3 +10,4 @@ mod docs;
 mod errors;
 mod fuzz;
 mod overrides;
+mod shell_laws;
