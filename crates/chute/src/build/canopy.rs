@@ -1,7 +1,7 @@
 //! Canopy geometry: a rod strip along x, or a shell mesh (generated or imported).
 use super::BuildError;
-use crate::mesh::{self, CanopyMesh};
 use crate::mesh::generate::Pattern;
+use crate::mesh::{self, CanopyMesh};
 use crate::scenario::{Bending, CanopyShape, MeshPattern, ModelKind, Scenario};
 use engine::shell::{midedge, PlateBending, ShellMaterial, TriMesh};
 

@@ -8,4 +8,5 @@ mod adaptive;
 mod bench;
 mod errors;
 mod reliability;
+mod shell_laws;
 mod validate;

@@ -9,3 +9,4 @@ mod metrics;
 mod resume;
 mod runs;
 mod shell_bending;
+mod shell_midedge;

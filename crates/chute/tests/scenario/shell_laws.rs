@@ -11,7 +11,9 @@ fn load(text: &str) -> Result<Scenario, ScenarioError> {
 
 /// The error of `text` names `key` and `t.toml:line` and says `why`.
 fn refused(text: &str, key: &str, line: usize, why: &str) {
-    let e = load(text).err().unwrap_or_else(|| panic!("accepted:\n{text}"));
+    let e = load(text)
+        .err()
+        .unwrap_or_else(|| panic!("accepted:\n{text}"));
     let msg = e.to_string();
     assert_eq!(e.key(), Some(key), "{msg}");
     assert!(msg.contains(&format!("t.toml:{line}")), "{msg}");
