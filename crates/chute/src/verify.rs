@@ -11,6 +11,7 @@
 mod cases;
 pub mod convergence;
 pub mod midedge_cases;
+pub mod scordelis_lo;
 pub mod shell_cases;
 mod system;
 

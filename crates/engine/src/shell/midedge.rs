@@ -210,10 +210,20 @@ struct EdgeTerm {
     hess: MatL,
 }
 
-fn edge_term(el: &MidedgeData, x: &[V3; 6], psi: &[f64; 3], i: usize, hess: bool) -> EdgeTerm {
+/// The face's `|N|`, its gradient and Hessian ([`twice_area_derivs`]), shared by its edges.
+type AreaDerivs = (f64, [V3; 3], [[M3; 3]; 3]);
+
+fn edge_term(
+    el: &MidedgeData,
+    x: &[V3; 6],
+    psi: &[f64; 3],
+    i: usize,
+    area: &AreaDerivs,
+    hess: bool,
+) -> EdgeTerm {
     let v = [x[0], x[1], x[2]];
-    let (nn, gn, hn) = twice_area_derivs(&v, hess);
-    let (h, gh, hh) = altitude(i, nn, &gn, &hn, &v, hess);
+    let (nn, gn, hn) = area;
+    let (h, gh, hh) = altitude(i, *nn, gn, hn, &v, hess);
     let mut gb = VecL::zeros();
     let mut hb = MatL::zeros();
     let b = if el.interior[i] {
@@ -268,7 +278,8 @@ impl Element for MidedgeLaw {
     fn evaluate(&self, el: &MidedgeData, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
         let (x, psi) = read(input.q, st);
         let want_hess = !b.dfdq.is_empty();
-        let terms = [0, 1, 2].map(|i| edge_term(el, &x, &psi, i, want_hess));
+        let area = twice_area_derivs(&[x[0], x[1], x[2]], want_hess);
+        let terms = [0, 1, 2].map(|i| edge_term(el, &x, &psi, i, &area, want_hess));
         let k = &el.stiffness;
         let dc = [0, 1, 2].map(|i| terms[i].c - el.rest[i]);
         let r = [0, 1, 2].map(|i| k[i][0] * dc[0] + k[i][1] * dc[1] + k[i][2] * dc[2]);
