@@ -31,6 +31,8 @@ pub struct Built {
     pub reference_length_m: f64,
     /// Derived quantities for `chute check` (name, value with units).
     pub derived: Vec<(String, String)>,
+    /// Rod twist DOFs; the edge angles of mid-edge bending follow them.
+    pub rod_twists: usize,
 }
 
 mod canopy;
@@ -118,6 +120,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         load_sites: plan.sites.clone(),
         triangles: geo.triangles(),
         segments: plan.segments(&geo),
+        rod_twists: plan.rods.n_edges(),
         drag_forces: drag.forces,
         triangle_drag: drag.triangle,
         total_weight_n,

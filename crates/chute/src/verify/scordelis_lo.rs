@@ -43,7 +43,11 @@ pub fn midside_displacement(pattern: Pattern, n: usize, law: Law) -> Result<f64,
         })
         .collect();
     let tri = TriMesh::from_q(m.faces.clone(), &q, m.n_nodes()).map_err(|e| e.to_string())?;
-    let twists = if law == Law::Midedge { tri.edges.len() } else { 0 };
+    let twists = if law == Law::Midedge {
+        tri.edges.len()
+    } else {
+        0
+    };
     let mut model = Model::new(DofLayout::new(m.n_nodes(), twists));
     q.resize(model.n_dofs(), 0.0);
     let mat = ShellMaterial {
