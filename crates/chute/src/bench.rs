@@ -238,6 +238,14 @@ pub fn ladder(quick: bool, tiny: bool) -> Vec<Case> {
         ),
         case("dismech-hex-n6", "hex", &[], 0, 300),
         case("dismech-hex-n12", "hex", &[n12], 0, 300),
+        // shell-1k with mid-edge bending (issue 17's cost of the new bending).
+        case(
+            "shell-1k-midedge",
+            "shell",
+            &["canopy.edge_length_m=0.138", "shell.bending=midedge"],
+            50,
+            200,
+        ),
     ];
     v.extend(fabric::cases());
     if !quick {

@@ -31,6 +31,8 @@ pub struct Built {
     pub reference_length_m: f64,
     /// Derived quantities for `chute check` (name, value with units).
     pub derived: Vec<(String, String)>,
+    /// Rod twist DOFs; the edge angles of mid-edge bending follow them.
+    pub rod_twists: usize,
 }
 
 mod canopy;
@@ -40,7 +42,7 @@ mod load;
 mod sites;
 
 use crate::scenario::derived::sig4;
-use crate::scenario::{ModelKind, Scenario};
+use crate::scenario::{Bending, ModelKind, Scenario};
 use engine::loads::Gravity;
 use engine::{DofLayout, Model, State};
 
@@ -83,13 +85,19 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
     let geo = canopy::geometry(s)?;
     let sites = sites::resolve(s, &geo)?;
     let mut plan = load::plan(s, &geo, &sites)?;
-    let layout = DofLayout::new(plan.positions.len(), plan.rods.n_edges());
+    // Per-edge DOFs: the rods' twists, then (mid-edge bending) one normal angle per shell edge.
+    let midedge = s.shell.bending == Some(Bending::Midedge);
+    let shell_edges = match &geo.tri_mesh {
+        Some(tri) if midedge => tri.edges.len(),
+        _ => 0,
+    };
+    let layout = DofLayout::new(plan.positions.len(), plan.rods.n_edges() + shell_edges);
     let mut model = Model::new(layout);
     let mut q: Vec<f64> = plan.positions.iter().flatten().copied().collect();
     q.resize(layout.len(), 0.0);
     let handles = plan.rods.install(&mut model, &q, 0)?;
     if let Some(tri) = &geo.tri_mesh {
-        canopy::install_shell(s, tri, &mut model, &q)?;
+        canopy::install_shell(s, tri, &mut model, &q, plan.rods.n_edges())?;
     }
     plan.add_masses_and_loads(s, &mut model);
     let g = s.fluid.gravity_mps2;
@@ -116,6 +124,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         load_sites: plan.sites.clone(),
         triangles: geo.triangles(),
         segments: plan.segments(&geo),
+        rod_twists: plan.rods.n_edges(),
         drag_forces: drag.forces,
         triangle_drag: drag.triangle,
         total_weight_n,
@@ -184,10 +193,17 @@ fn derived(s: &Scenario, b: &Built, geo: &Geometry) -> Vec<(String, String)> {
         ));
     } else {
         let m = canopy::shell_material(s);
-        d.push((
-            "hinge plate stiffness D = E h³/12".into(),
-            format!("{} N·m", sig4(m.plate_stiffness())),
-        ));
+        if s.shell.bending == Some(Bending::Midedge) {
+            d.push((
+                "plate stiffness D = E h³/(12(1 − ν²))".into(),
+                format!("{} N·m", sig4(canopy::plate_bending(s).stiffness())),
+            ));
+        } else {
+            d.push((
+                "hinge plate stiffness D = E h³/12".into(),
+                format!("{} N·m", sig4(m.plate_stiffness())),
+            ));
+        }
         d.push((
             "membrane stiffness E h".into(),
             format!(

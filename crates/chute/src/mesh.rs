@@ -8,6 +8,7 @@
 pub mod dismech;
 pub mod generate;
 pub mod obj;
+pub mod unstructured;
 mod validate;
 
 use engine::shell::{MeshError, TriMesh};

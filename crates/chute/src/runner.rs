@@ -113,8 +113,13 @@ pub fn describe_dof(b: &Built, dof: usize) -> String {
     let n = b.model.layout.n_nodes;
     if dof < 3 * n {
         format!("node {} {}", dof / 3, ["x", "y", "z"][dof % 3])
-    } else {
+    } else if dof - 3 * n < b.rod_twists {
         format!("twist of rod edge {}", dof - 3 * n)
+    } else {
+        format!(
+            "mid-edge angle of shell edge {}",
+            dof - 3 * n - b.rod_twists
+        )
     }
 }
 

@@ -42,8 +42,10 @@ pub enum InvalidModel {
         /// DOFs of the layout.
         expected: usize,
     },
-    /// The layout has too few twist DOFs for the rod network.
-    #[error("rod network needs twist DOFs {start}..{end}, layout has {available}")]
+    /// The layout has too few per-edge DOFs (twist slots) for a rod network or mid-edge shell.
+    #[error(
+        "needs per-edge DOFs (rod twists, mid-edge angles) {start}..{end}, layout has {available}"
+    )]
     TwistDofs {
         /// First twist DOF needed (index among the twists).
         start: usize,

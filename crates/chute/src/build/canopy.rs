@@ -1,9 +1,11 @@
 //! Canopy geometry: a rod strip along x, or a shell mesh (generated or imported).
 use super::BuildError;
+use crate::mesh::generate::Pattern;
 use crate::mesh::{self, CanopyMesh};
-use crate::scenario::{CanopyShape, Membrane, ModelKind, Scenario};
+use crate::scenario::{Bending, CanopyShape, Membrane, MeshPattern, ModelKind, Scenario};
 use engine::shell::{
-    CstMembrane, FabricMembrane, MembraneError, Orthotropic, ShellMaterial, TriMesh,
+    midedge, CstMembrane, FabricMembrane, MembraneError, Orthotropic, PlateBending, ShellMaterial,
+    TriMesh,
 };
 
 /// The canopy before loads and lines are added.
@@ -47,17 +49,36 @@ pub fn shell_material(s: &Scenario) -> ShellMaterial {
 /// of about `ε_r E h` at zero strain (docs/shells.md §No compression).
 pub const DEFAULT_WRINKLE_STRAIN: f64 = 1e-5;
 
-/// Install the shell on `tri`: the scenario's membrane, the hinges and the lumped masses.
+/// The plate bending constants of the scenario's canopy (mid-edge bending).
+pub fn plate_bending(s: &Scenario) -> PlateBending {
+    PlateBending {
+        youngs_modulus: s.material.youngs_modulus_pa,
+        poisson_ratio: s.material.poisson_ratio,
+        thickness: s.canopy.thickness_m,
+    }
+}
+
+/// Install the shell on `tri`: the scenario's membrane, its bending law and the lumped masses;
+/// mid-edge angles take the per-edge DOFs from `first_twist` on.
 pub fn install_shell(
     s: &Scenario,
     tri: &TriMesh,
     model: &mut engine::Model,
     q: &[f64],
+    first_twist: usize,
 ) -> Result<(), BuildError> {
     let mat = shell_material(s);
     install_membrane(s, tri, model, q)?;
-    engine::shell::install_hinges(tri, &mat, model, q)?;
-    engine::shell::install_masses(tri, &mat, model, q)?;
+    match s.shell.bending.unwrap_or(Bending::Hinge) {
+        Bending::Hinge => {
+            engine::shell::install_hinges(tri, &mat, model, q)?;
+            engine::shell::install_masses(tri, &mat, model, q)?;
+        }
+        Bending::Midedge => {
+            engine::shell::install_masses(tri, &mat, model, q)?;
+            midedge::install(tri, &plate_bending(s), mat.density, model, q, first_twist)?;
+        }
+    }
     Ok(())
 }
 
@@ -146,7 +167,12 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
         });
     }
     let mesh = match c.shape {
-        CanopyShape::Rectangle => mesh::generate::rectangle(c.span_m, c.width_m, c.edge_length_m),
+        CanopyShape::Rectangle => mesh::generate::rectangle_pattern(
+            c.span_m,
+            c.width_m,
+            c.edge_length_m,
+            pattern(c.mesh_pattern),
+        ),
         CanopyShape::Hexagon => mesh::generate::hexagon(c.radius_m, c.edge_length_m),
         CanopyShape::Circle => mesh::generate::circle(c.radius_m, c.edge_length_m),
         CanopyShape::Mesh => {
@@ -176,6 +202,15 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
         reference_length,
         mesh,
     })
+}
+
+/// The generator's pattern for `canopy.mesh_pattern` (absent: the report's union-jack).
+fn pattern(p: Option<MeshPattern>) -> Pattern {
+    match p.unwrap_or(MeshPattern::UnionJack) {
+        MeshPattern::UnionJack => Pattern::UnionJack,
+        MeshPattern::Cross => Pattern::Cross,
+        MeshPattern::Unstructured => Pattern::Unstructured,
+    }
 }
 
 fn read_mesh(path: &std::path::Path) -> Result<CanopyMesh, BuildError> {

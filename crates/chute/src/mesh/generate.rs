@@ -5,6 +5,9 @@
 //!   (right isosceles triangles when the cells are square), mirror-symmetric about x = 0
 //!   and y = 0. Hinge model on it: `D_eff = ¾ k_b = (√3/2) E h³/12`, bending Poisson
 //!   ratio −1/3 (see `engine::shell::Lattice::UnionJack`).
+//! - [`rectangle_pattern`]: the same outline in one of three [`Pattern`]s: the union-jack
+//!   above, `Cross` (every cell split into four triangles through a node at its centre) or
+//!   `Unstructured` (an irregular, quality-bounded Delaunay mesh, [`super::unstructured`]).
 //! - [`hexagon`]: the equilateral triangular lattice in concentric hexagonal rings.
 //!   `D_eff = E h³/12`, bending Poisson ratio −1/3 (`Lattice::Equilateral`).
 //! - [`circle`]: the hexagon's topology with ring `k` placed on a circle of radius
@@ -23,41 +26,62 @@ fn check(what: &str, x: f64) {
     );
 }
 
-/// Smallest even count ≥ 2 closest to `len / target`.
-fn even_cells(len: f64, target: f64) -> usize {
-    2 * ((len / (2.0 * target)).round().max(1.0) as usize)
+/// How a rectangle is triangulated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pattern {
+    /// Square-ish cells split by one diagonal each, alternating like a union-jack.
+    UnionJack,
+    /// Cells split into four triangles through a node at the cell centre.
+    Cross,
+    /// Irregular Delaunay triangulation refined to a minimum angle (seeded, deterministic).
+    Unstructured,
 }
 
-/// A `span × width` rectangle (m; x along the span) with cells of about `target_edge` (m).
+/// A `span × width` rectangle (m; x along the span) with cells of about `target_edge` (m),
+/// union-jack diagonals: [`rectangle_pattern`] with [`Pattern::UnionJack`].
 ///
 /// The cell counts are even, so nodes exist on both symmetry axes. Node sets: "corners"
 /// (counter-clockwise from (−span/2, −width/2)), "long_edge_midpoints" (midpoints of the
 /// two long edges; of the y = ±width/2 edges when span = width), "center", "rim".
 pub fn rectangle(span: f64, width: f64, target_edge: f64) -> CanopyMesh {
+    rectangle_pattern(span, width, target_edge, Pattern::UnionJack)
+}
+
+/// A `span × width` rectangle (m) triangulated in `pattern`, with the node sets of
+/// [`rectangle`]: the corners, the long-edge midpoints and the centre are nodes in every
+/// pattern. Union-jack and cross are mirror-symmetric about x = 0 and y = 0.
+pub fn rectangle_pattern(span: f64, width: f64, target_edge: f64, pattern: Pattern) -> CanopyMesh {
     check("span", span);
     check("width", width);
     check("target edge", target_edge);
+    if pattern == Pattern::Unstructured {
+        return super::unstructured::rectangle(span, width, target_edge);
+    }
     let (nx, ny) = (
         even_cells(span, target_edge),
         even_cells(width, target_edge),
     );
     let id = |i: usize, j: usize| j * (nx + 1) + i;
     let mut positions = Vec::with_capacity((nx + 1) * (ny + 1));
+    // Symmetric formula, so mirrored nodes have exactly negated coordinates.
+    let x_of = |i: f64| span * (2.0 * i - nx as f64) / (2.0 * nx as f64);
+    let y_of = |j: f64| width * (2.0 * j - ny as f64) / (2.0 * ny as f64);
     for j in 0..=ny {
         for i in 0..=nx {
-            // Symmetric formula, so mirrored nodes have exactly negated coordinates.
-            let x = span * (2.0 * i as f64 - nx as f64) / (2.0 * nx as f64);
-            let y = width * (2.0 * j as f64 - ny as f64) / (2.0 * ny as f64);
-            positions.push([x, y, 0.0]);
+            positions.push([x_of(i as f64), y_of(j as f64), 0.0]);
         }
     }
-    let mut faces = Vec::with_capacity(2 * nx * ny);
+    let mut faces = Vec::with_capacity(4 * nx * ny);
     let shift = nx / 2 + ny / 2;
     for j in 0..ny {
         for i in 0..nx {
             let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            // Diagonals alternate, and all eight cells around the centre node point at it.
-            if (i + j + shift) % 2 == 0 {
+            if pattern == Pattern::Cross {
+                let m = positions.len();
+                positions.push([x_of(i as f64 + 0.5), y_of(j as f64 + 0.5), 0.0]);
+                faces.extend([[a, b, m], [b, c, m], [c, d, m], [d, a, m]]);
+            } else if (i + j + shift) % 2 == 0 {
+                // Diagonals alternate, and all eight cells around the centre node point at it.
                 faces.extend([[a, b, c], [a, c, d]]);
             } else {
                 faces.extend([[a, b, d], [b, c, d]]);
@@ -85,6 +109,12 @@ pub fn rectangle(span: f64, width: f64, target_edge: f64) -> CanopyMesh {
         rod_edges: Vec::new(),
         node_sets: sets.map(|(k, v)| (k.to_string(), v)).into_iter().collect(),
     }
+}
+
+/// Smallest even count ≥ 2 closest to `len / target` (also the unstructured mesh's
+/// boundary division).
+pub(super) fn even_cells(len: f64, target: f64) -> usize {
+    2 * ((len / (2.0 * target)).round().max(1.0) as usize)
 }
 
 /// A regular hexagon of circumradius `circumradius` (m), corners at angles 0°, 60°, …,

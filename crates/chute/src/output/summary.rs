@@ -25,7 +25,8 @@ pub struct RunInfo {
     pub newton_iterations: u64,
     /// Wall-clock time of the run (s).
     pub wall_time_s: f64,
-    /// Number of degrees of freedom (3 per node + 1 twist per rod edge).
+    /// Number of degrees of freedom (3 per node + 1 twist per rod edge + 1 angle per shell
+    /// edge with mid-edge bending).
     pub dofs: usize,
     /// Time-stepping settings and statistics.
     pub stepping: Stepping,

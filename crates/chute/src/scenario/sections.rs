@@ -80,6 +80,18 @@ choice! {
     }
 }
 
+choice! {
+    /// How the generated rectangle is triangulated.
+    pub enum MeshPattern {
+        /// Cells split by one diagonal each, alternating like a union-jack (the report's).
+        UnionJack = "union_jack",
+        /// Cells split into four triangles through a node at the cell centre.
+        Cross = "cross",
+        /// Irregular Delaunay mesh refined to angles ≥ 25° (seeded: always the same mesh).
+        Unstructured = "unstructured",
+    }
+}
+
 section! {
     /// `[canopy]`: geometry.
     pub struct Canopy {
@@ -111,6 +123,11 @@ section! {
             .note("must exist"),
         /// hexagon circumradius or circle radius
         radius_m: f64 = 1.0 => key().unit("m").positive("a length"),
+        /// `shape = "rectangle"` shell: triangulation of the generated mesh (below)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        mesh_pattern: Option<MeshPattern> = None => key()
+            .only_with(when("canopy.shape", "rectangle"), "")
+            .default_doc("`union_jack`"),
         /// shell: amplitude of the initial out-of-plane perturbation in a fixed asymmetric
         /// mode (below); 0 is the flat start and is not written to the resolved scenario
         #[serde(skip_serializing_if = "is_zero")]
@@ -215,6 +232,22 @@ section! {
         membrane: Option<Membrane> = None => key()
             .only_with(SHELL, " (a rod canopy stretches as a rod)")
             .default_doc("`springs`"),
+        /// bending law: `hinge` (the report's) or `midedge` (converges on any mesh; below)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        bending: Option<Bending> = None => key()
+            .only_with(SHELL, " (a rod canopy bends as a rod)")
+            .default_doc("`hinge`"),
+    }
+}
+
+choice! {
+    /// Bending law of a shell canopy.
+    pub enum Bending {
+        /// Dihedral-angle hinges, ½ k_b (θ − θ̄)² (the report's).
+        Hinge = "hinge",
+        /// Mid-edge normals: a discrete shape operator per triangle with one normal angle per
+        /// edge as an extra DOF; Kirchhoff plate bending with the material's ν.
+        Midedge = "midedge",
     }
 }
 

@@ -120,6 +120,13 @@ fn canopy(c: &mut Checker, s: &Scenario) {
             "for a rod model (a strip)",
         );
     }
+    if let (ModelKind::Rod, Some(p)) = (s.model.kind, cn.mesh_pattern) {
+        c.fail(
+            "canopy.mesh_pattern",
+            format!("\"{}\"", p.name()),
+            "only used with `model.kind = \"shell\"` (a rod canopy has no triangles)",
+        );
+    }
     let size = in_plane_size(s).filter(|x| *x > 0.0);
     if let Some(size) = size {
         if cn.thickness_m > 0.1 * size {

@@ -1,7 +1,7 @@
 //! The registry of verification cases, and the engine-level ones (rods, drag, integrator):
 //! every set-up comes from [`engine::reference`], the same code the engine's tests run.
 //! Shell cases are in [`super::shell_cases`], whole-parachute cases in [`super::system`].
-use super::{shell_cases, system, Case, Check};
+use super::{midedge_cases, scordelis_lo, shell_cases, system, Case, Check};
 use engine::aero::Fluid;
 use engine::reference::cantilever::{
     elastica, end_moment, self_weight, tip_load, BISSHOPP_DRUCKER,
@@ -35,6 +35,9 @@ pub fn all() -> Vec<Case> {
         c("cylinder-bending-energy", true, shell_cases::cylinder_case),
         c("plate-simply-supported", true, shell_cases::plate_case),
         c("shell-cantilever-strip", true, shell_cases::strip_case),
+        c("midedge-cylinder", true, midedge_cases::cylinder_case),
+        c("midedge-plate", true, midedge_cases::plate_case),
+        c("scordelis-lo", false, scordelis_lo::roof_case),
         c("falling", true, falling_cases),
         c("wind-drift", true, wind_drift),
         c("rod-canopy-terminal", true, system::rod_canopy),

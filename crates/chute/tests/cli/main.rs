@@ -9,4 +9,5 @@ mod bench;
 mod converge;
 mod errors;
 mod reliability;
+mod shell_laws;
 mod validate;

@@ -41,6 +41,8 @@ fn quick_suite_passes_and_json_has_the_documented_fields() {
         "cylinder-bending-energy",
         "plate-simply-supported",
         "shell-cantilever-strip",
+        "midedge-cylinder",
+        "midedge-plate",
         "falling-sheet",
         "falling-strip",
         "wind-drift",

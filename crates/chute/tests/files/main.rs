@@ -9,6 +9,7 @@ mod console;
 mod fuzz;
 mod mesh_generate;
 mod mesh_import;
+mod mesh_patterns;
 mod outputs;
 mod plots;
 mod plots_3d;

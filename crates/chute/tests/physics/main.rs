@@ -13,3 +13,4 @@ mod resume;
 mod runs;
 mod session;
 mod shell_bending;
+mod shell_midedge;

@@ -12,3 +12,4 @@ mod fuzz;
 mod imperfection;
 mod membranes;
 mod overrides;
+mod shell_laws;

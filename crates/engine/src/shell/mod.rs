@@ -5,6 +5,7 @@
 //! - [`mesh`]: triangle-mesh topology ([`TriMesh`], [`Hinge`], [`MeshError`]);
 //! - [`dihedral`]: signed dihedral angle, exact gradient and Hessian;
 //! - [`hinge`]: the [`HingeBending`] force;
+//! - [`midedge`]: the [`MidedgeBending`] force (mid-edge normals, one angle DOF per edge);
 //! - stretching by edge springs reuses [`crate::rod::Stretch`] with `k_s = (√3/2) E h |ē|`;
 //! - [`membrane`]: rest frame, deformation gradient and Green strain of a triangle, and
 //!   the element force and Hessian for any membrane law;
@@ -18,6 +19,7 @@ pub mod fabric;
 pub mod hinge;
 pub mod membrane;
 pub mod mesh;
+pub mod midedge;
 pub mod tension_field;
 
 pub use cst::{CstLaw, CstMembrane};
@@ -25,6 +27,7 @@ pub use fabric::{FabricLaw, FabricMembrane, Orthotropic};
 pub use hinge::{HingeBending, HingeData, HingeLaw};
 pub use membrane::{MembraneError, RestTriangle};
 pub use mesh::{Hinge, MeshError, TriMesh};
+pub use midedge::{MidedgeBending, PlateBending};
 pub use tension_field::TensionField;
 
 use crate::error::{EngineError, InvalidModel};
@@ -131,6 +134,19 @@ pub fn install(
     check_fits(mesh, model, q_rest)?;
     install_springs(mesh, mat, model, q_rest)?;
     install_hinges(mesh, mat, model, q_rest)?;
+    install_masses(mesh, mat, model, q_rest)
+}
+
+/// [`install`] without the hinges: the edge springs and the lumped masses only, for a shell
+/// whose bending is another law (e.g. [`midedge::install`]).
+pub fn install_stretch_and_mass(
+    mesh: &TriMesh,
+    mat: &ShellMaterial,
+    model: &mut Model,
+    q_rest: &[f64],
+) -> Result<(), EngineError> {
+    check_fits(mesh, model, q_rest)?;
+    install_springs(mesh, mat, model, q_rest)?;
     install_masses(mesh, mat, model, q_rest)
 }
 

@@ -2,7 +2,7 @@
 use engine::aero::Fluid;
 use engine::conformance::Rng;
 use engine::rod::{RodNetwork, RodSpec, Section};
-use engine::shell::{install, ShellMaterial, TriMesh};
+use engine::shell::{install, MidedgeBending, PlateBending, ShellMaterial, TriMesh};
 use engine::{DofLayout, Force, Model};
 use nalgebra::Vector3;
 
@@ -151,4 +151,41 @@ pub fn set_node_normal_speeds(q: &[f64], v: &mut [f64], t: [usize; 3], wind: [f6
 /// One of `values`, uniformly.
 pub fn pick(rng: &mut Rng, values: &[f64]) -> f64 {
     values[(rng.next_u64() % values.len() as u64) as usize]
+}
+
+/// Mid-edge bending on the `n × n`-node grid of side `side` (m) with rest shape `q_rest`
+/// (ν = 0.3, E h³ of a 1 mm, 1 GPa sheet); the edge angles follow the nodes in `q`:
+/// `(force, q_rest with ψ = 0 appended)`.
+pub fn midedge(n: usize, q_rest: Vec<f64>) -> (MidedgeBending, Vec<f64>) {
+    let (faces, _) = grid(n, 1.0);
+    let mesh = TriMesh::from_q(faces, &q_rest, n * n).expect("valid mesh");
+    let plate = PlateBending {
+        youngs_modulus: 1e9,
+        poisson_ratio: 0.3,
+        thickness: 1e-3,
+    };
+    let force = MidedgeBending::new("shell-midedge", &mesh, &q_rest, &plate, 3 * n * n);
+    let mut q = q_rest;
+    q.resize(3 * n * n + mesh.edges.len(), 0.0);
+    (force, q)
+}
+
+/// The 4 × 4 unit grid perturbed by ±0.05 m (the hinge shells' curved rest shape).
+pub fn bumpy_grid() -> Vec<f64> {
+    let (_, flat) = grid(4, 1.0);
+    let mut rng = Rng::new(7);
+    flat.iter().map(|x| x + rng.symmetric(0.05)).collect()
+}
+
+/// The 4 × 4 unit grid wrapped onto a cylinder of radius `r` (m) about the y axis, and
+/// twisted by `twist` (rad/m) about x: a strongly curved rest shape.
+pub fn rolled_grid(r: f64, twist: f64) -> Vec<f64> {
+    let (_, flat) = grid(4, 1.0);
+    flat.chunks(3)
+        .flat_map(|p| {
+            let (x, y) = (p[0] - 0.5, p[1] - 0.5);
+            let phi = x / r;
+            [r * phi.sin(), y, r * (1.0 - phi.cos()) + twist * x * y]
+        })
+        .collect()
 }

@@ -152,6 +152,26 @@ force_conformance!(
         .trials(30)
 );
 
+// Mid-edge bending: the same curved 4 × 4 mesh (nodes by up to 40 % of the spacing, edge
+// angles by up to ±0.6 rad), committed and evaluated at independent draws.
+fn midedge_case(q_rest: Vec<f64>, amp: f64) -> Case {
+    let (force, q) = midedge(4, q_rest);
+    Case::new(force, q)
+        .perturb_dofs(0..48, amp)
+        .perturb_dofs(48..48 + 33, 0.6)
+}
+force_conformance!(shell_midedge, midedge_case(bumpy_grid(), 0.13));
+// Strongly curved rest shapes: rolled to R = 0.4 m (hinges near 50°) and twisted, and
+// folded tight (R = 0.2 m: dihedral angles near 100°), small perturbations about them.
+force_conformance!(
+    shell_midedge_rolled,
+    midedge_case(rolled_grid(0.4, 0.5), 0.05)
+);
+force_conformance!(
+    shell_midedge_folded,
+    midedge_case(rolled_grid(0.2, 0.0), 0.02)
+);
+
 /// One hinge with edge on the x axis, wing A in the z = 0 plane and wing B rotated by one of
 /// `alphas` about the edge (θ = α), randomly rotated, translated and scaled so that no
 /// coordinate is special; rest angle `rest`.

@@ -168,7 +168,11 @@ fn invalid_networks_are_reported() {
         (spec(vec![0]), 2, "fewer than 2 nodes"),
         (spec(vec![0, 1, 7]), 2, "uses node 7"),
         (spec(vec![0, 1, 1]), 2, "zero-length edge"),
-        (spec(vec![0, 1, 2]), 1, "needs twist DOFs"),
+        (
+            spec(vec![0, 1, 2]),
+            1,
+            "needs per-edge DOFs (rod twists, mid-edge angles) 0..2",
+        ),
         (
             spec(vec![0, 1, 2]).with_first_director([1.0, 0.0, 0.0]),
             2,
