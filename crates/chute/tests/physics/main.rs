@@ -11,4 +11,5 @@ mod lateral;
 mod metrics;
 mod resume;
 mod runs;
+mod session;
 mod shell_bending;
