@@ -84,7 +84,7 @@ fn panel(
         .x_desc(format!("{} {unit}", st.key))
         .label_style(("sans-serif", 13))
         .x_labels(5)
-        .y_labels(6)
+        .y_labels(10)
         .y_label_formatter(&y_fmt)
         .draw()
         .map_err(de)?;
