@@ -100,12 +100,17 @@ fn schema_matches_the_serde_structs() {
     let text = "[model]\nkind = \"shell\"\n[canopy]\nshape = \"mesh\"\nmesh_file = \"m.obj\"\n\
                 [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\nadaptive = true\n\
                 newton_relative_tolerance = 0.1\nnewton_step_tolerance_m = 1e-9\n\
-                [lines]\ndrag_coefficient = 1.0\n";
+                [lines]\ndrag_coefficient = 1.0\n\
+                [material]\npermeability_m2 = 1e-10\nforchheimer_coefficient = 0.5\n\
+                [atmosphere]\naltitude_m = 100.0\nground_altitude_m = 0.0\n";
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("m.obj"), "").unwrap();
     let s =
         Scenario::from_str_with_name(text, &dir.path().join("s.toml").display().to_string(), &[])
             .unwrap();
+    // The two permeability forms exclude each other: set the second one directly.
+    let mut s = s;
+    s.material.air_permeability_cfm = Some(1.0);
     let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();
     let mut keys = Vec::new();
     for (k, v) in &table {
