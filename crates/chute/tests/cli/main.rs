@@ -7,5 +7,6 @@ mod common;
 mod adaptive;
 mod bench;
 mod errors;
+mod recovery;
 mod reliability;
 mod validate;

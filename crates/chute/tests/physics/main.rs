@@ -6,6 +6,7 @@ mod common;
 
 mod failure;
 mod metrics;
+mod recovery;
 mod resume;
 mod runs;
 mod shell_bending;
