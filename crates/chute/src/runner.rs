@@ -36,6 +36,7 @@ mod advance;
 pub mod dt_policy;
 mod observe;
 mod persist;
+mod recovery;
 pub use advance::Driver;
 use advance::Outcome;
 use dt_policy::{DtPolicy, Plan};
@@ -485,12 +486,7 @@ impl Run {
         let stepping = self.dt.stepping(cfg);
         built.state = self.state;
         let dec = &self.dec;
-        // The air of the final window (the scenario's constants for a uniform fluid).
-        let air = metrics::descent::window_air(&dec.t_s, &dec.z_m, &cfg.air);
-        let (rho, mu) = match cfg.air.is_uniform() {
-            true => (cfg.air_density, cfg.air_viscosity),
-            false => (air.density, air.viscosity),
-        };
+        let (rho, mu) = recovery::window_air(dec, cfg);
         let params = metrics::Params {
             total_weight_n: built.total_weight_n,
             air_density_kg_m3: rho,
@@ -514,7 +510,7 @@ impl Run {
             Ok(m) => {
                 let summary = Summary::new(info, &m).with_recovery(metrics::descent::compute(
                     &dec.recovery_series(),
-                    &recovery_params(built, cfg),
+                    &recovery::params(built, cfg),
                     m.terminal_velocity_mps,
                     m.drag_area_m2,
                     self.landing,
@@ -553,18 +549,6 @@ impl Run {
             complete,
             stop_reason,
         })
-    }
-}
-
-/// The recovery metrics' parameters of model `b` run with `cfg`.
-fn recovery_params(b: &Built, cfg: &RunConfig) -> metrics::descent::RecoveryParams {
-    metrics::descent::RecoveryParams {
-        total_weight_n: b.total_weight_n,
-        planform_area_m2: b.planform_area_m2,
-        fluid: cfg.air,
-        altitude_m: cfg.altitude_m,
-        gravity_mps2: cfg.gravity_mps2,
-        payload: b.payload_node.is_some(),
     }
 }
 
