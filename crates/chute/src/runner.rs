@@ -1,7 +1,7 @@
 //! The run loop: step the model, observe it, stream outputs, recover from failed steps.
 //!
 //! Step sizes (fixed, or adaptive with local-error control) are chosen by
-//! [`dt_policy`](self::dt_policy): a step whose Newton solve fails or produces a non-finite
+//! [`dt_policy`]: a step whose Newton solve fails or produces a non-finite
 //! value is rejected (state unchanged) and retried with half the step; an adaptive step whose
 //! local error exceeds the tolerance is rejected and retried with the controller's smaller
 //! step. Below the smallest step the run stops: the summary is marked incomplete with the
