@@ -93,7 +93,11 @@ impl AppError {
 /// would use.
 pub fn check(s: &Scenario) -> Result<Vec<(String, String)>, AppError> {
     let built = crate::build::build(s)?;
-    let mut out = built.derived;
+    check_ground(s, &built)?;
+    let mut out = built.derived.clone();
+    out.extend(atmosphere_lines(s, &built));
+    out.extend(fabric_lines(s, &built));
+    out.extend(s.notes.0.iter().map(|w| ("warning".to_string(), w.clone())));
     let t = &s.time;
     match s.adaptive_settings() {
         None => out.push((
@@ -162,6 +166,14 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
         air_density: s.fluid.density_kg_m3,
         air_viscosity: s.fluid.viscosity_pa_s,
         quadratic_drag: s.fluid.drag == DragLaw::Quadratic,
+        air: crate::build::drag::fluid(s),
+        altitude_m: s.atmosphere.altitude_m,
+        ground_z_m: s
+            .atmosphere
+            .ground_altitude_m
+            .map(|g| g - s.atmosphere.altitude_m),
+        gravity_mps2: s.fluid.gravity_mps2,
+        scenario_warnings: s.notes.0.clone(),
         progress,
     }
 }
@@ -199,6 +211,7 @@ pub fn run_watched(
     watch: Watch<'_>,
 ) -> Result<RunOutcome, AppError> {
     let mut built = crate::build::build(s)?;
+    check_ground(s, &built)?;
     let scenario_toml = s.to_toml();
     let resume = match &opts.resume {
         Some(dir) => Some(load_checkpoint(dir, &opts.out_dir, &scenario_toml)?),
@@ -224,11 +237,141 @@ pub fn run_watched(
     )?;
     let summary = serde_json::from_str(&r.summary.to_json())
         .map_err(|e| AppError::RunFailed(format!("summary: {e}")))?;
+    // Landing is how a run with a ground ends: complete, nothing to warn about.
+    let message = r.stop_reason.filter(|m| m != crate::runner::GROUND);
     Ok(RunOutcome {
         summary,
         complete: r.complete,
-        message: r.stop_reason,
+        message,
     })
+}
+
+/// `chute check`'s lines on the air: the model, the air at the start and at the ground, and
+/// the time to fall from one to the other at the flat-canopy speed √(2W/(ρ(h) C_D A)).
+fn atmosphere_lines(s: &Scenario, b: &crate::build::Built) -> Vec<(String, String)> {
+    use crate::scenario::derived::sig4;
+    use crate::scenario::AtmosphereModel;
+    let a = &s.atmosphere;
+    let fluid = crate::build::drag::fluid(s);
+    let describe = |h: f64| -> String {
+        let air = fluid.at(h - a.altitude_m);
+        match a.model {
+            AtmosphereModel::Constant => format!(
+                "ρ = {} kg/m³, μ = {} Pa·s (constant)",
+                sig4(air.density),
+                sig4(air.viscosity)
+            ),
+            AtmosphereModel::Isa1976 => {
+                let st = engine::aero::atmosphere::isa1976(h);
+                format!(
+                    "T = {} K, p = {} Pa, ρ = {} kg/m³, μ = {} Pa·s",
+                    sig4(st.temperature_k),
+                    sig4(st.pressure_pa),
+                    sig4(st.density_kg_m3),
+                    sig4(st.viscosity_pa_s)
+                )
+            }
+        }
+    };
+    let model = match a.model {
+        AtmosphereModel::Constant => "constant (fluid.density_kg_m3, fluid.viscosity_pa_s)",
+        AtmosphereModel::Isa1976 => "isa1976 (U.S. Standard Atmosphere 1976)",
+    };
+    let mut out = vec![
+        ("atmosphere".to_string(), model.to_string()),
+        (
+            format!("air at the start ({} m)", sig4(a.altitude_m)),
+            describe(a.altitude_m),
+        ),
+    ];
+    let Some(g) = a.ground_altitude_m else {
+        return out;
+    };
+    out.push((format!("air at the ground ({} m)", sig4(g)), describe(g)));
+    // ∫ dh / v_flat(h) by the composite midpoint rule on 2000 intervals (ρ is smooth inside
+    // each layer; the error is far below the flat-canopy estimate's own).
+    let n = 2000;
+    let dh = (a.altitude_m - g) / n as f64;
+    let w = b.total_weight_n;
+    let time: f64 = (0..n)
+        .map(|i| {
+            let h = g + (i as f64 + 0.5) * dh;
+            let rho = fluid.at(h - a.altitude_m).density;
+            dh / (2.0 * w / (rho * b.flat_drag_area_m2)).sqrt()
+        })
+        .sum();
+    out.push((
+        "time to fall to the ground at the flat-canopy speed".into(),
+        format!("{} s ({} m)", sig4(time), sig4(a.altitude_m - g)),
+    ));
+    out
+}
+
+/// `chute check`'s lines on a permeable fabric: k (and where it came from) and the leakage
+/// speed at the canopy loading W/S₀ in the air at the start.
+fn fabric_lines(s: &Scenario, b: &crate::build::Built) -> Vec<(String, String)> {
+    use crate::scenario::derived::sig4;
+    let Some(f) = crate::build::drag::fabric(s) else {
+        return Vec::new();
+    };
+    let air = crate::build::drag::fluid(s).at(0.0);
+    let loading = b.total_weight_n / b.planform_area_m2;
+    let source = match s.material.air_permeability_cfm {
+        Some(q) => format!(" (from {} ft³/(ft²·min), ASTM D737, Darcy term)", sig4(q)),
+        None => String::new(),
+    };
+    vec![
+        (
+            "fabric permeability k".into(),
+            format!(
+                "{} m²{source}, C_F = {}, h = {} m",
+                sig4(f.permeability),
+                sig4(f.forchheimer),
+                sig4(f.thickness)
+            ),
+        ),
+        (
+            "leakage through the fabric at W/S₀".into(),
+            format!(
+                "{} m/s at {} Pa",
+                sig4(f.leakage_at(loading, air.density, air.viscosity)),
+                sig4(loading)
+            ),
+        ),
+    ]
+}
+
+/// The ground must lie below where the landing body (the payload, or the lowest canopy node)
+/// starts; only the builder knows that height.
+fn check_ground(s: &Scenario, b: &crate::build::Built) -> Result<(), AppError> {
+    let Some(g) = s.atmosphere.ground_altitude_m else {
+        return Ok(());
+    };
+    let n = b.model.layout.n_nodes;
+    let z = |i: usize| b.state.q[3 * i + 2];
+    let (what, z0) = match b.payload_node {
+        Some(p) => ("the payload", z(p)),
+        None => (
+            "the lowest canopy node",
+            b.canopy_nodes
+                .iter()
+                .map(|&i| z(i))
+                .fold(f64::INFINITY, f64::min),
+        ),
+    };
+    debug_assert!(b.canopy_nodes.iter().all(|&i| i < n));
+    let start = s.atmosphere.altitude_m + z0;
+    if g >= start {
+        return Err(crate::build::BuildError::key(
+            "atmosphere.ground_altitude_m",
+            format!(
+                "{g} m is not below {what}, which starts at {start} m (atmosphere.altitude_m {} m {:+} m)",
+                s.atmosphere.altitude_m, z0
+            ),
+        )
+        .into());
+    }
+    Ok(())
 }
 
 /// Read the checkpoint of run directory `dir` and check it belongs to this scenario.

@@ -27,6 +27,8 @@ pub struct Built {
     pub canopy_weight_n: f64,
     /// Σ C_D A of the flat canopy facing the flow (m²): flat terminal velocity reference.
     pub flat_drag_area_m2: f64,
+    /// Flat (planform) area of the canopy S₀ (m²).
+    pub planform_area_m2: f64,
     /// Reference length for the Reynolds number (m): the canopy's largest dimension.
     pub reference_length_m: f64,
     /// Derived quantities for `chute check` (name, value with units).
@@ -36,7 +38,7 @@ pub struct Built {
 }
 
 mod canopy;
-mod drag;
+pub mod drag;
 pub mod imperfection;
 mod load;
 mod sites;
@@ -130,6 +132,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         total_weight_n,
         canopy_weight_n,
         flat_drag_area_m2: drag.flat_cd_area,
+        planform_area_m2: geo.planform_area,
         reference_length_m: geo.reference_length,
         derived: Vec::new(),
         model,
@@ -140,9 +143,11 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
 
 /// Quantities printed by `chute check`.
 fn derived(s: &Scenario, b: &Built, geo: &Geometry) -> Vec<(String, String)> {
-    let rho = s.fluid.density_kg_m3;
+    // The air where the canopy starts (z = 0).
+    let air = drag::fluid(s).at(0.0);
+    let rho = air.density;
     let v_flat = (2.0 * b.total_weight_n / (rho * b.flat_drag_area_m2)).sqrt();
-    let re = rho * v_flat * b.reference_length_m / s.fluid.viscosity_pa_s;
+    let re = rho * v_flat * b.reference_length_m / air.viscosity;
     let fixed = b.model.fixed.iter().filter(|&&f| f).count();
     let mut d = vec![
         ("model".into(), format!("{:?}", s.model.kind).to_lowercase()),

@@ -1,10 +1,15 @@
 //! Run metrics from the (decimated) time series: terminal velocity, time to terminal,
-//! steadiness, force balance, drag area and Reynolds number.
+//! steadiness, force balance, drag area and Reynolds number; the recovery-system metrics
+//! (loads, settling, atmosphere, landing) are in [`descent`], [`loads`] and [`landing`].
 //!
 //! All window statistics are time-weighted with trapezoid weights (wᵢ = half the time span
 //! of the two intervals around sample i), so they do not depend on step-size changes or on the
 //! decimation of [`crate::output::DecimatedSeries`]; the weighted mean equals the trapezoid
 //! integral ∫f dt / Δt over the window. Definitions are in `docs/outputs.md`.
+
+pub mod descent;
+pub mod landing;
+pub mod loads;
 
 /// Fraction of the run (by time, measured from the first sample) forming the final window.
 pub const FINAL_WINDOW_FRACTION: f64 = 0.2;

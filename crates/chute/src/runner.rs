@@ -6,7 +6,9 @@
 //! local error exceeds the tolerance is rejected and retried with the controller's smaller
 //! step. Below the smallest step the run stops: the summary is marked incomplete with the
 //! reason, the time series and frames written so far stay valid, and `checkpoint.bin` holds
-//! the last good state.
+//! the last good state. With a ground (`atmosphere.ground_altitude_m`) the run ends, complete,
+//! at the first step on which the payload (or the lowest canopy node) reaches it
+//! (`stop_reason = "ground"`).
 //!
 //! Checkpoints and determinism: at *sync points*, fixed simulated times that do not depend on
 //! the run's history (every [`SYNC_STEPS`] nominal steps; adaptive steps end on them), the
@@ -34,6 +36,7 @@ mod advance;
 pub mod dt_policy;
 mod observe;
 mod persist;
+mod recovery;
 mod session;
 pub use advance::Driver;
 use advance::Outcome;
@@ -67,6 +70,17 @@ pub struct RunConfig {
     pub air_viscosity: f64,
     /// Whether drag is quadratic (regime warning).
     pub quadratic_drag: bool,
+    /// The air at every height (the metrics take ρ and μ from it; a uniform fluid gives
+    /// `air_density` and `air_viscosity`).
+    pub air: engine::aero::Fluid,
+    /// Geometric altitude of the model's z = 0 (m).
+    pub altitude_m: f64,
+    /// Model height of the ground (m), when the run ends there.
+    pub ground_z_m: Option<f64>,
+    /// Gravitational acceleration (m/s²).
+    pub gravity_mps2: f64,
+    /// Warnings about the scenario itself, first in the summary.
+    pub scenario_warnings: Vec<String>,
     /// Show a progress bar.
     pub progress: bool,
 }
@@ -76,11 +90,14 @@ pub struct RunConfig {
 pub struct RunResult {
     /// The summary as written to `summary.json`.
     pub summary: Summary,
-    /// Whether the requested duration was simulated.
+    /// Whether the requested duration was simulated, or the run reached the ground.
     pub complete: bool,
-    /// Why it stopped early.
+    /// Why it stopped before the duration ([`GROUND`] when it landed).
     pub stop_reason: Option<String>,
 }
+
+/// The stop reason of a run that reached the ground (complete).
+pub const GROUND: &str = "ground";
 
 /// Errors that prevent a run from producing its outputs at all.
 #[derive(Debug, thiserror::Error)]
@@ -186,6 +203,7 @@ pub fn simulate_with(
     let mut next_ckpt = ctl
         .checkpoint_every_s
         .map(|s| next_multiple(s, run.state.t));
+    run.start_watches(built);
     // The start (fresh or resumed) is a sync point: the stepper holds no factorisation.
     let mut last_sync = run.checkpoint(built, ctl, &wall, true);
     let mut stop_reason = None;
@@ -200,6 +218,10 @@ pub fn simulate_with(
         }
         let plan = run.dt.plan(run.state.t, run.next_event(cfg));
         let iterations = match run.attempt(&mut stepper, built, cfg, out_dir, &plan)? {
+            Attempt::Accepted(_) if run.landing.is_some() => {
+                stop_reason = Some(GROUND.to_string());
+                break;
+            }
             Attempt::Accepted(iterations) => iterations,
             Attempt::Rejected => continue,
             Attempt::Failed(e) => {
@@ -269,6 +291,8 @@ struct Run {
     dec: DecimatedSeries,
     vtk: VtkSeries,
     obs: Observer,
+    ground: Option<crate::metrics::landing::GroundWatch>,
+    landing: Option<crate::metrics::landing::Landing>,
 }
 
 impl Run {
@@ -288,7 +312,7 @@ impl Run {
             dt: DtPolicy::new(cfg)?,
             steps: 0,
             newton_total: 0,
-            warnings: Vec::new(),
+            warnings: cfg.scenario_warnings.clone(),
             next_frame: 0.0,
             snaps,
             snap_idx: 0,
@@ -299,6 +323,10 @@ impl Run {
             dec: DecimatedSeries::default(),
             vtk,
             obs: Observer::new(built),
+            ground: cfg
+                .ground_z_m
+                .map(crate::metrics::landing::GroundWatch::new),
+            landing: None,
         })
     }
 
@@ -372,7 +400,19 @@ impl Run {
         self.ts.push(&s).map_err(io_err(&self.ts_path))?;
         self.dec.push(&s);
         self.write_due_outputs(built, cfg, out_dir)?;
+        if let Some(g) = &mut self.ground {
+            self.landing = g.observe(self.obs.ground_body(built, self.state.t));
+        }
         Ok(Attempt::Accepted(iterations))
+    }
+
+    /// Start the payload's acceleration and the ground watch from the current state.
+    fn start_watches(&mut self, built: &Built) {
+        self.obs.start(built, &self.state);
+        self.obs.load(&self.state.q, &self.state.v);
+        if let Some(g) = &mut self.ground {
+            self.landing = g.observe(self.obs.ground_body(built, self.state.t));
+        }
     }
 
     /// Halve the step after a failed Newton solve of a step of size `h`; the stop reason when
@@ -451,7 +491,7 @@ impl Run {
             ));
         }
         self.ts.finish().map_err(io_err(&self.ts_path))?;
-        let complete = stop_reason.is_none();
+        let complete = stop_reason.is_none() || self.landing.is_some();
         // The final state is always drawn, whether or not the run completed.
         self.obs.load(&self.state.q, &self.state.v);
         let roles = node_roles(built);
@@ -459,14 +499,15 @@ impl Run {
         let _ = plots::final_shape_plot(out_dir, self.state.t, &scene);
         let stepping = self.dt.stepping(cfg);
         built.state = self.state;
+        let dec = &self.dec;
+        let (rho, mu) = recovery::window_air(dec, cfg);
         let params = metrics::Params {
             total_weight_n: built.total_weight_n,
-            air_density_kg_m3: cfg.air_density,
-            air_viscosity_pa_s: cfg.air_viscosity,
+            air_density_kg_m3: rho,
+            air_viscosity_pa_s: mu,
             reference_length_m: built.reference_length_m,
             quadratic_drag: cfg.quadratic_drag,
         };
-        let dec = &self.dec;
         let info = RunInfo {
             scenario_name: cfg.name.clone(),
             complete,
@@ -481,7 +522,13 @@ impl Run {
         };
         let summary = match metrics::compute(&dec.series(), &params) {
             Ok(m) => {
-                let summary = Summary::new(info, &m);
+                let summary = Summary::new(info, &m).with_recovery(metrics::descent::compute(
+                    &dec.recovery_series(),
+                    &recovery::params(built, cfg),
+                    m.terminal_velocity_mps,
+                    m.drag_area_m2,
+                    self.landing,
+                ));
                 let reason = crate::output::console::not_reached_reason(&summary);
                 let mark = match &reason {
                     None => plots::TerminalMark::Reached {

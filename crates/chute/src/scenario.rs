@@ -41,9 +41,9 @@ pub use error::{Origin, ScenarioError};
 /// The absolute directory against which a file's relative paths resolve.
 pub use parse::base_dir as source_dir;
 pub use sections::{
-    Bending, Canopy, CanopyShape, DragLaw, Fluid, Lines, Load, LoadMode, Material, Membrane,
-    MeshPattern, ModelKind, ModelSection, Output, Shell, ShellDrag, SiteSet, Sites, Time,
-    DEFAULT_ERROR_TOLERANCE_M,
+    Atmosphere, AtmosphereModel, Bending, Canopy, CanopyShape, DragLaw, Fluid, Lines, Load,
+    LoadMode, Material, Membrane, MeshPattern, ModelKind, ModelSection, Output, Shell, ShellDrag,
+    SiteSet, Sites, Time, DEFAULT_ERROR_TOLERANCE_M,
 };
 
 /// A complete, validated scenario with every default filled in.
@@ -72,12 +72,31 @@ pub struct Scenario {
     /// Air and drag law.
     #[serde(default)]
     pub fluid: Fluid,
+    /// The air's variation with height, and the ground.
+    #[serde(default)]
+    pub atmosphere: Atmosphere,
     /// Time stepping.
     #[serde(default)]
     pub time: Time,
     /// What to write.
     #[serde(default)]
     pub output: Output,
+    /// What the loader noticed about how the scenario was written (keys set but not used);
+    /// not part of the scenario itself: never serialised, and equal for any two scenarios.
+    #[serde(skip)]
+    pub notes: LoadNotes,
+}
+
+/// Warnings of the loader about the text a scenario came from (e.g. keys that are set but
+/// not used). They describe the text, not the scenario, so they take no part in equality:
+/// a scenario and its re-parsed resolved TOML are equal.
+#[derive(Debug, Clone, Default)]
+pub struct LoadNotes(pub Vec<String>);
+
+impl PartialEq for LoadNotes {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// The error-control settings of an adaptive scenario (all filled in by the loader).

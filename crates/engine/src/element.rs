@@ -24,7 +24,7 @@ use crate::force::{BlockMut, EvalInput, Force, JacobianKind, LocalBlocks};
 pub trait Element: Send + Sync + 'static {
     /// Number of DOFs in every stencil.
     const STENCIL: usize;
-    /// Which Jacobians [`Element::evaluate`] writes.
+    /// Which Jacobians [`Element::evaluate`] writes (see also [`Element::kind`]).
     const KIND: JacobianKind;
     /// True when the force is `−∇E` of the energy added by [`Element::add_energy`] and does
     /// not depend on velocity (see [`Force::conservative`]).
@@ -32,10 +32,16 @@ pub trait Element: Send + Sync + 'static {
     /// Per-element constants.
     type Data: Send + Sync;
 
+    /// Which Jacobians this family writes: [`Element::KIND`] unless the law's settings add
+    /// dependencies (node drag in a fluid whose density varies with height gains `∂f/∂q`).
+    fn kind(&self) -> JacobianKind {
+        Self::KIND
+    }
+
     /// Overwrite the local force `out.f` (length [`Element::STENCIL`]) of the element with
     /// data `el` on the global DOFs `st`, and, unless they are empty (the force-only path,
     /// `input.jacobian == false`), the local Jacobians `out.dfdq` / `out.dfdv` (row-major
-    /// `STENCIL × STENCIL`) that [`Element::KIND`] declares.
+    /// `STENCIL × STENCIL`) that [`Element::kind`] declares.
     fn evaluate(&self, el: &Self::Data, st: &[usize], input: &EvalInput<'_>, out: BlockMut<'_>);
 
     /// Add the element's potential energy (J) at `q` to `acc`; only called when
@@ -135,7 +141,7 @@ impl<E: Element> Force for Family<E> {
         &self.stencils
     }
     fn jacobian_kind(&self) -> JacobianKind {
-        E::KIND
+        self.law.kind()
     }
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
         let k = E::STENCIL;

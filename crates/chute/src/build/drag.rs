@@ -1,8 +1,10 @@
-//! Drag elements for the canopy and the lines.
+//! Drag elements for the canopy and the lines, in the scenario's air (constant or the 1976
+//! standard atmosphere) and, for a shell, with the fabric's permeability.
 use super::canopy::Geometry;
 use super::load::Plan;
-use crate::scenario::{DragLaw, ModelKind, Scenario, ShellDrag};
-use engine::aero::{Fluid, LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
+use crate::scenario::{AtmosphereModel, DragLaw, ModelKind, Scenario, ShellDrag};
+use engine::aero::atmosphere::sutherland;
+use engine::aero::{Fabric, Fluid, LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
 use engine::rod::RodHandles;
 use engine::{ForceId, Model};
 
@@ -16,6 +18,57 @@ pub struct DragInstall {
     pub flat_cd_area: f64,
 }
 
+/// Pressure drop of the ASTM D737 air-permeability test, 0.5 in of water (Pa).
+pub const ASTM_D737_PRESSURE_PA: f64 = 124.5;
+/// Temperature of the standard textile-testing atmosphere (ASTM D1776: 21 °C) in which the
+/// D737 flow is measured (K); the air's viscosity there converts the flow to a permeability.
+pub const ASTM_D737_TEMPERATURE_K: f64 = 294.15;
+/// One ft³/(ft²·min) as a speed (m/s): 0.3048 m / 60 s.
+pub const CFM_PER_FT2_MPS: f64 = 0.3048 / 60.0;
+
+/// The engine's fluid of scenario `s`: `[fluid]` density and viscosity everywhere
+/// (`atmosphere.model = "constant"`), or the 1976 standard atmosphere with z = 0 at
+/// `atmosphere.altitude_m`; the wind of `[fluid]` either way.
+pub fn fluid(s: &Scenario) -> Fluid {
+    let f = &s.fluid;
+    match s.atmosphere.model {
+        AtmosphereModel::Constant => Fluid {
+            density: f.density_kg_m3,
+            viscosity: f.viscosity_pa_s,
+            wind: f.wind_mps,
+            profile: engine::aero::Profile::Uniform,
+        },
+        AtmosphereModel::Isa1976 => Fluid {
+            wind: f.wind_mps,
+            ..Fluid::isa1976(s.atmosphere.altitude_m)
+        },
+    }
+}
+
+/// Darcy permeability (m²) of a fabric of thickness `thickness_m` rated `cfm` ft³/(ft²·min)
+/// in the ASTM D737 test: `k = h μ u / Δp` with the Darcy term alone, u = cfm · 0.3048/60
+/// m/s, Δp = 124.5 Pa and μ of air at 21 °C (Sutherland).
+pub fn permeability_from_cfm(cfm: f64, thickness_m: f64) -> f64 {
+    let mu = sutherland(ASTM_D737_TEMPERATURE_K).0;
+    Fabric::darcy_permeability(
+        thickness_m,
+        mu,
+        cfm * CFM_PER_FT2_MPS,
+        ASTM_D737_PRESSURE_PA,
+    )
+}
+
+/// The canopy fabric's permeability, when `[material]` gives one (thickness
+/// `canopy.thickness_m`).
+pub fn fabric(s: &Scenario) -> Option<Fabric> {
+    let m = &s.material;
+    let h = s.canopy.thickness_m;
+    let k = m
+        .permeability_m2
+        .or_else(|| m.air_permeability_cfm.map(|q| permeability_from_cfm(q, h)))?;
+    Some(Fabric::new(h, k, m.forchheimer_coefficient.unwrap_or(0.0)))
+}
+
 /// Install drag on the canopy (node drag for a rod canopy, triangle drag for a shell) and
 /// node drag on suspension lines (A_k = 2 r l̄_k with the line radius r).
 pub fn install(
@@ -26,11 +79,8 @@ pub fn install(
     model: &mut Model,
 ) -> DragInstall {
     let f = &s.fluid;
-    let fluid = Fluid {
-        density: f.density_kg_m3,
-        viscosity: f.viscosity_pa_s,
-        wind: f.wind_mps,
-    };
+    let fluid = fluid(s);
+    let fabric = fabric(s);
     let mut out = DragInstall {
         forces: Vec::new(),
         triangle: None,
@@ -68,17 +118,22 @@ pub fn install(
         (DragLaw::Quadratic, ModelKind::Shell) => {
             let faces = geo.triangles();
             let id = match f.shell_drag {
-                ShellDrag::Report => model.add_force(TriangleDrag::new(
-                    &faces,
-                    cd,
-                    f.tangential_drag_coefficient,
-                    &fluid,
-                )),
+                ShellDrag::Report => {
+                    let d = TriangleDrag::new(&faces, cd, f.tangential_drag_coefficient, &fluid);
+                    match fabric {
+                        Some(fab) => model.add_force(d.with_fabric(fab)),
+                        None => model.add_force(d),
+                    }
+                }
                 ShellDrag::Pressure => {
                     let q: Vec<f64> = geo.mesh.positions.iter().flatten().copied().collect();
                     let mut qfull = q;
                     qfull.resize(model.n_dofs(), 0.0);
-                    model.add_force(PressureDrag::new(&faces, &qfull, cd, &fluid))
+                    let d = PressureDrag::new(&faces, &qfull, cd, &fluid);
+                    match fabric {
+                        Some(fab) => model.add_force(d.with_fabric(fab)),
+                        None => model.add_force(d),
+                    }
                 }
             };
             out.forces.push(id);

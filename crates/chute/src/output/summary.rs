@@ -3,6 +3,7 @@
 use std::io;
 use std::path::Path;
 
+use crate::metrics::descent::Recovery;
 use crate::metrics::Metrics;
 
 /// Version of the `summary.json` layout; bump when a field changes meaning or is removed.
@@ -13,9 +14,10 @@ pub const SUMMARY_VERSION: u32 = 1;
 pub struct RunInfo {
     /// Scenario name (from the scenario file).
     pub scenario_name: String,
-    /// Whether the run reached its requested end time.
+    /// Whether the run reached its requested end time, or the ground.
     pub complete: bool,
-    /// Why the run stopped early (e.g. "Newton failed at t = 1.2 s"), `None` if complete.
+    /// Why the run stopped before its end time (e.g. "Newton failed at t = 1.2 s"; "ground"
+    /// for a complete run that landed), `None` if it ran to the end.
     pub stop_reason: Option<String>,
     /// Simulated time reached (s).
     pub simulated_time_s: f64,
@@ -115,6 +117,10 @@ pub struct Summary {
     /// ρ |v_t| L / μ (dimensionless).
     #[serde(deserialize_with = "null_as_nan")]
     pub reynolds_number: f64,
+    /// Recovery-system results: loads, settling, atmosphere, landing (their fields appear at
+    /// this level; null when not defined; docs/engineering.md).
+    #[serde(flatten)]
+    pub recovery: Recovery,
     /// Accepted time steps.
     pub steps: u64,
     /// Total Newton iterations.
@@ -179,6 +185,7 @@ impl Summary {
             force_balance_error: m.force_balance_error,
             horizontal_velocity_mps: m.horizontal_velocity_mps,
             reynolds_number: m.reynolds_number,
+            recovery: Recovery::default(),
             steps: run.steps,
             newton_iterations: run.newton_iterations,
             wall_time_s: run.wall_time_s,
@@ -186,6 +193,12 @@ impl Summary {
             stepping: run.stepping,
             warnings,
         }
+    }
+
+    /// The same summary with the recovery-system results `r`.
+    pub fn with_recovery(mut self, r: Recovery) -> Self {
+        self.recovery = r;
+        self
     }
 
     /// Pretty JSON (with a trailing newline).

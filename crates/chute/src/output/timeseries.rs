@@ -11,7 +11,8 @@ use std::path::Path;
 
 /// CSV header of `timeseries.csv`, in column order (units in the names).
 pub const HEADER: &str = "t_s,z_m,vz_mps,vx_mps,vy_mps,z_payload_m,vz_payload_mps,\
-extended_height_m,drag_x_n,drag_y_n,drag_z_n,newton_iterations,dt_s";
+extended_height_m,drag_x_n,drag_y_n,drag_z_n,newton_iterations,dt_s,line_tension_n,\
+payload_acceleration_mps2,axis_angle_deg";
 
 /// Buffered rows are written to the file once they exceed this many bytes (~500 rows).
 const FLUSH_THRESHOLD_BYTES: usize = 64 * 1024;
@@ -49,6 +50,18 @@ pub struct Sample {
     pub newton_iterations: u32,
     /// Size of this step (s).
     pub dt_s: f64,
+    /// Magnitude of the resultant force of the suspension lines on the payload (N); 0 without
+    /// a payload. (Absent in files written before the column existed: read as 0.)
+    #[serde(default)]
+    pub line_tension_n: f64,
+    /// Magnitude of the payload's acceleration over this step, |v(t) − v(t − dt)|/dt (m/s²);
+    /// 0 on the initial row and without a payload.
+    #[serde(default)]
+    pub payload_acceleration_mps2: f64,
+    /// Angle between the vertical and the axis from the payload to the canopy's mass centre
+    /// (degrees, 0 = canopy straight above); 0 without a payload.
+    #[serde(default)]
+    pub axis_angle_deg: f64,
 }
 
 impl Sample {
@@ -58,7 +71,7 @@ impl Sample {
         // Writing into a Vec cannot fail.
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             self.t_s,
             self.z_m,
             self.vz_mps,
@@ -71,7 +84,10 @@ impl Sample {
             self.drag_y_n,
             self.drag_z_n,
             self.newton_iterations,
-            self.dt_s
+            self.dt_s,
+            self.line_tension_n,
+            self.payload_acceleration_mps2,
+            self.axis_angle_deg
         );
     }
 }
@@ -85,6 +101,8 @@ pub struct CanopyMeans {
     pub v_mps: [f64; 3],
     /// max zᵢ − min zᵢ over canopy nodes (m).
     pub extended_height_m: f64,
+    /// Σ mᵢ xᵢ / Σ mᵢ over canopy nodes (m): the canopy's mass centre.
+    pub centre_m: [f64; 3],
 }
 
 /// Mass-weighted mean height and velocity, and extended height, over the nodes `nodes`.
@@ -97,7 +115,7 @@ pub fn canopy_means(
     masses: &[f64],
     nodes: &[usize],
 ) -> Option<CanopyMeans> {
-    let (mut m_sum, mut mz, mut mv) = (0.0, 0.0, [0.0; 3]);
+    let (mut m_sum, mut mz, mut mv, mut mx) = (0.0, 0.0, [0.0; 3], [0.0; 3]);
     let (mut z_min, mut z_max) = (f64::INFINITY, f64::NEG_INFINITY);
     for &i in nodes {
         let (x, v, m) = (positions[i], velocities[i], masses[i]);
@@ -105,6 +123,7 @@ pub fn canopy_means(
         mz += m * x[2];
         for c in 0..3 {
             mv[c] += m * v[c];
+            mx[c] += m * x[c];
         }
         z_min = z_min.min(x[2]);
         z_max = z_max.max(x[2]);
@@ -113,6 +132,7 @@ pub fn canopy_means(
         z_m: mz / m_sum,
         v_mps: mv.map(|s| s / m_sum),
         extended_height_m: z_max - z_min,
+        centre_m: mx.map(|s| s / m_sum),
     })
 }
 
@@ -197,7 +217,8 @@ impl Drop for TimeSeriesWriter {
 /// `stride`: uniformly spaced in step count, between `capacity/2` and `capacity` of them. The
 /// most recent sample is always kept as well (as a provisional last entry), so the series ends
 /// at the current time. Memory is bounded by `capacity + 1` samples whatever the run length.
-/// The maximum extended height is tracked exactly over all samples, not only retained ones.
+/// The maximum extended height, the peak line tension (with its time) and the peak payload
+/// acceleration are tracked exactly over all samples, not only retained ones.
 #[derive(Debug, Clone)]
 pub struct DecimatedSeries {
     capacity: usize,
@@ -206,6 +227,8 @@ pub struct DecimatedSeries {
     /// Whether the last entry of the columns is the provisional latest sample.
     tail_is_provisional: bool,
     max_extended_height_m: f64,
+    peak_line_tension: (f64, f64),
+    peak_payload_acceleration_mps2: f64,
     /// Simulated time (s), per retained sample.
     pub t_s: Vec<f64>,
     /// Canopy mean vertical velocity (m/s).
@@ -218,7 +241,18 @@ pub struct DecimatedSeries {
     pub extended_height_m: Vec<f64>,
     /// Total drag along z (N).
     pub drag_z_n: Vec<f64>,
+    /// Canopy mean height (m).
+    pub z_m: Vec<f64>,
+    /// Payload height (m; the canopy's without a payload).
+    pub z_payload_m: Vec<f64>,
+    /// Line tension on the payload (N).
+    pub line_tension_n: Vec<f64>,
+    /// Angle of the payload–canopy axis from the vertical (degrees).
+    pub axis_angle_deg: Vec<f64>,
 }
+
+/// Number of columns of [`DecimatedSeries`].
+const COLUMNS: usize = 10;
 
 /// Default bound on retained samples.
 pub const DEFAULT_CAPACITY: usize = 20_000;
@@ -240,13 +274,34 @@ impl DecimatedSeries {
             pushed: 0,
             tail_is_provisional: false,
             max_extended_height_m: f64::NEG_INFINITY,
+            peak_line_tension: (f64::NAN, f64::NEG_INFINITY),
+            peak_payload_acceleration_mps2: f64::NEG_INFINITY,
             t_s: col(),
             vz_mps: col(),
             vx_mps: col(),
             vy_mps: col(),
             extended_height_m: col(),
             drag_z_n: col(),
+            z_m: col(),
+            z_payload_m: col(),
+            line_tension_n: col(),
+            axis_angle_deg: col(),
         }
+    }
+
+    fn columns_mut(&mut self) -> [&mut Vec<f64>; COLUMNS] {
+        [
+            &mut self.t_s,
+            &mut self.vz_mps,
+            &mut self.vx_mps,
+            &mut self.vy_mps,
+            &mut self.extended_height_m,
+            &mut self.drag_z_n,
+            &mut self.z_m,
+            &mut self.z_payload_m,
+            &mut self.line_tension_n,
+            &mut self.axis_angle_deg,
+        ]
     }
 
     /// Record one sample (see the type docs for the decimation rule).
@@ -257,12 +312,24 @@ impl DecimatedSeries {
         let k = self.pushed;
         self.pushed += 1;
         self.max_extended_height_m = self.max_extended_height_m.max(s.extended_height_m);
-        self.t_s.push(s.t_s);
-        self.vz_mps.push(s.vz_mps);
-        self.vx_mps.push(s.vx_mps);
-        self.vy_mps.push(s.vy_mps);
-        self.extended_height_m.push(s.extended_height_m);
-        self.drag_z_n.push(s.drag_z_n);
+        if s.line_tension_n > self.peak_line_tension.1 {
+            self.peak_line_tension = (s.t_s, s.line_tension_n);
+        }
+        self.peak_payload_acceleration_mps2 = self
+            .peak_payload_acceleration_mps2
+            .max(s.payload_acceleration_mps2);
+        self.push_raw([
+            s.t_s,
+            s.vz_mps,
+            s.vx_mps,
+            s.vy_mps,
+            s.extended_height_m,
+            s.drag_z_n,
+            s.z_m,
+            s.z_payload_m,
+            s.line_tension_n,
+            s.axis_angle_deg,
+        ]);
         self.tail_is_provisional = !k.is_multiple_of(self.stride);
         if !self.tail_is_provisional && self.t_s.len() >= self.capacity {
             self.halve();
@@ -270,12 +337,9 @@ impl DecimatedSeries {
     }
 
     fn pop(&mut self) {
-        self.t_s.pop();
-        self.vz_mps.pop();
-        self.vx_mps.pop();
-        self.vy_mps.pop();
-        self.extended_height_m.pop();
-        self.drag_z_n.pop();
+        for c in self.columns_mut() {
+            c.pop();
+        }
     }
 
     /// Keep retained entries 0, 2, 4, … (push index a multiple of 2·stride) and double stride.
@@ -289,14 +353,7 @@ impl DecimatedSeries {
         }
         let last = self.sample_at(self.t_s.len() - 1);
         let last_was_dropped = (self.t_s.len() - 1) % 2 == 1;
-        for v in [
-            &mut self.t_s,
-            &mut self.vz_mps,
-            &mut self.vx_mps,
-            &mut self.vy_mps,
-            &mut self.extended_height_m,
-            &mut self.drag_z_n,
-        ] {
+        for v in self.columns_mut() {
             keep_even(v);
         }
         self.stride *= 2;
@@ -307,24 +364,14 @@ impl DecimatedSeries {
         }
     }
 
-    fn sample_at(&self, i: usize) -> [f64; 6] {
-        [
-            self.t_s[i],
-            self.vz_mps[i],
-            self.vx_mps[i],
-            self.vy_mps[i],
-            self.extended_height_m[i],
-            self.drag_z_n[i],
-        ]
+    fn sample_at(&mut self, i: usize) -> [f64; COLUMNS] {
+        self.columns_mut().map(|c| c[i])
     }
 
-    fn push_raw(&mut self, r: [f64; 6]) {
-        self.t_s.push(r[0]);
-        self.vz_mps.push(r[1]);
-        self.vx_mps.push(r[2]);
-        self.vy_mps.push(r[3]);
-        self.extended_height_m.push(r[4]);
-        self.drag_z_n.push(r[5]);
+    fn push_raw(&mut self, r: [f64; COLUMNS]) {
+        for (c, x) in self.columns_mut().into_iter().zip(r) {
+            c.push(x);
+        }
     }
 
     /// Number of samples currently held (≤ capacity + 1).
@@ -352,6 +399,17 @@ impl DecimatedSeries {
         self.max_extended_height_m
     }
 
+    /// Exact peak line tension over every pushed sample: (time (s), tension (N)), the
+    /// earliest if repeated; (NaN, −∞) when empty.
+    pub fn peak_line_tension(&self) -> (f64, f64) {
+        self.peak_line_tension
+    }
+
+    /// Exact peak payload acceleration over every pushed sample (m/s²); −∞ when empty.
+    pub fn peak_payload_acceleration_mps2(&self) -> f64 {
+        self.peak_payload_acceleration_mps2
+    }
+
     /// Borrow the columns in the form [`crate::metrics::compute`] takes.
     pub fn series(&self) -> crate::metrics::Series<'_> {
         crate::metrics::Series {
@@ -362,6 +420,22 @@ impl DecimatedSeries {
             extended_height_m: &self.extended_height_m,
             drag_z_n: &self.drag_z_n,
             exact_max_extended_height_m: (!self.is_empty()).then_some(self.max_extended_height_m),
+        }
+    }
+
+    /// Borrow the columns and peaks the recovery metrics take
+    /// ([`crate::metrics::descent::compute`]).
+    pub fn recovery_series(&self) -> crate::metrics::descent::RecoverySeries<'_> {
+        crate::metrics::descent::RecoverySeries {
+            t_s: &self.t_s,
+            vz_mps: &self.vz_mps,
+            drag_z_n: &self.drag_z_n,
+            z_m: &self.z_m,
+            z_payload_m: &self.z_payload_m,
+            line_tension_n: &self.line_tension_n,
+            axis_angle_deg: &self.axis_angle_deg,
+            peak_line_tension: self.peak_line_tension,
+            peak_payload_acceleration_mps2: self.peak_payload_acceleration_mps2,
         }
     }
 }

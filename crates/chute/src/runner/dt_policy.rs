@@ -348,6 +348,11 @@ mod tests {
             air_density: 1.225,
             air_viscosity: 1.81e-5,
             quadratic_drag: true,
+            air: engine::aero::Fluid::air(),
+            altitude_m: 0.0,
+            ground_z_m: None,
+            gravity_mps2: 9.81,
+            scenario_warnings: Vec::new(),
             progress: false,
         }
     }

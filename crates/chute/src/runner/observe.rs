@@ -1,7 +1,9 @@
-//! Observation of the state for the outputs: canopy means, total drag, per-triangle drag.
-//! Reads the state, never changes it; buffers are reused (no allocation per step).
+//! Observation of the state for the outputs: canopy means, total drag, per-triangle drag,
+//! and the payload's line tension, acceleration and axis angle. Reads the state, never
+//! changes it; buffers are reused (no allocation per step).
 
 use crate::build::Built;
+use crate::metrics::landing::BodyState;
 use crate::output::timeseries::{canopy_means, Sample};
 
 /// Reusable observation buffers.
@@ -11,6 +13,31 @@ pub(super) struct Observer {
     masses: Vec<f64>,
     drag_blocks: Vec<engine::LocalBlocks>,
     pub tri_drag: Vec<[f64; 3]>,
+    /// The rod families acting on the payload node (the suspension lines), by index in
+    /// `model.forces`, with their buffers.
+    line_forces: Vec<(usize, engine::LocalBlocks)>,
+    /// The payload's velocity at the previous sample (its acceleration over the step).
+    payload_v: Option<[f64; 3]>,
+}
+
+/// The rod families (`RodNetwork::install` names them `rod-…`) with a stencil entry on the
+/// payload node: the suspension lines.
+fn line_forces(b: &Built) -> Vec<(usize, engine::LocalBlocks)> {
+    let Some(p) = b.payload_node else {
+        return Vec::new();
+    };
+    b.model
+        .forces
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.name().starts_with("rod-"))
+        .filter(|(_, f)| {
+            f.stencils()
+                .iter()
+                .any(|&d| d / 3 == p && d < 3 * b.model.layout.n_nodes)
+        })
+        .map(|(i, f)| (i, f.new_blocks()))
+        .collect()
 }
 
 impl Observer {
@@ -26,6 +53,55 @@ impl Observer {
                 .map(|&id| b.model.force(id).new_blocks())
                 .collect(),
             tri_drag: vec![[0.0; 3]; b.triangles.len()],
+            line_forces: line_forces(b),
+            payload_v: None,
+        }
+    }
+
+    /// Start the payload's acceleration from state `s` (a fresh or resumed run).
+    pub fn start(&mut self, b: &Built, s: &engine::State) {
+        self.payload_v = b
+            .payload_node
+            .map(|p| [s.v[3 * p], s.v[3 * p + 1], s.v[3 * p + 2]]);
+    }
+
+    /// The resultant force of the suspension lines on the payload at `(q, v)` (N).
+    fn line_force(&mut self, b: &Built, q: &[f64], v: &[f64], t: f64) -> [f64; 3] {
+        let mut total = [0.0; 3];
+        let Some(p) = b.payload_node else {
+            return total;
+        };
+        let input = engine::EvalInput {
+            q,
+            v,
+            t,
+            jacobian: false,
+        };
+        for (i, blocks) in &mut self.line_forces {
+            let force = &b.model.forces[*i];
+            force.evaluate(&input, blocks);
+            for (&d, f) in force.stencils().iter().zip(&blocks.f) {
+                if d / 3 == p && d < 3 * b.model.layout.n_nodes {
+                    total[d % 3] += f;
+                }
+            }
+        }
+        total
+    }
+
+    /// The body whose height ends the run at the ground: the payload, or without one the
+    /// lowest canopy node (of the state last loaded).
+    pub fn ground_body(&self, b: &Built, t: f64) -> BodyState {
+        let i = b.payload_node.unwrap_or_else(|| {
+            *b.canopy_nodes
+                .iter()
+                .min_by(|&&i, &&j| self.pos[i][2].total_cmp(&self.pos[j][2]))
+                .expect("a canopy node")
+        });
+        BodyState {
+            t_s: t,
+            x_m: self.pos[i],
+            v_mps: self.vel[i],
         }
     }
 
@@ -74,6 +150,16 @@ impl Observer {
             Some(p) => (self.pos[p][2], self.vel[p][2]),
             None => (m.z_m, m.v_mps[2]),
         };
+        let lines = self.line_force(b, &s.q, &s.v, s.t);
+        let (mut accel, mut angle) = (0.0, 0.0);
+        if let Some(p) = b.payload_node {
+            let vp = self.vel[p];
+            if let Some(prev) = self.payload_v.replace(vp) {
+                accel = norm([0, 1, 2].map(|k| vp[k] - prev[k])) / dt;
+            }
+            let axis = [0, 1, 2].map(|k| m.centre_m[k] - self.pos[p][k]);
+            angle = (axis[2] / norm(axis)).clamp(-1.0, 1.0).acos().to_degrees();
+        }
         Sample {
             t_s: s.t,
             z_m: m.z_m,
@@ -88,6 +174,13 @@ impl Observer {
             drag_z_n: drag[2],
             newton_iterations: iters,
             dt_s: dt,
+            line_tension_n: norm(lines),
+            payload_acceleration_mps2: accel,
+            axis_angle_deg: angle,
         }
     }
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }

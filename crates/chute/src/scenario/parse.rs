@@ -83,6 +83,7 @@ pub fn parse_scenario(
         }
     }
     validate::validate(&s, &prov)?;
+    s.notes = super::LoadNotes(validate::notes(&s, &prov));
     Ok(s)
 }
 

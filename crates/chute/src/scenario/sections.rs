@@ -18,6 +18,7 @@ pub const SECTIONS: &[Section] = &[
     Section::table::<Load>("load"),
     Section::table::<Lines>("lines"),
     Section::table::<Fluid>("fluid"),
+    Section::table::<Atmosphere>("atmosphere"),
     Section::table::<Time>("time"),
     Section::table::<Output>("output"),
 ];
@@ -35,6 +36,10 @@ const FABRIC: Cond = when("shell.membrane", "fabric");
 /// The rest of their "only used with" message.
 const FABRIC_ONLY: &str =
     " (the other membranes are isotropic: `youngs_modulus_pa`, `poisson_ratio`)";
+const ISA: Cond = when("atmosphere.model", "isa1976");
+/// Why a permeability needs a shell canopy.
+const SHELL_ONLY: &str =
+    " (leakage acts through the fabric's normal, which a rod strip does not have)";
 
 section! {
     /// The top-level keys (held by [`super::Scenario`] itself).
@@ -208,6 +213,30 @@ section! {
                 " (it regularises the no-compression law)"
             )
             .default_doc("1e-5"),
+        /// Darcy permeability k of the fabric: air leaks through it, Δp = h (μ u_p/k + ρ C_F
+        /// u_p²/√k) over the thickness h = `canopy.thickness_m` (docs/engineering.md)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        permeability_m2: Option<f64> = None => key()
+            .unit("m²")
+            .positive("a permeability; leave the key out for an impermeable fabric")
+            .only_with(SHELL, SHELL_ONLY)
+            .default_doc("absent: impermeable")
+            .note("not with `air_permeability_cfm`, nor with `fluid.drag = \"linear\"`"),
+        /// the fabric's air permeability as data sheets give it (ASTM D737: ft³/min through 1
+        /// ft² at 124.5 Pa), converted to `permeability_m2` with the Darcy term alone
+        #[serde(skip_serializing_if = "Option::is_none")]
+        air_permeability_cfm: Option<f64> = None => key()
+            .unit("ft³/(ft²·min)")
+            .positive("an air flow; leave the key out for an impermeable fabric")
+            .only_with(SHELL, SHELL_ONLY)
+            .default_doc("absent: impermeable")
+            .note("not with `permeability_m2`, nor with `fluid.drag = \"linear\"`"),
+        /// Forchheimer (inertial) coefficient C_F of the fabric's pressure drop
+        #[serde(skip_serializing_if = "Option::is_none")]
+        forchheimer_coefficient: Option<f64> = None => key()
+            .non_negative("the inertial pressure drop opposes the leakage")
+            .default_doc("0")
+            .note("only with `permeability_m2` or `air_permeability_cfm`"),
     }
 }
 
@@ -409,6 +438,41 @@ section! {
             ),
         /// gravitational acceleration g
         gravity_mps2: f64 = 9.81 => key().unit("m/s²").positive("gravity points down, −z"),
+    }
+}
+
+choice! {
+    /// How the air varies with height.
+    pub enum AtmosphereModel {
+        /// `fluid.density_kg_m3` and `fluid.viscosity_pa_s` at every height.
+        Constant = "constant",
+        /// The U.S. Standard Atmosphere 1976 (0–86 km) at each element's altitude.
+        Isa1976 = "isa1976",
+    }
+}
+
+section! {
+    /// `[atmosphere]`: the air's variation with height, and the ground.
+    pub struct Atmosphere {
+        /// `constant`: `fluid.density_kg_m3` and `fluid.viscosity_pa_s` everywhere;
+        /// `isa1976`: the U.S. Standard Atmosphere 1976 (density, viscosity by Sutherland's
+        /// law) at each drag element's own altitude
+        model: AtmosphereModel = AtmosphereModel::Constant => key()
+            .note("with `isa1976`, `fluid.density_kg_m3` and `fluid.viscosity_pa_s` are not used (one warning when a scenario sets them)"),
+        /// geometric altitude of the model's z = 0, where the flat canopy starts
+        altitude_m: f64 = 0.0 => key()
+            .unit("m")
+            .between(0.0, 86_000.0, "the 1976 standard atmosphere is defined from 0 to 86 km")
+            .range_when(ISA),
+        /// geometric altitude of the ground: the run ends, complete, when the payload (without
+        /// one, the lowest canopy node) reaches it
+        #[serde(skip_serializing_if = "Option::is_none")]
+        ground_altitude_m: Option<f64> = None => key()
+            .unit("m")
+            .between(0.0, 86_000.0, "the 1976 standard atmosphere is defined from 0 to 86 km")
+            .range_when(ISA)
+            .default_doc("absent: no ground")
+            .note("below `altitude_m` and below the payload's (or lowest node's) start"),
     }
 }
 

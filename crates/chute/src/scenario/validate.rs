@@ -3,10 +3,11 @@
 //! resolved tree, then the cross-key consistency rules written out here. Each rule says *why*
 //! a value is refused; the first violation in reading order is reported.
 
+use super::error::Origin;
 use super::error::ScenarioError;
 use super::sections::SECTIONS;
 use super::source::Provenance;
-use super::{CanopyShape, LoadMode, ModelKind, Scenario, Sites};
+use super::{AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, Sites};
 
 /// Upper bounds that keep a typo (an extra zero or three) from exhausting memory or time.
 const MAX_SHELL_TRIANGLES: f64 = 2.0e6;
@@ -83,8 +84,86 @@ pub fn validate(s: &Scenario, prov: &Provenance) -> Result<(), ScenarioError> {
     name(&mut c, &s.name);
     canopy(&mut c, s);
     load(&mut c, s);
+    permeability(&mut c, s);
+    atmosphere(&mut c, s);
     time_and_output(&mut c, s);
     c.first()
+}
+
+/// The loader's warnings about keys the scenario sets but the model does not use: with
+/// `atmosphere.model = "isa1976"`, `fluid.density_kg_m3` and `fluid.viscosity_pa_s` (one
+/// warning for both, so that a sea-level scenario flown at altitude with one `--set` says it
+/// once).
+pub fn notes(s: &Scenario, prov: &Provenance) -> Vec<String> {
+    let mut out = Vec::new();
+    if s.atmosphere.model == AtmosphereModel::Isa1976 {
+        let set: Vec<String> = ["fluid.density_kg_m3", "fluid.viscosity_pa_s"]
+            .into_iter()
+            .filter(|k| prov.origin(k) != Origin::Default)
+            .map(|k| format!("{k} ({})", prov.origin(k)))
+            .collect();
+        if !set.is_empty() {
+            out.push(format!(
+                "{} ignored: atmosphere.model = \"isa1976\" takes the density and viscosity of \
+                 the 1976 standard atmosphere at each element's altitude \
+                 (fluid.density_kg_m3 and fluid.viscosity_pa_s are used only with \"constant\")",
+                set.join(" and ")
+            ));
+        }
+    }
+    out
+}
+
+/// The fabric's permeability: one of the two forms, a Forchheimer term only on top of one,
+/// and only with the quadratic laws that split the normal flow (the declared rules make it
+/// positive and shell-only).
+fn permeability(c: &mut Checker, s: &Scenario) {
+    let m = &s.material;
+    if let (Some(_), Some(cfm)) = (m.permeability_m2, m.air_permeability_cfm) {
+        c.fail(
+            "material.air_permeability_cfm",
+            cfm,
+            "give the fabric's permeability once: material.permeability_m2 is set too",
+        );
+    }
+    let permeable = m.permeability_m2.is_some() || m.air_permeability_cfm.is_some();
+    if let (Some(cf), false) = (m.forchheimer_coefficient, permeable) {
+        c.fail(
+            "material.forchheimer_coefficient",
+            cf,
+            "only used with a permeable fabric: set material.permeability_m2 or material.air_permeability_cfm",
+        );
+    }
+    if permeable && s.fluid.drag == DragLaw::Linear {
+        let key = if m.permeability_m2.is_some() {
+            "material.permeability_m2"
+        } else {
+            "material.air_permeability_cfm"
+        };
+        c.fail(
+            key,
+            m.permeability_m2.or(m.air_permeability_cfm).unwrap_or(0.0),
+            "leakage splits the quadratic drag's normal flow; fluid.drag = \"linear\" has none",
+        );
+    }
+}
+
+/// The ground lies below the start (the declared range keeps both inside the standard
+/// atmosphere with `isa1976`).
+fn atmosphere(c: &mut Checker, s: &Scenario) {
+    let a = &s.atmosphere;
+    if let Some(g) = a.ground_altitude_m {
+        if g >= a.altitude_m {
+            c.fail(
+                "atmosphere.ground_altitude_m",
+                g,
+                format!(
+                    "the ground must lie below the start, atmosphere.altitude_m = {} m",
+                    a.altitude_m
+                ),
+            );
+        }
+    }
 }
 
 fn name(c: &mut Checker, name: &str) {

@@ -8,6 +8,7 @@ mod adaptive;
 mod bench;
 mod converge;
 mod errors;
+mod recovery;
 mod reliability;
 mod shell_laws;
 mod validate;

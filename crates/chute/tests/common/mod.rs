@@ -185,7 +185,7 @@ pub fn csv_rows(path: &Path) -> Vec<Vec<f64>> {
 }
 
 /// Every field documented in docs/outputs.md §summary.json.
-pub const SUMMARY_FIELDS: [&str; 34] = [
+pub const SUMMARY_FIELDS: [&str; 48] = [
     "summary_version",
     "scenario_name",
     "complete",
@@ -205,6 +205,20 @@ pub const SUMMARY_FIELDS: [&str; 34] = [
     "force_balance_error",
     "horizontal_velocity_mps",
     "reynolds_number",
+    "canopy_loading_pa",
+    "terminal_dynamic_pressure_pa",
+    "drag_coefficient_nominal",
+    "settling_time_s",
+    "equivalent_sea_level_descent_mps",
+    "altitude_m",
+    "peak_line_tension_n",
+    "time_of_peak_line_tension_s",
+    "load_factor",
+    "peak_payload_acceleration_g",
+    "oscillation_angle_deg",
+    "landing_velocity_mps",
+    "flight_time_s",
+    "landing_point_m",
     "steps",
     "newton_iterations",
     "wall_time_s",

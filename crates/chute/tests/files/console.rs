@@ -29,6 +29,7 @@ fn summary() -> Summary {
         force_balance_error: 0.0026527,
         horizontal_velocity_mps: [0.0, 0.0],
         reynolds_number: 1.2e6,
+        recovery: Default::default(),
         steps: 10_000,
         newton_iterations: 31_234,
         wall_time_s: 187.4,

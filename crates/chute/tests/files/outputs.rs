@@ -47,6 +47,9 @@ fn sample(i: usize) -> Sample {
         drag_z_n: 9.81 + t / 3.0,
         newton_iterations: (i % 5) as u32 + 1,
         dt_s: 0.01,
+        line_tension_n: 50.0 + (i % 3) as f64,
+        payload_acceleration_mps2: 0.5 * (i % 4) as f64,
+        axis_angle_deg: (i % 11) as f64,
     }
 }
 

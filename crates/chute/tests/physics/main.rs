@@ -9,6 +9,7 @@ mod failure;
 mod gci;
 mod lateral;
 mod metrics;
+mod recovery;
 mod resume;
 mod runs;
 mod session;

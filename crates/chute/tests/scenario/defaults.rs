@@ -103,12 +103,16 @@ fn schema_matches_the_serde_structs() {
                 [lines]\ndrag_coefficient = 1.0\n[shell]\nmembrane = \"fabric\"\nbending = \"midedge\"\n\
                 [material]\nwarp_modulus_pa = 1e9\nweft_modulus_pa = 5e8\nshear_modulus_pa = 1e7\n\
                 fabric_poisson_ratio = 0.3\nwarp_direction_deg = 10.0\nno_compression = true\n\
-                wrinkle_strain = 1e-4\n";
+                wrinkle_strain = 1e-4\npermeability_m2 = 1e-10\nforchheimer_coefficient = 0.5\n\
+                [atmosphere]\naltitude_m = 100.0\nground_altitude_m = 0.0\n";
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("m.obj"), "").unwrap();
     let s =
         Scenario::from_str_with_name(text, &dir.path().join("s.toml").display().to_string(), &[])
             .unwrap();
+    // The two permeability forms exclude each other: set the second one directly.
+    let mut s = s;
+    s.material.air_permeability_cfm = Some(1.0);
     let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();
     let mut keys = Vec::new();
     for (k, v) in &table {

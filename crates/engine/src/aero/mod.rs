@@ -5,24 +5,31 @@
 //!   exact Jacobians in positions and velocities;
 //! - [`PressureDrag`]: the DisMech peer's per-node normal pressure law on triangles;
 //! - [`LinearDrag`]: linear (Stokes-like) drag for low Reynolds numbers;
-//! - [`Fluid`], [`reynolds`] and [`DragRegime`]: which law applies;
+//! - [`Fluid`], [`reynolds`] and [`DragRegime`]: which law applies; [`Profile`]: density and
+//!   viscosity varying with height (uniform, exponential, the 1976 standard atmosphere of
+//!   [`atmosphere`]), taken at each element's own height;
+//! - [`Fabric`] and [`permeability`]: air leaking through a permeable canopy
+//!   (Darcy–Forchheimer), for the triangle laws;
 //! - [`resultant`]: the total force of any element family (for observers).
 //!
 //! Drag acts on the velocity relative to the wind, `v − U∞`. Speeds in the quadratic laws are
 //! regularised, `|u|_ε = √(|u|² + ε²)` ([`DEFAULT_EPSILON`]), so Jacobians exist at rest.
 //! See `docs/aero.md`.
 
+pub mod atmosphere;
 mod fluid;
 mod geometry;
 mod linear;
 mod node_drag;
+pub mod permeability;
 mod pressure;
 mod regularize;
 mod triangle;
 
-pub use fluid::{reynolds, DragRegime, Fluid};
+pub use fluid::{reynolds, DragRegime, Fluid, LocalFluid, Profile};
 pub use linear::{stokes_sphere, LinearDrag, LinearDragLaw};
 pub use node_drag::{NodeDrag, NodeDragLaw};
+pub use permeability::Fabric;
 pub use pressure::{PressureDrag, PressureDragLaw};
 pub use regularize::{reg_norm, DEFAULT_EPSILON};
 pub use triangle::{TriangleDrag, TriangleDragLaw};

@@ -17,17 +17,31 @@
 //!
 //! The peer code's own Jacobian for this force is twice the exact derivative; that only slows
 //! its Newton iteration, and is not reproduced here.
+//!
+//! **Height-dependent fluid.** ρ (and μ) are taken at the triangle's centroid height
+//! `z̄ = (z₀ + z₁ + z₂)/3`, so every `f_i` gains `∂f_i/∂z_b = ⅓ ∂f_i/∂z̄` (`= ⅓ (ρ′/ρ) f_i`
+//! for the impermeable law).
+//!
+//! **Permeable fabric** ([`PressureDrag::with_fabric`]): the node's normal pressure
+//! `c s_i²` (`c = ½ ρ C_D`) becomes `c (|s_i| − u_p)²` with the leakage speed `u_p` of
+//! [`super::permeability`]: `f_i = −(A₀/3) φ_i n̂`, `φ_i = sign(s_i) Δp(|s_i|)`, with
+//! `∂f_i/∂v_i = −(A₀/3) Δp_w n̂ n̂ᵀ` and `∂f_i/∂n̂ = −(A₀/3) (φ_i I + Δp_w n̂ u_iᵀ)`.
 
-use super::fluid::Fluid;
+use super::fluid::{Fluid, LocalFluid};
 use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
+use super::permeability::{leakage, Fabric};
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, outer, M3, V3};
 
-/// The pressure-drag law: the wind; each triangle has its `k = ½ ρ C_D A₀/3` (kg/m).
+/// The pressure-drag law: drag coefficient, fluid and optional fabric permeability; each
+/// triangle has its undeformed area `A₀` (m²).
 #[derive(Debug, Clone, Copy)]
 pub struct PressureDragLaw {
+    cd: f64,
+    fluid: Fluid,
     wind: V3,
+    fabric: Option<Fabric>,
 }
 
 /// Per-node normal pressure drag on a family of triangles.
@@ -35,7 +49,8 @@ pub type PressureDrag = Family<PressureDragLaw>;
 
 impl PressureDrag {
     /// Pressure drag on `triangles` with undeformed areas taken from `q_rest`, drag
-    /// coefficient `cd`, and the fluid's density and wind.
+    /// coefficient `cd`, and the fluid's density (at each triangle's centroid height) and
+    /// wind.
     pub fn new(triangles: &[[usize; 3]], q_rest: &[f64], cd: f64, fluid: &Fluid) -> Self {
         let areas: Vec<f64> = triangles
             .iter()
@@ -52,14 +67,43 @@ impl PressureDrag {
         fluid: &Fluid,
     ) -> Self {
         assert_eq!(triangles.len(), rest_areas.len(), "one area per triangle");
-        let coeff = rest_areas
-            .iter()
-            .map(|&a| 0.5 * fluid.density * cd * a / 3.0)
-            .collect();
         let law = PressureDragLaw {
+            cd,
+            fluid: *fluid,
             wind: V3::from(fluid.wind),
+            fabric: None,
         };
-        Family::from_elements("pressure-drag", law, node_stencils(triangles), coeff)
+        let data = rest_areas.to_vec();
+        Family::from_elements("pressure-drag", law, node_stencils(triangles), data)
+    }
+
+    /// Let air leak through the triangles: each node's normal pressure sees only the flow
+    /// around the fabric (see the module docs and [`super::permeability`]).
+    pub fn with_fabric(mut self, fabric: Fabric) -> Self {
+        self.law.fabric = Some(fabric);
+        self
+    }
+}
+
+/// One node's normal pressure term: `φ = sign(s) Δp` (Pa), `∂φ/∂s` (Pa·s/m) and `∂φ/∂z̄`
+/// (Pa/m) for the normal speed `s` (m/s).
+type NodePressure = (f64, f64, f64);
+
+impl PressureDragLaw {
+    /// `φ`, `∂φ/∂s`, `∂φ/∂z̄` of a node with normal speed `s` behind the fabric `fab`, in
+    /// the fluid `air` at the centroid.
+    #[inline]
+    fn pressure(&self, s: f64, air: &LocalFluid, fab: &Fabric) -> NodePressure {
+        let c = 0.5 * air.density * self.cd;
+        let dc = 0.5 * air.density_gradient * self.cd;
+        let (darcy, inertial) = (fab.darcy(), fab.inertial());
+        let l = leakage(s.abs(), c, air.viscosity * darcy, air.density * inertial);
+        let sg = if s < 0.0 { -1.0 } else { 1.0 };
+        let dz = sg
+            * (l.d_c * dc
+                + l.d_b * inertial * air.density_gradient
+                + l.d_a * darcy * air.viscosity_gradient);
+        (sg * l.pressure, l.d_w, dz)
     }
 }
 
@@ -68,7 +112,7 @@ impl Element for PressureDragLaw {
     const KIND: JacobianKind = JacobianKind::GENERAL;
     type Data = f64;
 
-    fn evaluate(&self, &k: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+    fn evaluate(&self, &a0: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
         let (q, v) = (input.q, input.v);
         let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
         let nv = area_vector(&x);
@@ -81,6 +125,8 @@ impl Element for PressureDragLaw {
             b.f.fill(0.0);
             return;
         }
+        let air = self.fluid.at((x[0].z + x[1].z + x[2].z) / 3.0);
+        let stratified = !self.fluid.is_uniform();
         let n = nv / a;
         let dn_dn = (M3::identity() - outer(&n, &n)) / a;
         let dn = area_vector_jacobians(&x);
@@ -88,10 +134,24 @@ impl Element for PressureDragLaw {
         for i in 0..3 {
             let u = stencil_vec(v, st, i) - self.wind;
             let s = n.dot(&u);
-            let f = -k * s.abs() * s * n;
-            let dv = -2.0 * k * s.abs() * nn;
-            let df_dnhat = -k * (s.abs() * s * M3::identity() + 2.0 * s.abs() * outer(&n, &u));
-            let df_dnvec = df_dnhat * dn_dn;
+            let (f, dv, df_dnhat, dfz) = if let Some(fab) = &self.fabric {
+                let (phi, dphi, dz) = self.pressure(s, &air, fab);
+                let share = a0 / 3.0;
+                let df_dnhat = -share * (phi * M3::identity() + dphi * outer(&n, &u));
+                (
+                    -share * phi * n,
+                    -share * dphi * nn,
+                    df_dnhat,
+                    -share * dz * n,
+                )
+            } else {
+                // k = ½ρC_D A₀/3, evaluated as the impermeable law always was.
+                let k = 0.5 * air.density * self.cd * a0 / 3.0;
+                let f = -k * s.abs() * s * n;
+                let dv = -2.0 * k * s.abs() * nn;
+                let df_dnhat = -k * (s.abs() * s * M3::identity() + 2.0 * s.abs() * outer(&n, &u));
+                (f, dv, df_dnhat, f * (air.density_gradient / air.density))
+            };
             for r in 0..3 {
                 b.f[3 * i + r] = f[r];
             }
@@ -103,8 +163,14 @@ impl Element for PressureDragLaw {
                     b.dfdv[(3 * i + r) * 9 + 3 * i + c] = dv[(r, c)];
                 }
             }
+            let df_dnvec = df_dnhat * dn_dn;
             for bn in 0..3 {
-                let dq = df_dnvec * dn[bn];
+                let mut dq = df_dnvec * dn[bn];
+                if stratified {
+                    for r in 0..3 {
+                        dq[(r, 2)] += dfz[r] / 3.0;
+                    }
+                }
                 for r in 0..3 {
                     for c in 0..3 {
                         b.dfdq[(3 * i + r) * 9 + 3 * bn + c] = dq[(r, c)];

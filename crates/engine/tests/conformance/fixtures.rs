@@ -1,5 +1,5 @@
 //! Meshes, rods and fluids the conformance cases are built on.
-use engine::aero::Fluid;
+use engine::aero::{Fabric, Fluid, Profile};
 use engine::conformance::Rng;
 use engine::rod::{RodNetwork, RodSpec, Section};
 use engine::shell::{install, MidedgeBending, PlateBending, ShellMaterial, TriMesh};
@@ -12,6 +12,22 @@ pub fn windy() -> Fluid {
         wind: [1.5, -2.0, 0.7],
         ..Fluid::air()
     }
+}
+
+/// [`windy`] air whose density falls by e every 0.8 m (`ρ = 1.225 exp(−z/0.8)`): over the
+/// ±0.4–2 m of the random draws ρ changes by a factor 1.6–12, so the `∂ρ/∂z` terms are
+/// of the size of every other Jacobian entry.
+pub fn stratified() -> Fluid {
+    Fluid {
+        profile: Profile::Exponential { scale_height: 0.8 },
+        ..windy()
+    }
+}
+
+/// A fabric that lets a large share of the normal flow through at the draws' speeds: at
+/// 10 m/s, `a = μh/k ≈ 20 Pa·s/m` and `b = ρ C_F h/√k ≈ 13 kg/m³` give `u_p ≈ 2 m/s`.
+pub fn leaky() -> Fabric {
+    Fabric::new(1e-4, 9e-11, 1.0)
 }
 
 /// An `n × n`-node grid of side `side` (m) in the plane z = 0, cells split along

@@ -86,6 +86,107 @@ force_conformance!(pressure_drag_reversing, {
         .trials(8)
 });
 
+// Height-dependent air (drag at each element's own height, exact ∂ρ/∂z) and permeable
+// fabric (the leakage split by the implicit function theorem), on the same draws.
+force_conformance!(
+    node_drag_stratified,
+    Case::new(
+        NodeDrag::new(&[0, 1, 2, 4], &[0.4, 1.1, 0.1, 0.7], 1.75, &stratified()),
+        vec![0.0; 15]
+    )
+    .perturb(2.0)
+    .velocities(10.0)
+    .trials(20)
+);
+// The 1976 atmosphere varies too gently (ρ′/ρ ≈ 1e-4 /m) for a check relative to the
+// largest Jacobian entry to see its ∂ρ/∂z term above round-off; its gradients are checked
+// against differences of ρ(z) and μ(z) in `physics::atmosphere`.
+force_conformance!(triangle_drag_stratified, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(TriangleDrag::new(&tris, 1.75, 0.5, &stratified()), q)
+        .perturb(0.4)
+        .velocities(10.0)
+        .trials(20)
+});
+force_conformance!(triangle_drag_permeable, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(
+        TriangleDrag::new(&tris, 1.75, 0.5, &windy()).with_fabric(leaky()),
+        q,
+    )
+    .perturb(0.4)
+    .velocities(10.0)
+    .trials(20)
+});
+force_conformance!(triangle_drag_permeable_stratified, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(
+        TriangleDrag::new(&tris, 1.75, 0.5, &stratified()).with_fabric(leaky()),
+        q,
+    )
+    .perturb(0.4)
+    .velocities(10.0)
+    .trials(20)
+});
+// Through a reversal of the normal flow the leaky law is C¹ (φ ≈ κ s³ near s = 0).
+force_conformance!(triangle_drag_permeable_reversing, {
+    let (tris, q) = grid(3, 2.0);
+    let t = tris[3];
+    Case::new(
+        TriangleDrag::new(&tris, 1.75, 0.5, &stratified()).with_fabric(leaky()),
+        q,
+    )
+    .perturb(0.4)
+    .velocities(5.0)
+    .adjust(move |rng, q, v| {
+        let s = pick(rng, &[0.0, 1e-3, -1e-3, 0.3, -0.3, 4.0, -4.0]);
+        set_mean_normal_speed(q, v, t, windy().wind, s);
+    })
+    .trials(14)
+});
+force_conformance!(pressure_drag_stratified, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(PressureDrag::new(&tris, &q, 1.75, &stratified()), q)
+        .perturb(0.4)
+        .velocities(10.0)
+        .trials(20)
+});
+force_conformance!(pressure_drag_permeable, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(
+        PressureDrag::new(&tris, &q, 1.75, &windy()).with_fabric(leaky()),
+        q,
+    )
+    .perturb(0.4)
+    .velocities(10.0)
+    .trials(20)
+});
+force_conformance!(pressure_drag_permeable_stratified, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(
+        PressureDrag::new(&tris, &q, 1.75, &stratified()).with_fabric(leaky()),
+        q,
+    )
+    .perturb(0.4)
+    .velocities(10.0)
+    .trials(20)
+});
+force_conformance!(pressure_drag_permeable_reversing, {
+    let (tris, q) = grid(3, 2.0);
+    let t = tris[5];
+    Case::new(
+        PressureDrag::new(&tris, &q, 1.75, &stratified()).with_fabric(leaky()),
+        q,
+    )
+    .perturb(0.4)
+    .velocities(5.0)
+    .adjust(move |rng, q, v| {
+        let s = pick(rng, &[1e-2, -1e-2, 1e-3, -1e-3]);
+        set_node_normal_speeds(q, v, t, windy().wind, s);
+    })
+    .trials(8)
+});
+
 // Rods: the three-rod network with a joint, nodes displaced by up to 0.3 m, twists up to
 // ±3 rad, committed at one random configuration (frames time-parallel transported there,
 // reference twists on their branch) and evaluated at another.

@@ -1,10 +1,13 @@
-//! The engine's models against analytic and published references: drag laws and falling
-//! bodies, DER cantilevers (small and large deflection, end moment, vibration), rod networks
+//! The engine's models against analytic and published references: the standard atmosphere,
+//! drag laws and falling bodies (also through stratified air and permeable fabric), DER cantilevers (small and large deflection, end moment, vibration), rod networks
 //! and frames, shell meshes. Each module documents its reference and its tolerance.
 mod aero_laws;
 mod aero_linear;
+mod aero_permeable;
+mod aero_stratified;
 mod aero_terminal;
 mod aero_wind;
+mod atmosphere;
 mod rod_cantilever;
 mod rod_frames;
 mod rod_network;
