@@ -10,6 +10,7 @@ mod fuzz;
 mod mesh_generate;
 mod mesh_import;
 mod outputs;
+mod permissions;
 mod plots;
 mod plots_3d;
 mod study;
