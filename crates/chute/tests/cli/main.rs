@@ -7,5 +7,7 @@ mod common;
 mod adaptive;
 mod bench;
 mod errors;
+mod inputs;
 mod reliability;
+mod resume;
 mod validate;

@@ -36,11 +36,7 @@ fn chute_with_umask(cwd: &Path, mask: &str, args: &[&str]) {
         .env_remove("SLURM_ARRAY_TASK_COUNT")
         .output()
         .unwrap();
-    assert!(
-        o.status.success(),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 #[test]

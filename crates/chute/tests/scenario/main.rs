@@ -9,4 +9,5 @@ mod defaults;
 mod docs;
 mod errors;
 mod fuzz;
+mod messages;
 mod overrides;
