@@ -178,6 +178,30 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
 /// [`crate::runner::STOP`] flag (set by the Ctrl-C / SIGTERM handler of the binary) stops the
 /// run gracefully.
 pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunOutcome, AppError> {
+    let watch = Watch {
+        stop: &crate::runner::STOP,
+        sim_time: None,
+    };
+    run_watched(s, opts, watch)
+}
+
+/// How a run is watched from another thread (the Python bindings): the flag that stops it
+/// gracefully, and where it publishes its simulated time ([`crate::runner::RunControl`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Watch<'a> {
+    /// Graceful stop request, checked before every step.
+    pub stop: &'a std::sync::atomic::AtomicBool,
+    /// Receives the simulated time after every accepted step (`f64::to_bits`).
+    pub sim_time: Option<&'a std::sync::atomic::AtomicU64>,
+}
+
+/// [`run`] with its own stop flag and progress instead of the process-wide
+/// [`crate::runner::STOP`].
+pub fn run_watched(
+    s: &Scenario,
+    opts: &RunOptions,
+    watch: Watch<'_>,
+) -> Result<RunOutcome, AppError> {
     use crate::output::run_files;
     let mut built = crate::build::build(s)?;
     let scenario_toml = s.to_toml();
@@ -196,10 +220,11 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunOutcome, AppError> {
         .map_err(|e| AppError::io(&resolved, e))?;
     let cfg = run_config(s, opts.progress);
     let ctl = crate::runner::RunControl {
-        stop: &crate::runner::STOP,
+        stop: watch.stop,
         checkpoint_every_s: opts.checkpoint_every_s,
         resume,
         scenario_toml,
+        sim_time: watch.sim_time,
     };
     let r = crate::runner::simulate_with(&mut built, &cfg, &opts.out_dir, &ctl).map_err(
         |e| match e {

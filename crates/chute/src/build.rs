@@ -35,6 +35,7 @@ pub struct Built {
 
 mod canopy;
 mod drag;
+pub mod imperfection;
 mod load;
 mod sites;
 
@@ -106,6 +107,9 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         * g
         - plan.site_mass_kg * g;
     let drag = drag::install(s, &geo, &plan, &handles, &mut model);
+    if s.canopy.imperfection_m != 0.0 {
+        imperfection::apply(&mut q, &geo.canopy_nodes, s.canopy.imperfection_m)?;
+    }
     let mut built = Built {
         state: State::at_rest(q),
         canopy_nodes: geo.canopy_nodes.clone(),

@@ -34,6 +34,9 @@ pub enum Command {
     Study(StudyArgs),
     /// Merge finished study cases (e.g. from several shards) into study.csv and study.md.
     Collect(CollectArgs),
+    /// Solution verification: run mesh or time-step ladders, estimate order, extrapolation
+    /// and GCI; write convergence.json, convergence.md and convergence.png.
+    Converge(ConvergeArgs),
     /// Run the verification cases against analytic references.
     Validate(crate::verify::ValidateArgs),
     /// Time the solver on a ladder of mesh sizes.
@@ -149,6 +152,32 @@ pub struct CollectArgs {
     pub out: Option<PathBuf>,
 }
 
+/// `chute converge`.
+#[derive(Debug, Args)]
+pub struct ConvergeArgs {
+    /// Scenario file (TOML).
+    pub scenario: PathBuf,
+    /// A ladder: KEY=V1,V2,V3[,…] with KEY one of canopy.edge_length_m, canopy.nodes,
+    /// time.dt_s (repeatable: one ladder each).
+    #[arg(long, value_name = "KEY=V1,V2,…", required = true)]
+    pub vary: Vec<String>,
+    /// Override a scenario key on every level (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output directory (default: `runs/<scenario name>-converge`).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Levels run in parallel [default: one per core].
+    #[arg(long, short, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Run only levels with index % N == I (0-based) [default: from SLURM array variables].
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Re-run levels that are already complete.
+    #[arg(long)]
+    pub force: bool,
+}
+
 /// Entry point of the binary: parse `std::env::args`, dispatch, print any error.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -182,6 +211,7 @@ pub fn dispatch(cli: Cli) -> Result<(), AppError> {
         Command::Check(a) => cmd_check(&a),
         Command::Study(a) => cmd_study(&a),
         Command::Collect(a) => cmd_collect(&a),
+        Command::Converge(a) => cmd_converge(&a),
         Command::Validate(a) => crate::verify::main(&a),
         Command::Bench(a) => crate::bench::main(&a),
         Command::View(a) => cmd_view(&a),
@@ -495,5 +525,48 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
         out.join("study.csv").display(),
         out.join("study.md").display()
     );
+    Ok(())
+}
+
+fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {
+    let shard = match &a.shard {
+        Some(s) => Some(Shard::parse(s)?),
+        None => Shard::from_slurm(|k| std::env::var(k).ok()).transpose()?,
+    };
+    if a.jobs == Some(0) {
+        return Err(AppError::Input("--jobs must be at least 1".into()));
+    }
+    let out_dir = match &a.out {
+        Some(d) => d.clone(),
+        None => crate::converge::default_out_dir(&a.scenario, &a.set)?,
+    };
+    let opts = crate::converge::ConvergeOptions {
+        scenario: a.scenario.clone(),
+        vary: a.vary.clone(),
+        set: a.set.clone(),
+        out_dir,
+        jobs: a.jobs,
+        shard,
+        force: a.force,
+        verbose: true,
+    };
+    install_stop_handler();
+    let outcome = crate::converge::run_converge(&opts)?;
+    print!("{}", outcome.report.to_markdown());
+    let dir = opts.out_dir.display();
+    eprintln!("wrote {dir}/convergence.json, convergence.md and convergence.png");
+    if outcome.pending > 0 {
+        eprintln!(
+            "note: {} level(s) not run yet (other shards); re-run without --shard to complete the estimates",
+            outcome.pending
+        );
+    }
+    if !outcome.failures.is_empty() {
+        return Err(AppError::RunFailed(format!(
+            "{} level(s) failed or stopped early; the others are summarised in {dir}/convergence.md:\n  {}",
+            outcome.failures.len(),
+            outcome.failures.join("\n  ")
+        )));
+    }
     Ok(())
 }

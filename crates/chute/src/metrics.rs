@@ -20,6 +20,13 @@ pub const RE_QUADRATIC_MIN: f64 = 1000.0;
 pub const FORCE_BALANCE_WARN: f64 = 0.05;
 /// Speeds below this (m/s) count as zero: relative criteria and C_D·A are undefined there.
 const V_ZERO: f64 = 1e-9;
+/// Lateral growth: the running maximum of the lateral speed must grow by at least this factor
+/// across the final window along an exponential fit …
+pub const LATERAL_GROWTH_FACTOR: f64 = 10.0;
+/// … that explains at least this fraction of the variance of its logarithm (R²).
+pub const LATERAL_GROWTH_R2: f64 = 0.9;
+/// A lateral speed above this fraction of |v_t| is visible (the steadiness tolerance).
+pub const LATERAL_VISIBLE: f64 = STEADY_TOLERANCE;
 
 /// Columns of the time series (equal lengths, times non-decreasing). SI units.
 #[derive(Debug, Clone, Copy)]
@@ -91,8 +98,24 @@ pub struct Metrics {
     pub window_end_s: f64,
     /// Samples in the final window (including an interpolated point at its start).
     pub window_samples: usize,
+    /// Exponential growth of the lateral speed over the final window (an instability of the
+    /// descent), when detected: see [`compute`].
+    pub lateral_growth: Option<LateralGrowth>,
     /// Human-readable caveats (short run, not steady, low Re, …).
     pub warnings: Vec<String>,
+}
+
+/// A lateral speed |v_h| = |(vx, vy)| growing exponentially: the descent is leaving an unstable
+/// equilibrium, however steady vz still looks.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LateralGrowth {
+    /// Fitted growth rate σ of |v_h| ∝ e^{σ t} over the final window (1/s); e-folding time 1/σ.
+    pub rate_per_s: f64,
+    /// |v_h| at the last sample (m/s).
+    pub final_speed_mps: f64,
+    /// Start of the last stretch above [`LATERAL_VISIBLE`] |v_t| (interpolated); `None` while
+    /// it is still below.
+    pub visible_from_s: Option<f64>,
 }
 
 impl Metrics {
@@ -115,6 +138,7 @@ impl Metrics {
             window_start_s: f64::NAN,
             window_end_s: f64::NAN,
             window_samples: 0,
+            lateral_growth: None,
             warnings: Vec::new(),
         }
     }
@@ -154,7 +178,11 @@ struct Window {
 /// - v_t, its std and trend, mean drag_z and mean [vx, vy]: trapezoid-weighted over the window;
 /// - `reached_terminal` ⇔ (i) ≥ [`MIN_WINDOW_SAMPLES`] window samples, (ii) v_t < 0
 ///   (descending), (iii) std < 1 % |v_t| and |trend| < 1 % |v_t|, (iv) the ±2 % band holds over
-///   the whole window, i.e. time to terminal ≤ window start;
+///   the whole window, i.e. time to terminal ≤ window start, and (v) the lateral speed
+///   |(vx, vy)| is not growing exponentially: its running maximum over the window does not
+///   gain [`LATERAL_GROWTH_FACTOR`] along a fit ln M = a + σ t with R² ≥
+///   [`LATERAL_GROWTH_R2`] while still at its maximum at the end (speeds below
+///   1e3 ε (|v_t| + 1 m/s) are round-off and clamped to it);
 /// - time to terminal: the last sample outside the ±2 % band and its successor are linearly
 ///   interpolated to find the band crossing (the first sample's time if none is outside).
 pub fn compute(s: &Series<'_>, p: &Params) -> Result<Metrics, MetricsError> {
@@ -191,6 +219,7 @@ pub fn compute(s: &Series<'_>, p: &Params) -> Result<Metrics, MetricsError> {
         window_start_s: window_start,
         window_end_s: t_end,
         window_samples: win.t.len(),
+        lateral_growth: lateral_growth(s, &win, v_t),
         warnings: Vec::new(),
     };
     judge_steadiness(&mut m, band_entry, p);
@@ -235,7 +264,8 @@ fn judge_steadiness(m: &mut Metrics, band_entry: Option<f64>, p: &Params) {
     let steady = m.terminal_velocity_std_mps < STEADY_TOLERANCE * speed
         && m.terminal_velocity_trend_mps.abs() < STEADY_TOLERANCE * speed;
     let in_band = band_entry.is_some_and(|t| t <= m.window_start_s);
-    m.reached_terminal = long_enough && descending && steady && in_band;
+    let growing = m.lateral_growth.is_some();
+    m.reached_terminal = long_enough && descending && steady && in_band && !growing;
     m.time_to_terminal_s = if m.reached_terminal { band_entry } else { None };
     let w = &mut m.warnings;
     if !long_enough {
@@ -252,7 +282,9 @@ fn judge_steadiness(m: &mut Metrics, band_entry: Option<f64>, p: &Params) {
             m.terminal_velocity_mps
         ));
     }
-    if long_enough && descending && !m.reached_terminal {
+    if let Some(g) = m.lateral_growth {
+        w.push(growth_warning(&g, speed, m.window_end_s));
+    } else if long_enough && descending && !m.reached_terminal {
         w.push(format!(
             "terminal velocity not reached: over the final window std(vz) = {:.3} % and trend = \
              {:.3} % of |v_t| (limits {:.0} % each), ±{:.0} % band {} the whole window",
@@ -280,6 +312,97 @@ fn judge_steadiness(m: &mut Metrics, band_entry: Option<f64>, p: &Params) {
             m.reynolds_number
         ));
     }
+}
+
+fn growth_warning(g: &LateralGrowth, speed: f64, t_end: f64) -> String {
+    let seen = match g.visible_from_s {
+        Some(t) => format!(
+            "it became visible (> {:.0} % of |v_t|) at t = {t:.2} s",
+            100.0 * LATERAL_VISIBLE
+        ),
+        None => {
+            let at = t_end + (LATERAL_VISIBLE * speed / g.final_speed_mps).ln() / g.rate_per_s;
+            format!(
+                "it is still below {:.0} % of |v_t| and would pass it at t ≈ {at:.1} s",
+                100.0 * LATERAL_VISIBLE
+            )
+        }
+    };
+    format!(
+        "lateral velocity grows exponentially: |(vx, vy)| = {:.3e} m/s at t = {t_end:.2} s, \
+         growth rate {:.3} /s (e-folding every {:.3} s) over the final window; {seen}. The \
+         descent is leaving an unstable equilibrium: terminal velocity not reached",
+        g.final_speed_mps,
+        g.rate_per_s,
+        1.0 / g.rate_per_s
+    )
+}
+
+/// Exponential growth of the lateral speed u = |(vx, vy)| over the final window: the running
+/// maximum M of u (so that a growing oscillation counts by its envelope) is fitted by
+/// ln M = a + σ t (trapezoid weights); growth when the fit gains at least
+/// [`LATERAL_GROWTH_FACTOR`] across the window with R² ≥ [`LATERAL_GROWTH_R2`] and u is still
+/// at its maximum at the end (≥ ½ M). Speeds below 1e3 ε (|v_t| + 1 m/s) are round-off and
+/// clamped to it, so noise at the level of the last digit is never "growth".
+fn lateral_growth(s: &Series<'_>, win: &Window, v_t: f64) -> Option<LateralGrowth> {
+    let floor = 1e3 * f64::EPSILON * (v_t.abs() + 1.0);
+    let mut running = 0.0f64;
+    let y: Vec<f64> = win
+        .vals
+        .iter()
+        .map(|v| {
+            running = running.max(v[2].hypot(v[3]));
+            running.max(floor).ln()
+        })
+        .collect();
+    let (sigma, r2) = weighted_line(&win.t, &y, &win.w)?;
+    let duration = win.t[win.t.len() - 1] - win.t[0];
+    let last = win.vals[win.vals.len() - 1];
+    let u_end = last[2].hypot(last[3]);
+    let grows = win.t.len() >= MIN_WINDOW_SAMPLES
+        && sigma > 0.0
+        && sigma * duration >= LATERAL_GROWTH_FACTOR.ln()
+        && r2 >= LATERAL_GROWTH_R2
+        && u_end >= 0.5 * running;
+    if !grows {
+        return None;
+    }
+    let threshold = LATERAL_VISIBLE * v_t.abs();
+    let u = |i: usize| s.vx_mps[i].hypot(s.vy_mps[i]);
+    let n = s.t_s.len();
+    let visible_from_s =
+        (u(n - 1) > threshold).then(|| match (0..n).rev().find(|&i| u(i) <= threshold) {
+            None => s.t_s[0],
+            Some(i) => {
+                let a = (threshold - u(i)) / (u(i + 1) - u(i));
+                s.t_s[i] + a * (s.t_s[i + 1] - s.t_s[i])
+            }
+        });
+    Some(LateralGrowth {
+        rate_per_s: sigma,
+        final_speed_mps: u_end,
+        visible_from_s,
+    })
+}
+
+/// Weighted least-squares slope of y(t) and its R² (1 when y is exactly linear; also 1 for
+/// a constant y). `None` for a zero-length window.
+fn weighted_line(t: &[f64], y: &[f64], w: &[f64]) -> Option<(f64, f64)> {
+    let w_sum: f64 = w.iter().sum();
+    let mean = |v: &[f64]| w.iter().zip(v).map(|(w, x)| w * x).sum::<f64>() / w_sum;
+    let (tm, ym) = (mean(t), mean(y));
+    let (mut sty, mut stt, mut syy) = (0.0, 0.0, 0.0);
+    for ((w, t), y) in w.iter().zip(t).zip(y) {
+        sty += w * (t - tm) * (y - ym);
+        stt += w * (t - tm).powi(2);
+        syy += w * (y - ym).powi(2);
+    }
+    if stt <= 0.0 {
+        return None;
+    }
+    let slope = sty / stt;
+    let r2 = if syy > 0.0 { slope * sty / syy } else { 1.0 };
+    Some((slope, r2))
 }
 
 fn validate(s: &Series<'_>, p: &Params) -> Result<(), MetricsError> {

@@ -17,7 +17,7 @@
 //! writes the last sync point's checkpoint and ends with valid partial outputs.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use engine::{ImplicitEuler, NewtonOptions, StepError};
@@ -34,11 +34,13 @@ mod advance;
 pub mod dt_policy;
 mod observe;
 mod persist;
+mod session;
 pub use advance::Driver;
 use advance::Outcome;
 use dt_policy::{DtPolicy, Plan};
 pub use dt_policy::{GROW_AFTER, SYNC_STEPS};
 use observe::Observer;
+pub use session::{Session, StepInfo, Stopped};
 
 /// Everything the loop needs besides the model.
 #[derive(Debug, Clone)]
@@ -132,6 +134,9 @@ pub struct RunControl<'a> {
     pub resume: Option<Checkpoint>,
     /// The resolved scenario, stored in checkpoints so a resume can check it.
     pub scenario_toml: String,
+    /// Where to publish the simulated time after every accepted step (`f64::to_bits`), for
+    /// a progress display in another thread.
+    pub sim_time: Option<&'a AtomicU64>,
 }
 
 /// Run `built` for `cfg.duration_s`, writing every output into `out_dir` (which must exist).
@@ -147,6 +152,7 @@ pub fn simulate(
         checkpoint_every_s: None,
         resume: None,
         scenario_toml: String::new(),
+        sim_time: None,
     };
     simulate_with(built, cfg, out_dir, &ctl)
 }
@@ -201,6 +207,9 @@ pub fn simulate_with(
                 continue;
             }
         };
+        if let Some(t) = ctl.sim_time {
+            t.store(run.state.t.to_bits(), Ordering::Relaxed);
+        }
         if let Some(bar) = &bar {
             bar.set_position((run.state.t / cfg.duration_s * 1000.0) as u64);
             let rate = run.steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);

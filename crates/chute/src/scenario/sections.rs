@@ -104,7 +104,19 @@ section! {
             .note("must exist"),
         /// hexagon circumradius or circle radius
         radius_m: f64 = 1.0 => key().unit("m").positive("a length"),
+        /// shell: amplitude of the initial out-of-plane perturbation in a fixed asymmetric
+        /// mode (below); 0 is the flat start and is not written to the resolved scenario
+        #[serde(skip_serializing_if = "is_zero")]
+        imperfection_m: f64 = 0.0 => key()
+            .unit("m")
+            .default_doc("0 (flat)")
+            .note("shell only; magnitude ≤ 5 % of the in-plane size"),
     }
+}
+
+/// A zero amplitude is left out of the resolved scenario (it stays as before the key existed).
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 section! {

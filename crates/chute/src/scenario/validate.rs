@@ -164,7 +164,31 @@ fn canopy(c: &mut Checker, s: &Scenario) {
             }
         }
     }
+    imperfection(c, s, size);
     mesh(c, s);
+}
+
+/// `canopy.imperfection_m`: a shell-only initial perturbation, at most 5 % of the canopy size
+/// (a probe of the flat start's symmetry, not a new rest shape).
+fn imperfection(c: &mut Checker, s: &Scenario, size: Option<f64>) {
+    let a = s.canopy.imperfection_m;
+    let key = "canopy.imperfection_m";
+    if a == 0.0 {
+        return;
+    }
+    if s.model.kind == ModelKind::Rod {
+        c.fail(
+            key,
+            a,
+            "only a shell canopy takes an initial out-of-plane perturbation; a rod starts straight",
+        );
+    } else if let Some(size) = size.filter(|&x| a.abs() > 0.05 * x) {
+        c.fail(
+            key,
+            a,
+            format!("at most 5 % of the canopy size ({size} m): it perturbs the flat start, it is not a shape"),
+        );
+    }
 }
 
 /// The mesh file (required with, and only allowed with, `shape = "mesh"`: declared) must

@@ -96,7 +96,7 @@ pub fn shell_force_balance(quick: bool) -> CaseResult {
             "ℓ = 0.5 m, 5 s (quick)",
         )
     } else {
-        (&[], "ℓ = 0.25 m, 10 s")
+        (&["canopy.edge_length_m=0.25"], "ℓ = 0.25 m, 10 s")
     };
     let s = scenario(SHELL_4, "report-shell-4-sites.toml", over)?;
     let (sum, _) = simulate(&s)?;

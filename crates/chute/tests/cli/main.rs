@@ -1,11 +1,12 @@
 //! The `chute` binary: exit codes and messages, reliability (partial outputs, signals,
-//! resume), adaptive runs, `bench` and `validate`.
+//! resume), adaptive runs, `bench`, `validate` and `converge`.
 
 #[path = "../common/mod.rs"]
 mod common;
 
 mod adaptive;
 mod bench;
+mod converge;
 mod errors;
 mod inputs;
 mod reliability;

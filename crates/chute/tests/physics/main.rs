@@ -1,11 +1,15 @@
 //! Physics through the library: whole runs against analytic results, failed-step recovery,
-//! checkpoint and resume, metrics, and shell bending against plate theory.
+//! checkpoint and resume, metrics (with the lateral-instability warning), shell bending against
+//! plate theory, and the GCI arithmetic of `chute converge`.
 
 #[path = "../common/mod.rs"]
 mod common;
 
 mod failure;
+mod gci;
+mod lateral;
 mod metrics;
 mod resume;
 mod runs;
+mod session;
 mod shell_bending;

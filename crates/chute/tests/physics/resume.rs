@@ -32,6 +32,7 @@ fn run(
         checkpoint_every_s: every,
         resume,
         scenario_toml: s.to_toml(),
+        sim_time: None,
     };
     simulate_with(&mut built, &chute::app::run_config(s, false), dir, &ctl).unwrap()
 }

@@ -80,7 +80,7 @@ fn report_scenarios_have_report_values() {
         assert_eq!(s.model.kind, ModelKind::Shell);
         assert_eq!(s.load.weight_n, 200.0);
         assert_eq!(s.load.sites, Sites::Named(set));
-        assert_eq!(s.canopy.edge_length_m, 0.25);
+        assert_eq!(s.canopy.edge_length_m, 0.125);
         assert_eq!(s.fluid.tangential_drag_coefficient, 0.5);
         assert_eq!(
             s.site_count(),

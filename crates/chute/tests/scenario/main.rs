@@ -9,5 +9,6 @@ mod defaults;
 mod docs;
 mod errors;
 mod fuzz;
+mod imperfection;
 mod messages;
 mod overrides;

@@ -1,0 +1,164 @@
+//! `chute converge`: solution verification of one scenario. Each `--vary KEY=V1,V2,…` is a
+//! ladder of levels (mesh size or time step) run as the cases of one study (parallel,
+//! shardable, resumable: [`crate::study`]); the headline quantities of each ladder are then
+//! estimated by Celik's procedure ([`gci`]) into `convergence.json`, `convergence.md` and
+//! `convergence.png`. See docs/convergence.md for the method and docs/cli.md for the command.
+
+pub mod analyse;
+pub mod gci;
+pub mod plan;
+pub mod plot;
+pub mod report;
+
+use std::path::{Path, PathBuf};
+
+use crate::app::{self, AppError};
+use crate::study::{self, Shard, StudyOptions, DONE_FILE};
+pub use report::ConvergenceReport;
+
+/// How to run `chute converge`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConvergeOptions {
+    /// The scenario file.
+    pub scenario: PathBuf,
+    /// `KEY=V1,V2,…`, one ladder each.
+    pub vary: Vec<String>,
+    /// Overrides applied to every level, before the varied key.
+    pub set: Vec<String>,
+    /// Output directory: levels in `<out>/<case>/`, the reports in `<out>/`.
+    pub out_dir: PathBuf,
+    /// Levels run in parallel (default: one per core).
+    pub jobs: Option<usize>,
+    /// Run only this shard of the levels.
+    pub shard: Option<Shard>,
+    /// Re-run levels that are already complete.
+    pub force: bool,
+    /// One line per level on stderr.
+    pub verbose: bool,
+}
+
+/// What `chute converge` produced.
+#[derive(Debug, Clone)]
+pub struct ConvergeOutcome {
+    /// The report written to `convergence.json`.
+    pub report: ConvergenceReport,
+    /// Levels that failed or stopped early (`key=value: message`).
+    pub failures: Vec<String>,
+    /// Levels not run yet (other shards).
+    pub pending: usize,
+}
+
+/// The default output directory: `runs/<scenario name>-converge`.
+pub fn default_out_dir(scenario: &Path, set: &[String]) -> Result<PathBuf, AppError> {
+    let s = crate::scenario::Scenario::load(scenario, set)?;
+    Ok(Path::new("runs").join(format!("{}-converge", s.name)))
+}
+
+/// Run with the real simulation.
+pub fn run_converge(opts: &ConvergeOptions) -> Result<ConvergeOutcome, AppError> {
+    run_converge_with(opts, &app::run)
+}
+
+/// Plan the ladders (every input error first, exit 2), refuse to reuse level directories that
+/// hold other inputs, run the levels as a study with `runner`, and write the reports.
+pub fn run_converge_with(
+    opts: &ConvergeOptions,
+    runner: &study::Runner,
+) -> Result<ConvergeOutcome, AppError> {
+    let name = crate::scenario::Scenario::load(&opts.scenario, &opts.set)?.name;
+    let plan = plan::plan(
+        &opts.scenario,
+        &format!("{name}-converge"),
+        &opts.vary,
+        &opts.set,
+    )?;
+    if !opts.force {
+        for case in &plan.study.cases {
+            check_reusable(&plan.study, case, opts)?;
+        }
+    }
+    let study_opts = StudyOptions {
+        out_dir: opts.out_dir.clone(),
+        jobs: opts.jobs,
+        set: opts.set.clone(),
+        shard: opts.shard,
+        force: opts.force,
+        verbose: opts.verbose,
+    };
+    study::run_study_with(&plan.study, &study_opts, runner)?;
+    let mut studies = Vec::new();
+    let (mut failures, mut pending) = (Vec::new(), 0);
+    for ladder in &plan.ladders {
+        let results: Vec<analyse::LevelResult> = ladder
+            .levels
+            .iter()
+            .map(|l| analyse::read_level(&opts.out_dir.join(&l.case)))
+            .collect();
+        for (l, r) in ladder.levels.iter().zip(&results) {
+            match r.status.as_str() {
+                "complete" => {}
+                "not run" => pending += 1,
+                s => failures.push(format!(
+                    "{}={} ({}): {s}: {}",
+                    ladder.key,
+                    l.text,
+                    l.case,
+                    r.message.as_deref().unwrap_or("no reason given")
+                )),
+            }
+        }
+        studies.push(analyse::analyse(ladder, &results));
+    }
+    let report = ConvergenceReport {
+        scenario: opts.scenario.display().to_string(),
+        set: opts.set.clone(),
+        studies,
+    };
+    write_reports(&opts.out_dir, &report)?;
+    Ok(ConvergeOutcome {
+        report,
+        failures,
+        pending,
+    })
+}
+
+fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<(), AppError> {
+    let json = out.join("convergence.json");
+    study::write_atomic(&json, report.to_json().as_bytes())?;
+    let md = out.join("convergence.md");
+    study::write_atomic(&md, report.to_markdown().as_bytes())?;
+    let png = out.join("convergence.png");
+    plot::convergence_plot(&png, &report.studies)
+        .map_err(|e| AppError::RunFailed(format!("{}: {e}", png.display())))
+}
+
+/// A complete level directory is skipped by the study; make sure it holds a run of exactly
+/// this level's inputs, or say how to proceed.
+fn check_reusable(
+    st: &study::Study,
+    case: &study::Case,
+    opts: &ConvergeOptions,
+) -> Result<(), AppError> {
+    let dir = opts.out_dir.join(&case.name);
+    let complete = std::fs::read_to_string(dir.join(DONE_FILE))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .is_some_and(|d| d["status"] == "complete");
+    if !complete {
+        return Ok(());
+    }
+    let want = st.scenario(case, &opts.set)?.to_toml();
+    let have = std::fs::read_to_string(dir.join("scenario.resolved.toml")).unwrap_or_default();
+    if have == want {
+        return Ok(());
+    }
+    let line = want
+        .lines()
+        .zip(have.lines().chain(std::iter::repeat("<end>")))
+        .find(|(a, b)| a != b)
+        .map_or_else(String::new, |(a, b)| format!(" (`{b}` there, `{a}` now)"));
+    Err(AppError::Input(format!(
+        "`{}` holds a finished run of other inputs{line}; pass --force to re-run it, or choose another --out",
+        dir.display()
+    )))
+}

@@ -1,0 +1,153 @@
+//! `convergence.json` and `convergence.md`.
+
+use serde::Serialize;
+
+use super::analyse::{StudyReport, QUANTITIES};
+use crate::scenario::derived::sig4;
+
+/// Everything `chute converge` found (the root of `convergence.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct ConvergenceReport {
+    /// The scenario file.
+    pub scenario: String,
+    /// The `--set` overrides applied to every level.
+    pub set: Vec<String>,
+    /// One per `--vary`.
+    pub studies: Vec<StudyReport>,
+}
+
+impl ConvergenceReport {
+    /// Pretty JSON with a trailing newline (non-finite numbers become null).
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self)
+            .unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+        s.push('\n');
+        s
+    }
+
+    /// The Markdown report: per varied key, the levels and the estimates.
+    pub fn to_markdown(&self) -> String {
+        let mut md = format!("# Convergence of `{}`\n\n", self.scenario);
+        if !self.set.is_empty() {
+            md.push_str(&format!(
+                "Overrides on every level: `{}`.\n\n",
+                self.set.join("`, `")
+            ));
+        }
+        for st in &self.studies {
+            md.push_str(&study_markdown(st));
+        }
+        md
+    }
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or("—".into(), sig4)
+}
+
+fn pct(v: Option<f64>) -> String {
+    v.map_or("—".into(), |x| {
+        if x != 0.0 && x.abs() < 1e-4 {
+            format!("{:.1e} %", 100.0 * x)
+        } else {
+            format!("{:.3} %", 100.0 * x)
+        }
+    })
+}
+
+fn study_markdown(st: &StudyReport) -> String {
+    let mut md = format!(
+        "## `{}` ({} ladder)\n\n",
+        st.key,
+        match st.axis {
+            super::plan::Axis::Space => "mesh",
+            super::plan::Axis::Time => "time-step",
+        }
+    );
+    md.push_str(&levels_table(st));
+    md.push_str(&estimates_table(st));
+    md.push_str(&format!(
+        "\nRound-off resolution: the Newton tolerance leaves a fraction ε_F = {:.2e} of the weight unresolved; a quantity whose finest difference is below its share of it is `round-off` (docs/convergence.md).\n",
+        st.relative_force_resolution
+    ));
+    let msgs: Vec<String> = QUANTITIES
+        .iter()
+        .filter_map(|q| {
+            let r = st.quantities.get(q.name)?;
+            r.message.as_ref().map(|m| format!("{}: {m}", q.label))
+        })
+        .collect();
+    for n in st.notes.iter().chain(&msgs) {
+        md.push_str(&format!("\n- {n}"));
+    }
+    md.push_str("\n\n");
+    md
+}
+
+/// One row per level: value, h, nodes, status, the quantities, wall time.
+fn levels_table(st: &StudyReport) -> String {
+    let mut md = String::from("| value | h | nodes | status | used |");
+    for q in QUANTITIES {
+        md.push_str(&format!(" {} |", q.label));
+    }
+    md.push_str(" wall (s) |\n|");
+    md.push_str(&"---|".repeat(6 + QUANTITIES.len()));
+    md.push('\n');
+    for (i, l) in st.levels.iter().enumerate() {
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {} |",
+            l.text,
+            sig4(l.h),
+            l.nodes,
+            l.status,
+            if l.used { "yes" } else { "no" }
+        ));
+        for q in QUANTITIES {
+            let v = st.quantities.get(q.name).and_then(|r| r.results[i]);
+            md.push_str(&format!(" {} |", opt(v)));
+        }
+        md.push_str(&format!(
+            " {} |\n",
+            l.wall_time_s.map_or("—".into(), |w| format!("{w:.0}"))
+        ));
+    }
+    md
+}
+
+/// One row per quantity: verdict, finest value, order, extrapolation, errors, GCIs.
+fn estimates_table(st: &StudyReport) -> String {
+    let mut md = String::from("\n| quantity | verdict | finest | p | extrapolated | e_a | e_ext | GCI (fine) | GCI by level |\n|---|---|---|---|---|---|---|---|---|\n");
+    for q in QUANTITIES {
+        let Some(r) = st.quantities.get(q.name) else {
+            continue;
+        };
+        let finest = r.levels_used.first().and_then(|&i| r.results[i]);
+        let p = match (r.observed_order, r.order_used) {
+            (Some(p), _) => format!("{p:.2}"),
+            (None, Some(p)) => format!("{p} (assumed)"),
+            _ => "—".into(),
+        };
+        let by_level: Vec<String> = st
+            .levels
+            .iter()
+            .zip(&r.gci_by_level)
+            .filter_map(|(l, g)| g.map(|g| format!("{}: {}", l.text, pct(Some(g)))))
+            .collect();
+        md.push_str(&format!(
+            "| {} | {} | {} | {p} | {} | {} | {} | {} | {} |\n",
+            q.label,
+            r.verdict.unwrap_or("—"),
+            opt(finest),
+            opt(r.extrapolated),
+            pct(r.approximate_error),
+            pct(r.extrapolated_error),
+            pct(r.gci),
+            if by_level.is_empty() {
+                "—".to_string()
+            } else {
+                by_level.join(", ")
+            }
+        ));
+    }
+    md
+}

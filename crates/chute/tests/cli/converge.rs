@@ -1,0 +1,222 @@
+//! `chute converge` through the binary: a rod ladder whose answer is analytic, bad input
+//! (exit 2, naming the key and the value), a failing level (exit 3) and reuse of finished
+//! levels.
+
+use std::path::Path;
+use std::process::Output;
+
+use crate::common::{chute_command, repo};
+
+fn rod() -> String {
+    repo()
+        .join("scenarios/report-rod-200n.toml")
+        .display()
+        .to_string()
+}
+
+fn converge(cwd: &Path, args: &[&str]) -> Output {
+    chute_command()
+        .current_dir(cwd)
+        .arg("converge")
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+/// Short and cheap: 8 s of flight at dt = 1e-2 s (the steady state of implicit Euler does not
+/// depend on dt), few frames.
+const FAST: [&str; 8] = [
+    "--set",
+    "time.duration_s=8",
+    "--set",
+    "time.dt_s=1e-2",
+    "--set",
+    "output.frame_interval_s=1",
+    "--set",
+    "output.snapshots_s=[1]",
+];
+
+/// The rod's drag is per node with areas summing to span × width whatever the mesh, so its
+/// terminal velocity is √(2W/(ρ C_D A)) on every level: the differences are round-off and
+/// the extrapolation is the analytic value to within the reported resolution.
+#[test]
+fn rod_ladder_is_round_off_at_the_analytic_speed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod();
+    let mut args = vec![
+        rod.as_str(),
+        "--vary",
+        "canopy.nodes=31,61,121",
+        "--out",
+        "c",
+        "-j",
+        "2",
+    ];
+    args.extend(FAST);
+    let o = converge(tmp.path(), &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let c = json(&tmp.path().join("c/convergence.json"));
+    let st = &c["studies"][0];
+    assert_eq!(st["key"], "canopy.nodes");
+    assert_eq!(st["values"], serde_json::json!([31.0, 61.0, 121.0]));
+    let vt = &st["quantities"]["terminal_velocity_mps"];
+    for (h, want) in vt["h"].as_array().unwrap().iter().zip([0.2, 0.1, 0.05]) {
+        assert!((h.as_f64().unwrap() - want).abs() < 1e-12, "h = {h}");
+    }
+    assert_eq!(vt["verdict"], "round-off");
+    assert!(vt["observed_order"].is_null());
+    let w: f64 = 200.0 + 1440.0 * 6.0 * 3.0 * 0.002 * 9.81;
+    let analytic = -(2.0 * w / (1.225 * 1.75 * 18.0)).sqrt();
+    let ext = vt["extrapolated"].as_f64().unwrap();
+    let resolution = vt["gci"].as_f64().unwrap();
+    assert!(
+        resolution > 0.0 && resolution < 1e-6,
+        "resolution {resolution}"
+    );
+    assert!(
+        ((ext - analytic) / analytic).abs() <= resolution,
+        "extrapolated {ext} vs analytic {analytic} (resolution {resolution})"
+    );
+    assert_eq!(st["quantities"]["drag_area_m2"]["verdict"], "round-off");
+    for f in [
+        "convergence.md",
+        "convergence.png",
+        "study.csv",
+        "nodes-61/summary.json",
+    ] {
+        assert!(tmp.path().join("c").join(f).is_file(), "{f}");
+    }
+    // Resumable: a second invocation reuses the three finished levels.
+    let o = converge(tmp.path(), &args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && err.matches("already complete").count() == 3,
+        "{err}"
+    );
+    assert_eq!(
+        json(&tmp.path().join("c/convergence.json"))["studies"],
+        c["studies"]
+    );
+    // Other inputs into the same directory: refused, not silently mixed.
+    let mut other = args.clone();
+    other.extend(["--set", "load.weight_n=20"]);
+    let o = converge(tmp.path(), &other);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("holds a finished run of other inputs") && err.contains("--force"),
+        "{err}"
+    );
+}
+
+#[test]
+fn bad_ladders_exit_2_naming_key_and_value() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod();
+    let shell = repo()
+        .join("scenarios/report-shell-4-sites.toml")
+        .display()
+        .to_string();
+    let cases: [(&str, &str, &[&str]); 8] = [
+        (
+            &rod,
+            "canopy.nodez=31,61",
+            &["canopy.nodez", "did you mean `canopy.nodes`"],
+        ),
+        (
+            &rod,
+            "canopy.nodes=31",
+            &["canopy.nodes", "at least two values", "`31`"],
+        ),
+        (
+            &rod,
+            "canopy.nodes=31,121,61",
+            &["canopy.nodes", "`61` after `121`", "strictly"],
+        ),
+        (
+            &rod,
+            "canopy.nodes=61,61",
+            &["canopy.nodes", "`61` after `61`"],
+        ),
+        (
+            &rod,
+            "canopy.nodes=2,61",
+            &["canopy.nodes=2", "between 3 and"],
+        ),
+        (
+            &rod,
+            "time.dt_s=1e-3,abc",
+            &["time.dt_s", "`abc` is not a number"],
+        ),
+        (
+            &rod,
+            "load.weight_n=20,200",
+            &["load.weight_n", "not a discretisation parameter"],
+        ),
+        (
+            &shell,
+            "canopy.nodes=31,61",
+            &["canopy.nodes=61", "does not refine the model"],
+        ),
+    ];
+    for (scenario, vary, want) in cases {
+        let o = converge(tmp.path(), &[scenario, "--vary", vary, "--out", "bad"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{vary}: {err}");
+        for w in want {
+            assert!(err.contains(w), "{vary}: want `{w}` in {err}");
+        }
+        assert!(!tmp.path().join("bad").exists(), "{vary}: nothing may run");
+    }
+}
+
+/// One Newton iteration per step at a 1 mN tolerance under 3 kN (docs/reliability.md's
+/// failing run): the dt = 0.02 s level stops early, the dt = 0.005 s level completes; the
+/// ladder is still summarised, and the exit status is 3.
+#[test]
+fn a_failing_level_is_reported_and_exits_3() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod();
+    let o = converge(
+        tmp.path(),
+        &[
+            &rod,
+            "--vary",
+            "time.dt_s=0.02,0.005",
+            "--out",
+            "f",
+            "--set",
+            "canopy.nodes=21",
+            "--set",
+            "time.duration_s=0.2",
+            "--set",
+            "time.newton_max_iterations=1",
+            "--set",
+            "time.newton_tolerance_n=1e-3",
+            "--set",
+            "load.weight_n=3e3",
+            "--set",
+            "output.snapshots_s=[0.1]",
+        ],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("time.dt_s=0.02") && err.contains("step failed"),
+        "{err}"
+    );
+    let c = json(&tmp.path().join("f/convergence.json"));
+    let levels = &c["studies"][0]["levels"];
+    assert_eq!(levels[0]["status"], "incomplete");
+    assert_eq!(levels[1]["status"], "complete");
+    assert_eq!(levels[0]["used"], false);
+    let md = std::fs::read_to_string(tmp.path().join("f/convergence.md")).unwrap();
+    assert!(
+        md.contains("incomplete") && md.contains("at least two"),
+        "{md}"
+    );
+}

@@ -1,0 +1,145 @@
+//! Steady-state judgment: an exponentially growing lateral velocity (an instability of the
+//! descent) is caught even while vz looks steady.
+
+use chute::metrics::{compute, Params, Series, LATERAL_VISIBLE};
+
+use crate::common::{chute_command, repo};
+
+fn params() -> Params {
+    Params {
+        total_weight_n: 700.0,
+        air_density_kg_m3: 1.225,
+        air_viscosity_pa_s: 1.81e-5,
+        reference_length_m: 6.0,
+        quadratic_drag: true,
+    }
+}
+
+/// A steady descent at −7.2 m/s whose vx = 1e-8 e^{2 t} m/s (e-fold every 0.5 s, the issue's
+/// measurement), sampled every 1 ms for `t_end` s.
+fn metrics_of(t_end: f64, vx: impl Fn(f64) -> f64) -> chute::metrics::Metrics {
+    let n = (t_end / 1e-3).round() as usize;
+    let t: Vec<f64> = (0..=n).map(|i| i as f64 * 1e-3).collect();
+    let vz: Vec<f64> = t.iter().map(|&t| -7.2 * (1.0 - (-3.0 * t).exp())).collect();
+    let vx: Vec<f64> = t.iter().map(|&t| vx(t)).collect();
+    let vy = vec![0.0; t.len()];
+    let h = vec![1.3; t.len()];
+    let drag: Vec<f64> = vz.iter().map(|v| 700.0 * (v / 7.2).powi(2)).collect();
+    let s = Series {
+        t_s: &t,
+        vz_mps: &vz,
+        vx_mps: &vx,
+        vy_mps: &vy,
+        extended_height_m: &h,
+        drag_z_n: &drag,
+        exact_max_extended_height_m: None,
+    };
+    compute(&s, &params()).unwrap()
+}
+
+#[test]
+fn growing_lateral_velocity_is_not_terminal() {
+    let m = metrics_of(10.0, |t| 1e-8 * (2.0 * t).exp());
+    let g = m.lateral_growth.expect("growth detected");
+    assert!((g.rate_per_s - 2.0).abs() < 1e-6, "rate {}", g.rate_per_s);
+    assert!(!m.reached_terminal && m.time_to_terminal_s.is_none());
+    // 1e-8 e^{2t} = 1 % of 7.2 m/s at t = ln(7.2e6)/2.
+    let visible = (LATERAL_VISIBLE * 7.2 / 1e-8f64).ln() / 2.0;
+    assert!((g.visible_from_s.unwrap() - visible).abs() < 2e-3);
+    let w = m.warnings.join("\n");
+    assert!(
+        w.contains("lateral velocity grows exponentially")
+            && w.contains("growth rate 2.000 /s")
+            && w.contains("e-folding every 0.500 s")
+            && w.contains(&format!("visible (> 1 % of |v_t|) at t = {visible:.2} s")),
+        "{w}"
+    );
+    // Still invisible at 6 s: the warning says when it would become visible.
+    let m = metrics_of(6.0, |t| 1e-8 * (2.0 * t).exp());
+    assert!(!m.reached_terminal);
+    let w = m.warnings.join("\n");
+    assert!(
+        w.contains(&format!("would pass it at t ≈ {visible:.1} s")),
+        "{w}"
+    );
+}
+
+/// Constant, decaying, oscillating-decaying and round-off lateral velocities are no growth.
+#[test]
+fn steady_or_decaying_lateral_velocity_is_terminal() {
+    type F = fn(f64) -> f64;
+    let cases: [(&str, F); 4] = [
+        ("constant drift", |_| 0.3),
+        ("decaying", |t| 0.5 * (-t).exp()),
+        ("decaying swing", |t| {
+            0.5 * (-0.5 * t).exp() * (7.0 * t).sin()
+        }),
+        ("round-off", |t| 1e-16 * (20.0 * t).sin() * t),
+    ];
+    for (name, f) in cases {
+        let m = metrics_of(10.0, f);
+        assert!(m.lateral_growth.is_none(), "{name}: {:?}", m.lateral_growth);
+        assert!(m.reached_terminal, "{name}: {:?}", m.warnings);
+    }
+    // A growing swing counts by its envelope. The running maximum lags the envelope by up to
+    // a period P = 2π/9 s in time, so over the Δ = 2 s window the fitted rate is within
+    // σ P/Δ of σ = 1.5 /s.
+    let m = metrics_of(10.0, |t| 1e-6 * (1.5 * t).exp() * (9.0 * t).sin());
+    let g = m.lateral_growth.expect("growing swing detected");
+    let bound = 1.5 * (2.0 * std::f64::consts::PI / 9.0) / 2.0;
+    assert!((g.rate_per_s - 1.5).abs() < bound, "rate {}", g.rate_per_s);
+}
+
+/// A real run: the report's 4-corner canopy under the DisMech pressure drag at dt = 1e-2 s
+/// on a coarse mesh holds a steady vz while its lateral velocity, seeded by round-off, grows
+/// e-fold about every 0.6 s (8 s of flight, a few seconds of wall time).
+#[test]
+fn report_canopy_under_pressure_drag_is_caught_growing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = chute_command()
+        .current_dir(tmp.path())
+        .arg("run")
+        .arg(repo().join("scenarios/report-shell-4-sites.toml"))
+        .args(["--quiet", "--out", "r"])
+        .args([
+            "--set",
+            "fluid.shell_drag=pressure",
+            "--set",
+            "time.dt_s=1e-2",
+        ])
+        .args([
+            "--set",
+            "canopy.edge_length_m=0.5",
+            "--set",
+            "time.duration_s=8",
+        ])
+        .args([
+            "--set",
+            "output.snapshots_s=[1]",
+            "--set",
+            "output.frame_interval_s=1",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("r/summary.json")).unwrap()).unwrap();
+    assert_eq!(s["reached_terminal"], false);
+    assert!(s["time_to_terminal_s"].is_null());
+    let vt = s["terminal_velocity_mps"].as_f64().unwrap();
+    assert!(s["terminal_velocity_std_mps"].as_f64().unwrap() < 1e-4 * vt.abs());
+    let w = s["warnings"].to_string();
+    assert!(w.contains("lateral velocity grows exponentially"), "{w}");
+    let rate: f64 = w
+        .split("growth rate ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|r| r.parse().ok())
+        .unwrap();
+    // Measured e-folding 0.56–0.62 s on the 0.25–0.5 m meshes.
+    assert!((1.2..2.2).contains(&rate), "rate {rate} /s");
+}
