@@ -182,9 +182,13 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
 ///
 /// With `opts.resume` the run continues from `checkpoint.bin` in that directory (which must
 /// be `opts.out_dir`); the scenario must resolve to the one the checkpoint was written with,
-/// except for `time.duration_s` (a run may be extended). With `opts.checkpoint_every_s` a
-/// checkpoint is written periodically. The process-wide [`crate::runner::STOP`] flag (set by
-/// the Ctrl-C / SIGTERM handler of the binary) stops the run gracefully.
+/// except for `time.duration_s`, which may only grow (a run may be extended). With
+/// `opts.force` an earlier run in the directory is cleared first
+/// ([`crate::output::run_files::clear`]), once the model is known to be valid, so a run that
+/// cannot start leaves the earlier one intact and one that starts never mixes with it. With
+/// `opts.checkpoint_every_s` a checkpoint is written periodically. The process-wide
+/// [`crate::runner::STOP`] flag (set by the Ctrl-C / SIGTERM handler of the binary) stops the
+/// run gracefully.
 pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunOutcome, AppError> {
     let watch = Watch {
         stop: &crate::runner::STOP,
@@ -210,6 +214,7 @@ pub fn run_watched(
     opts: &RunOptions,
     watch: Watch<'_>,
 ) -> Result<RunOutcome, AppError> {
+    use crate::output::run_files;
     let mut built = crate::build::build(s)?;
     check_ground(s, &built)?;
     let scenario_toml = s.to_toml();
@@ -217,7 +222,13 @@ pub fn run_watched(
         Some(dir) => Some(load_checkpoint(dir, &opts.out_dir, &scenario_toml)?),
         None => None,
     };
-    let resolved = opts.out_dir.join("scenario.resolved.toml");
+    if opts.force && resume.is_none() {
+        if !dir_is_empty(&opts.out_dir) && !run_files::is_run_dir(&opts.out_dir) {
+            return Err(not_a_run_dir(&opts.out_dir));
+        }
+        run_files::clear(&opts.out_dir).map_err(|e| AppError::io(&opts.out_dir, e))?;
+    }
+    let resolved = opts.out_dir.join(run_files::RESOLVED_SCENARIO);
     crate::output::atomic::write_atomic(&resolved, scenario_toml.as_bytes())
         .map_err(|e| AppError::io(&resolved, e))?;
     let cfg = run_config(s, opts.progress);
@@ -374,6 +385,21 @@ fn check_ground(s: &Scenario, b: &crate::build::Built) -> Result<(), AppError> {
     Ok(())
 }
 
+/// Whether `dir` has no entries (or does not exist).
+fn dir_is_empty(dir: &std::path::Path) -> bool {
+    std::fs::read_dir(dir).map_or(true, |mut it| it.next().is_none())
+}
+
+/// `--force` is refused on a non-empty directory chute did not write: it would delete or
+/// mix with someone else's files.
+pub fn not_a_run_dir(dir: &std::path::Path) -> AppError {
+    AppError::Input(format!(
+        "output directory `{}` is not empty and is not a chute run directory (it has no {}); --force only replaces an earlier chute run: choose another --out DIR",
+        dir.display(),
+        crate::output::run_files::RESOLVED_SCENARIO
+    ))
+}
+
 /// Read the checkpoint of run directory `dir` and check it belongs to this scenario.
 fn load_checkpoint(
     dir: &std::path::Path,
@@ -386,36 +412,103 @@ fn load_checkpoint(
     };
     if !same_dir {
         return Err(AppError::Input(format!(
-            "--resume `{}` continues that run in place; --out `{}` must be the same directory or omitted",
+            "resuming `{}` continues that run in place; the output directory `{}` must be the same directory",
             dir.display(),
             out_dir.display()
         )));
     }
     let c = crate::checkpoint::Checkpoint::read(dir)
         .map_err(|e| AppError::Input(format!("cannot resume from `{}`: {e}", dir.display())))?;
-    if let Some((_, was, now)) = scenario_difference(&c.scenario_toml, scenario_toml) {
-        return Err(AppError::Input(format!(
-            "cannot resume from `{}`: the scenario differs from the checkpoint's : `{was}` (checkpoint) vs `{now}` (now); only time.duration_s may change",
-            dir.display()
+    let cannot = |why: String| AppError::Input(format!("cannot resume `{}`: {why}", dir.display()));
+    if let Some(d) = scenario_difference(&c.scenario_toml, scenario_toml) {
+        return Err(cannot(format!(
+            "`{}` = {} (checkpoint) vs {} (now); only time.duration_s may change",
+            d.key, d.was, d.now
         )));
+    }
+    let (was, now) = (
+        resolved_value(&c.scenario_toml, DURATION_KEY).and_then(|v| v.parse::<f64>().ok()),
+        resolved_value(scenario_toml, DURATION_KEY).and_then(|v| v.parse::<f64>().ok()),
+    );
+    if let (Some(was), Some(now)) = (was, now) {
+        if now < was {
+            return Err(cannot(format!(
+                "time.duration_s = {now} s is shorter than the recorded run's {was} s (checkpoint at t = {} s); a resumed run can only be extended",
+                crate::scenario::derived::sig4(c.t)
+            )));
+        }
     }
     Ok(c)
 }
 
-/// First differing line (1-based, checkpoint's text, current text) of two resolved scenarios,
-/// ignoring `duration_s` lines (a resumed run may be extended or shortened).
-pub fn scenario_difference(was: &str, now: &str) -> Option<(usize, String, String)> {
-    let keep = |l: &&str| !l.trim_start().starts_with("duration_s");
-    let a: Vec<&str> = was.lines().filter(keep).collect();
-    let b: Vec<&str> = now.lines().filter(keep).collect();
-    (0..a.len().max(b.len())).find_map(|i| {
-        let (x, y) = (a.get(i).copied(), b.get(i).copied());
-        (x != y).then(|| {
-            (
-                i + 1,
-                x.unwrap_or("<end>").to_string(),
-                y.unwrap_or("<end>").to_string(),
-            )
+/// The one key a resumed run may change.
+pub const DURATION_KEY: &str = "time.duration_s";
+
+/// A key whose value differs between two resolved scenarios.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Difference {
+    /// The dotted key (`load.weight_n`).
+    pub key: String,
+    /// Its value in the first text (`<absent>` when it has none).
+    pub was: String,
+    /// Its value in the second.
+    pub now: String,
+}
+
+/// The `key = value` lines of a resolved scenario as (dotted key, value text), tracking the
+/// `[section]` and `[[section]]` headers (entries of arrays of tables numbered from 0).
+fn resolved_entries(text: &str) -> Vec<(String, String)> {
+    let mut section = String::new();
+    let mut counts: std::collections::BTreeMap<String, usize> = Default::default();
+    let mut out = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        if let Some(name) = line.strip_prefix("[[").and_then(|l| l.strip_suffix("]]")) {
+            let n = counts.entry(name.to_string()).or_default();
+            section = format!("{name}[{n}]");
+            *n += 1;
+        } else if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
+            section = name.to_string();
+        } else if let Some((k, v)) = line.split_once('=') {
+            let k = k.trim();
+            let key = if section.is_empty() {
+                k.to_string()
+            } else {
+                format!("{section}.{k}")
+            };
+            out.push((key, v.trim().to_string()));
+        }
+    }
+    out
+}
+
+/// The value text of `key` in a resolved scenario.
+pub fn resolved_value(text: &str, key: &str) -> Option<String> {
+    resolved_entries(text)
+        .into_iter()
+        .find_map(|(k, v)| (k == key).then_some(v))
+}
+
+/// The first key (in the checkpoint's order, then keys only `now` has) whose value differs
+/// between two resolved scenarios, ignoring `time.duration_s` (a resumed run may be
+/// extended).
+pub fn scenario_difference(was: &str, now: &str) -> Option<Difference> {
+    let keep = |(k, _): &(String, String)| k != DURATION_KEY;
+    let a: Vec<_> = resolved_entries(was).into_iter().filter(keep).collect();
+    let b: Vec<_> = resolved_entries(now).into_iter().filter(keep).collect();
+    let find = |list: &[(String, String)], key: &str| {
+        list.iter()
+            .find(|(k, _)| k == key)
+            .map_or_else(|| "<absent>".to_string(), |(_, v)| v.clone())
+    };
+    a.iter()
+        .chain(&b)
+        .map(|(k, _)| Difference {
+            key: k.clone(),
+            was: find(&a, k),
+            now: find(&b, k),
         })
-    })
+        .find(|d| d.was != d.now)
 }

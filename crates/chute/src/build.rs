@@ -102,6 +102,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         canopy::install_shell(s, tri, &mut model, &q, plan.rods.n_edges())?;
     }
     plan.add_masses_and_loads(s, &mut model);
+    check_masses(s, &model)?;
     let g = s.fluid.gravity_mps2;
     let nodes: Vec<usize> = (0..layout.n_nodes).collect();
     let masses: Vec<f64> = nodes.iter().map(|&i| model.node_mass(i)).collect();
@@ -139,6 +140,28 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
     };
     built.derived = derived(s, &built, &geo);
     Ok(built)
+}
+
+/// Every free DOF must have mass before anything runs (the stepper would refuse the model
+/// only after the output directory is written); a massless node is blamed on the mesh file.
+fn check_masses(s: &Scenario, model: &Model) -> Result<(), BuildError> {
+    let Err(engine::EngineError::NonPositiveMass { dof, mass }) = model.validate(true) else {
+        return model.validate(false).map_err(BuildError::from);
+    };
+    let n = model.layout.n_nodes;
+    let what = if dof < 3 * n {
+        format!("node {} (1-based)", dof / 3 + 1)
+    } else {
+        format!("the twist of rod edge {}", dof - 3 * n)
+    };
+    let message = format!("{what} has mass {mass} kg: it is on no triangle, rod edge or load");
+    Err(match &s.canopy.mesh_file {
+        Some(p) => BuildError::MeshFile(crate::mesh::MeshFileError::File {
+            path: p.display().to_string(),
+            message,
+        }),
+        None => BuildError::key("canopy", message),
+    })
 }
 
 /// Quantities printed by `chute check`.

@@ -17,9 +17,11 @@
 //! truncated or corrupted file is rejected with a clear error.
 //!
 //! Versions: 2 (adaptive time steps) appends the cap and the two rejection counters after the
-//! warnings. Version 1 files (fixed steps only) are still read: no cap, no error rejections,
-//! and the Newton rejections counted from the "step rejected" warnings (exact up to the 20
-//! warnings kept, a lower bound beyond).
+//! warnings; 3 (`chute resume DIR`) appends the run's checkpoint interval (0 for none), so a
+//! resumed run keeps checkpointing as the original did. Version 1 files (fixed steps only)
+//! are still read: no cap, no error rejections, and the Newton rejections counted from the
+//! "step rejected" warnings (exact up to the 20 warnings kept, a lower bound beyond);
+//! versions 1 and 2 record no checkpoint interval.
 
 use std::io::{self, BufRead};
 use std::path::{Path, PathBuf};
@@ -31,7 +33,7 @@ use crate::output::write_atomic;
 pub const FILE_NAME: &str = "checkpoint.bin";
 const MAGIC: &[u8; 8] = b"CHUTECKP";
 /// Version of the binary layout; bump on any change.
-pub const FORMAT_VERSION: u32 = 2;
+pub const FORMAT_VERSION: u32 = 3;
 /// The oldest version this build reads.
 const OLDEST_READABLE: u32 = 1;
 
@@ -80,6 +82,8 @@ pub struct Checkpoint {
     pub next_sync: u64,
     /// Run-loop warnings so far.
     pub warnings: Vec<String>,
+    /// The run's `--checkpoint-every` interval (s), which `chute resume` keeps using.
+    pub checkpoint_every_s: Option<f64>,
 }
 
 /// Why a checkpoint could not be used.
@@ -200,6 +204,7 @@ impl Checkpoint {
         e.f64(self.dt_cap);
         e.u64(self.rejected_error);
         e.u64(self.rejected_newton);
+        e.f64(self.checkpoint_every_s.unwrap_or(0.0));
         let sum = fnv1a(&e.0);
         e.u64(sum);
         e.0
@@ -250,6 +255,8 @@ impl Checkpoint {
                 .count();
             (f64::INFINITY, 0, newton as u64)
         };
+        let every = if version >= 3 { d.f64()? } else { 0.0 };
+        let checkpoint_every_s = (every > 0.0 && every.is_finite()).then_some(every);
         if d.at != body.len() {
             return Err(format!("{} unexpected trailing bytes", body.len() - d.at));
         }
@@ -274,6 +281,7 @@ impl Checkpoint {
             snap_idx,
             next_sync,
             warnings,
+            checkpoint_every_s,
         })
     }
 
@@ -393,6 +401,7 @@ mod tests {
                 "step rejected at t = 0.01 s (x); dt halved to 5e-4 s".into(),
                 "other".into(),
             ],
+            checkpoint_every_s: Some(0.25),
         }
     }
 
@@ -402,28 +411,41 @@ mod tests {
         assert_eq!(Checkpoint::decode(&c.encode()).unwrap(), c);
     }
 
+    /// Re-seal `body` (bytes without a checksum) as a file of format `version`.
+    fn reseal(mut body: Vec<u8>, version: u32) -> Vec<u8> {
+        body[8..12].copy_from_slice(&version.to_le_bytes());
+        let sum = fnv1a(&body);
+        body.extend_from_slice(&sum.to_le_bytes());
+        body
+    }
+
+    /// A version-2 file (before `chute resume`: no checkpoint interval) still reads.
+    #[test]
+    fn reads_version_2() {
+        let c = sample();
+        let v3 = c.encode();
+        let old = Checkpoint::decode(&reseal(v3[..v3.len() - 8 - 8].to_vec(), 2)).unwrap();
+        assert_eq!(old.checkpoint_every_s, None);
+        assert_eq!(
+            (old.dt_cap, old.rejected_error),
+            (c.dt_cap, c.rejected_error)
+        );
+    }
+
     /// A version-1 file (before adaptive steps: no cap, no rejection counters) still reads.
     #[test]
     fn reads_version_1() {
         let c = sample();
-        let v2 = c.encode();
-        // Version 1 = version 2 without the 24 trailing bytes of the new fields.
-        let mut body = v2[..v2.len() - 8 - 24].to_vec();
-        body[8..12].copy_from_slice(&1u32.to_le_bytes());
-        let sum = fnv1a(&body);
-        body.extend_from_slice(&sum.to_le_bytes());
-        let old = Checkpoint::decode(&body).unwrap();
-        assert_eq!(old.dt_cap, f64::INFINITY);
+        let v3 = c.encode();
+        // Version 1 = version 3 without the 32 trailing bytes of the newer fields.
+        let old = Checkpoint::decode(&reseal(v3[..v3.len() - 8 - 32].to_vec(), 1)).unwrap();
+        assert_eq!((old.dt_cap, old.checkpoint_every_s), (f64::INFINITY, None));
         assert_eq!((old.rejected_error, old.rejected_newton), (0, 1));
         assert_eq!((old.q, old.dt, old.warnings), (c.q, c.dt, c.warnings));
         // A future version is refused with both numbers.
-        let mut future = v2[..v2.len() - 8].to_vec();
-        future[8..12].copy_from_slice(&3u32.to_le_bytes());
-        let sum = fnv1a(&future);
-        future.extend_from_slice(&sum.to_le_bytes());
-        let e = Checkpoint::decode(&future).unwrap_err();
+        let e = Checkpoint::decode(&reseal(v3[..v3.len() - 8].to_vec(), 4)).unwrap_err();
         assert!(
-            e.contains("format version 3") && e.contains("1 to 2"),
+            e.contains("format version 4") && e.contains("1 to 3"),
             "{e}"
         );
     }

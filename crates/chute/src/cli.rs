@@ -26,6 +26,8 @@ pub struct Cli {
 pub enum Command {
     /// Simulate one scenario and write its output directory.
     Run(RunArgs),
+    /// Continue an interrupted (or extend a finished) run from its directory alone.
+    Resume(ResumeArgs),
     /// Validate a scenario without running it; print derived quantities.
     Check(CheckArgs),
     /// Run a study (a list or grid of cases) in parallel; write study.csv and study.md.
@@ -68,11 +70,33 @@ pub struct RunArgs {
     #[arg(long, short)]
     pub quiet: bool,
     /// Write a checkpoint every S simulated seconds.
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub checkpoint_every: Option<f64>,
-    /// Resume from the checkpoint in this run directory (the default output directory).
-    #[arg(long, value_name = "DIR")]
+    /// Retired: use `chute resume DIR` (kept so the old form gets a message saying so).
+    #[arg(long, value_name = "DIR", hide = true)]
     pub resume: Option<PathBuf>,
+    /// Do not write viewer.html.
+    #[arg(long)]
+    pub no_viewer: bool,
+    /// Print summary.json on stdout (and nothing else there) instead of the summary for people.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `chute resume`.
+#[derive(Debug, Args)]
+pub struct ResumeArgs {
+    /// A run directory with a `checkpoint.bin` (written by `chute run`).
+    pub run_dir: PathBuf,
+    /// Only `--set time.duration_s=T`, T at least the recorded duration: extend the run.
+    #[arg(long = "set", value_name = "time.duration_s=T")]
+    pub set: Vec<String>,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Write a checkpoint every S simulated seconds [default: as the run did].
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub checkpoint_every: Option<f64>,
     /// Do not write viewer.html.
     #[arg(long)]
     pub no_viewer: bool,
@@ -183,6 +207,7 @@ pub fn main() -> ExitCode {
 pub fn dispatch(cli: Cli) -> Result<(), AppError> {
     match cli.command {
         Command::Run(a) => cmd_run(&a),
+        Command::Resume(a) => cmd_resume(&a),
         Command::Check(a) => cmd_check(&a),
         Command::Study(a) => cmd_study(&a),
         Command::Collect(a) => cmd_collect(&a),
@@ -213,7 +238,15 @@ fn cmd_check(a: &CheckArgs) -> Result<(), AppError> {
     let derived = app::check(&s)?;
     println!("scenario `{}` ({}) is valid", s.name, a.scenario.display());
     print_pairs(&derived);
+    print_plausibility(&s);
     Ok(())
+}
+
+/// The scenario's plausibility warnings, on stderr.
+fn print_plausibility(s: &Scenario) {
+    for w in crate::scenario::plausibility::warnings(s) {
+        eprintln!("warning: {w}");
+    }
 }
 
 /// Whether a directory exists and has anything in it.
@@ -222,7 +255,9 @@ fn non_empty_dir(dir: &Path) -> bool {
 }
 
 /// Make sure `dir` can take a run's outputs: refuse to overwrite an earlier run unless
-/// `allow_existing`, create it, and prove it writable. Returns whether it was created here.
+/// `allow_existing` (`--force`, or a resume), and even then a non-empty directory that is not
+/// a chute run directory; create it, and prove it writable. Returns whether it was created
+/// here.
 pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<bool, AppError> {
     if dir.exists() && !dir.is_dir() {
         return Err(AppError::Input(format!(
@@ -257,6 +292,9 @@ pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<bool, AppErro
             dir.display()
         ))
     })?;
+    if non_empty_dir(dir) && !crate::output::run_files::is_run_dir(dir) {
+        return Err(app::not_a_run_dir(dir));
+    }
     Ok(created)
 }
 
@@ -278,53 +316,79 @@ fn install_stop_handler() {
     });
 }
 
+/// A `--checkpoint-every` value, checked.
+fn checkpoint_interval(c: Option<f64>) -> Result<Option<f64>, AppError> {
+    match c {
+        Some(c) if !(c.is_finite() && c > 0.0) => Err(AppError::Input(format!(
+            "--checkpoint-every {c}: must be a positive number of simulated seconds"
+        ))),
+        c => Ok(c),
+    }
+}
+
 fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
-    let s = Scenario::load(&a.scenario, &a.set)?;
-    if let Some(c) = a.checkpoint_every {
-        if !(c.is_finite() && c > 0.0) {
-            return Err(AppError::Input(format!(
-                "--checkpoint-every {c}: must be a positive number of seconds"
-            )));
-        }
-    }
     if let Some(r) = &a.resume {
-        if !r.is_dir() {
-            return Err(AppError::Input(format!(
-                "--resume `{}`: no such run directory",
-                r.display()
-            )));
-        }
+        return Err(AppError::Input(format!(
+            "`chute run --resume` is retired: continue the run with `chute resume {}` (it reads the scenario and every override from the run directory; `--set time.duration_s=T` extends it)",
+            r.display()
+        )));
     }
+    let s = Scenario::load(&a.scenario, &a.set)?;
+    let checkpoint_every_s = checkpoint_interval(a.checkpoint_every)?;
     let out = a
         .out
         .clone()
-        .or_else(|| a.resume.clone())
         .unwrap_or_else(|| Path::new("runs").join(&s.name));
-    let created = prepare_out_dir(&out, a.force || a.resume.is_some())?;
-    install_stop_handler();
+    let created = prepare_out_dir(&out, a.force)?;
     let opts = RunOptions {
         out_dir: out.clone(),
         force: a.force,
         progress: !a.quiet && std::io::stderr().is_terminal(),
-        checkpoint_every_s: a.checkpoint_every,
-        resume: a.resume.clone(),
+        checkpoint_every_s,
+        resume: None,
     };
-    let outcome = match app::run(&s, &opts) {
+    let report = Report {
+        no_viewer: a.no_viewer,
+        json: a.json,
+        quiet: a.quiet,
+    };
+    run_and_report(&s, &opts, created, &report)
+}
+
+/// How `run` and `resume` report a finished run.
+struct Report {
+    no_viewer: bool,
+    json: bool,
+    quiet: bool,
+}
+
+/// Run, write the viewer, print the summary; an incomplete run is an error saying how to
+/// continue it.
+fn run_and_report(
+    s: &Scenario,
+    opts: &RunOptions,
+    created: bool,
+    r: &Report,
+) -> Result<(), AppError> {
+    let out = &opts.out_dir;
+    print_plausibility(s);
+    install_stop_handler();
+    let outcome = match app::run(s, opts) {
         Ok(o) => o,
         Err(e) => {
             // Leave no empty directory behind that would block the next attempt.
-            if created && !non_empty_dir(&out) {
-                let _ = std::fs::remove_dir(&out);
+            if created && !non_empty_dir(out) {
+                let _ = std::fs::remove_dir(out);
             }
             return Err(e);
         }
     };
-    if !a.no_viewer {
-        if let Err(e) = crate::output::viewer::write_viewer(&out) {
+    if !r.no_viewer {
+        if let Err(e) = crate::output::viewer::write_viewer(out) {
             eprintln!("warning: viewer.html not written: {e}");
         }
     }
-    crate::output::console::print_run_report(&out, &outcome.summary, a.json, a.quiet)
+    crate::output::console::print_run_report(out, &outcome.summary, r.json, r.quiet)
         .map_err(|e| AppError::io(out.join("summary.json"), e))?;
     match (outcome.complete, outcome.message) {
         (true, Some(m)) => {
@@ -333,13 +397,58 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
         }
         (true, None) => Ok(()),
         (false, m) => Err(AppError::RunFailed(format!(
-            "stopped before time.duration_s: {}; partial outputs and a checkpoint are in `{}` (continue with `chute run {} --resume {}` and the same --set options)",
+            "stopped before time.duration_s: {}; partial outputs and a checkpoint are in `{}` (continue with `chute resume {}`)",
             m.unwrap_or_else(|| "no reason given".into()),
             out.display(),
-            a.scenario.display(),
             out.display()
         ))),
     }
+}
+
+fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
+    let dir = &a.run_dir;
+    if !dir.is_dir() {
+        return Err(AppError::Input(format!(
+            "`{}` is not a directory (give a run directory written by `chute run`)",
+            dir.display()
+        )));
+    }
+    for arg in &a.set {
+        let (key, _) = crate::scenario::overrides::parse(arg)?;
+        if key != app::DURATION_KEY {
+            return Err(AppError::Input(format!(
+                "`--set {arg}`: a resumed run keeps its recorded scenario; only {} may change (to extend the run). Start a new run with `chute run` to change `{key}`",
+                app::DURATION_KEY
+            )));
+        }
+    }
+    let c = crate::checkpoint::Checkpoint::read(dir).map_err(|e| {
+        let complete =
+            dir.join("summary.json").is_file() && !dir.join(crate::checkpoint::FILE_NAME).exists();
+        let hint = if complete {
+            " (a run keeps a checkpoint after it ends only when written with --checkpoint-every S)"
+        } else {
+            ""
+        };
+        AppError::Input(format!("cannot resume `{}`: {e}{hint}", dir.display()))
+    })?;
+    // The recorded scenario is the checkpoint's own copy; errors point at the directory's.
+    let source = dir.join(crate::output::run_files::RESOLVED_SCENARIO);
+    let s = Scenario::from_str_with_name(&c.scenario_toml, &source.display().to_string(), &a.set)?;
+    let checkpoint_every_s = checkpoint_interval(a.checkpoint_every.or(c.checkpoint_every_s))?;
+    let opts = RunOptions {
+        out_dir: dir.clone(),
+        force: false,
+        progress: !a.quiet && std::io::stderr().is_terminal(),
+        checkpoint_every_s,
+        resume: Some(dir.clone()),
+    };
+    let report = Report {
+        no_viewer: a.no_viewer,
+        json: a.json,
+        quiet: a.quiet,
+    };
+    run_and_report(&s, &opts, false, &report)
 }
 
 fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {

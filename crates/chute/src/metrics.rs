@@ -228,7 +228,37 @@ pub fn compute(s: &Series<'_>, p: &Params) -> Result<Metrics, MetricsError> {
         warnings: Vec::new(),
     };
     judge_steadiness(&mut m, band_entry, p);
+    m.warnings.extend(mach_warning(peak_speed_mps(s)));
     Ok(m)
+}
+
+/// Speed of sound (m/s) in the standard sea-level atmosphere (15 °C), until the atmosphere
+/// model gives a local one.
+pub const SPEED_OF_SOUND_MPS: f64 = 340.3;
+/// Mach number above which air is compressible: the quadratic drag law (constant C_D,
+/// incompressible flow) no longer holds.
+pub const MACH_INCOMPRESSIBLE_MAX: f64 = 0.3;
+
+/// Largest canopy speed |(vx, vy, vz)| of the series (m/s).
+fn peak_speed_mps(s: &Series<'_>) -> f64 {
+    (0..s.t_s.len())
+        .map(|i| {
+            let c = |col: &[f64]| col.get(i).copied().unwrap_or(0.0);
+            (c(s.vx_mps).powi(2) + c(s.vy_mps).powi(2) + c(s.vz_mps).powi(2)).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The warning for a canopy that reached `peak_speed_mps`, when that is above Mach
+/// [`MACH_INCOMPRESSIBLE_MAX`].
+pub fn mach_warning(peak_speed_mps: f64) -> Option<String> {
+    let mach = peak_speed_mps / SPEED_OF_SOUND_MPS;
+    (mach > MACH_INCOMPRESSIBLE_MAX).then(|| {
+        format!(
+            "the canopy reached {peak_speed_mps:.1} m/s, Mach {mach:.2} (speed of sound {SPEED_OF_SOUND_MPS} m/s): \
+             above Mach {MACH_INCOMPRESSIBLE_MAX} air is compressible and the drag law does not hold; check the load and the material"
+        )
+    })
 }
 
 /// Decide `reached_terminal`/`time_to_terminal_s` and collect the warnings.

@@ -9,6 +9,7 @@ pub mod atomic;
 pub mod console;
 pub mod plots;
 pub mod run_dir;
+pub mod run_files;
 pub mod scene3d;
 pub mod summary;
 pub mod timeseries;

@@ -24,6 +24,7 @@ pub mod error;
 pub mod keys;
 pub mod overrides;
 mod parse;
+pub mod plausibility;
 mod rules;
 pub mod schema;
 pub mod sections;

@@ -80,6 +80,7 @@ impl RawMesh {
                 message: "no triangles found".into(),
             });
         }
+        self.check_all_used()?;
         let tri = TriMesh::new(self.faces.clone(), &self.positions)
             .map_err(|e| self.topology_error(e))?;
         let mut mesh = CanopyMesh {
@@ -114,6 +115,36 @@ impl RawMesh {
             seen.insert(key(p), i);
         }
         Ok(())
+    }
+
+    /// Every node must be on a triangle or a rod edge: an unused one would have no mass (a
+    /// file cut short before its `*Edges`, or a stray vertex).
+    fn check_all_used(&self) -> Result<(), MeshFileError> {
+        let mut used = vec![false; self.positions.len()];
+        for &i in self
+            .faces
+            .iter()
+            .flatten()
+            .chain(self.rods.iter().flatten())
+        {
+            used[i] = true;
+        }
+        let Some(i) = used.iter().position(|u| !u) else {
+            return Ok(());
+        };
+        let unused = used.iter().filter(|u| !**u).count();
+        let others = match unused {
+            1 => String::new(),
+            n => format!(" ({} more unused nodes follow)", n - 1),
+        };
+        Err(self.line_error(
+            self.position_lines[i],
+            format!(
+                "node {} is on no triangle and no rod edge, so it would have no mass{others}; \
+                 remove it, or check that the file is complete (a DisMech file needs its *Edges)",
+                i + 1
+            ),
+        ))
     }
 
     fn check_triangle(&self, f: [usize; 3], line: usize) -> Result<(), MeshFileError> {

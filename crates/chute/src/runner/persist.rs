@@ -83,6 +83,7 @@ impl Run {
             snap_idx: self.snap_idx as u64,
             next_sync: self.next_sync,
             warnings: self.warnings.clone(),
+            checkpoint_every_s: ctl.checkpoint_every_s,
         }
     }
 

@@ -191,3 +191,39 @@ impl ScenarioError {
         }
     }
 }
+
+/// A number as messages show it: plain when that is short (`0.05`, `200`, `-3`), else in
+/// exponent form (`1e308`, `5.5e10`, `1e-7`), never hundreds of digits; it reads back exactly.
+pub fn short(x: f64) -> String {
+    let plain = x.to_string();
+    let exp = format!("{x:e}");
+    if plain.len() > 6 && exp.len() < plain.len() {
+        exp
+    } else {
+        plain
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short;
+
+    #[test]
+    fn numbers_in_short_form() {
+        for (x, s) in [
+            (1e308, "1e308"),
+            (55e9, "5.5e10"),
+            (0.05, "0.05"),
+            (200.0, "200"),
+            (-3.0, "-3"),
+            (1e-7, "1e-7"),
+            (1e12, "1e12"),
+            (123_456.0, "123456"),
+            (12_345_678.0, "12345678"),
+            (1e9, "1e9"),
+        ] {
+            assert_eq!(short(x), s);
+            assert_eq!(short(x).parse::<f64>().unwrap(), x);
+        }
+    }
+}

@@ -45,6 +45,9 @@ pub fn parse_in(sections: &[Section], arg: &str) -> Result<(String, toml::Value)
         });
     };
     let parsed = toml_value(raw);
+    if parsed.is_none() && !matches!(kind, Kind::Str | Kind::Choice(_)) {
+        overflow(key, raw, arg)?;
+    }
     let value = match (kind, parsed) {
         (Kind::Str | Kind::Choice(_), Some(v @ toml::Value::String(_))) => v,
         (Kind::Str | Kind::Choice(_), _) => toml::Value::String(raw.to_string()),
@@ -52,6 +55,22 @@ pub fn parse_in(sections: &[Section], arg: &str) -> Result<(String, toml::Value)
         (_, None) => toml::Value::String(raw.to_string()),
     };
     Ok((key.to_string(), value))
+}
+
+/// A number too large for a double (`1e400`) is refused as such; TOML rejects it, so it
+/// would otherwise be taken for a string.
+fn overflow(key: &str, raw: &str, arg: &str) -> Result<(), ScenarioError> {
+    let numeral =
+        raw.bytes().any(|b| b.is_ascii_digit()) && !raw.to_ascii_lowercase().contains("inf");
+    match raw.replace('_', "").parse::<f64>() {
+        Ok(x) if x.is_infinite() && numeral => Err(ScenarioError::Invalid {
+            key: key.to_string(),
+            value: raw.to_string(),
+            reason: "overflows: the largest number is about 1.8e308".into(),
+            origin: super::error::Origin::Set(arg.to_string()),
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// `raw` as a single TOML value, or `None` when it is not exactly one.

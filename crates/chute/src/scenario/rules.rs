@@ -112,7 +112,7 @@ fn show(sections: &[Section], cond: &Cond) -> String {
 /// A value as the messages show it: numbers plain, strings quoted.
 fn value(v: &toml::Value) -> String {
     match v {
-        toml::Value::Float(x) => x.to_string(),
+        toml::Value::Float(x) => super::error::short(*x),
         toml::Value::String(s) => format!("\"{s}\""),
         v => v.to_string(),
     }

@@ -4,9 +4,10 @@
 //! declarations in [`super::sections`]; every function here also takes an explicit section
 //! list (`*_in`), which the unit tests use for sections the format does not have yet.
 
+use super::error::short;
 use super::error::ScenarioError;
 pub use super::keys::Kind;
-use super::keys::Section;
+use super::keys::{KeyDecl, Section};
 use super::sections::{SiteSet, SECTIONS};
 use super::source::Provenance;
 
@@ -153,10 +154,30 @@ pub fn describe(v: &toml::Value) -> String {
     match v {
         toml::Value::String(s) => format!("the string \"{s}\""),
         toml::Value::Integer(i) => format!("the integer {i}"),
-        toml::Value::Float(x) => format!("the number {x}"),
+        toml::Value::Float(x) => {
+            // As written: a float keeps its point (`61.0`), so it is not mistaken for 61.
+            let s = short(*x);
+            let point = if s.contains(['.', 'e', 'N', 'i']) {
+                ""
+            } else {
+                ".0"
+            };
+            format!("the number {s}{point}")
+        }
         toml::Value::Boolean(b) => format!("the boolean {b}"),
         toml::Value::Datetime(d) => format!("the date-time {d}"),
-        toml::Value::Array(_) => "an array".to_string(),
+        toml::Value::Array(a) => {
+            let numbers = a
+                .iter()
+                .all(|x| matches!(x, toml::Value::Integer(_) | toml::Value::Float(_)));
+            let what = match (numbers, a.len()) {
+                (true, 1) => "number",
+                (true, _) => "numbers",
+                (false, 1) => "value",
+                (false, _) => "values",
+            };
+            format!("an array of {} {what}", a.len())
+        }
         toml::Value::Table(_) => "a table".to_string(),
     }
 }
@@ -180,7 +201,7 @@ pub fn check_in(
         let Some(sec) = sec else {
             // A top-level key (or an unknown section or key).
             match top.and_then(|t| t.key(k)) {
-                Some(d) => errors.value(k, d.kind, v, prov),
+                Some(d) => errors.value(k, d, v, prov),
                 None => errors.push(k, unknown_in(sections, k, prov), prov),
             }
             continue;
@@ -220,8 +241,8 @@ impl Errors {
         self.0.push((prov.rank(path), e));
     }
 
-    fn value(&mut self, path: &str, kind: Kind, v: &toml::Value, prov: &Provenance) {
-        if let Err(e) = check_value(path, kind, v, prov) {
+    fn value(&mut self, path: &str, decl: &KeyDecl, v: &toml::Value, prov: &Provenance) {
+        if let Err(e) = check_value(path, decl, v, prov) {
             self.push(path, e, prov);
         }
     }
@@ -238,7 +259,7 @@ impl Errors {
         for (k, v) in t {
             let path = join(sec.name, index, k);
             match sec.key(k) {
-                Some(d) => self.value(&path, d.kind, v, prov),
+                Some(d) => self.value(&path, d, v, prov),
                 None => self.push(&path, unknown_in(sections, &path, prov), prov),
             }
         }
@@ -328,7 +349,7 @@ fn finite(path: &str, v: &toml::Value, prov: &Provenance) -> Result<f64, Scenari
     } else {
         Err(ScenarioError::Invalid {
             key: path.to_string(),
-            value: x.to_string(),
+            value: short(x),
             reason: "must be a finite number (NaN and infinity are not allowed)".into(),
             origin: prov.origin(path),
         })
@@ -365,26 +386,17 @@ fn count_array(path: &str, v: &toml::Value, prov: &Provenance) -> Result<(), Sce
 
 fn check_value(
     path: &str,
-    kind: Kind,
+    decl: &KeyDecl,
     v: &toml::Value,
     prov: &Provenance,
 ) -> Result<(), ScenarioError> {
-    match kind {
+    match decl.kind {
         Kind::Str => v
             .as_str()
             .map(|_| ())
             .ok_or_else(|| wrong(path, "a string", v, prov)),
         Kind::Float => finite(path, v, prov).map(|_| ()),
-        Kind::Count => match v {
-            toml::Value::Integer(i) if *i >= 0 => Ok(()),
-            toml::Value::Integer(i) => Err(ScenarioError::Invalid {
-                key: path.to_string(),
-                value: i.to_string(),
-                reason: "must be a non-negative integer".into(),
-                origin: prov.origin(path),
-            }),
-            _ => Err(wrong(path, "an integer", v, prov)),
-        },
+        Kind::Count => count(path, decl, v, prov),
         Kind::Bool => v
             .as_bool()
             .map(|_| ())
@@ -404,6 +416,39 @@ fn check_value(
         Kind::FloatList => number_array(path, v, "an array of numbers", prov).map(|_| ()),
         Kind::CountList => count_array(path, v, prov),
         Kind::Sites => sites(path, v, prov),
+    }
+}
+
+/// A count: a non-negative integer. A whole number out of the key's range (`1e9`, `-3`) is
+/// reported with the range, the real reason, rather than with its type.
+fn count(
+    path: &str,
+    decl: &KeyDecl,
+    v: &toml::Value,
+    prov: &Provenance,
+) -> Result<(), ScenarioError> {
+    let x = match v {
+        toml::Value::Integer(i) if *i >= 0 => return Ok(()),
+        toml::Value::Integer(i) => *i as f64,
+        toml::Value::Float(x) if x.is_finite() && x.fract() == 0.0 => *x,
+        _ => return Err(wrong(path, "an integer", v, prov)),
+    };
+    let invalid = |reason: String| ScenarioError::Invalid {
+        key: path.to_string(),
+        value: short(x),
+        reason,
+        origin: prov.origin(path),
+    };
+    match decl.meta.range {
+        Some(r) if !r.contains(x) => Err(invalid(format!("must {} ({})", r.requirement(), r.why))),
+        _ if x < 0.0 => Err(invalid("must be a non-negative integer".into())),
+        // A whole number in range written as a float (`61.0`, `1e3`).
+        _ => Err(wrong(
+            path,
+            "an integer (written without a decimal point or exponent)",
+            v,
+            prov,
+        )),
     }
 }
 

@@ -117,7 +117,7 @@ fn only_with_names_the_condition_and_optional_sections_obey_it() {
     let e = rules_of(&t, &prov).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "`shell.warp_modulus_pa` (c.toml:2) = 1000000000 is invalid: only used with \
+        "`shell.warp_modulus_pa` (c.toml:2) = 1e9 is invalid: only used with \
          `shell.membrane = \"fabric\"`"
     );
     let (t, prov) = parse("[shell]\nmembrane = \"fabric\"\nwarp_modulus_pa = -1\n");

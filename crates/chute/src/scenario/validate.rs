@@ -4,7 +4,7 @@
 //! a value is refused; the first violation in reading order is reported.
 
 use super::error::Origin;
-use super::error::ScenarioError;
+use super::error::{short, ScenarioError};
 use super::sections::SECTIONS;
 use super::source::Provenance;
 use super::{AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, Sites};
@@ -43,13 +43,28 @@ impl<'a> Checker<'a> {
     }
 
     pub(super) fn fail(&mut self, key: &str, value: impl ToString, reason: impl Into<String>) {
+        // Numbers in short form (1e308, not 309 digits).
+        let value = value.to_string();
+        let value = match value.parse::<f64>() {
+            Ok(x) if x.is_finite() => short(x),
+            _ => value,
+        };
         let e = ScenarioError::Invalid {
             key: key.to_string(),
-            value: value.to_string(),
+            value,
             reason: reason.into(),
             origin: self.prov.origin(key),
         };
         self.push(key, e);
+    }
+
+    /// The key a cross-key rule blames: the first of `keys` the user changed with `--set`,
+    /// else the first (the key the rule is about).
+    fn changed<'k>(&self, keys: &[&'k str]) -> &'k str {
+        keys.iter()
+            .copied()
+            .find(|k| matches!(self.prov.origin(k), super::error::Origin::Set(_)))
+            .unwrap_or(keys[0])
     }
 
     fn choice(
@@ -297,7 +312,13 @@ fn mesh(c: &mut Checker, s: &Scenario) {
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
-    if !p.is_file() {
+    if p.is_dir() {
+        c.fail(
+            key,
+            format!("\"{}\"", p.display()),
+            "it is a directory; give the mesh file in it (`.txt` DisMech or `.obj` Wavefront)",
+        );
+    } else if !p.is_file() {
         let e = ScenarioError::MeshMissing {
             key: key.into(),
             path: p.clone(),
@@ -409,32 +430,68 @@ fn outside(s: &Scenario, p: [f64; 2]) -> Option<String> {
 
 fn time_and_output(c: &mut Checker, s: &Scenario) {
     let t = &s.time;
+    let (dt, dur) = ("time.dt_s", "time.duration_s");
     if t.dt_s > 0.0 && t.duration_s > 0.0 {
+        let steps = t.duration_s / t.dt_s;
         if t.dt_s > t.duration_s {
+            match c.changed(&[dt, dur]) {
+                k if k == dur => c.fail(
+                    dur,
+                    t.duration_s,
+                    format!("shorter than one step, time.dt_s = {} s", short(t.dt_s)),
+                ),
+                _ => c.fail(
+                    dt,
+                    t.dt_s,
+                    format!("longer than time.duration_s = {} s", short(t.duration_s)),
+                ),
+            }
+        } else if steps > MAX_STEPS {
+            let (key, value, other) = match c.changed(&[dt, dur]) {
+                k if k == dur => (
+                    dur,
+                    t.duration_s,
+                    format!("time.dt_s = {} s", short(t.dt_s)),
+                ),
+                _ => (
+                    dt,
+                    t.dt_s,
+                    format!("time.duration_s = {} s", short(t.duration_s)),
+                ),
+            };
             c.fail(
-                "time.dt_s",
-                t.dt_s,
-                format!("longer than time.duration_s = {} s", t.duration_s),
-            );
-        } else if t.duration_s / t.dt_s > MAX_STEPS {
-            c.fail(
-                "time.dt_s",
-                t.dt_s,
-                format!("{:.0} steps; at most {MAX_STEPS:.0}", t.duration_s / t.dt_s),
+                key,
+                value,
+                format!(
+                    "{} steps with {other}; at most {}",
+                    short(steps.ceil()),
+                    short(MAX_STEPS)
+                ),
             );
         }
     }
     adaptive(c, s);
     let o = &s.output;
+    let frame = "output.frame_interval_s";
     if o.frame_interval_s > 0.0 && o.frame_interval_s < t.dt_s {
-        c.fail(
-            "output.frame_interval_s",
-            o.frame_interval_s,
-            format!(
-                "frames are written at steps, so it must be at least time.dt_s = {} s",
-                t.dt_s
+        match c.changed(&[frame, dt]) {
+            k if k == dt => c.fail(
+                dt,
+                t.dt_s,
+                format!(
+                    "frames are written at steps, so a step must not be longer than output.frame_interval_s = {} s",
+                    short(o.frame_interval_s)
+                ),
             ),
-        );
+            _ => c.fail(
+                frame,
+                o.frame_interval_s,
+                format!(
+                    "frames are written at steps, so it must be at least time.dt_s = {} s",
+                    short(t.dt_s)
+                ),
+            ),
+        }
     }
 }
 

@@ -2,7 +2,6 @@
 //! writing `study.csv` and `study.md` atomically.
 
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::{DONE_FILE, METRIC_COLUMNS};
@@ -13,18 +12,11 @@ pub(crate) fn read_json(path: &Path) -> Option<serde_json::Value> {
     serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()
 }
 
-/// Write a file atomically: a temporary file in the same directory, then a rename, so a
-/// reader (or a concurrent shard) never sees half a file.
+/// Write a file atomically ([`crate::output::atomic::write_atomic`]: a temporary file in the
+/// same directory, then a rename, so a reader or a concurrent shard never sees half a file;
+/// the umask is honoured).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), AppError> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let mut tmp = tempfile::NamedTempFile::new_in(&dir).map_err(|e| AppError::io(&dir, e))?;
-    tmp.write_all(bytes)
-        .map_err(|e| AppError::io(tmp.path(), e))?;
-    tmp.persist(path).map_err(|e| AppError::io(path, e.error))?;
-    Ok(())
+    crate::output::atomic::write_atomic(path, bytes).map_err(|e| AppError::io(path, e))
 }
 
 /// One table row: a finished case.

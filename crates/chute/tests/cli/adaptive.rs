@@ -149,7 +149,7 @@ fn bad_adaptive_keys_exit_2_naming_the_key() {
     let f = f.to_str().unwrap();
     let cases: &[(&[&str], &str)] = &[
         (&["time.adaptive=maybe"], "`time.adaptive` (from `--set time.adaptive=maybe`) must be a boolean"),
-        (&["time.error_tolerance_m=1e-5"], "`time.error_tolerance_m` (from `--set time.error_tolerance_m=1e-5`) = 0.00001 is invalid: only used with `time.adaptive = true`"),
+        (&["time.error_tolerance_m=1e-5"], "`time.error_tolerance_m` (from `--set time.error_tolerance_m=1e-5`) = 1e-5 is invalid: only used with `time.adaptive = true`"),
         (&["time.adaptive=true", "time.error_tolerance_m=0"], "`time.error_tolerance_m` (from `--set time.error_tolerance_m=0`) = 0 is invalid: must be positive"),
         (&["time.adaptive=true", "time.dt_min_s=0.002"], "`time.dt_min_s` (from `--set time.dt_min_s=0.002`) = 0.002 is invalid: the smallest step must not exceed the first step time.dt_s"),
         (&["time.adaptive=true", "time.dt_max_s=5e-4"], "`time.dt_max_s` (from `--set time.dt_max_s=5e-4`) = 0.0005 is invalid: the largest step must not be below"),

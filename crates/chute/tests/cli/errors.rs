@@ -190,9 +190,10 @@ fn missing_file_and_bad_overrides_exit_2() {
 fn run_refuses_to_overwrite_and_checks_writability() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.toml"), HEAD).unwrap();
-    // An earlier run's directory.
+    // An earlier run's directory (chute's resolved scenario marks it).
     std::fs::create_dir_all(dir.path().join("runs/t")).unwrap();
     std::fs::write(dir.path().join("runs/t/summary.json"), "{}").unwrap();
+    std::fs::write(dir.path().join("runs/t/scenario.resolved.toml"), "").unwrap();
     assert_error(
         &chute(dir.path(), &["run", "s.toml"]),
         2,
@@ -254,7 +255,7 @@ fn run_refuses_to_overwrite_and_checks_writability() {
             (
                 &["run", "s.toml", "--resume", "nowhere"],
                 2,
-                &["--resume `nowhere`"],
+                &["retired", "chute resume nowhere"],
             ),
         ],
     );

@@ -11,6 +11,7 @@ mod mesh_generate;
 mod mesh_import;
 mod mesh_patterns;
 mod outputs;
+mod permissions;
 mod plots;
 mod plots_3d;
 mod study;

@@ -235,3 +235,33 @@ fn missing_file_names_the_path_and_binary_garbage_does_not_panic() {
     assert!(obj::read(&path).is_err());
     assert!(dismech::read(&path).is_err());
 }
+
+#[test]
+fn unused_vertex_is_rejected_naming_file_line_and_node() {
+    // The bundled DisMech parachute cut before its `*Edges`: the 61 line nodes are unused.
+    let text = std::fs::read_to_string(data("hexparachute_n6_python.txt")).unwrap();
+    let cut = &text[..text.find("*Edges").unwrap()];
+    let got = err(dismech::parse(cut, "cut.txt"));
+    let first = text.lines().position(|l| l.trim() == "*Nodes").unwrap() + 2;
+    assert!(
+        got.starts_with(&format!(
+            "cut.txt:{first}: node 1 is on no triangle and no rod edge"
+        )),
+        "{got}"
+    );
+    assert!(
+        got.contains("60 more unused nodes") && got.contains("*Edges"),
+        "{got}"
+    );
+    // An OBJ with a stray vertex.
+    let got = err(obj::parse(
+        "v 0 0 0\nv 1 0 0\nv 5 5 5\nv 0 1 0\nf 1 2 4\n",
+        "o.obj",
+    ));
+    assert!(
+        got.starts_with(
+            "o.obj:3: node 3 is on no triangle and no rod edge, so it would have no mass;"
+        ),
+        "{got}"
+    );
+}

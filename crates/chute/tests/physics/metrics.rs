@@ -306,3 +306,25 @@ fn band_entry_interpolates_crossing() {
         None
     );
 }
+
+/// Above Mach 0.3 (340.3 m/s sound speed) the incompressible drag law does not hold: a steady
+/// fall at Mach 0.303 is warned about, one at Mach 0.297 is not, and so is a transient peak.
+#[test]
+fn mach_above_0_3_is_warned() {
+    let mach = |m: &Metrics| m.warnings.iter().any(|w| w.contains("Mach"));
+    let a = metrics::SPEED_OF_SOUND_MPS;
+    let slow = run(&Cols::new(4.0, 0.01, |_| -0.297 * a, |_| 100.0), 100.0);
+    assert!(!mach(&slow), "{:?}", slow.warnings);
+    let fast = run(&Cols::new(4.0, 0.01, |_| -0.303 * a, |_| 100.0), 100.0);
+    assert!(fast.reached_terminal && mach(&fast), "{:?}", fast.warnings);
+    // Mach 0.5 at t = 0.5 s, settled to 30 m/s long before the final window.
+    let peak = |t: f64| -30.0 - (0.5 * a - 30.0) * (-((t - 0.5) / 0.1).powi(2)).exp();
+    let m = run(&Cols::new(10.0, 0.01, peak, |_| 100.0), 100.0);
+    let w = m
+        .warnings
+        .iter()
+        .find(|w| w.contains("Mach"))
+        .expect("warned");
+    assert!(w.contains("Mach 0.50"), "{w}");
+    assert_eq!(metrics::mach_warning(0.3 * a), None);
+}

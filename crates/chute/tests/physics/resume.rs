@@ -154,7 +154,20 @@ fn resume_rejects_a_different_scenario_and_a_missing_checkpoint() {
     app_run(&rod(0.1, &[]), &opts(false)).unwrap();
     let e = app_run(&rod(0.1, &["load.weight_n=20"]), &opts(true)).unwrap_err();
     assert_eq!(e.exit_code(), 2);
-    assert!(e.to_string().contains("weight_n"), "{e}");
+    // The key is named with its section.
+    assert!(
+        e.to_string()
+            .contains("`load.weight_n` = 200.0 (checkpoint) vs 20.0 (now)"),
+        "{e}"
+    );
+    // A shorter duration is refused, naming both.
+    let e = app_run(&rod(0.05, &[]), &opts(true)).unwrap_err();
+    assert_eq!(e.exit_code(), 2);
+    assert!(
+        e.to_string()
+            .contains("0.05 s is shorter than the recorded run's 0.1 s"),
+        "{e}"
+    );
     // A longer duration is allowed.
     let o = app_run(&rod(0.15, &[]), &opts(true)).unwrap();
     assert!(o.complete);

@@ -11,5 +11,6 @@ mod errors;
 mod fuzz;
 mod imperfection;
 mod membranes;
+mod messages;
 mod overrides;
 mod shell_laws;

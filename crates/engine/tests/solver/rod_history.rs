@@ -1,5 +1,5 @@
 //! Checkpointing the DER frame history: a rod restored from `Force::history` on a freshly
-//! built model continues bit-for-bit like the original (what `chute run --resume` relies on).
+//! built model continues bit-for-bit like the original (what `chute resume` relies on).
 use engine::loads::DofForces;
 use engine::reference::cantilever::{cantilever, round, Cantilever};
 use engine::{ImplicitEuler, NewtonOptions};

@@ -1,0 +1,87 @@
+//! Plausibility warnings: values that are valid (a run can use them) but far outside any real
+//! parachute fabric or line, so most likely a unit slip (MPa for Pa, g/cm³ for kg/m³, mm for
+//! m). `chute check`, `run` and `resume` print them; nothing is refused.
+
+use super::error::short;
+use super::{ModelKind, Scenario};
+
+/// A plausible band and what lies inside it, for one key.
+struct Band {
+    key: &'static str,
+    unit: &'static str,
+    lo: f64,
+    hi: f64,
+    examples: &'static str,
+}
+
+/// Young's modulus of real fabrics and fibres: from soft coated nylon (~10 MPa effective)
+/// to UHMWPE fibre (~170 GPa); a band of an order of magnitude more on each side.
+const MODULUS: (f64, f64) = (1e6, 1e12);
+const MODULUS_EXAMPLES: &str = "nylon ~2 GPa, Kevlar 55–130 GPa, Dyneema ~170 GPa";
+/// Densities of fibres: polypropylene and UHMWPE ~900–970, Kevlar 1440, glass 2550 kg/m³.
+const DENSITY: (f64, f64) = (100.0, 3000.0);
+const DENSITY_EXAMPLES: &str = "Dyneema ~970, nylon 1140, Kevlar 1440 kg/m³";
+
+/// A warning for every value far outside real fabrics and lines, naming its key.
+pub fn warnings(s: &Scenario) -> Vec<String> {
+    let m = &s.material;
+    let mut values = vec![
+        (modulus("material.youngs_modulus_pa"), m.youngs_modulus_pa),
+        (density("material.density_kg_m3"), m.density_kg_m3),
+    ];
+    // A rod canopy is a strip of any thickness; a shell is a fabric (0.02–2 mm typical).
+    if s.model.kind == ModelKind::Shell {
+        let band = Band {
+            key: "canopy.thickness_m",
+            unit: "m",
+            lo: 1e-6,
+            hi: 0.01,
+            examples: "parachute fabrics 0.05–0.5 mm",
+        };
+        values.push((band, s.canopy.thickness_m));
+    }
+    if s.load.mode == super::LoadMode::Payload {
+        values.push((
+            modulus("lines.youngs_modulus_pa"),
+            s.lines.youngs_modulus_pa,
+        ));
+        values.push((density("lines.density_kg_m3"), s.lines.density_kg_m3));
+    }
+    values
+        .into_iter()
+        .filter(|(b, x)| !(b.lo..=b.hi).contains(x))
+        .map(|(b, x)| {
+            let side = if x < b.lo { "below" } else { "above" };
+            format!(
+                "{} = {} {} is far {side} any real fabric ({}–{} {}; {}): is the unit right?",
+                b.key,
+                short(x),
+                b.unit,
+                short(b.lo),
+                short(b.hi),
+                b.unit,
+                b.examples
+            )
+        })
+        .collect()
+}
+
+fn modulus(key: &'static str) -> Band {
+    Band {
+        key,
+        unit: "Pa",
+        lo: MODULUS.0,
+        hi: MODULUS.1,
+        examples: MODULUS_EXAMPLES,
+    }
+}
+
+fn density(key: &'static str) -> Band {
+    Band {
+        key,
+        unit: "kg/m³",
+        lo: DENSITY.0,
+        hi: DENSITY.1,
+        examples: DENSITY_EXAMPLES,
+    }
+}

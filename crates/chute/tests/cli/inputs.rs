@@ -1,0 +1,60 @@
+//! Bad meshes and implausible values through the binary: a mesh with an unused node is an
+//! input error of `check` and `run` (exit 2, file, line and node named) before any output is
+//! written; values no fabric has are warned about.
+use crate::common::*;
+
+#[test]
+fn unused_vertex_is_an_input_error_before_any_output() {
+    let tmp = tempfile::tempdir().unwrap();
+    // The bundled DisMech parachute cut before its `*Edges`.
+    let full =
+        std::fs::read_to_string(repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt"))
+            .unwrap();
+    let cut = &full[..full.find("*Edges").unwrap()];
+    std::fs::write(tmp.path().join("cut.txt"), cut).unwrap();
+    let scenario = std::fs::read_to_string(repo().join("scenarios/dismech-hex-n6.toml"))
+        .unwrap()
+        .replace(
+            "../crates/chute/data/meshes/hexparachute_n6_python.txt",
+            "cut.txt",
+        );
+    std::fs::write(tmp.path().join("s.toml"), scenario).unwrap();
+    for args in [
+        &["check", "s.toml"][..],
+        &["run", "s.toml", "--out", "o", "-q"][..],
+    ] {
+        let o = chute(tmp.path(), args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains("canopy.mesh_file: ")
+                && err.contains("cut.txt:2: node 1 is on no triangle and no rod edge"),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("non-positive mass"), "{err}");
+    }
+    assert!(!tmp.path().join("o").exists(), "a run directory was left");
+}
+
+#[test]
+fn implausible_material_is_warned_about_by_check() {
+    let tmp = tempfile::tempdir().unwrap();
+    let f = repo().join("scenarios/report-rod-200n.toml");
+    let o = chute(
+        tmp.path(),
+        &[
+            "check",
+            f.to_str().unwrap(),
+            "--set",
+            "material.youngs_modulus_pa=55e3",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "warning: material.youngs_modulus_pa = 55000 Pa is far below any real fabric"
+        ),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -1,0 +1,187 @@
+//! Run records through the binary: `chute resume DIR` continues from the directory alone,
+//! only ever longer; `--force` replaces an earlier run entirely (or leaves it whole when the
+//! new one cannot start) and never touches a directory chute did not write.
+use crate::common::*;
+
+use std::path::Path;
+use std::process::Output;
+
+fn rod_file() -> String {
+    repo()
+        .join("scenarios/report-rod-200n.toml")
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// `chute run` of the coarse rod into `out` with `extra` arguments.
+fn run(cwd: &Path, out: &str, extra: &[&str]) -> Output {
+    let f = rod_file();
+    let mut a = vec![
+        "run",
+        &f,
+        "--quiet",
+        "--out",
+        out,
+        "--set",
+        "canopy.nodes=21",
+        "--set",
+        "output.snapshots_s=[0.05]",
+    ];
+    a.extend(extra);
+    chute(cwd, &a)
+}
+
+fn ok(o: &Output) {
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(o));
+}
+
+fn refused(o: &Output, want: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    for w in want {
+        assert!(err.contains(w), "want `{w}` in: {err}");
+    }
+}
+
+#[test]
+fn resume_with_no_arguments_continues_the_recorded_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let weight = ["--set", "load.weight_n=500"];
+    let mut full = weight.to_vec();
+    full.extend(["--set", "time.duration_s=0.35"]);
+    ok(&run(tmp.path(), "full", &full));
+    let mut part = weight.to_vec();
+    part.extend(["--set", "time.duration_s=0.2", "--checkpoint-every", "0.1"]);
+    ok(&run(tmp.path(), "part", &part));
+    // Nothing but the directory and the longer duration: the load override, the mesh and
+    // the checkpoint interval come from the run's record.
+    ok(&chute(
+        tmp.path(),
+        &["resume", "part", "-q", "--set", "time.duration_s=0.35"],
+    ));
+    assert_same_outputs(&tmp.path().join("full"), &tmp.path().join("part"));
+    let c = chute::checkpoint::Checkpoint::read(&tmp.path().join("part")).unwrap();
+    assert_eq!(c.checkpoint_every_s, Some(0.1));
+    assert!(
+        c.t > 0.25,
+        "the resumed run kept checkpointing: last at {} s",
+        c.t
+    );
+}
+
+#[test]
+fn shorter_duration_resume_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let args = ["--set", "time.duration_s=0.2", "--checkpoint-every", "0.1"];
+    ok(&run(tmp.path(), "r", &args));
+    let before = files(&tmp.path().join("r"));
+    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.1"]);
+    refused(
+        &o,
+        &[
+            "time.duration_s = 0.1 s",
+            "recorded run's 0.2 s",
+            "extended",
+        ],
+    );
+    assert!(
+        before == files(&tmp.path().join("r")),
+        "the run was changed"
+    );
+}
+
+#[test]
+fn resume_refuses_overrides_other_than_the_duration() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(
+        tmp.path(),
+        "r",
+        &["--set", "time.duration_s=0.15", "--checkpoint-every", "0.1"],
+    ));
+    refused(
+        &chute(tmp.path(), &["resume", "r", "--set", "load.weight_n=20"]),
+        &["only time.duration_s may change", "chute run"],
+    );
+    refused(
+        &chute(tmp.path(), &["resume", "r", "--checkpoint-every", "-1"]),
+        &["--checkpoint-every -1: must be a positive number"],
+    );
+    refused(
+        &chute(tmp.path(), &["resume", "nowhere"]),
+        &["not a directory"],
+    );
+    refused(
+        &chute(tmp.path(), &["run", &rod_file(), "--resume", "r"]),
+        &["retired", "chute resume r"],
+    );
+}
+
+#[test]
+fn force_leaves_nothing_old() {
+    let tmp = tempfile::tempdir().unwrap();
+    // An earlier run with 7 frames, a snapshot, plots, a checkpoint and the viewer.
+    let long = ["--set", "time.duration_s=0.3", "--checkpoint-every", "0.1"];
+    ok(&run(tmp.path(), "d", &long));
+    // A run that fails after its first frame (exit 3), once fresh and once over the earlier
+    // one: the two directories hold the same files.
+    let failing = [
+        "--no-viewer",
+        "--set",
+        "time.duration_s=1",
+        "--set",
+        "time.newton_max_iterations=1",
+        "--set",
+        "time.newton_tolerance_n=1e-3",
+        "--set",
+        "time.dt_s=0.02",
+        "--set",
+        "load.weight_n=3e3",
+    ];
+    let o = run(tmp.path(), "fresh", &failing);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let mut forced = failing.to_vec();
+    forced.push("--force");
+    let o = run(tmp.path(), "d", &forced);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert_same_outputs(&tmp.path().join("fresh"), &tmp.path().join("d"));
+    // A run that cannot start (an input error) leaves the earlier run whole.
+    let before = files(&tmp.path().join("d"));
+    let o = run(
+        tmp.path(),
+        "d",
+        &[
+            "--force",
+            "--set",
+            "lines.length_m=1",
+            "--set",
+            "load.mode=payload",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        before == files(&tmp.path().join("d")),
+        "the earlier run was changed"
+    );
+}
+
+#[test]
+fn force_never_deletes_files_chute_did_not_write() {
+    let tmp = tempfile::tempdir().unwrap();
+    let short = ["--set", "time.duration_s=0.05", "--force"];
+    // Not a run directory: refused, untouched.
+    std::fs::create_dir(tmp.path().join("mine")).unwrap();
+    std::fs::write(tmp.path().join("mine/notes.txt"), "keep").unwrap();
+    refused(
+        &run(tmp.path(), "mine", &short),
+        &["not a chute run directory"],
+    );
+    assert_eq!(files(&tmp.path().join("mine")).len(), 1);
+    // A run directory with a file of the user's: replaced, the file kept.
+    ok(&run(tmp.path(), "r", &short));
+    std::fs::write(tmp.path().join("r/notes.txt"), "keep").unwrap();
+    std::fs::write(tmp.path().join("r/frames/mine.vtu"), "keep").unwrap();
+    ok(&run(tmp.path(), "r", &short));
+    let after = files(&tmp.path().join("r"));
+    assert_eq!(after["notes.txt"], b"keep");
+    assert_eq!(after["frames/mine.vtu"], b"keep");
+}
