@@ -262,10 +262,11 @@ impl Session {
             ));
         }
         let b = &self.built;
+        let (rho, mu) = super::recovery::window_air(&self.dec, &self.cfg);
         let params = metrics::Params {
             total_weight_n: b.total_weight_n,
-            air_density_kg_m3: self.cfg.air_density,
-            air_viscosity_pa_s: self.cfg.air_viscosity,
+            air_density_kg_m3: rho,
+            air_viscosity_pa_s: mu,
             reference_length_m: b.reference_length_m,
             quadratic_drag: self.cfg.quadratic_drag,
         };
@@ -282,7 +283,14 @@ impl Session {
             warnings,
         };
         match metrics::compute(&self.dec.series(), &params) {
-            Ok(m) => Summary::new(info, &m),
+            // A session does not watch for the ground yet (docs/python.md): no landing.
+            Ok(m) => Summary::new(info, &m).with_recovery(metrics::descent::compute(
+                &self.dec.recovery_series(),
+                &super::recovery::params(b, &self.cfg),
+                m.terminal_velocity_mps,
+                m.drag_area_m2,
+                None,
+            )),
             Err(e) => {
                 info.warnings.push(format!("metrics unavailable: {e}"));
                 Summary::new(info, &metrics::Metrics::undefined(b.total_weight_n))
