@@ -129,7 +129,8 @@ def run(path, set=None, out=None, progress=False, force=False, viewer=True):
     progress : bool
         Draw a text progress bar on ``sys.stderr``.
     force : bool
-        Overwrite a non-empty output directory (``--force``).
+        Replace an earlier chute run in a non-empty output directory (``--force``); a
+        non-empty directory that is not a chute run directory is refused.
     viewer : bool
         Write ``viewer.html`` (as ``chute run`` does unless ``--no-viewer``).
 

@@ -52,8 +52,16 @@ def test_a_non_empty_output_directory_needs_force(tmp_path):
     set = {**ROD_SET, "time.duration_s": 0.01}
     with pytest.raises(chute.ScenarioError, match="force=True"):
         chute.run(ROD, set=set, out=out)
-    r = chute.run(ROD, set=set, out=out, force=True)
-    assert r.complete and (out / "keep.txt").exists()
+    # --force replaces only an earlier chute run, never a directory chute did not write.
+    with pytest.raises(chute.ScenarioError, match="not a chute run directory"):
+        chute.run(ROD, set=set, out=out, force=True)
+    run_dir = tmp_path / "run"
+    chute.run(ROD, set=set, out=run_dir)
+    (run_dir / "keep.txt").write_text("mine")
+    with pytest.raises(chute.ScenarioError, match="force=True"):
+        chute.run(ROD, set=set, out=run_dir)
+    r = chute.run(ROD, set=set, out=run_dir, force=True)
+    assert r.complete and (run_dir / "keep.txt").read_text() == "mine"
 
 
 def test_a_failed_run_raises_run_error_with_the_partial_result():
