@@ -159,10 +159,11 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
                 .time
                 .newton_step_tolerance_m
                 .unwrap_or(engine::NewtonOptions::default().step_tol),
-            // Modified Newton, Cholesky of ½(J + Jᵀ), divergence limit, adaptive predictor
-            // (docs/performance.md has the measurements).
+            // Modified Newton, Cholesky of ½(J + Jᵀ), divergence limit, adaptive predictor,
+            // accuracy-based tolerance, exact retry (docs/performance.md, docs/engine.md).
             ..engine::NewtonOptions::recommended()
-        },
+        }
+        .strict_if(s.time.newton_strict),
         air_density: s.fluid.density_kg_m3,
         air_viscosity: s.fluid.viscosity_pa_s,
         quadratic_drag: s.fluid.drag == DragLaw::Quadratic,

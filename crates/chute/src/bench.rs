@@ -22,7 +22,9 @@
 //! test ladder (`--tiny`), diagnostics (`--mem`, `--trace`) and the Newton experiment knobs
 //! for A/B comparisons ([`NewtonExperiment`]); docs/performance.md lists them.
 
+pub mod elements;
 pub mod fabric;
+pub mod flight;
 pub mod plot;
 
 use std::path::PathBuf;
@@ -55,6 +57,10 @@ pub struct BenchArgs {
     /// Three small cases of a few steps (the CLI test's ladder).
     #[arg(long, hide = true)]
     pub tiny: bool,
+    /// Instead of the ladder: the cost of one element of each shell membrane and bending
+    /// law, per element and relative to springs / hinges (docs/performance.md).
+    #[arg(long)]
+    pub elements: bool,
     /// Resident memory after each stage, and the stepper's counters, on stderr.
     #[arg(long, hide = true)]
     pub mem: bool,
@@ -84,6 +90,9 @@ pub struct NewtonExperiment {
     /// The predictor of the first Newton iterate.
     #[arg(long, hide = true, value_enum)]
     pub predictor: Option<PredictorChoice>,
+    /// No exact-Newton retry of a failed solve (a failure halves the step at once).
+    #[arg(long, hide = true)]
+    pub no_retry: bool,
 }
 
 /// `--predictor`.
@@ -109,6 +118,9 @@ impl NewtonExperiment {
         if self.no_line_search {
             n.line_search = false;
         }
+        if self.no_retry {
+            n.exact_retry = false;
+        }
         if let Some(c) = self.contraction {
             n.reuse_contraction = c;
         }
@@ -127,6 +139,7 @@ impl NewtonExperiment {
             (self.no_reuse, "--no-reuse"),
             (self.no_symmetric, "--no-symmetric"),
             (self.no_line_search, "--no-line-search"),
+            (self.no_retry, "--no-retry"),
         ]
         .iter()
         .filter(|(on, _)| *on)
@@ -248,8 +261,10 @@ pub fn ladder(quick: bool, tiny: bool) -> Vec<Case> {
         ),
     ];
     v.extend(fabric::cases());
+    v.push(flight::cross());
     if !quick {
         v.extend([
+            flight::flight(),
             case("rod-10k", "rod", &["canopy.nodes=10000"], 20, 50),
             case(
                 "shell-4k",
@@ -326,10 +341,41 @@ pub struct CaseResult {
     pub peak_rss_mib: f64,
     /// Simulated time at the end of the timed run (s).
     pub t_end_s: f64,
+    /// Mass-weighted mean vertical velocity of the model at the end of the timed run (m/s):
+    /// the terminal velocity once the flight is long enough (`flight-1k`).
+    #[serde(default)]
+    pub vz_end_mps: f64,
+    /// Failed solves retried with exact Newton before any halving (`exact_retries` of
+    /// [`engine::Timings`]), and how many of those converged.
+    #[serde(default)]
+    pub exact_retries: u64,
+    /// Exact retries that converged.
+    #[serde(default)]
+    pub exact_retries_converged: u64,
+}
+
+/// Mass-weighted mean vertical velocity of the nodes (m/s).
+fn mean_vz(model: &engine::Model, v: &[f64]) -> f64 {
+    let (mut p, mut m) = (0.0, 0.0);
+    for i in 0..model.layout.n_nodes {
+        let d = 3 * i + 2;
+        p += model.mass[d] * v[d];
+        m += model.mass[d];
+    }
+    p / m
 }
 
 /// Run the benchmark ladder, or with `--case` one case in this process.
 pub fn main(args: &BenchArgs) -> Result<(), AppError> {
+    if args.elements {
+        let costs = elements::measure()?;
+        if args.json {
+            println!("{}", serde_json::to_string_pretty(&costs).expect("serialisable"));
+        } else {
+            print!("{}", elements::table(&costs));
+        }
+        return Ok(());
+    }
     let cases = ladder(args.quick, args.tiny);
     if let Some(name) = &args.case {
         let c = cases
@@ -478,6 +524,9 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
         halvings: (driver.newton_failures() - failures_before) as usize,
         peak_rss_mib: peak_rss_mib(),
         t_end_s: built.state.t,
+        vz_end_mps: mean_vz(&built.model, &built.state.v),
+        exact_retries: tm.exact_retries,
+        exact_retries_converged: tm.exact_retries_converged,
     })
 }
 

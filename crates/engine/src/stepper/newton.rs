@@ -6,7 +6,13 @@
 //!
 //! Convergence: `‖R‖∞ ≤ force_tol_abs + force_tol_rel · ‖R₀‖∞` (R₀ the residual at the
 //! first iterate), or a Newton update with `‖Δq‖∞ ≤ step_tol` while `‖R‖∞` is within
-//! `1e3 ×` the force tolerance (so a stalled iteration is not mistaken for convergence).
+//! `1e3 ×` the force tolerance (so a stalled iteration is not mistaken for convergence), or
+//! (time steps, `accuracy_fraction > 0`) the accuracy-based test of
+//! [`NewtonOptions::accuracy_fraction`]: the residual left moves the state by at most a
+//! fraction of backward Euler's local error.
+//!
+//! A failed solve on the reused or approximate path is retried once with exact Newton
+//! ([`NewtonOptions::exact_retry`]) before the error reaches the caller.
 
 use crate::assembly::{Assembler, Coefficients};
 use crate::error::{EngineError, StepError};
@@ -62,6 +68,12 @@ pub(crate) struct NewtonCore {
     neg_residual: Vec<f64>,
     /// The approximate update `J_s⁻¹ (−R)`, kept in case the Krylov correction fails.
     delta_approx: Vec<f64>,
+    /// `1 / m` per free DOF (the accuracy-based test).
+    inv_mass: Vec<f64>,
+    /// This solve is an exact retry (fresh Jacobian every iteration, updates of the
+    /// symmetric approximation corrected into exact Newton updates), with the line search
+    /// or without.
+    exact: Option<bool>,
 }
 
 /// The target of one Newton solve.
@@ -109,6 +121,8 @@ impl NewtonCore {
             } else {
                 Vec::new()
             },
+            inv_mass: assembler.dof_of.iter().map(|&d| 1.0 / model.mass[d]).collect(),
+            exact: None,
             force: vec![0.0; n],
             residual: vec![0.0; assembler.n_free],
             delta: vec![0.0; assembler.n_free],
@@ -121,7 +135,7 @@ impl NewtonCore {
             force_tol_abs,
             factored_for: (f64::NAN, f64::NAN),
             conservative: model.forces.iter().all(|f| f.conservative()),
-            history: Vec::with_capacity(opts.max_iterations + 1),
+            history: Vec::with_capacity(2 * opts.max_iterations + 1),
             timings: Timings::default(),
             approx_held: false,
             corrected: false,
@@ -200,6 +214,44 @@ impl NewtonCore {
             && self.factored_for == (tg.c_m, tg.c_v)
     }
 
+    /// Iterations allowed in this solve: an exact retry has twice the budget (it replaces a
+    /// halving of `dt`, which costs two solves).
+    fn budget(&self) -> usize {
+        if self.exact.is_some() {
+            2 * self.opts.max_iterations
+        } else {
+            self.opts.max_iterations
+        }
+    }
+
+    /// Modified Newton is on for this solve (off in an exact retry).
+    fn reusing(&self) -> bool {
+        self.opts.reuse_jacobian && self.exact.is_none()
+    }
+
+    /// The accuracy-based test ([`NewtonOptions::accuracy_fraction`]) at iterate `q` with the
+    /// residual in `self.residual`: every `|R_i| / m_i ≤ max(η c_m ½‖q − q̃‖∞, ε a_ref)`.
+    /// `|R_i| / (c_m m_i)` is the displacement the residual left would cause through the
+    /// inertia term alone, an upper bound on the Newton correction `J⁻¹ R` where the
+    /// stiffness is positive (`J ⪰ c_m M`).
+    fn accurate(&self, q: &[f64], tg: &Target<'_>) -> bool {
+        let eta = self.opts.accuracy_fraction;
+        if eta <= 0.0 || tg.c_m <= 0.0 {
+            return false;
+        }
+        let dofs = &self.assembler.dof_of;
+        let e = 0.5
+            * dofs
+                .iter()
+                .map(|&d| (q[d] - tg.q_tilde[d]).abs())
+                .fold(0.0, f64::max);
+        let bound = (eta * tg.c_m * e).max(self.opts.accuracy_floor * self.opts.reference_acceleration);
+        self.residual
+            .iter()
+            .zip(&self.inv_mass)
+            .all(|(r, im)| r.abs() * im <= bound)
+    }
+
     /// Solve `R(q) = 0` starting from `q` (overwritten with the solution on success; left
     /// at an unspecified iterate on failure). With `reuse_jacobian`, whether to start from
     /// the held factors is decided by the measured [`StartPolicy`].
@@ -212,11 +264,53 @@ impl NewtonCore {
         let choice = self.can_reuse(tg);
         let fresh = !choice || self.start.fresh_next();
         let (e0, f0) = (self.timings.evaluations, self.timings.factorizations);
-        let res = self.solve_from(model, q, tg, fresh);
+        let retry = self.opts.exact_retry && !self.is_exact_path();
+        let mut res = self.solve_from(model, q, tg, fresh);
         if choice {
             let evals = (self.timings.evaluations - e0) as f64;
             let facts = (self.timings.factorizations - f0) as f64;
             self.start.record(fresh, evals + FACTOR_WORK * facts);
+        }
+        if retry && res.is_err() {
+            res = self.exact_retry(model, q, tg);
+        }
+        res
+    }
+
+    /// Whether every solve already is exact Newton with a line search (a retry would repeat
+    /// it).
+    fn is_exact_path(&self) -> bool {
+        !self.opts.reuse_jacobian && self.sym_values.is_empty() && self.opts.line_search
+    }
+
+    /// Retry a failed solve with exact Newton from the constant-velocity guess `q̃` (the
+    /// failed path may have started from an extrapolation that was the problem): first with
+    /// full steps (a stiff membrane's residual rises on the first full step and then
+    /// converges quadratically, where a line search on `‖R‖₂` creeps), then, if that fails
+    /// too, with the line search.
+    fn exact_retry(
+        &mut self,
+        model: &Model,
+        q: &mut [f64],
+        tg: &Target<'_>,
+    ) -> Result<StepReport, StepError> {
+        self.timings.exact_retries += 1;
+        let mut res = Err(StepError::NonFinite {
+            what: "exact retry",
+            dof: 0,
+        });
+        for search in [false, true] {
+            if search && !self.opts.line_search {
+                break;
+            }
+            q.copy_from_slice(tg.q_tilde);
+            self.exact = Some(search);
+            res = self.solve_from(model, q, tg, true);
+            self.exact = None;
+            if res.is_ok() {
+                self.timings.exact_retries_converged += 1;
+                break;
+            }
         }
         res
     }
@@ -231,7 +325,8 @@ impl NewtonCore {
         let mut report = StepReport::default();
         self.history.clear();
         self.timings.solves += 1;
-        self.corrected = false;
+        // An exact retry corrects every update of the symmetric approximation.
+        self.corrected = self.exact.is_some();
         self.krylov_off = false;
         let mut fresh = fresh_start;
         let mut norm = self.residual_at(model, q, tg, fresh);
@@ -251,6 +346,10 @@ impl NewtonCore {
             if rinf <= tol {
                 return Ok(report);
             }
+            if self.accurate(q, tg) {
+                self.timings.accuracy_accepts += 1;
+                return Ok(report);
+            }
             if rinf > self.opts.divergence_limit * r0.max(tol) {
                 return Err(StepError::Diverged {
                     iterations: report.iterations,
@@ -260,7 +359,7 @@ impl NewtonCore {
                     worst_dof: worst,
                 });
             }
-            if report.iterations >= self.opts.max_iterations {
+            if report.iterations >= self.budget() {
                 return Err(StepError::NotConverged {
                     iterations: report.iterations,
                     residual: rinf,
@@ -293,11 +392,11 @@ impl NewtonCore {
             // new iterate (its values must then be assembled there).
             // Past half the iteration budget, fall back to full Newton: a stale Jacobian that
             // still contracts slowly would otherwise exhaust the budget.
-            fresh = !self.opts.reuse_jacobian
+            fresh = !self.reusing()
                 || (reused && rinf_new > self.opts.reuse_contraction * rinf)
                 || report.iterations >= self.opts.max_iterations / 2;
             // With reuse on, trial residuals are assembled without the Jacobian.
-            if fresh && self.opts.reuse_jacobian {
+            if fresh && self.reusing() {
                 norm = self.residual_at(model, q, tg, true);
             }
             if alpha * dmax <= self.opts.step_tol && rinf_new <= 1e3 * tol {
@@ -466,10 +565,10 @@ impl NewtonCore {
             }
             dmax = dmax.max(d.abs());
         }
-        let line_search = self.opts.line_search && fresh;
+        let line_search = self.opts.line_search && fresh && self.exact != Some(false);
         // The Jacobian is assembled with trial residuals only when the next iteration will
         // need it (full Newton); the first trial is almost always accepted.
-        let want_jac = !self.opts.reuse_jacobian;
+        let want_jac = !self.reusing();
         // Merit: the incremental potential Φ when every force is conservative (its gradient
         // is R, so Newton on a stiff rod or membrane that raises ‖R‖ still decreases Φ);
         // otherwise ½‖R‖². Directions along which Φ does not descend are taken in full.

@@ -50,22 +50,64 @@ pub struct NewtonOptions {
     pub divergence_limit: f64,
     /// Initial guess of an implicit-Euler step (see [`Predictor`]).
     pub predictor: Predictor,
+    /// Accuracy-based convergence of implicit-Euler steps (`η`; 0 turns it off). Besides the
+    /// force tolerance above, a step is converged when the residual left would move the state
+    /// by at most `η` times backward Euler's own local error: for every free DOF
+    /// `|R_i| / m_i ≤ max(η c_m e, ε a_ref)` with `e = ½ ‖q − q̃‖∞` the local error estimate at
+    /// the iterate (`(h/2)|v_{n+1} − v_n|`, the one [`super::error_control`] uses) and
+    /// `ε = accuracy_floor` (docs/engine.md §Newton tolerance has the derivation). Statics
+    /// (`c_m = 0`) keeps the force tolerance alone.
+    pub accuracy_fraction: f64,
+    /// The floor of the accuracy-based test, as a residual acceleration per DOF relative to
+    /// [`NewtonOptions::reference_acceleration`] (`ε`): the local error vanishes in a steady
+    /// descent, and there `|R_i| ≤ ε m_i a_ref` bounds the summed residual by `ε` of the total
+    /// weight (a relative shift of a drag-balanced terminal velocity of at most `ε/2`).
+    pub accuracy_floor: f64,
+    /// When a solve using a reused factorisation or the symmetric approximation fails
+    /// (diverged, not converged, non-finite), retry the same step once from the
+    /// constant-velocity guess with exact Newton: a fresh Jacobian every iteration, every
+    /// update of the symmetric approximation corrected into the exact update, and the line
+    /// search. Only if that fails too does the error reach the caller (who shortens `dt`).
+    pub exact_retry: bool,
 }
 
 impl NewtonOptions {
     /// The tuned settings for time stepping large models (what `chute run` uses): modified
     /// Newton ([`NewtonOptions::reuse_jacobian`]), Cholesky of the symmetric part for
     /// non-symmetric Jacobians ([`NewtonOptions::symmetric_approx`]), a divergence limit of
-    /// 1e4 and the [`Predictor::Adaptive`] predictor; tolerances as in
-    /// [`NewtonOptions::default`]. Every converged step meets the same residual tolerance as
-    /// with the defaults; only the iteration path (and the cost) differs.
+    /// 1e4, the [`Predictor::Adaptive`] predictor, the accuracy-based tolerance
+    /// ([`NewtonOptions::accuracy_fraction`] 1 %, floor 1e-4 of the weight) and the exact
+    /// retry ([`NewtonOptions::exact_retry`]). [`NewtonOptions::strict`] turns the
+    /// accuracy-based test off (every step then meets the force tolerance of
+    /// [`NewtonOptions::default`]).
     pub fn recommended() -> Self {
         Self {
             reuse_jacobian: true,
             symmetric_approx: true,
             divergence_limit: 1e4,
             predictor: Predictor::Adaptive,
+            accuracy_fraction: 0.01,
+            accuracy_floor: 1e-4,
+            exact_retry: true,
             ..Self::default()
+        }
+    }
+
+    /// These options with the accuracy-based test off: converged only on the force
+    /// tolerance (references and tests, `time.newton_strict`).
+    pub fn strict(self) -> Self {
+        Self {
+            accuracy_fraction: 0.0,
+            ..self
+        }
+    }
+
+    /// [`NewtonOptions::strict`] when `strict`, else these options unchanged.
+    pub fn strict_if(self, strict: bool) -> Self {
+        if strict {
+            self.strict()
+        } else {
+            self
         }
     }
 }
@@ -111,6 +153,9 @@ impl Default for NewtonOptions {
             symmetric_approx: false,
             predictor: Predictor::ConstantVelocity,
             divergence_limit: f64::INFINITY,
+            accuracy_fraction: 0.0,
+            accuracy_floor: 0.0,
+            exact_retry: false,
         }
     }
 }
@@ -170,4 +215,11 @@ pub struct Timings {
     pub krylov_iterations: u64,
     /// Corrections that did not converge (the approximate update was kept).
     pub krylov_failures: u64,
+    /// Solves that failed on the reused or approximate path and were retried with exact
+    /// Newton ([`NewtonOptions::exact_retry`]).
+    pub exact_retries: u64,
+    /// Of those, retries that converged.
+    pub exact_retries_converged: u64,
+    /// Solves that converged on the accuracy-based test (not on the force tolerance).
+    pub accuracy_accepts: u64,
 }

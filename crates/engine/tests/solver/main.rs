@@ -5,6 +5,8 @@
 mod aero_newton;
 mod backward_euler;
 mod error_control;
+mod exact_retry;
+mod newton_accuracy;
 mod newton_symmetric_approx;
 mod predictor;
 mod rod_history;

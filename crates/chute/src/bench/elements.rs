@@ -1,0 +1,146 @@
+//! `chute bench --elements`: the cost of one element of each shell law (issue 17). Every
+//! membrane (edge springs, constant-strain triangles, the fabric law with and without
+//! compression) and bending law (hinges, mid-edge) of the `shell-1k` mesh is evaluated alone,
+//! force and Jacobian, at one fixed deformed configuration, on one thread (so the per-element
+//! figures do not depend on which families are large enough for the parallel loop), and
+//! reported per element and relative to the report's laws (springs, hinges).
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use crate::app::AppError;
+
+/// One law's cost.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ElementCost {
+    /// Law (`springs`, `cst`, `fabric`, `fabric-nc`, `hinge`, `midedge`).
+    pub law: String,
+    /// `membrane` or `bending`.
+    pub kind: String,
+    /// Elements of the family (edges, faces or hinges).
+    pub elements: usize,
+    /// Wall time of one evaluation with the Jacobian, per element (ns).
+    pub ns_per_element: f64,
+    /// Wall time of one evaluation of the whole family (µs).
+    pub us_per_family: f64,
+    /// `ns_per_element` over the report's law of the same kind (springs or hinges).
+    pub ratio_per_element: f64,
+    /// `us_per_family` over the report's law of the same kind.
+    pub ratio_per_family: f64,
+}
+
+/// The laws measured: (name, kind, overrides on top of the `shell-1k` mesh, the force's name).
+fn laws() -> Vec<(&'static str, &'static str, Vec<&'static str>, &'static str)> {
+    let fabric = vec![
+        "shell.membrane=fabric",
+        "material.warp_modulus_pa=55e9",
+        "material.weft_modulus_pa=27.5e9",
+        "material.shear_modulus_pa=2.75e9",
+        "material.fabric_poisson_ratio=0.3",
+        "material.warp_direction_deg=30",
+    ];
+    let mut nc = fabric.clone();
+    nc.push("material.no_compression=true");
+    let stretch = engine::shell::STRETCH_NAME;
+    vec![
+        ("springs", "membrane", vec![], stretch),
+        ("cst", "membrane", vec!["shell.membrane=cst"], stretch),
+        ("fabric", "membrane", fabric, stretch),
+        ("fabric-nc", "membrane", nc, stretch),
+        ("hinge", "bending", vec![], engine::shell::BEND_NAME),
+        (
+            "midedge",
+            "bending",
+            vec!["shell.bending=midedge"],
+            engine::shell::midedge::NAME,
+        ),
+    ]
+}
+
+/// Measure every law (see the module docs).
+pub fn measure() -> Result<Vec<ElementCost>, AppError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| AppError::RunFailed(format!("thread pool: {e}")))?;
+    let mut out: Vec<ElementCost> = Vec::new();
+    for (law, kind, ov, force_name) in laws() {
+        let c = super::case("elements", "shell", &["canopy.edge_length_m=0.138"], 0, 0);
+        let set: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
+        let s = super::scenario_of(&c, &set)?;
+        let built = crate::build::build(&s)?;
+        let model = &built.model;
+        let f = model
+            .forces
+            .iter()
+            .find(|f| f.name() == force_name)
+            .ok_or_else(|| AppError::RunFailed(format!("{law}: no force `{force_name}`")))?;
+        // A fixed deformed configuration: strains ~1e-3 of both signs, some bending.
+        let q: Vec<f64> = built
+            .state
+            .q
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x + 1e-4 * (1.7 * i as f64).sin())
+            .collect();
+        let v = vec![0.0; q.len()];
+        let input = engine::EvalInput {
+            q: &q,
+            v: &v,
+            t: 0.0,
+            jacobian: true,
+        };
+        let mut blocks = f.new_blocks();
+        let per_eval = pool.install(|| {
+            f.evaluate(&input, &mut blocks);
+            let (mut reps, t0) = (0u32, Instant::now());
+            while reps < 20 || t0.elapsed().as_secs_f64() < 0.3 {
+                f.evaluate(&input, &mut blocks);
+                reps += 1;
+            }
+            t0.elapsed().as_secs_f64() / f64::from(reps)
+        });
+        let n = f.n_stencils();
+        out.push(ElementCost {
+            law: law.into(),
+            kind: kind.into(),
+            elements: n,
+            ns_per_element: 1e9 * per_eval / n as f64,
+            us_per_family: 1e6 * per_eval,
+            ratio_per_element: 1.0,
+            ratio_per_family: 1.0,
+        });
+    }
+    for i in 0..out.len() {
+        let base = out
+            .iter()
+            .find(|b| b.kind == out[i].kind)
+            .cloned()
+            .expect("the first law of each kind is the report's");
+        out[i].ratio_per_element = out[i].ns_per_element / base.ns_per_element;
+        out[i].ratio_per_family = out[i].us_per_family / base.us_per_family;
+    }
+    Ok(out)
+}
+
+/// The table `chute bench --elements` prints.
+pub fn table(costs: &[ElementCost]) -> String {
+    let mut s = format!(
+        "{:<10} {:<9} {:>8} {:>10} {:>8} {:>10} {:>8}\n",
+        "law", "kind", "elements", "ns/elem", "×/elem", "µs/family", "×/family"
+    );
+    for c in costs {
+        s += &format!(
+            "{:<10} {:<9} {:>8} {:>10.1} {:>8.2} {:>10.1} {:>8.2}\n",
+            c.law,
+            c.kind,
+            c.elements,
+            c.ns_per_element,
+            c.ratio_per_element,
+            c.us_per_family,
+            c.ratio_per_family
+        );
+    }
+    s
+}
