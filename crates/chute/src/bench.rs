@@ -370,7 +370,10 @@ pub fn main(args: &BenchArgs) -> Result<(), AppError> {
     if args.elements {
         let costs = elements::measure()?;
         if args.json {
-            println!("{}", serde_json::to_string_pretty(&costs).expect("serialisable"));
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&costs).expect("serialisable")
+            );
         } else {
             print!("{}", elements::table(&costs));
         }

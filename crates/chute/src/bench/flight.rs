@@ -9,7 +9,13 @@ use super::{case, Case};
 /// `flight-1k`: 1,225 nodes (edge 0.125 m, the scenario's default), 10,000 steps from rest,
 /// no warm-up: the whole flight is the measurement.
 pub fn flight() -> Case {
-    case("flight-1k", "shell", &["canopy.edge_length_m=0.125"], 0, 10_000)
+    case(
+        "flight-1k",
+        "shell",
+        &["canopy.edge_length_m=0.125"],
+        0,
+        10_000,
+    )
 }
 
 /// `cross-613`: 0.25 m cells split into four triangles through a centre node (613 nodes),

@@ -198,6 +198,12 @@ impl LinearSolver {
         self.factor_impl(Some(spd), full)
     }
 
+    /// Factorise the (non-symmetric) `full` by LU, whatever the solver was built for: the
+    /// exact path of a retry (its symbolic structure is created on first use).
+    pub fn factor_lu(&mut self, full: &[f64]) -> Result<Factorization, StepError> {
+        self.factor_impl(None, full)
+    }
+
     fn factor_impl(
         &mut self,
         spd: Option<&[f64]>,

@@ -121,7 +121,11 @@ impl NewtonCore {
             } else {
                 Vec::new()
             },
-            inv_mass: assembler.dof_of.iter().map(|&d| 1.0 / model.mass[d]).collect(),
+            inv_mass: assembler
+                .dof_of
+                .iter()
+                .map(|&d| 1.0 / model.mass[d])
+                .collect(),
             exact: None,
             force: vec![0.0; n],
             residual: vec![0.0; assembler.n_free],
@@ -245,7 +249,8 @@ impl NewtonCore {
                 .iter()
                 .map(|&d| (q[d] - tg.q_tilde[d]).abs())
                 .fold(0.0, f64::max);
-        let bound = (eta * tg.c_m * e).max(self.opts.accuracy_floor * self.opts.reference_acceleration);
+        let bound =
+            (eta * tg.c_m * e).max(self.opts.accuracy_floor * self.opts.reference_acceleration);
         self.residual
             .iter()
             .zip(&self.inv_mass)
@@ -409,7 +414,11 @@ impl NewtonCore {
     fn factor(&mut self, tg: &Target<'_>, report: &mut StepReport) -> Result<(), StepError> {
         let t0 = Instant::now();
         let approx = !self.sym_values.is_empty();
-        let fac = if approx {
+        let fac = if approx && self.exact.is_some() {
+            // An exact retry factorises J itself (LU): the symmetric approximation with its
+            // Krylov correction is what may have failed.
+            self.solver.factor_lu(&self.values)
+        } else if approx {
             self.assembler
                 .symmetric_part(&self.values, &mut self.sym_values);
             self.solver.factor_with(&self.sym_values, &self.values)

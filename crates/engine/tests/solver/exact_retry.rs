@@ -30,9 +30,14 @@ fn kevlar(nx: usize, ny: usize, lx: f64, ly: f64, corner_n: f64) -> (Model, Stat
     (model, State::at_rest(s.q))
 }
 
-/// Steps of `dt` over `t_end` with `opts`; the number of failed solves (each would halve
-/// `dt` in a run) and the stepper's timings.
-fn failures(opts: NewtonOptions, dt: f64, steps: usize, m: (Model, State)) -> (usize, engine::Timings) {
+/// `steps` steps of `dt` with `opts`: the number of failed solves (each would halve `dt` in
+/// a run; the step is then taken as two half steps) and the stepper's timings.
+fn failures(
+    opts: NewtonOptions,
+    dt: f64,
+    steps: usize,
+    m: (Model, State),
+) -> (usize, engine::Timings) {
     let (mut model, mut state) = m;
     let mut st = ImplicitEuler::new(&model, opts).unwrap();
     let mut failed = 0;
@@ -41,26 +46,34 @@ fn failures(opts: NewtonOptions, dt: f64, steps: usize, m: (Model, State)) -> (u
         if st.step(&mut model, &mut state, dt).is_err() {
             failed += 1;
             for _ in 0..2 {
-                st.step(&mut model, &mut state, dt / 2.0).expect("half step");
+                st.step(&mut model, &mut state, dt / 2.0)
+                    .expect("half step");
             }
         }
     }
     (failed, *st.timings())
 }
 
+/// The 7 × 4-node Kevlar sheet (6 m × 3 m, 50 N per corner) at dt = 1e-2 s from rest:
+/// modified Newton without the retry fails 5 of the first 40 steps (measured; each would
+/// halve dt in a run); with the retry every step is taken at the full dt.
 #[test]
-fn explore() {
-    for (nx, ny) in [(5, 3), (7, 4), (9, 5), (13, 7)] {
-        for dt in [1e-2, 5e-3] {
-            let o = NewtonOptions {
-                reference_acceleration: G,
-                ..NewtonOptions::recommended()
-            };
-            let no = NewtonOptions { exact_retry: false, ..o };
-            let (f0, t0) = failures(no, dt, 40, kevlar(nx, ny, 6.0, 3.0, 50.0));
-            let (f1, t1) = failures(o, dt, 40, kevlar(nx, ny, 6.0, 3.0, 50.0));
-            eprintln!("{nx}x{ny} dt {dt}: no retry {f0} failed ({} it); retry {f1} failed, {} retries {} ok ({} it)",
-                t0.iterations, t1.exact_retries, t1.exact_retries_converged, t1.iterations);
-        }
-    }
+fn a_step_modified_newton_abandons_is_taken_by_the_exact_retry() {
+    let o = NewtonOptions {
+        reference_acceleration: G,
+        ..NewtonOptions::recommended()
+    };
+    let without = NewtonOptions {
+        exact_retry: false,
+        ..o
+    };
+    let (failed_before, _) = failures(without, 1e-2, 40, kevlar(7, 4, 6.0, 3.0, 50.0));
+    // The control: this case does defeat the fast path.
+    assert!(failed_before > 0, "modified Newton took every step");
+    let (failed, t) = failures(o, 1e-2, 40, kevlar(7, 4, 6.0, 3.0, 50.0));
+    assert_eq!(failed, 0, "{t:?}");
+    assert!(
+        t.exact_retries > 0 && t.exact_retries == t.exact_retries_converged,
+        "{t:?}"
+    );
 }
