@@ -163,7 +163,9 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
             // accuracy-based tolerance, exact retry (docs/performance.md, docs/engine.md).
             ..engine::NewtonOptions::recommended()
         }
-        .strict_if(s.time.newton_strict),
+        // The accuracy-based test replaces the default tolerance only: a scenario that sets
+        // `time.newton_tolerance_n` (e.g. a peer's tolerances) gets exactly that one.
+        .strict_if(s.time.newton_strict || s.time.newton_tolerance_n.is_some()),
         air_density: s.fluid.density_kg_m3,
         air_viscosity: s.fluid.viscosity_pa_s,
         quadratic_drag: s.fluid.drag == DragLaw::Quadratic,

@@ -515,8 +515,8 @@ section! {
             .default_doc("engine default 1e-12"),
         /// converge on the force tolerances alone, without the accuracy-based test (a step
         /// converges when its residual moves the state by ≤ 1 % of its local error, or each
-        /// DOF's residual is ≤ 1e-4 of its weight); for references and tests (written to the
-        /// resolved scenario only when true)
+        /// DOF's residual is ≤ 1e-4 of its weight; off too when `newton_tolerance_n` is set);
+        /// for references and tests (written to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]
         newton_strict: bool = false => key(),
         /// choose each step from its local error estimate instead of a fixed `dt_s` (written

@@ -93,3 +93,29 @@ fn bench_rejects_a_bad_override() {
         "{err}"
     );
 }
+
+/// `chute bench --elements --json`: one entry per shell law, measured (positive times) and
+/// relative to the report's law of its kind (springs, hinges: ratio 1).
+#[test]
+fn bench_elements_times_every_shell_law() {
+    let out = chute(&repo(), &["bench", "--elements", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let costs: Vec<chute::bench::elements::ElementCost> =
+        serde_json::from_str(&stdout(&out)).expect("ElementCost list");
+    let laws: Vec<&str> = costs.iter().map(|c| c.law.as_str()).collect();
+    assert_eq!(
+        laws,
+        ["springs", "cst", "fabric", "fabric-nc", "hinge", "midedge"]
+    );
+    for c in &costs {
+        assert!(c.elements > 0 && c.ns_per_element > 0.0, "{c:?}");
+        let base = if c.kind == "membrane" {
+            "springs"
+        } else {
+            "hinge"
+        };
+        if c.law == base {
+            assert_eq!(c.ratio_per_element, 1.0, "{c:?}");
+        }
+    }
+}
