@@ -74,7 +74,15 @@ fn bench_options_reach_the_cases() {
     // steps, which fail and are retried with half the step, as a run would.
     let rod = |r: &[CaseResult]| r.iter().find(|c| c.name == "rod-100").cloned().unwrap();
     assert_eq!(rod(&default).halvings, 0, "{default:?}");
-    let capped = rod(&tiny_bench(&["--set", "time.newton_max_iterations=3"]));
+    // (Strict tolerance and no exact retry: the retry's doubled budget or the accuracy
+    // test could rescue them.) `--no-retry` reaches them too.
+    let capped = rod(&tiny_bench(&[
+        "--no-retry",
+        "--set",
+        "time.newton_strict=true",
+        "--set",
+        "time.newton_max_iterations=3",
+    ]));
     assert!(capped.halvings > 0, "{capped:?}");
     assert!(
         (capped.t_end_s - rod(&default).t_end_s).abs() < 1e-12,
