@@ -519,6 +519,10 @@ section! {
         /// for references and tests (written to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]
         newton_strict: bool = false => key(),
+        /// retry a step whose modified-Newton solve failed with exact Newton before the step is
+        /// halved (written to the resolved scenario only when false)
+        #[serde(skip_serializing_if = "Clone::clone")]
+        newton_exact_retry: bool = true => key(),
         /// choose each step from its local error estimate instead of a fixed `dt_s` (written
         /// to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]

@@ -106,7 +106,9 @@ fn adaptive_newton_failures_halve_the_step_and_are_counted() {
     trig.nan_evals = 3;
     built.model.add_force(trig);
     let tmp = tempfile::tempdir().unwrap();
-    let cfg = chute::app::run_config(&s, false);
+    let mut cfg = chute::app::run_config(&s, false);
+    // Each failure must reach the run loop (the exact retry would re-evaluate the NaN).
+    cfg.newton.exact_retry = false;
     let r = chute::runner::simulate(&mut built, &cfg, tmp.path(), &AtomicBool::new(false)).unwrap();
     assert!(r.complete, "{:?}", r.stop_reason);
     assert_eq!(r.summary.stepping.rejected_steps_newton, 3);

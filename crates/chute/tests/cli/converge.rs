@@ -196,6 +196,8 @@ fn a_failing_level_is_reported_and_exits_3() {
             "--set",
             "time.newton_max_iterations=1",
             "--set",
+            "time.newton_exact_retry=false",
+            "--set",
             "time.newton_tolerance_n=1e-3",
             "--set",
             "load.weight_n=3e3",

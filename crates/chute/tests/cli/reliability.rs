@@ -60,6 +60,8 @@ fn a_failing_run_exits_3_with_reason_and_valid_partial_outputs() {
             "--set",
             "time.newton_max_iterations=1",
             "--set",
+            "time.newton_exact_retry=false",
+            "--set",
             "time.newton_tolerance_n=1e-3",
             "--set",
             "time.dt_s=0.02",

@@ -131,6 +131,8 @@ fn force_leaves_nothing_old() {
         "--set",
         "time.newton_max_iterations=1",
         "--set",
+        "time.newton_exact_retry=false",
+        "--set",
         "time.newton_tolerance_n=1e-3",
         "--set",
         "time.dt_s=0.02",
