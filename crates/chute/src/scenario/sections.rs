@@ -522,7 +522,7 @@ section! {
         /// retry a step whose modified-Newton solve failed with exact Newton before the step is
         /// halved (written to the resolved scenario only when false)
         #[serde(skip_serializing_if = "Clone::clone")]
-        newton_exact_retry: bool = true => key(),
+        newton_exact_retry: bool = true => key().default_doc("`true`"),
         /// choose each step from its local error estimate instead of a fixed `dt_s` (written
         /// to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]
