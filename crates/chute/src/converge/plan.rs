@@ -8,7 +8,7 @@ use std::path::Path;
 use crate::app::AppError;
 use crate::build::Built;
 use crate::scenario::Scenario;
-use crate::study::{Case, Study};
+use crate::study::{safe_name, Case, Study};
 
 /// What a varied key refines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -107,18 +107,6 @@ pub struct Plan {
 
 fn input(msg: impl Into<String>) -> AppError {
     AppError::Input(msg.into())
-}
-
-fn safe(s: &str) -> String {
-    s.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
 }
 
 /// Split `KEY=V1,V2,…` and check the count and monotonicity of the values.
@@ -232,8 +220,9 @@ pub fn plan(
         ));
     }
     let mut study = Study {
-        name: safe(name),
+        name: safe_name(name),
         description: Some(format!("chute converge {}", scenario.display())),
+        file: None,
         base: scenario.to_path_buf(),
         cases: Vec::new(),
     };
@@ -260,7 +249,7 @@ pub fn plan(
                 Some(i) => study.cases[i].name.clone(),
                 None => {
                     let short = key.rsplit('.').next().unwrap_or(&key);
-                    let name = safe(&format!("{short}-{text}"));
+                    let name = safe_name(&format!("{short}-{text}"));
                     study.cases.push(Case {
                         index: study.cases.len(),
                         name: name.clone(),
