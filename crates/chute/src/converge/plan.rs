@@ -223,7 +223,8 @@ pub fn plan(
         name: safe_name(name),
         description: Some(format!("chute converge {}", scenario.display())),
         file: None,
-        base: scenario.to_path_buf(),
+        // Absolute, as recorded in each level's done.json for `chute collect` from elsewhere.
+        base: std::path::absolute(scenario).unwrap_or_else(|_| scenario.to_path_buf()),
         cases: Vec::new(),
     };
     // Each case's scenario with a common name, to find levels that are the same run.
