@@ -427,6 +427,16 @@ pub fn run_study_with(
     Ok(StudyReport { cases, table })
 }
 
+/// Whether `chute study` would skip `case` of `study` under the study-wide `set` in
+/// `out_dir`: its `done.json` says complete for exactly the inputs it would run now (for a
+/// progress total; a case whose scenario cannot be built counts as to be run).
+pub fn case_is_current(study: &Study, case: &Case, set: &[String], out_dir: &Path) -> bool {
+    let Ok(digest) = study.scenario(case, set).and_then(|s| inputs::digest(&s)) else {
+        return false;
+    };
+    recorded_run(&out_dir.join(&case.name).join(DONE_FILE), &digest).0
+}
+
 /// Whether a case directory holds a complete run of exactly these inputs, and if it holds a
 /// complete run of others, why it is re-run.
 fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static str>) {
