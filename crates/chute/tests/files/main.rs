@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod circle_sites;
 mod console;
 mod fuzz;
 mod mesh_generate;

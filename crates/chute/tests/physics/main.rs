@@ -11,6 +11,7 @@ mod lateral;
 mod metrics;
 mod recovery;
 mod resume;
+mod round_symmetry;
 mod runs;
 mod session;
 mod shell_bending;
