@@ -87,20 +87,20 @@ fn guidance_is_checked() {
         "atmosphere.altitude_m=30",
         "atmosphere.ground_altitude_m=0",
     ];
-    let with = |extra: &[&str]| {
+    fn with<'a>(ground: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
         let mut v = vec!["guidance.target_m=[10, 0]", "guidance.max_pull_m=0.3"];
-        v.extend_from_slice(&ground);
+        v.extend_from_slice(ground);
         v.extend_from_slice(extra);
         v
-    };
-    let s = round(&with(&[])).unwrap();
+    }
+    let s = round(&with(&ground, &[])).unwrap();
     let g = s.guidance.as_ref().unwrap();
     assert_eq!((g.target_m.clone(), g.max_pull_m), (vec![10.0, 0.0], 0.3));
     assert_eq!(Scenario::from_str_with_name(&s.to_toml(), "r.toml", &[]).unwrap(), s);
-    refused(&with(&["guidance.target_m=[1, 2, 3]"]), "guidance.target_m", "two numbers");
-    refused(&with(&["guidance.max_pull_m=2.9"]), "guidance.max_pull_m", "10 %");
-    refused(&with(&["guidance.max_pull_m=-1"]), "guidance.max_pull_m", "> 0");
-    refused(&with(&["guidance.ramp_s=2"]), "guidance.ramp_s", "update_s");
+    refused(&with(&ground, &["guidance.target_m=[1, 2, 3]"]), "guidance.target_m", "two numbers");
+    refused(&with(&ground, &["guidance.max_pull_m=2.9"]), "guidance.max_pull_m", "10 %");
+    refused(&with(&ground, &["guidance.max_pull_m=-1"]), "guidance.max_pull_m", "> 0");
+    refused(&with(&ground, &["guidance.ramp_s=2"]), "guidance.ramp_s", "update_s");
     let e = round(&["guidance.target_m=[10, 0]", "guidance.max_pull_m=0.3"]).unwrap_err();
     assert_eq!(e.key(), Some("guidance.target_m"), "{e}");
     assert!(e.to_string().contains("ground_altitude_m"), "{e}");
