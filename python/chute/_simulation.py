@@ -66,12 +66,13 @@ class Simulation:
 
     @property
     def finished(self):
-        """Whether the end time is reached, or a step failed (see ``stop_reason``)."""
+        """Whether the end time or the ground is reached, or a step failed (see ``stop_reason``)."""
         return self._sim.finished
 
     @property
     def stop_reason(self):
-        """Why the simulation stopped early (None unless a step failed)."""
+        """Why the simulation stopped before the end time: ``"ground"`` once it landed
+        (``atmosphere.ground_altitude_m``, complete), a step failure's reason, or None."""
         return self._sim.stop_reason
 
     @property

@@ -76,3 +76,23 @@ def test_step_counts_advance_to_and_a_partial_summary():
 def test_bad_input_raises_like_run():
     with pytest.raises(chute.ScenarioError, match="load.weight_n"):
         chute.Simulation(ROD, set={"load.weight_n": -1})
+
+
+def test_a_simulation_lands_like_run():
+    # 0.5 m of ground clearance below a rod canopy at 1,000 m: it lands in under 2 s.
+    ground = {
+        **ROD_SET,
+        "time.duration_s": 2.0,
+        "atmosphere.model": "isa1976",
+        "atmosphere.altitude_m": 1000.0,
+        "atmosphere.ground_altitude_m": 999.5,
+    }
+    r = chute.run(ROD, set=ground)
+    sim = chute.Simulation(ROD, set=ground)
+    while sim.step(50):
+        pass
+    assert sim.finished and sim.step() == 0
+    assert sim.stop_reason == "ground" == r.summary["stop_reason"]
+    assert sim.time == r.summary["simulated_time_s"] < 2.0
+    assert summary_without_wall_time(sim.summary()) == summary_without_wall_time(r.summary)
+    assert sim.summary()["complete"] and "landing_velocity_mps" in sim.summary()

@@ -26,23 +26,21 @@ use engine::{ImplicitEuler, NewtonOptions, StepError};
 
 use crate::build::Built;
 use crate::checkpoint::Checkpoint;
-use crate::metrics;
 use crate::output::plots;
-use crate::output::summary::{RunInfo, Summary};
-use crate::output::timeseries::{DecimatedSeries, TimeSeriesWriter};
+use crate::output::summary::Summary;
+use crate::output::timeseries::{Sample, TimeSeriesWriter};
 use crate::output::vtk::VtkSeries;
 
 mod advance;
 pub mod dt_policy;
+mod flight;
 mod observe;
 mod persist;
 mod recovery;
 mod session;
 pub use advance::Driver;
-use advance::Outcome;
-use dt_policy::{DtPolicy, Plan};
 pub use dt_policy::{GROW_AFTER, SYNC_STEPS};
-use observe::Observer;
+use flight::{Attempt, End, Flight};
 pub use session::{Session, StepInfo, Stopped};
 
 /// Everything the loop needs besides the model.
@@ -198,34 +196,37 @@ pub fn simulate_with(
         Some(c) => Run::resume(built, cfg, out_dir, c)?,
     };
     let bar = progress_bar(cfg);
-    let (sync_dt, tol) = (run.dt.sync_dt, run.dt.time_tol);
+    let tol = run.flight.dt.time_tol;
     let next_multiple = |every: f64, t: f64| ((t + tol) / every).floor() as u64 + 1;
     let mut next_ckpt = ctl
         .checkpoint_every_s
-        .map(|s| next_multiple(s, run.state.t));
-    run.start_watches(built);
+        .map(|s| next_multiple(s, built.state.t));
+    run.flight.start_watches(built);
     // The start (fresh or resumed) is a sync point: the stepper holds no factorisation.
     let mut last_sync = run.checkpoint(built, ctl, &wall, true);
     let mut stop_reason = None;
-    while run.state.t < cfg.duration_s - tol {
+    while built.state.t < cfg.duration_s - tol {
         if ctl.stop.load(Ordering::Relaxed) {
             stop_reason = Some(format!(
                 "interrupted at t = {:.6} s; checkpoint at t = {:.6} s",
-                run.state.t, last_sync.t
+                built.state.t, last_sync.t
             ));
             run.save(&last_sync, out_dir)?;
             break;
         }
-        let plan = run.dt.plan(run.state.t, run.next_event(cfg));
-        let iterations = match run.attempt(&mut stepper, built, cfg, out_dir, &plan)? {
-            Attempt::Accepted(_) if run.landing.is_some() => {
-                stop_reason = Some(GROUND.to_string());
-                break;
+        let plan = run.flight.plan(built, cfg);
+        let iterations = match run.flight.attempt(&mut stepper, built, &plan) {
+            Attempt::Accepted(iterations, sample) => {
+                run.record(built, cfg, out_dir, &sample)?;
+                if run.flight.landing.is_some() {
+                    stop_reason = Some(GROUND.to_string());
+                    break;
+                }
+                iterations
             }
-            Attempt::Accepted(iterations) => iterations,
             Attempt::Rejected => continue,
             Attempt::Failed(e) => {
-                if let Some(reason) = run.reject(built, &e, plan.h) {
+                if let Some(reason) = run.flight.reject(built, &e, plan.h) {
                     stop_reason = Some(reason);
                     let good = run.checkpoint(built, ctl, &wall, false);
                     run.save(&good, out_dir)?;
@@ -235,26 +236,25 @@ pub fn simulate_with(
             }
         };
         if let Some(t) = ctl.sim_time {
-            t.store(run.state.t.to_bits(), Ordering::Relaxed);
+            t.store(built.state.t.to_bits(), Ordering::Relaxed);
         }
         if let Some(bar) = &bar {
-            bar.set_position((run.state.t / cfg.duration_s * 1000.0) as u64);
-            let rate = run.steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);
+            bar.set_position((built.state.t / cfg.duration_s * 1000.0) as u64);
+            let rate = run.flight.steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);
             bar.set_message(format!(
                 "t = {:.3} s, {rate:.0} steps/s, {iterations} Newton it/step",
-                run.state.t
+                built.state.t
             ));
         }
-        if run.state.t < run.next_sync as f64 * sync_dt - tol {
+        if !run.flight.passed_sync(built.state.t) {
             continue;
         }
         stepper.invalidate_factorization();
-        run.next_sync = next_multiple(sync_dt, run.state.t);
         last_sync = run.checkpoint(built, ctl, &wall, true);
         if let (Some(k), Some(every)) = (next_ckpt, ctl.checkpoint_every_s) {
-            if run.state.t >= k as f64 * every - tol {
+            if built.state.t >= k as f64 * every - tol {
                 run.save(&last_sync, out_dir)?;
-                next_ckpt = Some(next_multiple(every, run.state.t));
+                next_ckpt = Some(next_multiple(every, built.state.t));
             }
         }
     }
@@ -264,35 +264,14 @@ pub fn simulate_with(
     run.finish(built, cfg, out_dir, stop_reason, &wall)
 }
 
-/// What one attempt at a step did.
-enum Attempt {
-    /// Accepted and recorded, with this many Newton iterations.
-    Accepted(usize),
-    /// Rejected for its local error; retry with the policy's smaller step.
-    Rejected,
-    /// Newton failed (state unchanged).
-    Failed(StepError),
-}
-
-/// The run loop's mutable state and open outputs: what a checkpoint saves and restores.
+/// A flight and the outputs it streams into its run directory: what a checkpoint saves and
+/// restores (with `built.state`).
 struct Run {
-    state: engine::State,
-    dt: DtPolicy,
-    steps: u64,
-    newton_total: u64,
-    warnings: Vec<String>,
-    next_frame: f64,
-    snaps: Vec<f64>,
-    snap_idx: usize,
-    next_sync: u64,
+    flight: Flight,
     wall_before_s: f64,
     ts_path: PathBuf,
     ts: TimeSeriesWriter,
-    dec: DecimatedSeries,
     vtk: VtkSeries,
-    obs: Observer,
-    ground: Option<crate::metrics::landing::GroundWatch>,
-    landing: Option<crate::metrics::landing::Landing>,
 }
 
 impl Run {
@@ -303,30 +282,14 @@ impl Run {
         ts: TimeSeriesWriter,
         vtk: VtkSeries,
     ) -> Result<Self, RunError> {
-        let mut snaps = cfg.snapshots_s.clone();
-        snaps.sort_by(f64::total_cmp);
         let mut vtk = vtk;
         vtk.set_roles(node_roles(built));
         Ok(Self {
-            state: built.state.clone(),
-            dt: DtPolicy::new(cfg)?,
-            steps: 0,
-            newton_total: 0,
-            warnings: cfg.scenario_warnings.clone(),
-            next_frame: 0.0,
-            snaps,
-            snap_idx: 0,
-            next_sync: 1,
+            flight: Flight::new(built, cfg)?,
             wall_before_s: 0.0,
             ts_path: out_dir.join("timeseries.csv"),
             ts,
-            dec: DecimatedSeries::default(),
             vtk,
-            obs: Observer::new(built),
-            ground: cfg
-                .ground_z_m
-                .map(crate::metrics::landing::GroundWatch::new),
-            landing: None,
         })
     }
 
@@ -338,131 +301,45 @@ impl Run {
         let vtk = VtkSeries::resume(out_dir, &[]).map_err(io_err(out_dir))?;
         persist::remove_stale_outputs(out_dir)?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk)?;
-        let s0 = run.obs.sample(built, &run.state, 0, cfg.dt_s);
-        run.ts.push(&s0).map_err(io_err(&ts_path))?;
-        run.dec.push(&s0);
-        run.write_due_outputs(built, cfg, out_dir)?;
+        let s0 = run.flight.obs.sample(built, &built.state, 0, cfg.dt_s);
+        run.flight.dec.push(&s0);
+        run.record(built, cfg, out_dir, &s0)?;
         Ok(run)
     }
 
-    /// The first event after the current time, where an adaptive step must end: the end of
-    /// the run, the next frame, snapshot and sync point. A fixed step only ends on the end.
-    fn next_event(&self, cfg: &RunConfig) -> f64 {
-        if !self.dt.adaptive() {
-            return cfg.duration_s;
-        }
-        let after = self.state.t + self.dt.time_tol;
-        let frame = if cfg.frame_interval_s > 0.0 {
-            self.next_frame
-        } else {
-            f64::INFINITY
-        };
-        let snap = self
-            .snaps
-            .get(self.snap_idx)
-            .copied()
-            .unwrap_or(f64::INFINITY);
-        let sync = self.next_sync as f64 * self.dt.sync_dt;
-        [frame, snap, sync]
-            .into_iter()
-            .filter(|&e| e > after)
-            .fold(cfg.duration_s, f64::min)
-    }
-
-    /// Solve the step `plan`, judge its local error, and commit and record it or drop it.
-    fn attempt(
-        &mut self,
-        stepper: &mut ImplicitEuler,
-        built: &mut Built,
-        cfg: &RunConfig,
-        out_dir: &Path,
-        plan: &Plan,
-    ) -> Result<Attempt, RunError> {
-        let state = &mut self.state;
-        let (iterations, err) =
-            match advance::attempt(&mut self.dt, stepper, &mut built.model, state, plan) {
-                Outcome::Accepted { iterations, err } => (iterations, err),
-                Outcome::Rejected => return Ok(Attempt::Rejected),
-                Outcome::Failed(e) => return Ok(Attempt::Failed(e)),
-            };
-        if err > 1.0 && self.warnings.len() < 20 {
-            // Accepted only because the step is already the smallest allowed.
-            self.warnings.push(format!(
-                "local error {:.3} × the tolerance accepted at t = {:.6} s: dt = {:.3e} s is the smallest step allowed",
-                err, self.state.t, plan.h
-            ));
-        }
-        self.steps += 1;
-        self.newton_total += iterations as u64;
-        let s = self
-            .obs
-            .sample(built, &self.state, iterations as u32, plan.h);
-        self.ts.push(&s).map_err(io_err(&self.ts_path))?;
-        self.dec.push(&s);
-        self.write_due_outputs(built, cfg, out_dir)?;
-        if let Some(g) = &mut self.ground {
-            self.landing = g.observe(self.obs.ground_body(built, self.state.t));
-        }
-        Ok(Attempt::Accepted(iterations))
-    }
-
-    /// Start the payload's acceleration and the ground watch from the current state.
-    fn start_watches(&mut self, built: &Built) {
-        self.obs.start(built, &self.state);
-        self.obs.load(&self.state.q, &self.state.v);
-        if let Some(g) = &mut self.ground {
-            self.landing = g.observe(self.obs.ground_body(built, self.state.t));
-        }
-    }
-
-    /// Halve the step after a failed Newton solve of a step of size `h`; the stop reason when
-    /// it falls below the smallest step.
-    fn reject(&mut self, built: &Built, e: &StepError, h: f64) -> Option<String> {
-        if !self.dt.newton_failed(h) {
-            return Some(failure_message(built, e, self.state.t, self.dt.h));
-        }
-        if self.warnings.len() < 20 {
-            self.warnings.push(format!(
-                "step rejected at t = {:.6} s ({e}); dt halved to {:.3e} s",
-                self.state.t, self.dt.h
-            ));
-        }
-        None
-    }
-
-    /// Write the VTK frame and snapshot PNGs that are due at the current time.
-    fn write_due_outputs(
+    /// Stream an accepted step's sample and the frame and snapshots due now.
+    fn record(
         &mut self,
         b: &Built,
         cfg: &RunConfig,
         out_dir: &Path,
+        sample: &Sample,
     ) -> Result<(), RunError> {
-        let s = &self.state;
-        let half = self.dt.due_tol;
-        let frame_due = cfg.frame_interval_s > 0.0 && s.t >= self.next_frame - half;
-        let snaps = &self.snaps;
-        let snap_due = self.snap_idx < snaps.len() && s.t >= snaps[self.snap_idx] - half;
-        if !(frame_due || snap_due) {
+        self.ts.push(sample).map_err(io_err(&self.ts_path))?;
+        let s = &b.state;
+        let due = self.flight.take_due(s.t, cfg);
+        if !due.frame && due.snaps.is_empty() {
             return Ok(());
         }
-        self.obs.load(&s.q, &s.v);
-        if frame_due {
-            self.obs.drag(b, &s.q, &s.v, s.t);
-            let o = &self.obs;
+        let obs = &mut self.flight.obs;
+        obs.load(&s.q, &s.v);
+        if due.frame {
+            obs.drag(b, &s.q, &s.v, s.t);
             self.vtk
-                .write_frame(s.t, &o.pos, &o.vel, &b.triangles, &b.segments, &o.tri_drag)
+                .write_frame(
+                    s.t,
+                    &obs.pos,
+                    &obs.vel,
+                    &b.triangles,
+                    &b.segments,
+                    &obs.tri_drag,
+                )
                 .map_err(io_err(out_dir))?;
-            while self.next_frame <= s.t + half {
-                self.next_frame = self
-                    .dt
-                    .next_frame_after(self.next_frame, cfg.frame_interval_s);
-            }
         }
-        while self.snap_idx < snaps.len() && s.t >= snaps[self.snap_idx] - half {
+        for t in due.snaps {
             let roles = node_roles(b);
-            let scene = shape_scene(b, &self.obs.pos, &roles);
-            let _ = plots::snapshot_plot(out_dir, snaps[self.snap_idx], &scene);
-            self.snap_idx += 1;
+            let scene = shape_scene(b, &obs.pos, &roles);
+            let _ = plots::snapshot_plot(out_dir, t, &scene);
         }
         Ok(())
     }
@@ -477,85 +354,40 @@ impl Run {
         stop_reason: Option<String>,
         wall: &Instant,
     ) -> Result<RunResult, RunError> {
-        let mut warnings = std::mem::take(&mut self.warnings);
-        let missed = &self.snaps[self.snap_idx..];
-        if !missed.is_empty() {
-            // One warning for all of them: a short run with the default snapshot times would
-            // otherwise repeat the same sentence.
-            let times: Vec<String> = missed.iter().map(|t| format!("{t} s")).collect();
-            warnings.push(format!(
-                "snapshot{} at {} not drawn: the run ended at {:.6} s",
-                if missed.len() > 1 { "s" } else { "" },
-                times.join(", "),
-                self.state.t
-            ));
-        }
         self.ts.finish().map_err(io_err(&self.ts_path))?;
-        let complete = stop_reason.is_none() || self.landing.is_some();
+        let complete = stop_reason.is_none() || self.flight.landing.is_some();
         // The final state is always drawn, whether or not the run completed.
-        self.obs.load(&self.state.q, &self.state.v);
+        let obs = &mut self.flight.obs;
+        obs.load(&built.state.q, &built.state.v);
         let roles = node_roles(built);
-        let scene = shape_scene(built, &self.obs.pos, &roles);
-        let _ = plots::final_shape_plot(out_dir, self.state.t, &scene);
-        let stepping = self.dt.stepping(cfg);
-        built.state = self.state;
-        let dec = &self.dec;
-        let (rho, mu) = recovery::window_air(dec, cfg);
-        let params = metrics::Params {
-            total_weight_n: built.total_weight_n,
-            air_density_kg_m3: rho,
-            air_viscosity_pa_s: mu,
-            reference_length_m: built.reference_length_m,
-            quadratic_drag: cfg.quadratic_drag,
-        };
-        let info = RunInfo {
-            scenario_name: cfg.name.clone(),
+        let scene = shape_scene(built, &obs.pos, &roles);
+        let _ = plots::final_shape_plot(out_dir, built.state.t, &scene);
+        let end = End {
+            ended: true,
             complete,
             stop_reason: stop_reason.clone(),
-            simulated_time_s: built.state.t,
-            steps: self.steps,
-            newton_iterations: self.newton_total,
             wall_time_s: self.wall_before_s + wall.elapsed().as_secs_f64(),
-            dofs: built.model.n_dofs(),
-            stepping,
-            warnings,
         };
-        let summary = match metrics::compute(&dec.series(), &params) {
-            Ok(m) => {
-                let summary = Summary::new(info, &m).with_recovery(metrics::descent::compute(
-                    &dec.recovery_series(),
-                    &recovery::params(built, cfg),
-                    m.terminal_velocity_mps,
-                    m.drag_area_m2,
-                    self.landing,
-                ));
-                let reason = crate::output::console::not_reached_reason(&summary);
-                let mark = match &reason {
-                    None => plots::TerminalMark::Reached {
-                        v_mps: m.terminal_velocity_mps,
-                        time_to_terminal_s: m.time_to_terminal_s,
-                    },
-                    Some(r) => plots::TerminalMark::NotReached { reason: r },
-                };
-                let _ = plots::velocity_plot(
-                    &out_dir.join("velocity.png"),
-                    &dec.t_s,
-                    &dec.vz_mps,
-                    &mark,
-                );
-                let _ = plots::height_plot(
-                    &out_dir.join("height.png"),
-                    &dec.t_s,
-                    &dec.extended_height_m,
-                );
-                summary
-            }
-            Err(e) => {
-                let mut info = info;
-                info.warnings.push(format!("metrics unavailable: {e}"));
-                Summary::new(info, &metrics::Metrics::undefined(built.total_weight_n))
-            }
-        };
+        let info = self.flight.info(built, cfg, end);
+        let (summary, metrics) = self.flight.summary(built, cfg, info);
+        if let Some(m) = metrics {
+            let reason = crate::output::console::not_reached_reason(&summary);
+            let mark = match &reason {
+                None => plots::TerminalMark::Reached {
+                    v_mps: m.terminal_velocity_mps,
+                    time_to_terminal_s: m.time_to_terminal_s,
+                },
+                Some(r) => plots::TerminalMark::NotReached { reason: r },
+            };
+            let dec = &self.flight.dec;
+            let _ =
+                plots::velocity_plot(&out_dir.join("velocity.png"), &dec.t_s, &dec.vz_mps, &mark);
+            let _ = plots::height_plot(
+                &out_dir.join("height.png"),
+                &dec.t_s,
+                &dec.extended_height_m,
+            );
+        }
         let sp = out_dir.join("summary.json");
         summary.write(&sp).map_err(io_err(&sp))?;
         Ok(RunResult {

@@ -32,24 +32,25 @@ impl Run {
         let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
         let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk)?;
-        rows.iter().for_each(|s| run.dec.push(s));
-        run.state = engine::State {
+        built.state = engine::State {
             q: c.q.clone(),
             v: c.v.clone(),
             t: c.t,
         };
-        run.dt.h = c.dt;
-        run.dt.streak = c.streak;
-        run.dt.cap = c.dt_cap;
-        run.dt.rejected_error = c.rejected_error;
-        run.dt.rejected_newton = c.rejected_newton;
-        run.dt.used = DtStats::from_rows(&rows);
-        run.steps = c.steps;
-        run.newton_total = c.newton_iterations;
-        run.warnings = c.warnings.clone();
-        run.next_frame = c.next_frame;
-        run.snap_idx = (c.snap_idx as usize).min(run.snaps.len());
-        run.next_sync = c.next_sync;
+        let f = &mut run.flight;
+        rows.iter().for_each(|s| f.dec.push(s));
+        f.dt.h = c.dt;
+        f.dt.streak = c.streak;
+        f.dt.cap = c.dt_cap;
+        f.dt.rejected_error = c.rejected_error;
+        f.dt.rejected_newton = c.rejected_newton;
+        f.dt.used = DtStats::from_rows(&rows);
+        f.steps = c.steps;
+        f.newton_total = c.newton_iterations;
+        f.warnings = c.warnings.clone();
+        f.next_frame = c.next_frame;
+        f.snap_idx = (c.snap_idx as usize).min(f.snaps.len());
+        f.next_sync = c.next_sync;
         run.wall_before_s = c.wall_time_s;
         Ok(run)
     }
@@ -62,27 +63,28 @@ impl Run {
         wall: &Instant,
         synced: bool,
     ) -> Checkpoint {
+        let f = &self.flight;
         Checkpoint {
             scenario_toml: ctl.scenario_toml.clone(),
             synced,
-            t: self.state.t,
-            q: self.state.q.clone(),
-            v: self.state.v.clone(),
+            t: built.state.t,
+            q: built.state.q.clone(),
+            v: built.state.v.clone(),
             histories: built.model.forces.iter().map(|f| f.history()).collect(),
-            dt: self.dt.h,
-            streak: self.dt.streak,
-            dt_cap: self.dt.cap,
-            rejected_error: self.dt.rejected_error,
-            rejected_newton: self.dt.rejected_newton,
-            steps: self.steps,
-            newton_iterations: self.newton_total,
+            dt: f.dt.h,
+            streak: f.dt.streak,
+            dt_cap: f.dt.cap,
+            rejected_error: f.dt.rejected_error,
+            rejected_newton: f.dt.rejected_newton,
+            steps: f.steps,
+            newton_iterations: f.newton_total,
             wall_time_s: self.wall_before_s + wall.elapsed().as_secs_f64(),
             ts_rows: self.ts.rows(),
             frame_times: self.vtk.times(),
-            next_frame: self.next_frame,
-            snap_idx: self.snap_idx as u64,
-            next_sync: self.next_sync,
-            warnings: self.warnings.clone(),
+            next_frame: f.next_frame,
+            snap_idx: f.snap_idx as u64,
+            next_sync: f.next_sync,
+            warnings: f.warnings.clone(),
             checkpoint_every_s: ctl.checkpoint_every_s,
         }
     }

@@ -22,38 +22,9 @@ fn png_size(path: &Path) -> (u32, u32) {
 /// Nodes, triangles and segments.
 type Mesh = (Vec<[f64; 3]>, Vec<[usize; 3]>, Vec<[usize; 2]>);
 
-/// A hemispherical-ish cap of triangles and four lines to a payload below it.
+/// The dome of the 3-D picture tests (6 rings × 16 sectors, four lines to a payload).
 fn canopy() -> Mesh {
-    let (rings, sectors) = (6, 16);
-    let mut x = vec![[0.0, 0.0, 10.0]];
-    for r in 1..=rings {
-        let phi = r as f64 / rings as f64 * 1.2;
-        for s in 0..sectors {
-            let th = s as f64 / sectors as f64 * std::f64::consts::TAU;
-            x.push([phi.sin() * th.cos(), phi.sin() * th.sin(), 9.0 + phi.cos()]);
-        }
-    }
-    let idx = |r: usize, s: usize| {
-        if r == 0 {
-            0
-        } else {
-            1 + (r - 1) * sectors + s % sectors
-        }
-    };
-    let mut tri = vec![];
-    for r in 0..rings {
-        for s in 0..sectors {
-            if r == 0 {
-                tri.push([0, idx(1, s), idx(1, s + 1)]);
-            } else {
-                tri.push([idx(r, s), idx(r + 1, s), idx(r + 1, s + 1)]);
-                tri.push([idx(r, s), idx(r + 1, s + 1), idx(r, s + 1)]);
-            }
-        }
-    }
-    x.push([0.0, 0.0, 6.0]);
-    let payload = x.len() - 1;
-    let seg = (0..4).map(|k| [idx(rings, 4 * k), payload]).collect();
+    let (x, tri, seg, _sites) = crate::plots_3d::dome();
     (x, tri, seg)
 }
 

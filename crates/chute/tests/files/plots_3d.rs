@@ -12,10 +12,10 @@ use chute::output::scene3d::{viridis, LOAD_SITE_RGB, PAYLOAD_RGB};
 use chute::output::vtk::point_roles;
 
 /// Nodes, triangles, segments and load sites.
-type Model = (Vec<[f64; 3]>, Vec<[usize; 3]>, Vec<[usize; 2]>, Vec<usize>);
+pub(crate) type Model = (Vec<[f64; 3]>, Vec<[usize; 3]>, Vec<[usize; 2]>, Vec<usize>);
 
 /// A dome of 6 rings × 16 sectors (z from 9 to 10 m) with 4 lines to a payload at z = 6 m.
-fn dome() -> Model {
+pub(crate) fn dome() -> Model {
     let (rings, sectors) = (6, 16);
     let mut x = vec![[0.0, 0.0, 10.0]];
     for r in 1..=rings {

@@ -110,3 +110,32 @@ fn advance_to_stops_at_the_first_step_past_the_time_and_the_summary_is_partial()
     assert_eq!(session.step(), Ok(None));
     assert!(session.summary().complete);
 }
+
+/// With a ground the session ends where the run ends: at the first step on the ground,
+/// complete with stop reason "ground", the same state and the same landing fields.
+#[test]
+fn a_session_lands_like_the_run() {
+    // The rod canopy starts at z = 0 (altitude 1,000 m); the ground 0.5 m below is reached
+    // in about half a second of free fall and deceleration.
+    let s = rod(
+        2.0,
+        &[
+            "atmosphere.model=\"isa1976\"",
+            "atmosphere.altitude_m=1000",
+            "atmosphere.ground_altitude_m=999.5",
+        ],
+    );
+    let (ran, r) = run(build(&s).unwrap(), &s);
+    assert!(r.complete && r.stop_reason.as_deref() == Some("ground"));
+    let mut session = Session::new(build(&s).unwrap(), run_config(&s, false)).unwrap();
+    let n = step_to_end(&mut session);
+    assert!(session.landed() && session.finished());
+    assert_eq!(session.step(), Ok(None));
+    assert_eq!(session.stop_reason(), Some("ground"));
+    assert_eq!(n, r.summary.steps);
+    assert!(session.time() < 2.0);
+    assert_eq!(session.built().state.q, ran.state.q);
+    let summary = session.summary();
+    assert!(summary.complete);
+    assert_eq!(comparable(&summary), comparable(&r.summary));
+}

@@ -1,0 +1,294 @@
+//! A run in flight, without its files: the step-size policy, the counters and warnings, the
+//! output and sync times it must stop on, the observed series and the ground watch.
+//!
+//! The run loop ([`super::simulate_with`]) writes its outputs around a [`Flight`]; a
+//! [`super::Session`] (the Python `Simulation`) drives one and writes nothing. Both therefore
+//! take the same steps, book them alike and stop at the same ground, and a session stepped to
+//! the end has the run's state bit for bit and its summary but for the wall time.
+
+use engine::{ImplicitEuler, StepError};
+
+use super::advance::{self, Outcome};
+use super::dt_policy::{DtPolicy, Plan};
+use super::observe::Observer;
+use super::{failure_message, recovery, RunConfig, RunError};
+use crate::build::Built;
+use crate::metrics::landing::{GroundWatch, Landing};
+use crate::metrics::{self, Metrics};
+use crate::output::summary::{RunInfo, Summary};
+use crate::output::timeseries::{DecimatedSeries, Sample};
+
+/// At most this many step warnings (rejections, accepted over-tolerance steps) are kept.
+const MAX_STEP_WARNINGS: usize = 20;
+
+/// The bookkeeping of a run between its start and its summary.
+pub(super) struct Flight {
+    /// The step-size policy (fixed or adaptive) and its statistics.
+    pub dt: DtPolicy,
+    /// Accepted steps.
+    pub steps: u64,
+    /// Newton iterations over the accepted steps.
+    pub newton_total: u64,
+    /// The scenario's warnings, then the step warnings.
+    pub warnings: Vec<String>,
+    /// The next frame time (s).
+    pub next_frame: f64,
+    /// Snapshot times, sorted (s).
+    pub snaps: Vec<f64>,
+    /// Index of the next snapshot due in `snaps`.
+    pub snap_idx: usize,
+    /// Index of the next sync point (its time is `next_sync · dt.sync_dt`).
+    pub next_sync: u64,
+    /// Observation buffers.
+    pub obs: Observer,
+    /// The decimated series the metrics are computed from.
+    pub dec: DecimatedSeries,
+    ground: Option<GroundWatch>,
+    /// The touchdown, once the landing body has reached the ground.
+    pub landing: Option<Landing>,
+}
+
+/// What one attempt at a step did.
+pub(super) enum Attempt {
+    /// Accepted, committed and booked: its Newton iterations and its sample.
+    Accepted(usize, Sample),
+    /// Rejected for its local error; retry with the policy's smaller step.
+    Rejected,
+    /// Newton failed (state unchanged).
+    Failed(StepError),
+}
+
+/// The outputs due at the current time (the flight has moved past them).
+pub(super) struct Due {
+    /// A VTK frame.
+    pub frame: bool,
+    /// These snapshot times.
+    pub snaps: Vec<f64>,
+}
+
+impl Flight {
+    /// The bookkeeping at the start of a run of `built` under `cfg`, before any sample.
+    pub fn new(built: &Built, cfg: &RunConfig) -> Result<Self, RunError> {
+        let mut snaps = cfg.snapshots_s.clone();
+        snaps.sort_by(f64::total_cmp);
+        Ok(Self {
+            dt: DtPolicy::new(cfg)?,
+            steps: 0,
+            newton_total: 0,
+            warnings: cfg.scenario_warnings.clone(),
+            next_frame: 0.0,
+            snaps,
+            snap_idx: 0,
+            next_sync: 1,
+            obs: Observer::new(built),
+            dec: DecimatedSeries::default(),
+            ground: cfg.ground_z_m.map(GroundWatch::new),
+            landing: None,
+        })
+    }
+
+    /// Start the payload's acceleration and the ground watch from `built.state` (a fresh or
+    /// resumed start).
+    pub fn start_watches(&mut self, built: &Built) {
+        let s = &built.state;
+        self.obs.start(built, s);
+        self.obs.load(&s.q, &s.v);
+        if let Some(g) = &mut self.ground {
+            self.landing = g.observe(self.obs.ground_body(built, s.t));
+        }
+    }
+
+    /// The first event after time `t` where an adaptive step must end: the end of the run,
+    /// the next frame, snapshot and sync point. A fixed step only ends on the end.
+    pub fn next_event(&self, t: f64, cfg: &RunConfig) -> f64 {
+        if !self.dt.adaptive() {
+            return cfg.duration_s;
+        }
+        let after = t + self.dt.time_tol;
+        let frame = if cfg.frame_interval_s > 0.0 {
+            self.next_frame
+        } else {
+            f64::INFINITY
+        };
+        let snap = self.snaps.get(self.snap_idx).copied();
+        let sync = self.next_sync as f64 * self.dt.sync_dt;
+        [frame, snap.unwrap_or(f64::INFINITY), sync]
+            .into_iter()
+            .filter(|&e| e > after)
+            .fold(cfg.duration_s, f64::min)
+    }
+
+    /// The step plan from the current state.
+    pub fn plan(&self, built: &Built, cfg: &RunConfig) -> Plan {
+        let t = built.state.t;
+        self.dt.plan(t, self.next_event(t, cfg))
+    }
+
+    /// Solve the step `plan` from `built.state`, judge its local error, and commit and book
+    /// it (counters, sample, ground) or leave the state unchanged.
+    pub fn attempt(
+        &mut self,
+        stepper: &mut ImplicitEuler,
+        built: &mut Built,
+        plan: &Plan,
+    ) -> Attempt {
+        let b = &mut *built;
+        let (iterations, err) =
+            match advance::attempt(&mut self.dt, stepper, &mut b.model, &mut b.state, plan) {
+                Outcome::Accepted { iterations, err } => (iterations, err),
+                Outcome::Rejected => return Attempt::Rejected,
+                Outcome::Failed(e) => return Attempt::Failed(e),
+            };
+        let t = built.state.t;
+        if err > 1.0 && self.warnings.len() < MAX_STEP_WARNINGS {
+            // Accepted only because the step is already the smallest allowed.
+            self.warnings.push(format!(
+                "local error {err:.3} × the tolerance accepted at t = {t:.6} s: dt = {:.3e} s is the smallest step allowed",
+                plan.h
+            ));
+        }
+        self.steps += 1;
+        self.newton_total += iterations as u64;
+        let s = self
+            .obs
+            .sample(built, &built.state, iterations as u32, plan.h);
+        self.dec.push(&s);
+        if let Some(g) = &mut self.ground {
+            self.landing = g.observe(self.obs.ground_body(built, t));
+        }
+        Attempt::Accepted(iterations, s)
+    }
+
+    /// Halve the step after a failed Newton solve of a step of size `h`; the stop reason
+    /// when it falls below the smallest step.
+    pub fn reject(&mut self, built: &Built, e: &StepError, h: f64) -> Option<String> {
+        let t = built.state.t;
+        if !self.dt.newton_failed(h) {
+            return Some(failure_message(built, e, t, self.dt.h));
+        }
+        if self.warnings.len() < MAX_STEP_WARNINGS {
+            self.warnings.push(format!(
+                "step rejected at t = {t:.6} s ({e}); dt halved to {:.3e} s",
+                self.dt.h
+            ));
+        }
+        None
+    }
+
+    /// The frame and snapshots due at time `t`, moving past them.
+    pub fn take_due(&mut self, t: f64, cfg: &RunConfig) -> Due {
+        let half = self.dt.due_tol;
+        let iv = cfg.frame_interval_s;
+        let frame = iv > 0.0 && t >= self.next_frame - half;
+        if frame {
+            while self.next_frame <= t + half {
+                self.next_frame = self.dt.next_frame_after(self.next_frame, iv);
+            }
+        }
+        let first = self.snap_idx;
+        while self.snap_idx < self.snaps.len() && t >= self.snaps[self.snap_idx] - half {
+            self.snap_idx += 1;
+        }
+        Due {
+            frame,
+            snaps: self.snaps[first..self.snap_idx].to_vec(),
+        }
+    }
+
+    /// Whether time `t` is at or past the next sync point; if so, the next one is set. The
+    /// caller drops the stepper's factorisation there (and may checkpoint).
+    pub fn passed_sync(&mut self, t: f64) -> bool {
+        let (sync_dt, tol) = (self.dt.sync_dt, self.dt.time_tol);
+        if t < self.next_sync as f64 * sync_dt - tol {
+            return false;
+        }
+        self.next_sync = ((t + tol) / sync_dt).floor() as u64 + 1;
+        true
+    }
+
+    /// The warnings of a run that ended at time `t`: the step warnings and one for all
+    /// snapshots not drawn.
+    pub fn final_warnings(&self, t: f64) -> Vec<String> {
+        let mut warnings = self.warnings.clone();
+        let missed = &self.snaps[self.snap_idx..];
+        if !missed.is_empty() {
+            // One warning for all of them: a short run with the default snapshot times would
+            // otherwise repeat the same sentence.
+            let times: Vec<String> = missed.iter().map(|t| format!("{t} s")).collect();
+            warnings.push(format!(
+                "snapshot{} at {} not drawn: the run ended at {t:.6} s",
+                if missed.len() > 1 { "s" } else { "" },
+                times.join(", "),
+            ));
+        }
+        warnings
+    }
+
+    /// The summary of the flight so far (`info` says how it ended) and, when they could be
+    /// computed, the descent metrics.
+    pub fn summary(
+        &self,
+        built: &Built,
+        cfg: &RunConfig,
+        info: RunInfo,
+    ) -> (Summary, Option<Metrics>) {
+        let (rho, mu) = recovery::window_air(&self.dec, cfg);
+        let params = metrics::Params {
+            total_weight_n: built.total_weight_n,
+            air_density_kg_m3: rho,
+            air_viscosity_pa_s: mu,
+            reference_length_m: built.reference_length_m,
+            quadratic_drag: cfg.quadratic_drag,
+        };
+        match metrics::compute(&self.dec.series(), &params) {
+            Ok(m) => {
+                let recovery = metrics::descent::compute(
+                    &self.dec.recovery_series(),
+                    &recovery::params(built, cfg),
+                    m.terminal_velocity_mps,
+                    m.drag_area_m2,
+                    self.landing,
+                );
+                (Summary::new(info, &m).with_recovery(recovery), Some(m))
+            }
+            Err(e) => {
+                let mut info = info;
+                info.warnings.push(format!("metrics unavailable: {e}"));
+                let undefined = Metrics::undefined(built.total_weight_n);
+                (Summary::new(info, &undefined), None)
+            }
+        }
+    }
+
+    /// The run record of the summary: how it ended and what it cost.
+    pub fn info(&self, built: &Built, cfg: &RunConfig, end: End) -> RunInfo {
+        RunInfo {
+            scenario_name: cfg.name.clone(),
+            complete: end.complete,
+            stop_reason: end.stop_reason,
+            simulated_time_s: built.state.t,
+            steps: self.steps,
+            newton_iterations: self.newton_total,
+            wall_time_s: end.wall_time_s,
+            dofs: built.model.n_dofs(),
+            stepping: self.dt.stepping(cfg),
+            warnings: if end.ended {
+                self.final_warnings(built.state.t)
+            } else {
+                self.warnings.clone()
+            },
+        }
+    }
+}
+
+/// How a flight ended, for its summary.
+pub(super) struct End {
+    /// The flight is over (a summary before the end does not warn of snapshots to come).
+    pub ended: bool,
+    /// The requested duration was simulated, or the run reached the ground.
+    pub complete: bool,
+    /// Why it stopped before the duration.
+    pub stop_reason: Option<String>,
+    /// Wall time spent (s).
+    pub wall_time_s: f64,
+}
