@@ -43,9 +43,9 @@ pub use error::{Origin, ScenarioError};
 /// The absolute directory against which a file's relative paths resolve.
 pub use parse::base_dir as source_dir;
 pub use sections::{
-    Atmosphere, AtmosphereModel, Bending, Canopy, CanopyShape, Control, DragLaw, Guidance, Fluid, Lines, Load,
-    LoadMode, Material, Membrane, MeshPattern, ModelKind, ModelSection, Output, Shell, ShellDrag,
-    SiteSet, Sites, Time, DEFAULT_ERROR_TOLERANCE_M,
+    Atmosphere, AtmosphereModel, Bending, Canopy, CanopyShape, Control, DragLaw, Fluid, Guidance,
+    Lines, Load, LoadMode, Material, Membrane, MeshPattern, ModelKind, ModelSection, Output,
+    PullSide, Shell, ShellDrag, SiteSet, Sites, Time, DEFAULT_ERROR_TOLERANCE_M,
 };
 
 /// A complete, validated scenario with every default filled in.

@@ -42,7 +42,10 @@ pub fn check(s: &Scenario, line_lengths: &[f64]) -> Result<(), BuildError> {
         if let Some(&l) = c.lines.iter().find(|&&l| l >= n) {
             return Err(BuildError::key(
                 format!("control[{i}].lines"),
-                format!("line {l} does not exist: the load sites resolved to {n} lines, 0 … {}", n - 1),
+                format!(
+                    "line {l} does not exist: the load sites resolved to {n} lines, 0 … {}",
+                    n - 1
+                ),
             ));
         }
         let pull = c.shorten_m + s.guidance.as_ref().map_or(0.0, |g| g.max_pull_m);
@@ -93,7 +96,12 @@ pub struct Lines {
 
 impl Lines {
     /// Collect the lines `line_rods` (site order) after the rods are installed.
-    pub fn new(handles: &RodHandles, line_rods: &[usize], sites: &[usize], stiffness_n: f64) -> Option<Self> {
+    pub fn new(
+        handles: &RodHandles,
+        line_rods: &[usize],
+        sites: &[usize],
+        stiffness_n: f64,
+    ) -> Option<Self> {
         let stretch = handles.stretch?;
         let lines = line_rods
             .iter()
@@ -134,9 +142,15 @@ impl Lines {
         self.lines
             .iter()
             .map(|l| {
-                let s = l.schedule.as_ref().map_or(0.0, |(sch, k)| sch.shortening(t, &commands[*k]));
+                let s = l
+                    .schedule
+                    .as_ref()
+                    .map_or(0.0, |(sch, k)| sch.shortening(t, &commands[*k]));
                 let len = |[a, b]: [usize; 2]| {
-                    (0..3).map(|c| (q[3 * b + c] - q[3 * a + c]).powi(2)).sum::<f64>().sqrt()
+                    (0..3)
+                        .map(|c| (q[3 * b + c] - q[3 * a + c]).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
                 };
                 let length: f64 = l.nodes.iter().map(|&e| len(e)).sum();
                 let top_rest = l.edge_rest_m[0] * (1.0 - s / l.rest_len_m);
@@ -154,7 +168,11 @@ pub fn describe(s: &Scenario) -> Vec<(String, String)> {
         .iter()
         .enumerate()
         .map(|(i, c)| {
-            let verb = if c.shorten_m >= 0.0 { "shorten" } else { "lengthen" };
+            let verb = if c.shorten_m >= 0.0 {
+                "shorten"
+            } else {
+                "lengthen"
+            };
             let ramp = if c.ramp_s > 0.0 {
                 format!("over {} s", c.ramp_s)
             } else {

@@ -36,16 +36,21 @@ impl Plan {
         if self.payload_lines.is_empty() {
             return None;
         }
-        let rods: Vec<usize> = self.payload_lines.iter().map(|&k| self.line_rods[k]).collect();
+        let rods: Vec<usize> = self
+            .payload_lines
+            .iter()
+            .map(|&k| self.line_rods[k])
+            .collect();
         let area = std::f64::consts::PI * s.lines.radius_m.powi(2);
-        let mut lines =
-            super::control::Lines::new(handles, &rods, &self.sites, s.lines.youngs_modulus_pa * area)?;
+        let mut lines = super::control::Lines::new(
+            handles,
+            &rods,
+            &self.sites,
+            s.lines.youngs_modulus_pa * area,
+        )?;
         for (line, &r) in lines.lines.iter_mut().zip(&rods) {
             let spec = &self.rods.rods()[r];
-            line.schedule = spec
-                .rest_schedule
-                .clone()
-                .zip(handles.rod_schedule[r]);
+            line.schedule = spec.rest_schedule.clone().zip(handles.rod_schedule[r]);
         }
         Some(lines)
     }
@@ -201,7 +206,12 @@ fn add_payload_lines(s: &Scenario, p: &mut Plan) -> Result<(), BuildError> {
     let lengths: Vec<f64> = p
         .sites
         .iter()
-        .map(|&i| (0..3).map(|c| (p.positions[i][c] - payload[c]).powi(2)).sum::<f64>().sqrt())
+        .map(|&i| {
+            (0..3)
+                .map(|c| (p.positions[i][c] - payload[c]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
         .collect();
     super::control::check(s, &lengths)?;
     for (k, &site) in p.sites.clone().iter().enumerate() {

@@ -4,10 +4,12 @@
 //! current velocity, `p̂ = x_h + v_h t_go` with `t_go = h / max(−v_z, V_MIN)` (h the height
 //! above the ground), and takes the miss `e = T − p̂` to the target `T`. It pulls by
 //! `u = min(max_pull, gain |e|)` in the direction of `e`: line `i`, whose site lies in the
-//! horizontal direction `d̂_i` from the sites' centroid, gets `u_i = u · max(0, d̂_i · ê)`
-//! — the lines on the target's side, most the one facing it. A pulled side hangs lower, the
-//! canopy tilts towards it and glides that way (docs/control.md). Each decision ramps the
-//! lines from their current shortening to the new one over `ramp_s`.
+//! horizontal direction `d̂_i` from the sites' centroid, gets `u_i = u · max(0, σ d̂_i · ê)`
+//! — with `σ = +1` (`pull_side = "towards"`) the lines on the target's side, most the one
+//! facing it, for a canopy that glides towards its pulled side (a flat square does); with
+//! `σ = −1` (`"away"`) the far side, for one that glides away from it (this model's round
+//! canopy: docs/control.md). Each decision ramps the lines from their current shortening to
+//! the new one over `ramp_s`.
 //!
 //! The controller holds no state of its own: its commands are the history of the lines'
 //! stretching family (the time of the last decision included), which checkpoints carry, and a
@@ -17,7 +19,6 @@ use crate::build::control::Lines;
 use crate::build::Built;
 use crate::scenario::Scenario;
 use engine::rod::Command;
-use engine::State;
 
 /// Smallest descent rate used for the time to go (m/s): a canopy not (yet) descending is
 /// treated as descending slowly rather than dividing by zero.
@@ -32,6 +33,8 @@ pub struct Controller {
     update_s: f64,
     ramp_s: f64,
     ground_z: f64,
+    /// +1: pull the lines facing the miss; −1: those facing away.
+    side: f64,
 }
 
 /// One decision: the predicted landing point, the miss, and the pull of each line.
@@ -57,12 +60,21 @@ impl Controller {
             update_s: g.update_s,
             ramp_s: g.ramp_s,
             ground_z,
+            side: match g.pull_side {
+                crate::scenario::PullSide::Towards => 1.0,
+                crate::scenario::PullSide::Away => -1.0,
+            },
         })
     }
 
     /// The target `[x, y]` (m).
     pub fn target(&self) -> [f64; 2] {
         self.target
+    }
+
+    /// Distance (m) from `point` `[x, y]` to the target.
+    pub fn miss_m(&self, point: [f64; 2]) -> f64 {
+        (point[0] - self.target[0]).hypot(point[1] - self.target[1])
     }
 
     /// Whether a decision is due at time `t`, `update_s` after the last one (at `t0` of the
@@ -93,7 +105,7 @@ impl Controller {
                 if dist == 0.0 || r == 0.0 {
                     return 0.0;
                 }
-                let cos = (d[0] * miss_m[0] + d[1] * miss_m[1]) / (r * dist);
+                let cos = self.side * (d[0] * miss_m[0] + d[1] * miss_m[1]) / (r * dist);
                 u * cos.max(0.0)
             })
             .collect();
@@ -104,11 +116,12 @@ impl Controller {
         }
     }
 
-    /// After an accepted step at `state`: when a decision is due, decide and command the
+    /// After an accepted step (at `built.state`): when a decision is due, decide and command the
     /// lines (ramping from their current shortening). Returns the decision taken.
-    pub fn after_step(&self, built: &mut Built, state: &State) -> Option<Decision> {
+    pub fn after_step(&self, built: &mut Built) -> Option<Decision> {
         let lines = built.lines.as_ref()?;
         let commands = lines.commands(&built.model);
+        let state = &built.state;
         if !self.due(state.t, &commands) {
             return None;
         }
@@ -152,6 +165,7 @@ mod tests {
             update_s: 0.5,
             ramp_s: 0.25,
             ground_z: -30.0,
+            side: 1.0,
         }
     }
 
@@ -180,13 +194,23 @@ mod tests {
         let d = c.decide([10.0, 0.0, 0.0], [0.0, 0.0, -5.0], &SITES);
         assert!(d.pulls_m.iter().all(|&u| u == 0.0));
         let d = c.decide([-100.0, 0.0, 0.0], [0.0, 0.0, -5.0], &SITES);
-        assert_eq!(d.pulls_m[0], 0.3);
+        assert_eq!(d.pulls_m, [0.3, 0.0, 0.0, 0.0]);
+        // Pulling the far side instead: the line facing away.
+        let away = Controller { side: -1.0, ..c };
+        let d = away.decide([-100.0, 0.0, 0.0], [0.0, 0.0, -5.0], &SITES);
+        assert_eq!(d.pulls_m, [0.0, 0.0, 0.3, 0.0]);
     }
 
     #[test]
     fn decisions_are_due_every_update_after_the_last() {
         let c = controller();
-        let at = |t0| [Command { from: 0.0, to: 0.1, t0 }];
+        let at = |t0| {
+            [Command {
+                from: 0.0,
+                to: 0.1,
+                t0,
+            }]
+        };
         assert!(!c.due(0.4, &at(0.0)));
         assert!(c.due(0.5, &at(0.0)));
         assert!(!c.due(0.9, &at(0.5)));

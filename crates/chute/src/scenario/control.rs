@@ -99,7 +99,10 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
             c.fail(
                 "guidance.ramp_s",
                 g.ramp_s,
-                format!("must be ≤ `guidance.update_s` = {} s (one ramp per decision)", g.update_s),
+                format!(
+                    "must be ≤ `guidance.update_s` = {} s (one ramp per decision)",
+                    g.update_s
+                ),
             );
         }
     }
@@ -113,11 +116,22 @@ fn lines(c: &mut Checker, key: &str, lines: &[usize], n: usize) {
         c.fail(
             key,
             format!("{lines:?}"),
-            format!("line {l} does not exist: the load sites give {n} lines, 0 … {}", n - 1),
+            format!(
+                "line {l} does not exist: the load sites give {n} lines, 0 … {}",
+                n - 1
+            ),
         );
     }
-    if let Some((k, &l)) = lines.iter().enumerate().find(|(k, l)| lines[..*k].contains(l)) {
-        c.fail(key, format!("{lines:?}"), format!("line {l} is named twice (entry {k})"));
+    if let Some((k, &l)) = lines
+        .iter()
+        .enumerate()
+        .find(|(k, l)| lines[..*k].contains(l))
+    {
+        c.fail(
+            key,
+            format!("{lines:?}"),
+            format!("line {l} is named twice (entry {k})"),
+        );
     }
 }
 

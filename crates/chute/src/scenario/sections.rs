@@ -594,6 +594,17 @@ section! {
     }
 }
 
+choice! {
+    /// Which lines guidance pulls to glide towards a point.
+    pub enum PullSide {
+        /// The lines facing it: a canopy that glides towards its pulled side (a flat one).
+        Towards = "towards",
+        /// The lines facing away: a canopy that glides away from its pulled side (the round
+        /// canopy of this model, docs/control.md).
+        Away = "away",
+    }
+}
+
 section! {
     /// `[guidance]`: steer to a target by pulling lines (docs/control.md).
     pub struct Guidance {
@@ -608,6 +619,9 @@ section! {
             .positive("a pull")
             .required("say how far a line may be pulled, e.g. `max_pull_m = 0.3`")
             .note("leaves every line ≥ 10 % of its length (with `[[control]]` pulls)"),
+        /// which lines to pull to glide towards the target: those facing it or those facing
+        /// away (how the canopy responds: measure it with a `[[control]]` pull)
+        pull_side: PullSide = PullSide::Away => key(),
         /// pull per metre of predicted miss (proportional gain)
         gain: f64 = 0.05 => key().unit("m/m").positive("a gain"),
         /// time between the controller's decisions

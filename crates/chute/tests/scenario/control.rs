@@ -51,21 +51,60 @@ fn one_field_of_one_entry_is_overridden_by_index() {
 
 #[test]
 fn bad_pulls_name_the_entry() {
-    refused(&[PULLS, "control[1].lines=[12]"], "control[1].lines", "line 12 does not exist");
-    refused(&[PULLS, "control[1].lines=[2, 2]"], "control[1].lines", "named twice");
-    refused(&[PULLS, "control[0].lines=[]"], "control[0].lines", "at least one line");
-    refused(&[PULLS, "control[0].shorten_m=2.8"], "control[0].shorten_m", "10 %");
+    refused(
+        &[PULLS, "control[1].lines=[12]"],
+        "control[1].lines",
+        "line 12 does not exist",
+    );
+    refused(
+        &[PULLS, "control[1].lines=[2, 2]"],
+        "control[1].lines",
+        "named twice",
+    );
+    refused(
+        &[PULLS, "control[0].lines=[]"],
+        "control[0].lines",
+        "at least one line",
+    );
+    refused(
+        &[PULLS, "control[0].shorten_m=2.8"],
+        "control[0].shorten_m",
+        "10 %",
+    );
     refused(&[PULLS, "control[0].ramp_s=-1"], "control[0].ramp_s", "≥ 0");
-    refused(&[PULLS, "control[1].hold_s=-0.5"], "control[1].hold_s", "≥ 0");
-    refused(&[PULLS, "control[1].start_s=-0.5"], "control[1].start_s", "≥ 0");
+    refused(
+        &[PULLS, "control[1].hold_s=-0.5"],
+        "control[1].hold_s",
+        "≥ 0",
+    );
+    refused(
+        &[PULLS, "control[1].start_s=-0.5"],
+        "control[1].start_s",
+        "≥ 0",
+    );
     // Line 6 is held from 2 s until 3.5 s; a second pull on it inside that time overlaps.
-    let set = [PULLS, "control[2].lines=[5, 6]", "control[2].start_s=3.0", "control[2].shorten_m=0.1"];
+    let set = [
+        PULLS,
+        "control[2].lines=[5, 6]",
+        "control[2].start_s=3.0",
+        "control[2].shorten_m=0.1",
+    ];
     refused(&set, "control[2].start_s", "overlaps control[1]");
     // Right after the release ends it is a sequence, not an overlap.
-    let ok = [PULLS, "control[2].lines=[6]", "control[2].start_s=3.5", "control[2].shorten_m=0.1"];
+    let ok = [
+        PULLS,
+        "control[2].lines=[6]",
+        "control[2].start_s=3.5",
+        "control[2].shorten_m=0.1",
+    ];
     round(&ok).unwrap();
     // A pull without hold lasts to the end: any later pull on its lines overlaps.
-    let set = [PULLS, "control[2].lines=[1]", "control[2].start_s=9", "control[2].shorten_m=0.1"];
+    let set = [
+        PULLS,
+        "control[2].lines=[1]",
+        "control[2].start_s=9",
+        "control[2].shorten_m=0.1",
+    ];
     refused(&set, "control[2].start_s", "never released");
 }
 
@@ -96,11 +135,30 @@ fn guidance_is_checked() {
     let s = round(&with(&ground, &[])).unwrap();
     let g = s.guidance.as_ref().unwrap();
     assert_eq!((g.target_m.clone(), g.max_pull_m), (vec![10.0, 0.0], 0.3));
-    assert_eq!(Scenario::from_str_with_name(&s.to_toml(), "r.toml", &[]).unwrap(), s);
-    refused(&with(&ground, &["guidance.target_m=[1, 2, 3]"]), "guidance.target_m", "two numbers");
-    refused(&with(&ground, &["guidance.max_pull_m=2.9"]), "guidance.max_pull_m", "10 %");
-    refused(&with(&ground, &["guidance.max_pull_m=-1"]), "guidance.max_pull_m", "> 0");
-    refused(&with(&ground, &["guidance.ramp_s=2"]), "guidance.ramp_s", "update_s");
+    assert_eq!(
+        Scenario::from_str_with_name(&s.to_toml(), "r.toml", &[]).unwrap(),
+        s
+    );
+    refused(
+        &with(&ground, &["guidance.target_m=[1, 2, 3]"]),
+        "guidance.target_m",
+        "two numbers",
+    );
+    refused(
+        &with(&ground, &["guidance.max_pull_m=2.9"]),
+        "guidance.max_pull_m",
+        "10 %",
+    );
+    refused(
+        &with(&ground, &["guidance.max_pull_m=-1"]),
+        "guidance.max_pull_m",
+        "> 0",
+    );
+    refused(
+        &with(&ground, &["guidance.ramp_s=2"]),
+        "guidance.ramp_s",
+        "update_s",
+    );
     let e = round(&["guidance.target_m=[10, 0]", "guidance.max_pull_m=0.3"]).unwrap_err();
     assert_eq!(e.key(), Some("guidance.target_m"), "{e}");
     assert!(e.to_string().contains("ground_altitude_m"), "{e}");

@@ -176,7 +176,10 @@ impl Stretch {
         assert_eq!(edges.len(), rest_len.len());
         assert_eq!(edges.len(), stiffness.len());
         assert_eq!(edges.len(), scheduled.len());
-        assert!(scheduled.iter().flatten().all(|s| s.schedule < schedules.len()));
+        assert!(scheduled
+            .iter()
+            .flatten()
+            .all(|s| s.schedule < schedules.len()));
         let data = (0..edges.len())
             .map(|i| EdgeSpring {
                 rest_len: rest_len[i],
@@ -276,7 +279,10 @@ impl Element for StretchLaw {
     }
 
     fn history(&self, _els: &[EdgeSpring]) -> Vec<f64> {
-        self.commands.iter().flat_map(|c| [c.from, c.to, c.t0]).collect()
+        self.commands
+            .iter()
+            .flat_map(|c| [c.from, c.to, c.t0])
+            .collect()
     }
 
     fn restore_history(&mut self, _els: &mut [EdgeSpring], h: &[f64]) {
@@ -338,7 +344,11 @@ mod tests {
             (9.0, 0.0),
         ];
         for (t, s) in cases {
-            assert!((total(t) - (4.0 - s)).abs() < 1e-15, "t = {t}: {}", total(t));
+            assert!(
+                (total(t) - (4.0 - s)).abs() < 1e-15,
+                "t = {t}: {}",
+                total(t)
+            );
             // Each edge takes its share: the line's strain is uniform.
             let ratio = law.rest_len(&f.data()[1], t) / law.rest_len(&f.data()[0], t);
             assert!((ratio - 3.0).abs() < 1e-14, "t = {t}");
@@ -374,7 +384,8 @@ mod tests {
         let eps = 1.0 / 0.9 - 1.0;
         assert!((tension(&f, 5.0) - 100.0 * eps).abs() < 1e-12);
         let e = f.energy(&q).unwrap();
-        let e_expected = 0.5 * 100.0 * eps * eps * 0.9 + 0.5 * 100.0 * (3.0 / 2.7 - 1.0f64).powi(2) * 2.7;
+        let e_expected =
+            0.5 * 100.0 * eps * eps * 0.9 + 0.5 * 100.0 * (3.0 / 2.7 - 1.0f64).powi(2) * 2.7;
         assert!((e - e_expected).abs() < 1e-12, "{e} vs {e_expected}");
     }
 }
