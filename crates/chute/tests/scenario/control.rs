@@ -71,16 +71,20 @@ fn bad_pulls_name_the_entry() {
         "control[0].shorten_m",
         "10 %",
     );
-    refused(&[PULLS, "control[0].ramp_s=-1"], "control[0].ramp_s", "≥ 0");
+    refused(
+        &[PULLS, "control[0].ramp_s=-1"],
+        "control[0].ramp_s",
+        "must not be negative",
+    );
     refused(
         &[PULLS, "control[1].hold_s=-0.5"],
         "control[1].hold_s",
-        "≥ 0",
+        "must not be negative",
     );
     refused(
         &[PULLS, "control[1].start_s=-0.5"],
         "control[1].start_s",
-        "≥ 0",
+        "must not be negative",
     );
     // Line 6 is held from 2 s until 3.5 s; a second pull on it inside that time overlaps.
     let set = [
@@ -152,7 +156,7 @@ fn guidance_is_checked() {
     refused(
         &with(&ground, &["guidance.max_pull_m=-1"]),
         "guidance.max_pull_m",
-        "> 0",
+        "must be positive",
     );
     refused(
         &with(&ground, &["guidance.ramp_s=2"]),
