@@ -169,17 +169,25 @@ fn run_in_dir(s: &Scenario) -> (serde_json::Value, tempfile::TempDir) {
     (serde_json::from_str(&text).unwrap(), dir)
 }
 
-/// The 30 m version of the guidance study (coarse round canopy, 1976 atmosphere, ground, a
-/// 2 m/s crosswind along +y): the uncontrolled drop drifts to about (0, 8) m; with guidance
-/// to (5, 12) m it lands measurably closer. The flight is under 5 s, of which the first two
-/// inflate the canopy, so the gain is a fraction of a metre; the 300 m study in
-/// docs/control.md has room for more.
+/// A 30 m drop of the guidance scenario (1976 atmosphere, ground, a 2 m/s crosswind along +y)
+/// with the square canopy on four corner lines, which glides towards its pulled side
+/// (`pull_side = "towards"`): uncontrolled it drifts to about (0, 9.6) m; guided to (5, 12) m
+/// it lands closer (5.5 m → 3.7 m at dt = 0.005 s). The flight is 5.5 s, of which the first
+/// two inflate the canopy; dt = 0.01 s does not resolve that transient (the guided run then
+/// misses by more: docs/control.md), hence the smaller step here.
 #[test]
 fn guidance_lands_closer_to_the_target_than_the_uncontrolled_drop() {
     let drop = |max_pull: &str| {
         let set: Vec<String> = [
+            "canopy.shape=rectangle",
+            "canopy.span_m=3",
+            "canopy.width_m=3",
+            "canopy.edge_length_m=0.5",
+            "load.sites=corners",
+            "guidance.pull_side=towards",
             "atmosphere.altitude_m=30",
             "guidance.target_m=[5, 12]",
+            "time.dt_s=0.005",
             max_pull,
         ]
         .iter()
@@ -192,11 +200,11 @@ fn guidance_lands_closer_to_the_target_than_the_uncontrolled_drop() {
     let (steered, dir) = run_in_dir(&drop("guidance.max_pull_m=0.3"));
     let miss = |j: &serde_json::Value| j["landing_miss_m"].as_f64().unwrap();
     let (m0, m1) = (miss(&free), miss(&steered));
-    assert!(m1 < m0 - 0.2, "steered miss {m1} m vs uncontrolled {m0} m");
+    assert!(m1 < m0 - 1.0, "steered miss {m1} m vs uncontrolled {m0} m");
     let p = steered["landing_point_m"].as_array().unwrap();
     let (x, y) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
     assert!((miss(&steered) - (x - 5.0).hypot(y - 12.0)).abs() < 1e-12);
-    // The outputs of a pulled run: lines.csv (12 lines per frame), track.csv, track.png.
+    // The outputs of a pulled run: lines.csv (4 lines per frame), track.csv, track.png.
     let lines = std::fs::read_to_string(dir.path().join("lines.csv")).unwrap();
     let mut rows = lines.lines();
     assert_eq!(
@@ -206,7 +214,7 @@ fn guidance_lands_closer_to_the_target_than_the_uncontrolled_drop() {
     let rows: Vec<Vec<f64>> = rows
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
         .collect();
-    assert_eq!(rows.len() % 12, 0);
+    assert_eq!(rows.len() % 4, 0);
     // Guidance pulls at most 0.3 m: every rest length within [2.7, 3] m.
     assert!(rows
         .iter()
