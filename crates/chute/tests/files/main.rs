@@ -15,6 +15,7 @@ mod permissions;
 mod plots;
 mod plots_3d;
 mod study;
+mod study_inputs;
 mod viewer;
 mod viewer_browser;
 mod vtk;
