@@ -45,13 +45,6 @@ fn run_dir_err(e: RunDirError) -> PyErr {
     PyOSError::new_err(e.to_string())
 }
 
-/// Whether the study case directory `dir` holds a `done.json` that says `complete` (the
-/// study then skips the case unless forced).
-pub fn case_complete(dir: &Path) -> bool {
-    let text = std::fs::read_to_string(dir.join(chute::study::DONE_FILE)).unwrap_or_default();
-    serde_json::from_str::<serde_json::Value>(&text).is_ok_and(|d| d["status"] == "complete")
-}
-
 /// JSON text as Python objects (`json.loads`).
 pub fn json<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
     py.import("json")?.call_method1("loads", (text,))

@@ -100,7 +100,7 @@ fn study(
         return Err(ScenarioError::new_err("jobs must be at least 1"));
     }
     let to_run = (st.cases.iter())
-        .filter(|c| force || !convert::case_complete(&out.join(&c.name)))
+        .filter(|c| force || !chute::study::case_is_current(&st, c, &set, &out))
         .count();
     let opts = StudyOptions {
         out_dir: out,

@@ -177,6 +177,10 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
             .ground_altitude_m
             .map(|g| g - s.atmosphere.altitude_m),
         gravity_mps2: s.fluid.gravity_mps2,
+        guidance: s
+            .atmosphere
+            .ground_altitude_m
+            .and_then(|g| crate::control::Controller::new(s, g - s.atmosphere.altitude_m)),
         scenario_warnings: s.notes.0.clone(),
         progress,
     }

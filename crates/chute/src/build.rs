@@ -35,9 +35,12 @@ pub struct Built {
     pub derived: Vec<(String, String)>,
     /// Rod twist DOFs; the edge angles of mid-edge bending follow them.
     pub rod_twists: usize,
+    /// The suspension lines of the payload mode (empty otherwise) and their schedules.
+    pub lines: Option<control::Lines>,
 }
 
 mod canopy;
+pub mod control;
 pub mod drag;
 pub mod imperfection;
 mod load;
@@ -56,8 +59,8 @@ pub enum BuildError {
     /// A scenario value that only the builder can reject (e.g. lines too short).
     #[error("{key}: {message}")]
     Key {
-        /// The scenario key, e.g. `lines.length_m`.
-        key: &'static str,
+        /// The scenario key, e.g. `lines.length_m` or `control[1].lines`.
+        key: std::borrow::Cow<'static, str>,
         /// What is wrong.
         message: String,
     },
@@ -73,9 +76,12 @@ pub enum BuildError {
 }
 
 impl BuildError {
-    pub(crate) fn key(key: &'static str, message: impl Into<String>) -> Self {
+    pub(crate) fn key(
+        key: impl Into<std::borrow::Cow<'static, str>>,
+        message: impl Into<String>,
+    ) -> Self {
         Self::Key {
-            key,
+            key: key.into(),
             message: message.into(),
         }
     }
@@ -117,6 +123,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         * g
         - plan.site_mass_kg * g;
     let drag = drag::install(s, &geo, &plan, &handles, &mut model);
+    let lines = plan.lines(s, &handles);
     if s.canopy.imperfection_m != 0.0 {
         imperfection::apply(&mut q, &geo.canopy_nodes, s.canopy.imperfection_m)?;
     }
@@ -136,6 +143,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         planform_area_m2: geo.planform_area,
         reference_length_m: geo.reference_length,
         derived: Vec::new(),
+        lines,
         model,
     };
     built.derived = derived(s, &built, &geo);
@@ -240,5 +248,6 @@ fn derived(s: &Scenario, b: &Built, geo: &Geometry) -> Vec<(String, String)> {
             ),
         ));
     }
+    d.extend(control::describe(s));
     d
 }

@@ -497,6 +497,7 @@ fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {
     install_stop_handler();
     let report = study::run_study(&st, &opts)?;
     print!("{}", report.table.to_markdown());
+    warn_stale(&report.table);
     let failed = report.failures();
     if failed > 0 {
         return Err(AppError::RunFailed(format!(
@@ -520,12 +521,21 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
     let out = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
     let table = study::collect(&a.dirs, &out)?;
     print!("{}", table.to_markdown());
+    warn_stale(&table);
     eprintln!(
         "wrote {} and {}",
         out.join("study.csv").display(),
         out.join("study.md").display()
     );
     Ok(())
+}
+
+/// A warning per table row whose inputs are not what its study would run now (the row's
+/// `inputs` cell says `changed` or `unknown`).
+fn warn_stale(table: &study::Table) {
+    for w in table.input_warnings() {
+        eprintln!("warning: {w}");
+    }
 }
 
 fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {

@@ -13,7 +13,7 @@ pub mod report;
 use std::path::{Path, PathBuf};
 
 use crate::app::{self, AppError};
-use crate::study::{self, Shard, StudyOptions, DONE_FILE};
+use crate::study::{self, Shard, StudyOptions};
 pub use report::ConvergenceReport;
 
 /// How to run `chute converge`.
@@ -59,8 +59,9 @@ pub fn run_converge(opts: &ConvergeOptions) -> Result<ConvergeOutcome, AppError>
     run_converge_with(opts, &app::run)
 }
 
-/// Plan the ladders (every input error first, exit 2), refuse to reuse level directories that
-/// hold other inputs, run the levels as a study with `runner`, and write the reports.
+/// Plan the ladders (every input error first, exit 2), run the levels as a study with
+/// `runner` (a finished level is reused only for the same inputs, else re-run: the study's
+/// rule), and write the reports.
 pub fn run_converge_with(
     opts: &ConvergeOptions,
     runner: &study::Runner,
@@ -72,11 +73,6 @@ pub fn run_converge_with(
         &opts.vary,
         &opts.set,
     )?;
-    if !opts.force {
-        for case in &plan.study.cases {
-            check_reusable(&plan.study, case, opts)?;
-        }
-    }
     let study_opts = StudyOptions {
         out_dir: opts.out_dir.clone(),
         jobs: opts.jobs,
@@ -130,35 +126,4 @@ fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<(), AppError>
     let png = out.join("convergence.png");
     plot::convergence_plot(&png, &report.studies)
         .map_err(|e| AppError::RunFailed(format!("{}: {e}", png.display())))
-}
-
-/// A complete level directory is skipped by the study; make sure it holds a run of exactly
-/// this level's inputs, or say how to proceed.
-fn check_reusable(
-    st: &study::Study,
-    case: &study::Case,
-    opts: &ConvergeOptions,
-) -> Result<(), AppError> {
-    let dir = opts.out_dir.join(&case.name);
-    let complete = std::fs::read_to_string(dir.join(DONE_FILE))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .is_some_and(|d| d["status"] == "complete");
-    if !complete {
-        return Ok(());
-    }
-    let want = st.scenario(case, &opts.set)?.to_toml();
-    let have = std::fs::read_to_string(dir.join("scenario.resolved.toml")).unwrap_or_default();
-    if have == want {
-        return Ok(());
-    }
-    let line = want
-        .lines()
-        .zip(have.lines().chain(std::iter::repeat("<end>")))
-        .find(|(a, b)| a != b)
-        .map_or_else(String::new, |(a, b)| format!(" (`{b}` there, `{a}` now)"));
-    Err(AppError::Input(format!(
-        "`{}` holds a finished run of other inputs{line}; pass --force to re-run it, or choose another --out",
-        dir.display()
-    )))
 }

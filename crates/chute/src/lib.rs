@@ -7,6 +7,7 @@ pub mod bench;
 pub mod build;
 pub mod checkpoint;
 pub mod cli;
+pub mod control;
 pub mod converge;
 pub mod mesh;
 pub mod metrics;

@@ -232,6 +232,12 @@ pub fn compute(s: &Series<'_>, p: &Params) -> Result<Metrics, MetricsError> {
     Ok(m)
 }
 
+/// Glide angle (degrees from the vertical) of a descent with horizontal velocity `v_h` and
+/// vertical velocity `v_z`: atan(|v_h| / |v_z|); 90° when not descending, NaN when unknown.
+pub fn glide_angle_deg(v_h: [f64; 2], v_z: f64) -> f64 {
+    v_h[0].hypot(v_h[1]).atan2(v_z.abs()).to_degrees()
+}
+
 /// Speed of sound (m/s) in the standard sea-level atmosphere (15 °C), until the atmosphere
 /// model gives a local one.
 pub const SPEED_OF_SOUND_MPS: f64 = 340.3;

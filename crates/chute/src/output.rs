@@ -7,6 +7,7 @@
 
 pub mod atomic;
 pub mod console;
+pub mod control_files;
 pub mod plots;
 pub mod run_dir;
 pub mod run_files;

@@ -32,6 +32,7 @@ use crate::output::timeseries::{Sample, TimeSeriesWriter};
 use crate::output::vtk::VtkSeries;
 
 mod advance;
+mod control_out;
 pub mod dt_policy;
 mod flight;
 mod observe;
@@ -77,6 +78,8 @@ pub struct RunConfig {
     pub ground_z_m: Option<f64>,
     /// Gravitational acceleration (m/s²).
     pub gravity_mps2: f64,
+    /// The guidance law (`[guidance]`), which pulls lines between steps.
+    pub guidance: Option<crate::control::Controller>,
     /// Warnings about the scenario itself, first in the summary.
     pub scenario_warnings: Vec<String>,
     /// Show a progress bar.
@@ -272,6 +275,8 @@ struct Run {
     ts_path: PathBuf,
     ts: TimeSeriesWriter,
     vtk: VtkSeries,
+    /// `lines.csv` and `track.csv`, with line pulls or guidance.
+    control: Option<control_out::Recorder>,
 }
 
 impl Run {
@@ -281,6 +286,7 @@ impl Run {
         out_dir: &Path,
         ts: TimeSeriesWriter,
         vtk: VtkSeries,
+        t_resume: Option<f64>,
     ) -> Result<Self, RunError> {
         let mut vtk = vtk;
         vtk.set_roles(node_roles(built));
@@ -290,6 +296,7 @@ impl Run {
             ts_path: out_dir.join("timeseries.csv"),
             ts,
             vtk,
+            control: control_out::Recorder::open(built, out_dir, t_resume)?,
         })
     }
 
@@ -300,7 +307,7 @@ impl Run {
         // this run's (resuming needs matching rows and frames).
         let vtk = VtkSeries::resume(out_dir, &[]).map_err(io_err(out_dir))?;
         persist::remove_stale_outputs(out_dir)?;
-        let mut run = Self::blank(built, cfg, out_dir, ts, vtk)?;
+        let mut run = Self::blank(built, cfg, out_dir, ts, vtk, None)?;
         let s0 = run.flight.obs.sample(built, &built.state, 0, cfg.dt_s);
         run.flight.dec.push(&s0);
         run.record(built, cfg, out_dir, &s0)?;
@@ -324,6 +331,9 @@ impl Run {
         let obs = &mut self.flight.obs;
         obs.load(&s.q, &s.v);
         if due.frame {
+            if let Some(c) = &mut self.control {
+                c.push(b, out_dir)?;
+            }
             obs.drag(b, &s.q, &s.v, s.t);
             self.vtk
                 .write_frame(
@@ -356,6 +366,11 @@ impl Run {
     ) -> Result<RunResult, RunError> {
         self.ts.finish().map_err(io_err(&self.ts_path))?;
         let complete = stop_reason.is_none() || self.flight.landing.is_some();
+        if let Some(c) = &mut self.control {
+            c.push(built, out_dir)?;
+            let target = cfg.guidance.as_ref().map(|g| g.target());
+            c.plot(out_dir, target, self.flight.landing.map(|l| l.point_m));
+        }
         // The final state is always drawn, whether or not the run completed.
         let obs = &mut self.flight.obs;
         obs.load(&built.state.q, &built.state.v);

@@ -18,6 +18,7 @@
 //! corners at angles 0°, 60°, …, 300° on the circle of radius `radius_m`; a circle has radius
 //! `radius_m`. Load-site coordinates `[x, y]` are in this frame (m).
 
+pub mod control;
 pub mod derived;
 pub mod docs;
 pub mod error;
@@ -42,9 +43,9 @@ pub use error::{Origin, ScenarioError};
 /// The absolute directory against which a file's relative paths resolve.
 pub use parse::base_dir as source_dir;
 pub use sections::{
-    Atmosphere, AtmosphereModel, Bending, Canopy, CanopyShape, DragLaw, Fluid, Lines, Load,
-    LoadMode, Material, Membrane, MeshPattern, ModelKind, ModelSection, Output, Shell, ShellDrag,
-    SiteSet, Sites, Time, DEFAULT_ERROR_TOLERANCE_M,
+    Atmosphere, AtmosphereModel, Bending, Canopy, CanopyShape, Control, DragLaw, Fluid, Guidance,
+    Lines, Load, LoadMode, Material, Membrane, MeshPattern, ModelKind, ModelSection, Output,
+    PullSide, Shell, ShellDrag, SiteSet, Sites, Time, DEFAULT_ERROR_TOLERANCE_M,
 };
 
 /// A complete, validated scenario with every default filled in.
@@ -82,6 +83,12 @@ pub struct Scenario {
     /// What to write.
     #[serde(default)]
     pub output: Output,
+    /// Scheduled line pulls (`[[control]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub control: Vec<Control>,
+    /// Guidance to a target by line pulls.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub guidance: Option<Guidance>,
     /// What the loader noticed about how the scenario was written (keys set but not used);
     /// not part of the scenario itself: never serialised, and equal for any two scenarios.
     #[serde(skip)]

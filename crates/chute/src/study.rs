@@ -2,6 +2,7 @@
 //! cases in parallel, each into `OUT/<case>/` with a `done.json` marker, then one table
 //! (`study.csv`, `study.md`) with a row per case. See `docs/cli.md` §study.
 
+pub mod inputs;
 mod table;
 
 use std::collections::BTreeMap;
@@ -13,8 +14,9 @@ use serde::Deserialize;
 use crate::app::{self, AppError, RunOptions, RunOutcome};
 use crate::scenario::source::line_col;
 use crate::scenario::Scenario;
+pub use inputs::InputsState;
 use table::read_json;
-pub use table::{collect, write_atomic, Row, Table};
+pub use table::{collect, gather, write_atomic, write_table, Row, Table};
 
 /// The summary metrics that become table columns, after the case name and its overrides.
 pub const METRIC_COLUMNS: &[&str] = &[
@@ -66,6 +68,10 @@ pub struct Study {
     pub name: String,
     /// Free text, shown nowhere but kept for the reader.
     pub description: Option<String>,
+    /// The study file (absolute), recorded with each case so that `chute collect` can tell
+    /// whether the case is still what the study would run; `None` for a study built in code
+    /// (`chute converge`), whose cases are then re-derived from `base` and their own `set`.
+    pub file: Option<PathBuf>,
     /// The base scenario file, resolved against the study file's directory.
     pub base: PathBuf,
     /// The cases, in file order (grid: key order, last key fastest).
@@ -76,7 +82,8 @@ fn input(msg: impl Into<String>) -> AppError {
     AppError::Input(msg.into())
 }
 
-fn safe_name(s: &str) -> String {
+/// A directory-safe name: ASCII letters, digits, `-`, `_` and `.` kept, anything else `_`.
+pub(crate) fn safe_name(s: &str) -> String {
     s.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || "-_.".contains(c) {
@@ -175,7 +182,9 @@ impl Study {
         let text = std::fs::read_to_string(path)
             .map_err(|e| input(format!("cannot read study file `{}`: {e}", path.display())))?;
         let dir = crate::scenario::source_dir(path);
-        Study::from_str(&text, &path.display().to_string(), &dir)
+        let mut st = Study::from_str(&text, &path.display().to_string(), &dir)?;
+        st.file = Some(std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));
+        Ok(st)
     }
 
     /// Parse study text; `base` resolves against `dir`.
@@ -229,6 +238,7 @@ impl Study {
         Ok(Study {
             name,
             description: f.description,
+            file: None,
             base: dir.join(&f.base),
             cases,
         })
@@ -381,8 +391,14 @@ pub fn run_study_with(
         .collect();
     let scenarios = selected
         .iter()
-        .map(|c| study.scenario(c, &opts.set))
-        .collect::<Result<Vec<_>, _>>()?;
+        .map(|c| {
+            let s = study.scenario(c, &opts.set)?;
+            let digest = inputs::digest(&s)
+                .map_err(|e| input(format!("study `{}`, case `{}`: {e}", study.name, c.name)))?;
+            Ok((s, digest))
+        })
+        .collect::<Result<Vec<_>, AppError>>()?;
+    table::refuse_run_dir(&opts.out_dir)?;
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| AppError::io(&opts.out_dir, e))?;
     let jobs = opts
         .jobs
@@ -396,34 +412,70 @@ pub fn run_study_with(
         selected
             .par_iter()
             .zip(scenarios.par_iter())
-            .map(|(case, scenario)| run_case(study, case, scenario, opts, runner))
+            .map(|(case, (scenario, digest))| run_case(study, case, scenario, digest, opts, runner))
             .collect()
     });
     let mut cases = Vec::new();
     for (case, status) in selected.iter().zip(statuses) {
         cases.push((case.name.clone(), status?));
     }
-    let table = collect(std::slice::from_ref(&opts.out_dir), &opts.out_dir)?;
+    let table = table::gather(
+        std::slice::from_ref(&opts.out_dir),
+        Some((study, opts.set.as_slice())),
+    )?;
+    table::write_table(&table, &opts.out_dir)?;
     Ok(StudyReport { cases, table })
+}
+
+/// Whether `chute study` would skip `case` of `study` under the study-wide `set` in
+/// `out_dir`: its `done.json` says complete for exactly the inputs it would run now (for a
+/// progress total; a case whose scenario cannot be built counts as to be run).
+pub fn case_is_current(study: &Study, case: &Case, set: &[String], out_dir: &Path) -> bool {
+    let Ok(digest) = study.scenario(case, set).and_then(|s| inputs::digest(&s)) else {
+        return false;
+    };
+    recorded_run(&out_dir.join(&case.name).join(DONE_FILE), &digest).0
+}
+
+/// Whether a case directory holds a complete run of exactly these inputs, and if it holds a
+/// complete run of others, why it is re-run.
+fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static str>) {
+    match read_json(done) {
+        Some(d) if d["status"] == "complete" => match d["inputs"].as_str() {
+            Some(recorded) if recorded == digest => (true, None),
+            Some(_) => (false, Some("inputs changed since the recorded run")),
+            None => (
+                false,
+                Some("its record names no inputs (an older chute wrote it)"),
+            ),
+        },
+        _ => (false, None),
+    }
 }
 
 fn run_case(
     study: &Study,
     case: &Case,
     scenario: &Scenario,
+    digest: &str,
     opts: &StudyOptions,
     runner: &Runner,
 ) -> Result<CaseStatus, AppError> {
     let dir = opts.out_dir.join(&case.name);
     let done = dir.join(DONE_FILE);
-    let previously_complete = read_json(&done).is_some_and(|d| d["status"] == "complete");
-    if previously_complete && !opts.force {
+    let (current, stale) = recorded_run(&done, digest);
+    if current && !opts.force {
         if opts.verbose {
             eprintln!("case {}: already complete, skipped", case.name);
         }
         return Ok(CaseStatus::Skipped);
     }
+    if let (Some(why), true, false) = (stale, opts.verbose, opts.force) {
+        eprintln!("case {}: {why}; re-running", case.name);
+    }
     std::fs::create_dir_all(&dir).map_err(|e| AppError::io(&dir, e))?;
+    // The marker goes first, so that a run stopped from here on is never taken as complete;
+    // the runner (force) then clears everything else the earlier run wrote.
     match std::fs::remove_file(&done) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(AppError::io(&done, e)),
         _ => {}
@@ -455,6 +507,13 @@ fn run_case(
         "status": word,
         "message": message,
         "wall_time_s": started.elapsed().as_secs_f64(),
+        "inputs": digest,
+        "recipe": {
+            "study_file": study.file,
+            "base": study.base,
+            "set": opts.set,
+            "case_set": case.set,
+        },
     });
     write_atomic(&done, format!("{marker:#}\n").as_bytes())?;
     if opts.verbose {

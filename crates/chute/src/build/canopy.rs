@@ -2,7 +2,9 @@
 use super::BuildError;
 use crate::mesh::generate::Pattern;
 use crate::mesh::{self, CanopyMesh};
-use crate::scenario::{Bending, CanopyShape, Membrane, MeshPattern, ModelKind, Scenario};
+use crate::scenario::{
+    Bending, CanopyShape, Membrane, MeshPattern, ModelKind, Scenario, SiteSet, Sites,
+};
 use engine::shell::{
     midedge, CstMembrane, FabricMembrane, MembraneError, Orthotropic, PlateBending, ShellMaterial,
     TriMesh,
@@ -174,7 +176,9 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
             pattern(c.mesh_pattern),
         ),
         CanopyShape::Hexagon => mesh::generate::hexagon(c.radius_m, c.edge_length_m),
-        CanopyShape::Circle => mesh::generate::circle(c.radius_m, c.edge_length_m),
+        CanopyShape::Circle => {
+            mesh::generate::circle_with_rim_sites(c.radius_m, c.edge_length_m, rim_sites(s))
+        }
         CanopyShape::Mesh => {
             let path = c.mesh_file.as_ref().ok_or_else(|| {
                 BuildError::key("canopy.mesh_file", "required when shape = \"mesh\"")
@@ -235,4 +239,12 @@ pub fn extent(mesh: &CanopyMesh, nodes: &[usize]) -> ([f64; 3], [f64; 3]) {
         }
     }
     (lo, hi)
+}
+
+/// How many equally spaced rim sites the circle's rim must hold as nodes (1: no constraint).
+fn rim_sites(s: &Scenario) -> usize {
+    match s.load.sites {
+        Sites::Named(SiteSet::Rim) => s.load.rim_site_count.max(1),
+        _ => 1,
+    }
 }

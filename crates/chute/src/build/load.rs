@@ -5,7 +5,7 @@ use super::canopy::Geometry;
 use super::BuildError;
 use crate::scenario::{LoadMode, ModelKind, Scenario};
 use engine::loads::PointForces;
-use engine::rod::{RodNetwork, RodSpec, Section};
+use engine::rod::{RodHandles, RodNetwork, RodSpec, Section};
 use engine::Model;
 
 /// Nodes and rods of the whole model, and how the load is applied.
@@ -18,6 +18,8 @@ pub struct Plan {
     pub canopy_rod: Option<usize>,
     /// Rod indices of suspension lines (payload mode and imported meshes).
     pub line_rods: Vec<usize>,
+    /// Rod indices of the payload's suspension lines, in site order.
+    pub payload_lines: Vec<usize>,
     /// The payload node (payload and node-mass-scale modes).
     pub payload_node: Option<usize>,
     /// Load sites (canopy nodes).
@@ -29,6 +31,30 @@ pub struct Plan {
 }
 
 impl Plan {
+    /// The payload's suspension lines once the rods are installed (`None` without them).
+    pub fn lines(&self, s: &Scenario, handles: &RodHandles) -> Option<super::control::Lines> {
+        if self.payload_lines.is_empty() {
+            return None;
+        }
+        let rods: Vec<usize> = self
+            .payload_lines
+            .iter()
+            .map(|&k| self.line_rods[k])
+            .collect();
+        let area = std::f64::consts::PI * s.lines.radius_m.powi(2);
+        let mut lines = super::control::Lines::new(
+            handles,
+            &rods,
+            &self.sites,
+            s.lines.youngs_modulus_pa * area,
+        )?;
+        for (line, &r) in lines.lines.iter_mut().zip(&rods) {
+            let spec = &self.rods.rods()[r];
+            line.schedule = spec.rest_schedule.clone().zip(handles.rod_schedule[r]);
+        }
+        Some(lines)
+    }
+
     /// Segments to draw: every rod edge.
     pub fn segments(&self, _geo: &Geometry) -> Vec<[usize; 2]> {
         self.rods.edges()
@@ -82,6 +108,7 @@ pub fn plan(s: &Scenario, geo: &Geometry, sites: &[usize]) -> Result<Plan, Build
         rods: RodNetwork::new(),
         canopy_rod: None,
         line_rods: Vec::new(),
+        payload_lines: Vec::new(),
         payload_node: None,
         sites: sites.to_vec(),
         applied_force_n: 0.0,
@@ -176,7 +203,18 @@ fn add_payload_lines(s: &Scenario, p: &mut Plan) -> Result<(), BuildError> {
     p.positions.push(payload);
     p.payload_node = Some(pid);
     let segs = s.lines.segments;
-    for &site in &p.sites.clone() {
+    let lengths: Vec<f64> = p
+        .sites
+        .iter()
+        .map(|&i| {
+            (0..3)
+                .map(|c| (p.positions[i][c] - payload[c]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect();
+    super::control::check(s, &lengths)?;
+    for (k, &site) in p.sites.clone().iter().enumerate() {
         let a = p.positions[site];
         let mut nodes = vec![site];
         for k in 1..segs {
@@ -186,7 +224,12 @@ fn add_payload_lines(s: &Scenario, p: &mut Plan) -> Result<(), BuildError> {
                 .push([0, 1, 2].map(|c| a[c] + t * (payload[c] - a[c])));
         }
         nodes.push(pid);
-        p.line_rods.push(p.rods.add_rod(line_spec(s, nodes)));
+        let mut spec = line_spec(s, nodes);
+        if super::control::pulled(s) {
+            spec = spec.with_rest_schedule(super::control::schedule(s, k));
+        }
+        p.line_rods.push(p.rods.add_rod(spec));
+        p.payload_lines.push(p.line_rods.len() - 1);
         p.rods.pin(site);
     }
     p.rods.pin(pid);

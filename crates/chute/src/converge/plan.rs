@@ -8,7 +8,7 @@ use std::path::Path;
 use crate::app::AppError;
 use crate::build::Built;
 use crate::scenario::Scenario;
-use crate::study::{Case, Study};
+use crate::study::{safe_name, Case, Study};
 
 /// What a varied key refines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -107,18 +107,6 @@ pub struct Plan {
 
 fn input(msg: impl Into<String>) -> AppError {
     AppError::Input(msg.into())
-}
-
-fn safe(s: &str) -> String {
-    s.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
 }
 
 /// Split `KEY=V1,V2,…` and check the count and monotonicity of the values.
@@ -232,9 +220,11 @@ pub fn plan(
         ));
     }
     let mut study = Study {
-        name: safe(name),
+        name: safe_name(name),
         description: Some(format!("chute converge {}", scenario.display())),
-        base: scenario.to_path_buf(),
+        file: None,
+        // Absolute, as recorded in each level's done.json for `chute collect` from elsewhere.
+        base: std::path::absolute(scenario).unwrap_or_else(|_| scenario.to_path_buf()),
         cases: Vec::new(),
     };
     // Each case's scenario with a common name, to find levels that are the same run.
@@ -260,7 +250,7 @@ pub fn plan(
                 Some(i) => study.cases[i].name.clone(),
                 None => {
                     let short = key.rsplit('.').next().unwrap_or(&key);
-                    let name = safe(&format!("{short}-{text}"));
+                    let name = safe_name(&format!("{short}-{text}"));
                     study.cases.push(Case {
                         index: study.cases.len(),
                         name: name.clone(),

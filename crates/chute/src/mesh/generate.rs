@@ -11,7 +11,9 @@
 //! - [`hexagon`]: the equilateral triangular lattice in concentric hexagonal rings.
 //!   `D_eff = E h³/12`, bending Poisson ratio −1/3 (`Lattice::Equilateral`).
 //! - [`circle`]: the hexagon's topology with ring `k` placed on a circle of radius
-//!   `k R / n` (6k equally spaced nodes): nearly equilateral triangles.
+//!   `k R / n` (6k equally spaced nodes): nearly equilateral triangles, mirror-symmetric
+//!   about every multiple of 30°; [`circle_with_rim_sites`] picks `n` so that rim load
+//!   sites fall on nodes.
 //!
 //! # Panics
 //! All generators panic unless sizes and `target_edge` are positive and finite (the
@@ -145,17 +147,43 @@ pub fn hexagon(circumradius: f64, target_edge: f64) -> CanopyMesh {
 }
 
 /// A disc of radius `radius` (m) in `n = round(R / target_edge)` concentric rings; ring `k`
-/// has `6k` equally spaced nodes on the circle of radius `k R/n`. Node sets: "center",
-/// "rim".
+/// has `6k` equally spaced nodes on the circle of radius `k R/n`, the first on +x. Node sets:
+/// "center", "rim". [`circle_with_rim_sites`] with no site constraint.
 pub fn circle(radius: f64, target_edge: f64) -> CanopyMesh {
+    circle_with_rim_sites(radius, target_edge, 1)
+}
+
+/// [`circle`] with a ring count `n` that puts a rim node at every one of `rim_sites`
+/// equally spaced polar angles (the first on +x): `n` is the multiple of
+/// `rim_sites / gcd(rim_sites, 6)` nearest to `R / target_edge`, so `rim_sites` divides the
+/// `6n` rim nodes. The mesh is mirror-symmetric about every plane through the axis at a
+/// multiple of 30° (to round-off), so sites whose angles are all
+/// multiples of 30° (`rim_sites` dividing 12) make a load pattern with no handedness.
+pub fn circle_with_rim_sites(radius: f64, target_edge: f64, rim_sites: usize) -> CanopyMesh {
     check("radius", radius);
     check("target edge", target_edge);
-    let n = rings(radius, target_edge);
+    let q = rim_sites.max(1) / gcd(rim_sites.max(1), 6);
+    let n = q * ((radius / target_edge / q as f64).round().max(1.0) as usize);
     concentric(n, |k, s, i| {
-        let a = (s as f64 + i as f64 / k as f64) * std::f64::consts::FRAC_PI_3;
+        // Node j and node 6k − j of a ring get exactly opposite y (mirror about y = 0).
+        let j = s * k + i;
+        let (jm, sign) = if 2 * j > 6 * k {
+            (6 * k - j, -1.0)
+        } else {
+            (j, 1.0)
+        };
+        let a = jm as f64 * std::f64::consts::FRAC_PI_3 / k as f64;
         let r = radius * k as f64 / n as f64;
-        [r * a.cos(), r * a.sin()]
+        [r * a.cos(), sign * r * a.sin()]
     })
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
 }
 
 fn rings(size: f64, target: f64) -> usize {
@@ -197,15 +225,19 @@ fn concentric(n: usize, pos: impl Fn(usize, usize, usize) -> [f64; 2]) -> Canopy
 }
 
 /// Triangles between ring `ki` (first node `inner`) and ring `ko = ki + 1` (first node
-/// `outer`), counter-clockwise. Ties in the parameter advance the inner ring (lattice).
+/// `outer`), counter-clockwise. The ring edges are taken in the order of their midpoints'
+/// angular parameters, each closing a triangle with the current node of the other ring:
+/// that order is reversed by a reflection of the parameter, so the strip is mirror-symmetric
+/// about every sextant's boundary and middle (and, for the hexagon, it is the lattice). No
+/// two midpoints tie, since `ki` and `ki + 1` are coprime.
 fn stitch(faces: &mut Vec<[usize; 3]>, inner: usize, ki: usize, outer: usize, ko: usize) {
     let (ni, no) = (6 * ki, 6 * ko);
-    let param = |j: usize, k: usize| (j / k) as f64 + (j % k) as f64 / k as f64;
+    // Edge j → j+1 of a ring with k nodes per side has the midpoint parameter (2j+1)/(2k);
+    // cross-multiplied by the other ring's k to compare in integers.
+    let mid = |j: usize, other: usize| (2 * j + 1) * other;
     let (mut i, mut o) = (0, 0);
     while i < ni || o < no {
-        let next_in = param(i + 1, ki);
-        let next_out = param(o + 1, ko);
-        if o == no || (i < ni && next_in <= next_out) {
+        if o == no || (i < ni && mid(i, ko) < mid(o, ki)) {
             faces.push([inner + i % ni, outer + o % no, inner + (i + 1) % ni]);
             i += 1;
         } else {

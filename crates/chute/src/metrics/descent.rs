@@ -90,6 +90,9 @@ pub struct Recovery {
     pub flight_time_s: Option<f64>,
     /// [x, y] of touchdown (m).
     pub landing_point_m: Option<[f64; 2]>,
+    /// Distance from the touchdown to `guidance.target_m` (m); null without guidance or
+    /// landing.
+    pub landing_miss_m: Option<f64>,
 }
 
 /// Start of the final window of [`super::compute`] for the times `t` (s).

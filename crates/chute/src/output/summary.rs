@@ -114,6 +114,9 @@ pub struct Summary {
     /// Mean [vx, vy] over the final window (m/s).
     #[serde(deserialize_with = "nulls_as_nan")]
     pub horizontal_velocity_mps: [f64; 2],
+    /// Glide angle atan(|v_h| / |v_t|) from the vertical over the final window (degrees).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub glide_angle_deg: f64,
     /// ρ |v_t| L / μ (dimensionless).
     #[serde(deserialize_with = "null_as_nan")]
     pub reynolds_number: f64,
@@ -184,6 +187,10 @@ impl Summary {
             drag_area_m2: m.drag_area_m2,
             force_balance_error: m.force_balance_error,
             horizontal_velocity_mps: m.horizontal_velocity_mps,
+            glide_angle_deg: crate::metrics::glide_angle_deg(
+                m.horizontal_velocity_mps,
+                m.terminal_velocity_mps,
+            ),
             reynolds_number: m.reynolds_number,
             recovery: Recovery::default(),
             steps: run.steps,

@@ -334,6 +334,7 @@ mod tests {
     fn cfg(adaptive: bool) -> RunConfig {
         RunConfig {
             name: "t".into(),
+            guidance: None,
             dt_s: 1e-3,
             min_dt_s: 1e-3 / 1024.0,
             adaptive: adaptive.then_some(AdaptiveSettings {

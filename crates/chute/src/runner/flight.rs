@@ -44,6 +44,7 @@ pub(super) struct Flight {
     /// The decimated series the metrics are computed from.
     pub dec: DecimatedSeries,
     ground: Option<GroundWatch>,
+    guidance: Option<crate::control::Controller>,
     /// The touchdown, once the landing body has reached the ground.
     pub landing: Option<Landing>,
 }
@@ -83,6 +84,7 @@ impl Flight {
             obs: Observer::new(built),
             dec: DecimatedSeries::default(),
             ground: cfg.ground_z_m.map(GroundWatch::new),
+            guidance: cfg.guidance.clone(),
             landing: None,
         })
     }
@@ -155,6 +157,10 @@ impl Flight {
         self.dec.push(&s);
         if let Some(g) = &mut self.ground {
             self.landing = g.observe(self.obs.ground_body(built, t));
+        }
+        if let Some(c) = &self.guidance {
+            // Between steps: the next step sees the new commands (docs/control.md).
+            c.after_step(built);
         }
         Attempt::Accepted(iterations, s)
     }
@@ -249,6 +255,13 @@ impl Flight {
                     m.drag_area_m2,
                     self.landing,
                 );
+                let recovery = match (&self.guidance, self.landing) {
+                    (Some(c), Some(l)) => crate::metrics::descent::Recovery {
+                        landing_miss_m: Some(c.miss_m(l.point_m)),
+                        ..recovery
+                    },
+                    _ => recovery,
+                };
                 (Summary::new(info, &m).with_recovery(recovery), Some(m))
             }
             Err(e) => {

@@ -31,7 +31,7 @@ impl Run {
             checkpoint::truncate_timeseries(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
         let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
         let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
-        let mut run = Self::blank(built, cfg, out_dir, ts, vtk)?;
+        let mut run = Self::blank(built, cfg, out_dir, ts, vtk, Some(c.t))?;
         built.state = engine::State {
             q: c.q.clone(),
             v: c.v.clone(),
@@ -107,6 +107,7 @@ pub(super) fn remove_stale_outputs(out_dir: &Path) -> Result<(), RunError> {
         "height.png",
         "shape.png",
         crate::output::viewer::VIEWER_HTML,
+        crate::output::control_files::TRACK_PNG,
     ];
     let snapshots = std::fs::read_dir(out_dir)
         .map_err(io_err(out_dir))?

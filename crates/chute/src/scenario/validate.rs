@@ -102,6 +102,7 @@ pub fn validate(s: &Scenario, prov: &Provenance) -> Result<(), ScenarioError> {
     permeability(&mut c, s);
     atmosphere(&mut c, s);
     time_and_output(&mut c, s);
+    super::control::check(&mut c, s);
     c.first()
 }
 

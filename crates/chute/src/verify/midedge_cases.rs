@@ -2,13 +2,14 @@
 //! against Kirchhoff plate theory and, as information, the report's hinges on the same
 //! meshes: the cylinder bending energy and the simply supported square plate with a ladder
 //! of meshes (observed orders). Shared by `chute validate` and the physics tests.
-use super::shell_cases::{navier_ss_square, wrap_on_cylinder, MAT};
+use super::shell_cases::{
+    navier_ss_square, solve_static, support_simply_under_pressure, wrap_on_cylinder, MAT,
+};
 use super::Check;
 use crate::mesh::generate::{rectangle_pattern, Pattern};
 use crate::mesh::CanopyMesh;
-use engine::loads::PointForces;
 use engine::shell::{self, midedge, MidedgeBending, PlateBending, TriMesh};
-use engine::{DofLayout, Model, NewtonOptions, State, StaticSolver};
+use engine::{DofLayout, Model};
 
 /// Poisson ratio of the mid-edge cases (the hinges have none of their own).
 pub const NU: f64 = 0.3;
@@ -76,15 +77,7 @@ pub fn cylinder_density(pattern: Pattern, ell: f64, r: f64, axis_x: bool) -> Res
     let (mut q, _) = wrap_on_cylinder(&m, r, axis_x);
     q.resize(model.n_dofs(), 0.0);
     // Residuals are moments ~ D ℓ/R per edge; 1e-10 of that is round-off level.
-    let opts = NewtonOptions {
-        force_tol_abs: Some(1e-10 * PLATE.stiffness() * ell / r),
-        ..Default::default()
-    };
-    let mut solver = StaticSolver::new(&model, opts).map_err(|e| e.to_string())?;
-    let mut state = State::at_rest(q);
-    solver
-        .solve(&mut model, &mut state, 1)
-        .map_err(|e| e.to_string())?;
+    let state = solve_static(&mut model, q, 1e-10 * PLATE.stiffness() * ell / r)?;
     let bend = MidedgeBending::new("bend", &tri, &rest, &PLATE, 3 * m.n_nodes());
     let (mut energy, mut area) = (0.0, 0.0);
     for (i, f) in tri.faces.iter().enumerate() {
@@ -121,30 +114,8 @@ pub fn plate_reference(p: f64, d: f64) -> f64 {
 pub fn plate_deflection(pattern: Pattern, n: usize, law: Law, p: f64) -> Result<f64, String> {
     let m = rectangle_pattern(1.0, 1.0, 1.0 / n as f64, pattern);
     let (mut model, q, tri) = bending_model(&m, law)?;
-    for &i in &tri.boundary_nodes {
-        model.fixed[3 * i + 2] = true;
-    }
-    let c = m.node_set("center").ok_or("no centre node")?[0];
-    let mid = m.node_set("long_edge_midpoints").ok_or("no midpoints")?[1];
-    model.fixed[3 * c] = true;
-    model.fixed[3 * c + 1] = true;
-    model.fixed[3 * mid] = true;
-    let nodes: Vec<usize> = (0..m.n_nodes()).collect();
-    let forces: Vec<[f64; 3]> = tri
-        .vertex_areas
-        .iter()
-        .map(|&av| [0.0, 0.0, -p * av])
-        .collect();
-    model.add_force(PointForces::new(&nodes, &forces));
-    let opts = NewtonOptions {
-        force_tol_abs: Some(1e-6 * p),
-        ..Default::default()
-    };
-    let mut solver = StaticSolver::new(&model, opts).map_err(|e| e.to_string())?;
-    let mut state = State::at_rest(q);
-    solver
-        .solve(&mut model, &mut state, 1)
-        .map_err(|e| e.to_string())?;
+    let c = support_simply_under_pressure(&mut model, &m, &tri, p)?;
+    let state = solve_static(&mut model, q, 1e-6 * p)?;
     Ok(-state.q[3 * c + 2])
 }
 

@@ -6,7 +6,7 @@
 use super::Check;
 use crate::mesh::{generate, CanopyMesh};
 use engine::loads::{Gravity, PointForces};
-use engine::shell::{install, HingeBending, Lattice, ShellMaterial};
+use engine::shell::{install, HingeBending, Lattice, ShellMaterial, TriMesh};
 use engine::{DofLayout, Model, NewtonOptions, State, StaticSolver};
 
 /// Material of the cylinder and plate cases: E = 1 GPa, h = 1 cm, ρ = 1000 kg/m³.
@@ -107,10 +107,24 @@ pub fn ss_plate_deflection(a: f64, n: usize, p: f64) -> Result<f64, String> {
     let m = generate::rectangle(a, a, a / n as f64);
     let (mut model, q) = shell_model(&m, &MAT)?;
     let tri = m.tri_mesh().map_err(|e| e.to_string())?;
+    let c = support_simply_under_pressure(&mut model, &m, &tri, p)?;
+    let state = solve_static(&mut model, q, 1e-6 * p * a * a)?;
+    Ok(-state.q[3 * c + 2])
+}
+
+/// Simple supports and a uniform pressure `p` (Pa, downward, lumped on vertex areas) on the
+/// flat plate `m`: boundary nodes held in z (rotations free: no moment at the support), the
+/// centre node in x and y and a long-edge midpoint in x (the in-plane rigid modes). Returns
+/// the centre node.
+pub fn support_simply_under_pressure(
+    model: &mut Model,
+    m: &CanopyMesh,
+    tri: &TriMesh,
+    p: f64,
+) -> Result<usize, String> {
     for &i in &tri.boundary_nodes {
         model.fixed[3 * i + 2] = true;
     }
-    // In-plane rigid modes: centre node in x and y, a long-edge midpoint in x (rotation).
     let c = m.node_set("center").ok_or("no centre node")?[0];
     let mid = m
         .node_set("long_edge_midpoints")
@@ -125,16 +139,22 @@ pub fn ss_plate_deflection(a: f64, n: usize, p: f64) -> Result<f64, String> {
         .map(|&av| [0.0, 0.0, -p * av])
         .collect();
     model.add_force(PointForces::new(&nodes, &forces));
+    Ok(c)
+}
+
+/// Static equilibrium of `model` from rest at `q`, plain Newton in one load step, converged
+/// to the residual `force_tol` (N).
+pub fn solve_static(model: &mut Model, q: Vec<f64>, force_tol: f64) -> Result<State, String> {
     let opts = NewtonOptions {
-        force_tol_abs: Some(1e-6 * p * a * a),
+        force_tol_abs: Some(force_tol),
         ..Default::default()
     };
-    let mut solver = StaticSolver::new(&model, opts).map_err(|e| e.to_string())?;
+    let mut solver = StaticSolver::new(model, opts).map_err(|e| e.to_string())?;
     let mut state = State::at_rest(q);
     solver
-        .solve(&mut model, &mut state, 1)
+        .solve(model, &mut state, 1)
         .map_err(|e| e.to_string())?;
-    Ok(-state.q[3 * c + 2])
+    Ok(state)
 }
 
 /// Pressure (Pa) giving `w_c ≈ 1e-3 h` on the `a × a` plate (small load: membrane effects

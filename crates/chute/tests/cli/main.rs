@@ -13,4 +13,5 @@ mod recovery;
 mod reliability;
 mod resume;
 mod shell_laws;
+mod study_inputs;
 mod validate;

@@ -185,7 +185,7 @@ pub fn csv_rows(path: &Path) -> Vec<Vec<f64>> {
 }
 
 /// Every field documented in docs/outputs.md §summary.json.
-pub const SUMMARY_FIELDS: [&str; 48] = [
+pub const SUMMARY_FIELDS: [&str; 50] = [
     "summary_version",
     "scenario_name",
     "complete",
@@ -204,6 +204,7 @@ pub const SUMMARY_FIELDS: [&str; 48] = [
     "drag_area_m2",
     "force_balance_error",
     "horizontal_velocity_mps",
+    "glide_angle_deg",
     "reynolds_number",
     "canopy_loading_pa",
     "terminal_dynamic_pressure_pa",
@@ -219,6 +220,7 @@ pub const SUMMARY_FIELDS: [&str; 48] = [
     "landing_velocity_mps",
     "flight_time_s",
     "landing_point_m",
+    "landing_miss_m",
     "steps",
     "newton_iterations",
     "wall_time_s",

@@ -28,6 +28,7 @@ fn summary() -> Summary {
         drag_area_m2: Some(4.7654321),
         force_balance_error: 0.0026527,
         horizontal_velocity_mps: [0.0, 0.0],
+        glide_angle_deg: 0.0,
         reynolds_number: 1.2e6,
         recovery: Default::default(),
         steps: 10_000,

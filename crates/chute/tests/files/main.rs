@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod circle_sites;
 mod console;
 mod fuzz;
 mod mesh_generate;
@@ -15,6 +16,7 @@ mod permissions;
 mod plots;
 mod plots_3d;
 mod study;
+mod study_inputs;
 mod viewer;
 mod viewer_browser;
 mod vtk;

@@ -11,7 +11,7 @@ use chute::study::{self, CaseStatus, Shard, Study, StudyOptions};
 
 const BASE: &str = "[model]\nkind = \"rod\"\n[load]\nweight_n = 200\n";
 
-fn setup(study_text: &str) -> (tempfile::TempDir, Study) {
+pub(crate) fn setup(study_text: &str) -> (tempfile::TempDir, Study) {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir_all(dir.path().join("scenarios")).unwrap();
     std::fs::create_dir_all(dir.path().join("studies")).unwrap();
@@ -22,7 +22,7 @@ fn setup(study_text: &str) -> (tempfile::TempDir, Study) {
     (dir, st)
 }
 
-const LIST: &str = r#"
+pub(crate) const LIST: &str = r#"
 name = "loads"
 base = "../scenarios/base.toml"
 [[case]]
@@ -36,7 +36,7 @@ name = "2000N"
 set = ["load.weight_n=2000", "load.sites=center"]
 "#;
 
-fn opts(out: &Path) -> StudyOptions {
+pub(crate) fn opts(out: &Path) -> StudyOptions {
     StudyOptions {
         out_dir: out.to_path_buf(),
         jobs: Some(2),
@@ -48,7 +48,7 @@ fn opts(out: &Path) -> StudyOptions {
 }
 
 /// A fake simulation: terminal velocity −W/100, written as `summary.json` like `app::run`.
-fn fake(s: &Scenario, o: &RunOptions) -> Result<RunOutcome, AppError> {
+pub(crate) fn fake(s: &Scenario, o: &RunOptions) -> Result<RunOutcome, AppError> {
     let summary = serde_json::json!({
         "terminal_velocity_mps": -s.load.weight_n / 100.0,
         "time_to_terminal_s": 1.5,
@@ -65,7 +65,7 @@ fn fake(s: &Scenario, o: &RunOptions) -> Result<RunOutcome, AppError> {
     })
 }
 
-fn csv(out: &Path) -> Vec<Vec<String>> {
+pub(crate) fn csv(out: &Path) -> Vec<Vec<String>> {
     let mut r = csv::Reader::from_path(out.join("study.csv")).unwrap();
     let mut rows = vec![r.headers().unwrap().iter().map(str::to_string).collect()];
     rows.extend(
@@ -109,18 +109,21 @@ fn list_study_runs_every_case_and_tabulates() {
             "reached_terminal",
             "max_extended_height_m",
             "force_balance_error",
-            "complete"
+            "complete",
+            "inputs"
         ]
     );
     assert_eq!(
         rows[1],
-        ["20N", "20", "", "-0.2", "1.5", "true", "0.25", "0.001", "true"]
+        ["20N", "20", "", "-0.2", "1.5", "true", "0.25", "0.001", "true", "current"]
     );
     assert_eq!(rows[3][..3], ["2000N", "2000", "center"]);
     assert_eq!(rows[3][3], "-20.0");
     let md = std::fs::read_to_string(out.join("study.md")).unwrap();
     assert!(
-        md.contains("| 2000N | 2000 | center | -20.00 | 1.500 | true | 0.2500 | 0.001000 | true |"),
+        md.contains(
+            "| 2000N | 2000 | center | -20.00 | 1.500 | true | 0.2500 | 0.001000 | true | current |"
+        ),
         "{md}"
     );
     let done: serde_json::Value =
@@ -184,9 +187,10 @@ fn failures_and_early_stops_are_recorded_and_rerun() {
     let rows = csv(&out);
     assert_eq!(rows[1][0], "20N");
     assert_eq!(rows[1][3], "", "no summary, no metrics");
-    assert_eq!(rows[1].last().unwrap(), "false");
-    assert_eq!(rows[2].last().unwrap(), "false");
-    assert_eq!(rows[3].last().unwrap(), "true");
+    let complete = rows[0].iter().position(|h| h == "complete").unwrap();
+    assert_eq!(rows[1][complete], "false");
+    assert_eq!(rows[2][complete], "false");
+    assert_eq!(rows[3][complete], "true");
     // A re-run retries only what did not complete.
     let calls = AtomicUsize::new(0);
     let ok = |s: &Scenario, o: &RunOptions| {
@@ -196,7 +200,7 @@ fn failures_and_early_stops_are_recorded_and_rerun() {
     let rep = study::run_study_with(&st, &opts(&out), &ok).unwrap();
     assert_eq!(calls.load(Ordering::SeqCst), 2);
     assert_eq!(rep.failures(), 0);
-    assert!(csv(&out)[1..].iter().all(|r| r.last().unwrap() == "true"));
+    assert!(csv(&out)[1..].iter().all(|r| r[r.len() - 2] == "true"));
 }
 
 #[test]

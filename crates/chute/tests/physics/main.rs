@@ -5,12 +5,14 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod control;
 mod failure;
 mod gci;
 mod lateral;
 mod metrics;
 mod recovery;
 mod resume;
+mod round_symmetry;
 mod runs;
 mod session;
 mod shell_bending;

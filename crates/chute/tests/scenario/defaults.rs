@@ -113,12 +113,24 @@ fn schema_matches_the_serde_structs() {
     // The two permeability forms exclude each other: set the second one directly.
     let mut s = s;
     s.material.air_permeability_cfm = Some(1.0);
+    // The pull and guidance sections (payload mode only): set them directly too.
+    s.control.push(chute::scenario::Control {
+        hold_s: Some(1.0),
+        ..Default::default()
+    });
+    s.guidance = Some(Default::default());
     let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();
     let mut keys = Vec::new();
     for (k, v) in &table {
-        match v.as_table() {
-            Some(t) => keys.extend(t.keys().map(|kk| format!("{k}.{kk}"))),
-            None => keys.push(k.clone()),
+        match (v.as_table(), v.as_array()) {
+            (Some(t), _) => keys.extend(t.keys().map(|kk| format!("{k}.{kk}"))),
+            (_, Some(a)) => {
+                for (i, e) in a.iter().enumerate() {
+                    let t = e.as_table().unwrap();
+                    keys.extend(t.keys().map(|kk| format!("{k}[{i}].{kk}")));
+                }
+            }
+            _ => keys.push(k.clone()),
         }
     }
     keys.sort();

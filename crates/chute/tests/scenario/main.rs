@@ -5,6 +5,7 @@
 mod common;
 
 mod bundled;
+mod control;
 mod defaults;
 mod docs;
 mod errors;

@@ -20,4 +20,4 @@ pub use bend_twist::{BendTwist, BendTwistData, BendTwistElement, BendTwistLaw};
 pub use frames::RodFrames;
 pub use network::{RodHandles, RodNetwork, RodSpec};
 pub use section::{Section, SectionError};
-pub use stretch::{EdgeSpring, Stretch, StretchLaw};
+pub use stretch::{Command, EdgeSpring, Pull, RestSchedule, Scheduled, Stretch, StretchLaw};

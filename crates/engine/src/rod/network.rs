@@ -14,9 +14,9 @@
 use super::bend_twist::{BendTwist, BendTwistElement};
 use super::frames::first_director;
 use super::section::Section;
-use super::stretch::Stretch;
+use super::stretch::{RestSchedule, Scheduled, Stretch};
 use crate::error::{EngineError, InvalidModel};
-use crate::model::Model;
+use crate::model::{ForceId, Model};
 use crate::vec3::{node, V3};
 use std::ops::Range;
 
@@ -37,6 +37,8 @@ pub struct RodSpec {
     /// it). `None`: `frames::perpendicular` (horizontal for a horizontal rod). For a
     /// rectangle `d1` is the width direction.
     pub first_director: Option<[f64; 3]>,
+    /// A schedule of the rod's total rest length (a pulled line): see [`super::stretch`].
+    pub rest_schedule: Option<RestSchedule>,
 }
 
 impl RodSpec {
@@ -49,7 +51,13 @@ impl RodSpec {
             shear_modulus: g,
             density: rho,
             first_director: None,
+            rest_schedule: None,
         }
+    }
+    /// The same rod with its rest length following `schedule`.
+    pub fn with_rest_schedule(mut self, schedule: RestSchedule) -> Self {
+        self.rest_schedule = Some(schedule);
+        self
     }
     /// The same rod with first director `d1`.
     pub fn with_first_director(mut self, d1: [f64; 3]) -> Self {
@@ -78,6 +86,10 @@ pub struct RodHandles {
     pub rod_voronoi_len: Vec<Vec<f64>>,
     /// Number of bend–twist elements.
     pub n_bend_twist: usize,
+    /// The stretching family (`rod-stretch`), which holds the rest-length schedules.
+    pub stretch: Option<ForceId>,
+    /// Schedule index (in the stretching family) of each rod with a rest schedule.
+    pub rod_schedule: Vec<Option<usize>>,
 }
 
 /// A set of rods, their joints and pins.
@@ -332,7 +344,16 @@ impl RodNetwork {
             h.rod_edges.push(range);
             h.rod_voronoi_len.push(vor);
         }
-        model.add_force(Stretch::new("rod-stretch", &edges, q, stiff));
+        let (schedules, scheduled) = self.schedules(&h);
+        h.rod_schedule = self.rod_schedule_index();
+        h.stretch = Some(model.add_force(Stretch::with_schedules(
+            "rod-stretch",
+            &edges,
+            h.rest_len.clone(),
+            stiff,
+            schedules,
+            scheduled,
+        )));
         let elems = self.elements(&h.rest_len, n_nodes);
         let mut used = vec![false; edges.len()];
         for el in &elems {
@@ -352,6 +373,41 @@ impl RodNetwork {
         }
         h.edges = edges;
         Ok(h)
+    }
+
+    /// Schedule index of each rod that has a rest schedule, in rod order.
+    fn rod_schedule_index(&self) -> Vec<Option<usize>> {
+        let mut next = 0;
+        self.rods
+            .iter()
+            .map(|r| {
+                r.rest_schedule.as_ref().map(|_| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect()
+    }
+
+    /// The schedules of the rods that have one, and each edge's part in its rod's schedule
+    /// (the share `l̄₀/L₀`).
+    fn schedules(&self, h: &RodHandles) -> (Vec<RestSchedule>, Vec<Option<Scheduled>>) {
+        let mut scheduled = vec![None; h.rest_len.len()];
+        let mut schedules = Vec::new();
+        for (r, range) in h.rod_edges.iter().enumerate() {
+            let Some(sch) = &self.rods[r].rest_schedule else {
+                continue;
+            };
+            let total: f64 = h.rest_len[range.clone()].iter().sum();
+            for e in range.clone() {
+                scheduled[e] = Some(Scheduled {
+                    schedule: schedules.len(),
+                    share: h.rest_len[e] / total,
+                });
+            }
+            schedules.push(sch.clone());
+        }
+        (schedules, scheduled)
     }
 
     /// Clamp an end of rod `rod` in position and orientation: its first (or last) two nodes

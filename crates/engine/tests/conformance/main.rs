@@ -13,8 +13,10 @@ mod rods;
 
 use engine::aero::{LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
 use engine::conformance::Case;
+use engine::force::Force;
 use engine::force_conformance;
 use engine::loads::{DofForces, Gravity, PlanarEdgeMoment, PointForces};
+use engine::rod::{Pull, RestSchedule, Scheduled, Stretch};
 use engine::shell::{Hinge, HingeBending};
 use fixtures::*;
 use membranes::*;
@@ -200,6 +202,44 @@ fn rod_case(name: &str) -> Case {
 }
 force_conformance!(rod_stretch, rod_case("rod-stretch"));
 force_conformance!(rod_bend_twist, rod_case("rod-bend-twist"));
+// Pulled lines: rest lengths on a schedule, evaluated (t = 0) mid-ramp of a pull, during a
+// held lengthening and mid-ramp of a controller's command; the force stays −∇E at fixed t.
+force_conformance!(rod_stretch_pulled, {
+    let (edges, q) = (
+        vec![[0, 1], [1, 2], [2, 3], [3, 4]],
+        vec![
+            0.0, 0.0, 0.0, 1.0, 0.2, 0.0, 2.0, 0.0, 0.3, 3.0, 0.1, -0.2, 3.5, 1.0, 0.0,
+        ],
+    );
+    let pull = |start: f64, ramp: f64, shorten: f64, hold| Pull {
+        start,
+        ramp,
+        shorten,
+        hold,
+    };
+    let schedules = vec![
+        RestSchedule {
+            pulls: vec![pull(-0.5, 2.0, 0.6, None)],
+            command_ramp: 1.0,
+        },
+        RestSchedule {
+            pulls: vec![pull(-2.0, 0.0, -0.3, Some(5.0))],
+            command_ramp: 0.0,
+        },
+    ];
+    let part = |schedule, share| Some(Scheduled { schedule, share });
+    let scheduled = vec![part(0, 0.4), part(0, 0.6), None, part(1, 1.0)];
+    let mut f = Stretch::with_schedules(
+        "rod-stretch",
+        &edges,
+        vec![1.1, 0.9, 1.3, 1.2],
+        vec![300.0, 200.0, 250.0, 400.0],
+        schedules,
+        scheduled,
+    );
+    f.restore_history(&[0.1, 0.3, -0.4, 0.0, 0.0, 0.0]).unwrap();
+    Case::new(f, q).perturb(0.3)
+});
 
 // Shells: a 4 × 4 mesh with a curved rest shape, nodes displaced by up to 0.13 m (40 % of
 // the spacing).

@@ -1,0 +1,9 @@
+//! Line-pull control: steering a payload-mode parachute by shortening suspension lines.
+//!
+//! Scheduled pulls (`[[control]]`) need nothing at run time: they are rest-length schedules
+//! of the line rods (`build::control`, engine `rod::stretch`), read from the evaluation time.
+//! Guidance (`[guidance]`) decides pulls while flying: [`guidance::Controller`] writes the
+//! lines' commands between steps. docs/control.md has the laws and the studies.
+pub mod guidance;
+
+pub use guidance::Controller;

@@ -1,0 +1,219 @@
+//! Guidance to a target on the ground by line pulls: a proportional law on the predicted miss.
+//!
+//! Every `update_s` the controller predicts where the payload would land if it kept its
+//! current velocity, `p̂ = x_h + v_h t_go` with `t_go = h / max(−v_z, V_MIN)` (h the height
+//! above the ground), and takes the miss `e = T − p̂` to the target `T`. It pulls by
+//! `u = min(max_pull, gain |e|)` in the direction of `e`: line `i`, whose site lies in the
+//! horizontal direction `d̂_i` from the sites' centroid, gets `u_i = u · max(0, σ d̂_i · ê)`
+//! — with `σ = +1` (`pull_side = "towards"`) the lines on the target's side, most the one
+//! facing it, for a canopy that glides towards its pulled side (a flat square does); with
+//! `σ = −1` (`"away"`) the far side, for one that glides away from it (this model's round
+//! canopy: docs/control.md). Each decision ramps the lines from their current shortening to
+//! the new one over `ramp_s`.
+//!
+//! The controller holds no state of its own: its commands are the history of the lines'
+//! stretching family (the time of the last decision included), which checkpoints carry, and a
+//! decision depends only on the state and that history. A resumed run therefore decides
+//! exactly as the uninterrupted one.
+use crate::build::control::Lines;
+use crate::build::Built;
+use crate::scenario::Scenario;
+use engine::rod::Command;
+
+/// Smallest descent rate used for the time to go (m/s): a canopy not (yet) descending is
+/// treated as descending slowly rather than dividing by zero.
+pub const V_MIN: f64 = 0.1;
+
+/// The guidance law of one run.
+#[derive(Debug, Clone)]
+pub struct Controller {
+    target: [f64; 2],
+    max_pull: f64,
+    gain: f64,
+    update_s: f64,
+    ramp_s: f64,
+    ground_z: f64,
+    /// +1: pull the lines facing the miss; −1: those facing away.
+    side: f64,
+}
+
+/// One decision: the predicted landing point, the miss, and the pull of each line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Decision {
+    /// Predicted landing point `p̂` (m).
+    pub predicted_m: [f64; 2],
+    /// Miss `T − p̂` (m).
+    pub miss_m: [f64; 2],
+    /// Shortening commanded for each line (m).
+    pub pulls_m: Vec<f64>,
+}
+
+impl Controller {
+    /// The controller of `s` for ground at model height `ground_z` (m), or `None` without
+    /// `[guidance]`.
+    pub fn new(s: &Scenario, ground_z: f64) -> Option<Self> {
+        let g = s.guidance.as_ref()?;
+        Some(Self {
+            target: [g.target_m[0], g.target_m[1]],
+            max_pull: g.max_pull_m,
+            gain: g.gain,
+            update_s: g.update_s,
+            ramp_s: g.ramp_s,
+            ground_z,
+            side: match g.pull_side {
+                crate::scenario::PullSide::Towards => 1.0,
+                crate::scenario::PullSide::Away => -1.0,
+            },
+        })
+    }
+
+    /// The target `[x, y]` (m).
+    pub fn target(&self) -> [f64; 2] {
+        self.target
+    }
+
+    /// Distance (m) from `point` `[x, y]` to the target.
+    pub fn miss_m(&self, point: [f64; 2]) -> f64 {
+        (point[0] - self.target[0]).hypot(point[1] - self.target[1])
+    }
+
+    /// Whether a decision is due at time `t`, `update_s` after the last one (at `t0` of the
+    /// commands; the first is due at `update_s`).
+    pub fn due(&self, t: f64, commands: &[Command]) -> bool {
+        let last = commands.first().map_or(0.0, |c| c.t0);
+        t >= last + self.update_s * (1.0 - 1e-9)
+    }
+
+    /// The decision for the payload at `x`, velocity `v` and the line sites at `sites`.
+    pub fn decide(&self, x: [f64; 3], v: [f64; 3], sites: &[[f64; 3]]) -> Decision {
+        let h = (x[2] - self.ground_z).max(0.0);
+        let t_go = h / (-v[2]).max(V_MIN);
+        let predicted_m = [x[0] + v[0] * t_go, x[1] + v[1] * t_go];
+        let miss_m = [
+            self.target[0] - predicted_m[0],
+            self.target[1] - predicted_m[1],
+        ];
+        let dist = miss_m[0].hypot(miss_m[1]);
+        let u = (self.gain * dist).min(self.max_pull);
+        let n = sites.len().max(1) as f64;
+        let c = [0, 1].map(|k| sites.iter().map(|p| p[k]).sum::<f64>() / n);
+        let pulls_m = sites
+            .iter()
+            .map(|p| {
+                let d = [p[0] - c[0], p[1] - c[1]];
+                let r = d[0].hypot(d[1]);
+                if dist == 0.0 || r == 0.0 {
+                    return 0.0;
+                }
+                let cos = self.side * (d[0] * miss_m[0] + d[1] * miss_m[1]) / (r * dist);
+                u * cos.max(0.0)
+            })
+            .collect();
+        Decision {
+            predicted_m,
+            miss_m,
+            pulls_m,
+        }
+    }
+
+    /// After an accepted step (at `built.state`): when a decision is due, decide and command the
+    /// lines (ramping from their current shortening). Returns the decision taken.
+    pub fn after_step(&self, built: &mut Built) -> Option<Decision> {
+        let lines = built.lines.as_ref()?;
+        let commands = lines.commands(&built.model);
+        let state = &built.state;
+        if !self.due(state.t, &commands) {
+            return None;
+        }
+        let p = built.payload_node?;
+        let node = |v: &[f64], i: usize| [v[3 * i], v[3 * i + 1], v[3 * i + 2]];
+        let sites: Vec<[f64; 3]> = lines.lines.iter().map(|l| node(&state.q, l.site)).collect();
+        let d = self.decide(node(&state.q, p), node(&state.v, p), &sites);
+        let h = self.commands(lines, &commands, &d, state.t);
+        let stretch = lines.stretch;
+        built
+            .model
+            .force_mut(stretch)
+            .restore_history(&h)
+            .expect("one command per schedule");
+        Some(d)
+    }
+
+    /// The stretching family's new history: each line ramps from its shortening at `t` to
+    /// its decided pull.
+    fn commands(&self, lines: &Lines, old: &[Command], d: &Decision, t: f64) -> Vec<f64> {
+        let mut h: Vec<f64> = old.iter().flat_map(|c| [c.from, c.to, c.t0]).collect();
+        for (line, &u) in lines.lines.iter().zip(&d.pulls_m) {
+            if let Some((_, k)) = &line.schedule {
+                let now = old[*k].at(t, self.ramp_s);
+                h[Command::LEN * k..Command::LEN * (k + 1)].copy_from_slice(&[now, u, t]);
+            }
+        }
+        h
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn controller() -> Controller {
+        Controller {
+            target: [10.0, 0.0],
+            max_pull: 0.3,
+            gain: 0.05,
+            update_s: 0.5,
+            ramp_s: 0.25,
+            ground_z: -30.0,
+            side: 1.0,
+        }
+    }
+
+    /// Four sites on ±x, ±y around the payload.
+    const SITES: [[f64; 3]; 4] = [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+    ];
+
+    #[test]
+    fn pulls_the_lines_facing_the_predicted_miss() {
+        let c = controller();
+        // 30 m up at 5 m/s: 6 s to go; drifting at 1 m/s along +y lands at (0, 6).
+        let d = c.decide([0.0, 0.0, 0.0], [0.0, 1.0, -5.0], &SITES);
+        assert!((d.predicted_m[1] - 6.0).abs() < 1e-12);
+        assert_eq!(d.miss_m, [10.0, -6.0]);
+        let u = (0.05 * 136f64.sqrt()).min(0.3);
+        let e = [10.0 / 136f64.sqrt(), -6.0 / 136f64.sqrt()];
+        let want = [u * e[0], 0.0, 0.0, -u * e[1]];
+        for (got, want) in d.pulls_m.iter().zip(want) {
+            assert!((got - want).abs() < 1e-12, "{:?}", d.pulls_m);
+        }
+        // On target: nothing to pull; far away: saturated at max_pull.
+        let d = c.decide([10.0, 0.0, 0.0], [0.0, 0.0, -5.0], &SITES);
+        assert!(d.pulls_m.iter().all(|&u| u == 0.0));
+        let d = c.decide([-100.0, 0.0, 0.0], [0.0, 0.0, -5.0], &SITES);
+        assert_eq!(d.pulls_m, [0.3, 0.0, 0.0, 0.0]);
+        // Pulling the far side instead: the line facing away.
+        let away = Controller { side: -1.0, ..c };
+        let d = away.decide([-100.0, 0.0, 0.0], [0.0, 0.0, -5.0], &SITES);
+        assert_eq!(d.pulls_m, [0.0, 0.0, 0.3, 0.0]);
+    }
+
+    #[test]
+    fn decisions_are_due_every_update_after_the_last() {
+        let c = controller();
+        let at = |t0| {
+            [Command {
+                from: 0.0,
+                to: 0.1,
+                t0,
+            }]
+        };
+        assert!(!c.due(0.4, &at(0.0)));
+        assert!(c.due(0.5, &at(0.0)));
+        assert!(!c.due(0.9, &at(0.5)));
+        assert!(c.due(1.0, &at(0.5)));
+    }
+}

@@ -1,0 +1,179 @@
+//! The outputs of a run with line pulls or guidance (docs/outputs.md): `lines.csv` (every
+//! line's rest length, length and tension), `track.csv` (the payload's position) at every
+//! frame time, and `track.png` (the top view of the track with target and landing point).
+//!
+//! Both files are streamed in whole rows and flushed at each frame; resuming cuts them back
+//! to the rows at or before the checkpoint's time, so a resumed run's files equal the
+//! uninterrupted run's.
+use std::fs::{File, OpenOptions};
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+use plotters::prelude::*;
+
+use super::plots::{render_atomic, PlotError, PLOT_SIZE};
+
+/// `lines.csv`.
+pub const LINES_CSV: &str = "lines.csv";
+/// `track.csv`.
+pub const TRACK_CSV: &str = "track.csv";
+/// `track.png`.
+pub const TRACK_PNG: &str = "track.png";
+const LINES_HEADER: &str = "t_s,line,rest_length_m,length_m,tension_n";
+const TRACK_HEADER: &str = "t_s,x_m,y_m,z_m";
+
+/// One streamed CSV file of rows stamped with their time.
+struct Rows {
+    path: PathBuf,
+    file: File,
+}
+
+impl Rows {
+    /// Create `dir/name` with `header`, or, resuming at `t_resume`, keep its rows up to then.
+    fn open(dir: &Path, name: &str, header: &str, t_resume: Option<f64>) -> io::Result<Self> {
+        let path = dir.join(name);
+        match t_resume {
+            None => std::fs::write(&path, format!("{header}\n"))?,
+            Some(t) => {
+                let text = std::fs::read_to_string(&path).unwrap_or_default();
+                let keep: Vec<&str> = text
+                    .lines()
+                    .skip(1)
+                    .filter(|l| {
+                        let t_row = l.split(',').next().and_then(|x| x.parse::<f64>().ok());
+                        t_row.is_some_and(|x| x <= t + 1e-9 * t.abs().max(1.0))
+                    })
+                    .collect();
+                let mut out = format!("{header}\n");
+                keep.iter().for_each(|l| out.extend([*l, "\n"]));
+                std::fs::write(&path, out)?;
+            }
+        }
+        let file = OpenOptions::new().append(true).open(&path)?;
+        Ok(Self { path, file })
+    }
+
+    fn write(&mut self, rows: &str) -> io::Result<()> {
+        self.file.write_all(rows.as_bytes())?;
+        self.file.flush()
+    }
+}
+
+/// The writers of `lines.csv` and `track.csv`.
+pub struct ControlFiles {
+    lines: Rows,
+    track: Rows,
+}
+
+impl ControlFiles {
+    /// Create both files in `dir` (`t_resume`: cut them back to that time instead).
+    pub fn open(dir: &Path, t_resume: Option<f64>) -> io::Result<Self> {
+        Ok(Self {
+            lines: Rows::open(dir, LINES_CSV, LINES_HEADER, t_resume)?,
+            track: Rows::open(dir, TRACK_CSV, TRACK_HEADER, t_resume)?,
+        })
+    }
+
+    /// Append the rows of time `t`: `[rest length, length, tension]` of every line and the
+    /// payload position.
+    pub fn push(&mut self, t: f64, lines: &[[f64; 3]], payload: [f64; 3]) -> io::Result<()> {
+        let mut text = String::new();
+        for (i, [r, l, f]) in lines.iter().enumerate() {
+            text.push_str(&format!("{t},{i},{r},{l},{f}\n"));
+        }
+        self.lines.write(&text)?;
+        let [x, y, z] = payload;
+        self.track.write(&format!("{t},{x},{y},{z}\n"))
+    }
+
+    /// The track so far, read back from `track.csv`: `[x, y]` per row.
+    pub fn track(&self) -> io::Result<Vec<[f64; 2]>> {
+        let text = std::fs::read_to_string(&self.track.path)?;
+        Ok(text
+            .lines()
+            .skip(1)
+            .filter_map(|l| {
+                let v: Vec<f64> = l.split(',').filter_map(|x| x.parse().ok()).collect();
+                (v.len() == 4).then(|| [v[1], v[2]])
+            })
+            .collect())
+    }
+}
+
+/// Top view of the payload's `track` (m), with the `target` and `landing` points when known;
+/// equal scales on both axes.
+pub fn track_plot(
+    path: &Path,
+    track: &[[f64; 2]],
+    target: Option<[f64; 2]>,
+    landing: Option<[f64; 2]>,
+) -> Result<(), PlotError> {
+    let pts: Vec<[f64; 2]> = track
+        .iter()
+        .chain(&target)
+        .chain(&landing)
+        .copied()
+        .collect();
+    if pts.is_empty() {
+        return Err(PlotError::NoData("track"));
+    }
+    let range = |k: usize| {
+        let lo = pts.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
+        let hi = pts.iter().map(|p| p[k]).fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    };
+    let ((x0, x1), (y0, y1)) = (range(0), range(1));
+    // Equal scales: the larger span (and at least 1 m) on both axes, padded by 10 %.
+    let span = (x1 - x0).max(y1 - y0).max(1.0) * 1.1;
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let aspect = PLOT_SIZE.0 as f64 / PLOT_SIZE.1 as f64;
+    let (hx, hy) = (0.5 * span * aspect.max(1.0), 0.5 * span);
+    let de = |e: &dyn std::fmt::Display| PlotError::Draw(e.to_string());
+    render_atomic(path, PLOT_SIZE, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption("Payload track, top view", ("sans-serif", 26))
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(80)
+            .build_cartesian_2d(cx - hx..cx + hx, cy - hy..cy + hy)
+            .map_err(|e| de(&e))?;
+        chart
+            .configure_mesh()
+            .label_style(("sans-serif", 15))
+            .axis_desc_style(("sans-serif", 18))
+            .x_desc("x (m)")
+            .y_desc("y (m)")
+            .draw()
+            .map_err(|e| de(&e))?;
+        chart
+            .draw_series(LineSeries::new(
+                track.iter().map(|p| (p[0], p[1])),
+                BLUE.stroke_width(2),
+            ))
+            .map_err(|e| de(&e))?
+            .label("track")
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE.stroke_width(2)));
+        if let Some([x, y]) = target {
+            chart
+                .draw_series([Cross::new((x, y), 10, RED.stroke_width(3))])
+                .map_err(|e| de(&e))?
+                .label("target")
+                .legend(|(x, y)| Cross::new((x + 10, y), 6, RED.stroke_width(3)));
+        }
+        if let Some([x, y]) = landing {
+            chart
+                .draw_series([Circle::new((x, y), 7, BLACK.filled())])
+                .map_err(|e| de(&e))?
+                .label("landing")
+                .legend(|(x, y)| Circle::new((x + 10, y), 5, BLACK.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .label_font(("sans-serif", 16))
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| de(&e))?;
+        Ok(())
+    })
+}

@@ -1,0 +1,154 @@
+//! The cross-key rules of line pulls (`[[control]]`) and guidance (`[guidance]`): line
+//! indices against the number of suspension lines, the 10 % floor on a pulled line's length,
+//! and pulls on one line that overlap in time (the declared rules already make the times and
+//! ramps non-negative and both sections payload-only).
+
+use super::validate::Checker;
+use super::{CanopyShape, LoadMode, ModelKind, Scenario, SiteSet, Sites};
+
+/// A pull may leave a line no shorter than this fraction of its length.
+pub const MIN_LINE_FRACTION: f64 = 0.1;
+
+/// The number of suspension lines (one per load site) as the scenario declares them; the
+/// builder checks again after resolving sites to nodes (two points may share a node).
+pub fn declared_line_count(s: &Scenario) -> usize {
+    match &s.load.sites {
+        Sites::Points(p) => p.len(),
+        Sites::Named(set) => match (set, s.model.kind, s.canopy.shape) {
+            (SiteSet::Ends, ..) => 2,
+            (SiteSet::Center, ..) => 1,
+            (SiteSet::Rim, ..) => s.load.rim_site_count,
+            (SiteSet::Corners, ModelKind::Shell, CanopyShape::Hexagon) => 6,
+            (SiteSet::Corners, ..) => 4,
+            (SiteSet::CornersAndMidspan, ..) => 6,
+        },
+    }
+}
+
+/// Check the pulls and the guidance of `s` (only in payload mode: elsewhere the declared
+/// "only with" rule has refused them).
+pub(super) fn check(c: &mut Checker, s: &Scenario) {
+    if s.load.mode != LoadMode::Payload {
+        return;
+    }
+    let n = declared_line_count(s);
+    let floor = (1.0 - MIN_LINE_FRACTION) * s.lines.length_m;
+    for (i, p) in s.control.iter().enumerate() {
+        let key = |k: &str| format!("control[{i}].{k}");
+        lines(c, &key("lines"), &p.lines, n);
+        if p.shorten_m > floor {
+            c.fail(
+                &key("shorten_m"),
+                p.shorten_m,
+                format!(
+                    "would leave a line shorter than {:.0} % of its {} m (`lines.length_m`): at \
+                     most {floor}",
+                    100.0 * MIN_LINE_FRACTION,
+                    s.lines.length_m
+                ),
+            );
+        }
+        for (j, q) in s.control[..i].iter().enumerate() {
+            let shared = p.lines.iter().find(|l| q.lines.contains(l));
+            if let Some(line) = shared.filter(|_| overlap(q, p)) {
+                c.fail(
+                    &key("start_s"),
+                    p.start_s,
+                    format!(
+                        "this pull on line {line} overlaps control[{j}] (from {} s to {}): \
+                         pulls on one line must follow each other (start after the other's \
+                         release ends)",
+                        q.start_s,
+                        end_text(q)
+                    ),
+                );
+            }
+        }
+    }
+    if let Some(g) = &s.guidance {
+        if s.atmosphere.ground_altitude_m.is_none() {
+            c.fail(
+                "guidance.target_m",
+                format!("{:?}", g.target_m),
+                "guidance steers to a point on the ground: set `atmosphere.ground_altitude_m` \
+                 (with `atmosphere.model = \"isa1976\"`)",
+            );
+        }
+        if g.target_m.len() != 2 {
+            c.fail(
+                "guidance.target_m",
+                format!("{:?}", g.target_m),
+                "must be two numbers [x, y] (m)",
+            );
+        }
+        let scheduled = s.control.iter().map(|p| p.shorten_m).fold(0.0, f64::max);
+        if g.max_pull_m + scheduled > floor {
+            c.fail(
+                "guidance.max_pull_m",
+                g.max_pull_m,
+                format!(
+                    "with the largest `[[control]]` pull ({scheduled} m) it would leave a line \
+                     shorter than {:.0} % of its {} m: at most {} in all",
+                    100.0 * MIN_LINE_FRACTION,
+                    s.lines.length_m,
+                    floor
+                ),
+            );
+        }
+        if g.ramp_s > g.update_s {
+            c.fail(
+                "guidance.ramp_s",
+                g.ramp_s,
+                format!(
+                    "must be ≤ `guidance.update_s` = {} s (one ramp per decision)",
+                    g.update_s
+                ),
+            );
+        }
+    }
+}
+
+fn lines(c: &mut Checker, key: &str, lines: &[usize], n: usize) {
+    if lines.is_empty() {
+        c.fail(key, "[]", "name at least one line");
+    }
+    if let Some(&l) = lines.iter().find(|&&l| l >= n) {
+        c.fail(
+            key,
+            format!("{lines:?}"),
+            format!(
+                "line {l} does not exist: the load sites give {n} lines, 0 … {}",
+                n - 1
+            ),
+        );
+    }
+    if let Some((k, &l)) = lines
+        .iter()
+        .enumerate()
+        .find(|(k, l)| lines[..*k].contains(l))
+    {
+        c.fail(
+            key,
+            format!("{lines:?}"),
+            format!("line {l} is named twice (entry {k})"),
+        );
+    }
+}
+
+/// End of a pull's release (s), infinite when it is held to the end.
+fn end(p: &super::Control) -> f64 {
+    p.hold_s
+        .map_or(f64::INFINITY, |h| p.start_s + 2.0 * p.ramp_s + h)
+}
+
+fn end_text(p: &super::Control) -> String {
+    match p.hold_s {
+        Some(_) => format!("{} s", end(p)),
+        None => "the end, never released".into(),
+    }
+}
+
+/// Whether two pulls act on a line at the same time (one may start where the other ends).
+fn overlap(a: &super::Control, b: &super::Control) -> bool {
+    a.start_s < end(b) && b.start_s < end(a)
+}

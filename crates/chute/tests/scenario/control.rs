@@ -1,0 +1,171 @@
+//! `[[control]]` and `[guidance]`: parsed, defaulted, overridden entry by entry and as a
+//! whole array, written back, and every bad input of issue 19 refused naming the entry.
+use chute::scenario::{Scenario, ScenarioError};
+
+use crate::common::repo;
+
+const PULLS: &str = "control=[{lines = [0, 1], start_s = 1.0, ramp_s = 0.5, shorten_m = 0.3}, \
+                     {lines = [6], start_s = 2.0, shorten_m = -0.2, hold_s = 1.5}]";
+
+fn round(set: &[&str]) -> Result<Scenario, ScenarioError> {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    Scenario::load(&repo().join("scenarios/round-parachute.toml"), &set)
+}
+
+fn refused(set: &[&str], key: &str, want: &str) {
+    let e = round(set).expect_err("accepted");
+    let msg = e.to_string();
+    assert_eq!(e.key(), Some(key), "{msg}");
+    assert!(msg.contains(want), "want `{want}` in: {msg}");
+    assert!(msg.contains("from `--set"), "{msg}");
+}
+
+#[test]
+fn pulls_parse_with_defaults_and_round_trip() {
+    let s = round(&[PULLS]).unwrap();
+    assert_eq!(s.control.len(), 2);
+    let (a, b) = (&s.control[0], &s.control[1]);
+    assert_eq!(
+        (a.lines.clone(), a.start_s, a.ramp_s, a.shorten_m, a.hold_s),
+        (vec![0, 1], 1.0, 0.5, 0.3, None)
+    );
+    assert_eq!((b.ramp_s, b.shorten_m, b.hold_s), (0.0, -0.2, Some(1.5)));
+    let back = Scenario::from_str_with_name(&s.to_toml(), "r.toml", &[]).unwrap();
+    assert_eq!(back, s);
+    // No pulls: nothing written back, nothing changed.
+    let plain = round(&[]).unwrap();
+    assert!(plain.control.is_empty() && plain.guidance.is_none());
+    assert!(!plain.to_toml().contains("control"));
+}
+
+#[test]
+fn one_field_of_one_entry_is_overridden_by_index() {
+    let s = round(&[PULLS, "control[1].start_s=2.5", "control[0].lines=[3]"]).unwrap();
+    assert_eq!(s.control[1].start_s, 2.5);
+    assert_eq!(s.control[0].lines, vec![3]);
+    assert_eq!(s.control[0].shorten_m, 0.3);
+    // Index = number of entries appends one (its required keys then apply).
+    let e = round(&[PULLS, "control[2].start_s=1"]).unwrap_err();
+    assert_eq!(e.key(), Some("control[2].lines"), "{e}");
+}
+
+#[test]
+fn bad_pulls_name_the_entry() {
+    refused(
+        &[PULLS, "control[1].lines=[12]"],
+        "control[1].lines",
+        "line 12 does not exist",
+    );
+    refused(
+        &[PULLS, "control[1].lines=[2, 2]"],
+        "control[1].lines",
+        "named twice",
+    );
+    refused(
+        &[PULLS, "control[0].lines=[]"],
+        "control[0].lines",
+        "at least one line",
+    );
+    refused(
+        &[PULLS, "control[0].shorten_m=2.8"],
+        "control[0].shorten_m",
+        "10 %",
+    );
+    refused(
+        &[PULLS, "control[0].ramp_s=-1"],
+        "control[0].ramp_s",
+        "must not be negative",
+    );
+    refused(
+        &[PULLS, "control[1].hold_s=-0.5"],
+        "control[1].hold_s",
+        "must not be negative",
+    );
+    refused(
+        &[PULLS, "control[1].start_s=-0.5"],
+        "control[1].start_s",
+        "must not be negative",
+    );
+    // Line 6 is held from 2 s until 3.5 s; a second pull on it inside that time overlaps.
+    let set = [
+        PULLS,
+        "control[2].lines=[5, 6]",
+        "control[2].start_s=3.0",
+        "control[2].shorten_m=0.1",
+    ];
+    refused(&set, "control[2].start_s", "overlaps control[1]");
+    // Right after the release ends it is a sequence, not an overlap.
+    let ok = [
+        PULLS,
+        "control[2].lines=[6]",
+        "control[2].start_s=3.5",
+        "control[2].shorten_m=0.1",
+    ];
+    round(&ok).unwrap();
+    // A pull without hold lasts to the end: any later pull on its lines overlaps.
+    let set = [
+        PULLS,
+        "control[2].lines=[1]",
+        "control[2].start_s=9",
+        "control[2].shorten_m=0.1",
+    ];
+    refused(&set, "control[2].start_s", "never released");
+}
+
+#[test]
+fn pulls_and_guidance_need_suspension_lines() {
+    let e = round(&[PULLS, "load.mode=mass"]).unwrap_err();
+    assert!(e.key().is_some_and(|k| k.starts_with("control")), "{e}");
+    assert!(e.to_string().contains("load.mode = \"payload\""), "{e}");
+    let g = ["guidance.target_m=[10, 0]", "guidance.max_pull_m=0.3"];
+    let e = round(&[g[0], g[1], "load.mode=force"]).unwrap_err();
+    assert_eq!(e.key(), Some("guidance"), "{e}");
+    assert!(e.to_string().contains("suspension lines"), "{e}");
+}
+
+#[test]
+fn guidance_is_checked() {
+    let ground = [
+        "atmosphere.model=isa1976",
+        "atmosphere.altitude_m=30",
+        "atmosphere.ground_altitude_m=0",
+    ];
+    fn with<'a>(ground: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
+        let mut v = vec!["guidance.target_m=[10, 0]", "guidance.max_pull_m=0.3"];
+        v.extend_from_slice(ground);
+        v.extend_from_slice(extra);
+        v
+    }
+    let s = round(&with(&ground, &[])).unwrap();
+    let g = s.guidance.as_ref().unwrap();
+    assert_eq!((g.target_m.clone(), g.max_pull_m), (vec![10.0, 0.0], 0.3));
+    assert_eq!(
+        Scenario::from_str_with_name(&s.to_toml(), "r.toml", &[]).unwrap(),
+        s
+    );
+    refused(
+        &with(&ground, &["guidance.target_m=[1, 2, 3]"]),
+        "guidance.target_m",
+        "two numbers",
+    );
+    refused(
+        &with(&ground, &["guidance.max_pull_m=2.9"]),
+        "guidance.max_pull_m",
+        "10 %",
+    );
+    refused(
+        &with(&ground, &["guidance.max_pull_m=-1"]),
+        "guidance.max_pull_m",
+        "must be positive",
+    );
+    refused(
+        &with(&ground, &["guidance.ramp_s=2"]),
+        "guidance.ramp_s",
+        "update_s",
+    );
+    let e = round(&["guidance.target_m=[10, 0]", "guidance.max_pull_m=0.3"]).unwrap_err();
+    assert_eq!(e.key(), Some("guidance.target_m"), "{e}");
+    assert!(e.to_string().contains("ground_altitude_m"), "{e}");
+    let e = round(&["guidance.max_pull_m=0.3"]).unwrap_err();
+    assert_eq!(e.key(), Some("guidance.target_m"), "{e}");
+}
