@@ -8,6 +8,9 @@ use std::path::PathBuf;
 
 use super::keys::{choice, key, section, when, Bound, Cond, KeyType, Kind, Section};
 
+mod control;
+pub use control::{Control, Guidance, PullSide};
+
 /// `[model]`, `[canopy]`, …: every section, in file (and resolved-TOML) order.
 pub const SECTIONS: &[Section] = &[
     Section::table::<TopLevel>(""),
@@ -575,71 +578,5 @@ section! {
             .non_negative("times after time.duration_s are skipped")
             .default_doc("30 %, 60 %, 90 % of `time.duration_s`")
             .note("times after `time.duration_s` are skipped with a warning in the summary"),
-    }
-}
-
-section! {
-    /// One `[[control]]` entry: a scheduled pull on suspension lines (docs/control.md).
-    pub struct Control {
-        /// pulled lines: 0-based indices in the order of the load sites (`rim`:
-        /// counter-clockwise from +x)
-        lines: Vec<usize> = Vec::new() => key()
-            .required("say which suspension lines to pull, e.g. `lines = [0, 1]`")
-            .note("< the number of lines, no repeats; pulls on one line may not overlap in time"),
-        /// start of the ramp
-        start_s: f64 = 0.0 => key().unit("s").non_negative("a time"),
-        /// duration of the linear ramp; 0 = a step
-        ramp_s: f64 = 0.0 => key().unit("s").non_negative("a ramp duration"),
-        /// shortening of each pulled line when fully applied; negative lengthens
-        shorten_m: f64 = 0.0 => key()
-            .unit("m")
-            .required("say how far to pull, e.g. `shorten_m = 0.3`")
-            .note("leaves every pulled line ≥ 10 % of its length"),
-        /// time held fully applied before the release over the same ramp
-        #[serde(skip_serializing_if = "Option::is_none")]
-        hold_s: Option<f64> = None => key()
-            .unit("s")
-            .non_negative("a hold time")
-            .default_doc("absent: never released"),
-    }
-}
-
-choice! {
-    /// Which lines guidance pulls to glide towards a point.
-    pub enum PullSide {
-        /// The lines facing it: a canopy that glides towards its pulled side (a flat one).
-        Towards = "towards",
-        /// The lines facing away: a canopy that glides away from its pulled side (the round
-        /// canopy of this model, docs/control.md).
-        Away = "away",
-    }
-}
-
-section! {
-    /// `[guidance]`: steer to a target by pulling lines (docs/control.md).
-    pub struct Guidance {
-        /// target point `[x, y]` on the ground
-        target_m: Vec<f64> = Vec::new() => key()
-            .unit("m")
-            .required("say where to land, e.g. `target_m = [20.0, 0.0]`")
-            .note("two numbers"),
-        /// largest shortening of any line
-        max_pull_m: f64 = 0.0 => key()
-            .unit("m")
-            .positive("a pull")
-            .required("say how far a line may be pulled, e.g. `max_pull_m = 0.3`")
-            .note("leaves every line ≥ 10 % of its length (with `[[control]]` pulls)"),
-        /// which lines to pull to glide towards the target: those facing it or those facing
-        /// away (how the canopy responds: measure it with a `[[control]]` pull)
-        pull_side: PullSide = PullSide::Away => key(),
-        /// pull per metre of predicted miss (proportional gain)
-        gain: f64 = 0.05 => key().unit("m/m").positive("a gain"),
-        /// time between the controller's decisions
-        update_s: f64 = 0.5 => key().unit("s").positive("a time interval"),
-        /// ramp from one decision's pulls to the next
-        ramp_s: f64 = 0.25 => key()
-            .unit("s")
-            .non_negative("a ramp duration")
-            .note("≤ `update_s`"),
     }
 }

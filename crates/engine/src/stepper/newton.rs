@@ -23,6 +23,8 @@ use crate::stepper::options::{NewtonOptions, StepReport, Timings};
 use crate::stepper::start_policy::{StartPolicy, FACTOR_WORK};
 use std::time::Instant;
 
+mod tolerance;
+
 /// Largest `‖(J − J_s) Δ‖∞ / ‖R‖∞` accepted from the symmetric approximation `J_s`: the
 /// iteration then contracts at least ~10× per step where exact Newton would converge
 /// quadratically (3–4 extra iterations from 1 N to 1e-9 N at worst); above it, the updates
@@ -185,32 +187,6 @@ impl NewtonCore {
         norm2.sqrt()
     }
 
-    fn inf_norm(&self) -> (f64, usize) {
-        let mut worst = (0.0, 0);
-        for (r, &x) in self.residual.iter().enumerate() {
-            // NaN compares false, so a NaN residual is always reported as the worst.
-            if x.is_nan() || x.abs() > worst.0 {
-                worst = (x.abs(), self.assembler.dof_of[r]);
-            }
-        }
-        worst
-    }
-
-    /// The smallest residual (N) the inertia term can resolve: `c_m m (q − q̃)` is computed
-    /// from coordinates stored to `ε |q|`, so its round-off is about `ε c_m m |q|`. At tiny
-    /// `dt` (large `c_m = 1/dt²`) or far from the origin this exceeds a fixed tolerance, and
-    /// Newton would fail on round-off instead of physics; the tolerance never goes below
-    /// 16 × this floor (~1e-7 N per kg at dt = 1e-3 s and |q| ≈ 100 m).
-    fn roundoff_floor(&self, model: &Model, q: &[f64], tg: &Target<'_>) -> f64 {
-        let worst = self
-            .assembler
-            .dof_of
-            .iter()
-            .map(|&d| model.mass[d] * q[d].abs().max(tg.q_tilde[d].abs()))
-            .fold(0.0, f64::max);
-        16.0 * f64::EPSILON * tg.c_m * worst
-    }
-
     /// Whether the held factorisation may be used for this target.
     fn can_reuse(&self, tg: &Target<'_>) -> bool {
         self.opts.reuse_jacobian
@@ -231,30 +207,6 @@ impl NewtonCore {
     /// Modified Newton is on for this solve (off in an exact retry).
     fn reusing(&self) -> bool {
         self.opts.reuse_jacobian && self.exact.is_none()
-    }
-
-    /// The accuracy-based test ([`NewtonOptions::accuracy_fraction`]) at iterate `q` with the
-    /// residual in `self.residual`: every `|R_i| / m_i ≤ max(η c_m ½‖q − q̃‖∞, ε a_ref)`.
-    /// `|R_i| / (c_m m_i)` is the displacement the residual left would cause through the
-    /// inertia term alone, an upper bound on the Newton correction `J⁻¹ R` where the
-    /// stiffness is positive (`J ⪰ c_m M`).
-    fn accurate(&self, q: &[f64], tg: &Target<'_>) -> bool {
-        let eta = self.opts.accuracy_fraction;
-        if eta <= 0.0 || tg.c_m <= 0.0 {
-            return false;
-        }
-        let dofs = &self.assembler.dof_of;
-        let e = 0.5
-            * dofs
-                .iter()
-                .map(|&d| (q[d] - tg.q_tilde[d]).abs())
-                .fold(0.0, f64::max);
-        let bound =
-            (eta * tg.c_m * e).max(self.opts.accuracy_floor * self.opts.reference_acceleration);
-        self.residual
-            .iter()
-            .zip(&self.inv_mass)
-            .all(|(r, im)| r.abs() * im <= bound)
     }
 
     /// Solve `R(q) = 0` starting from `q` (overwritten with the solution on success; left
