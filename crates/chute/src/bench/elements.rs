@@ -32,14 +32,7 @@ pub struct ElementCost {
 
 /// The laws measured: (name, kind, overrides on top of the `shell-1k` mesh, the force's name).
 fn laws() -> Vec<(&'static str, &'static str, Vec<&'static str>, &'static str)> {
-    let fabric = vec![
-        "shell.membrane=fabric",
-        "material.warp_modulus_pa=55e9",
-        "material.weft_modulus_pa=27.5e9",
-        "material.shear_modulus_pa=2.75e9",
-        "material.fabric_poisson_ratio=0.3",
-        "material.warp_direction_deg=30",
-    ];
+    let fabric = super::fabric::fabric_law();
     let mut nc = fabric.clone();
     nc.push("material.no_compression=true");
     let stretch = engine::shell::STRETCH_NAME;

@@ -18,6 +18,11 @@ const FABRIC: &[&str] = &[
     "material.no_compression=true",
 ];
 
+/// The fabric law of [`FABRIC`] without its mesh and without no-compression.
+pub(super) fn fabric_law() -> Vec<&'static str> {
+    FABRIC[1..FABRIC.len() - 1].to_vec()
+}
+
 /// `shell-1k-fabric` (same mesh, warm-up and timed steps as `shell-1k`).
 pub fn cases() -> Vec<Case> {
     vec![case("shell-1k-fabric", "shell", FABRIC, 50, 200)]
