@@ -24,6 +24,7 @@ use crate::stepper::start_policy::{StartPolicy, FACTOR_WORK};
 use std::time::Instant;
 
 mod tolerance;
+use tolerance::Verdict;
 
 /// Largest `‖(J − J_s) Δ‖∞ / ‖R‖∞` accepted from the symmetric approximation `J_s`: the
 /// iteration then contracts at least ~10× per step where exact Newton would converge
@@ -292,38 +293,10 @@ impl NewtonCore {
             self.force_tol_abs + self.opts.force_tol_rel * r0 + self.roundoff_floor(model, q, tg);
         self.history.push(r0);
         loop {
-            let (rinf, worst) = self.inf_norm();
-            if !rinf.is_finite() {
-                return Err(StepError::NonFinite {
-                    what: "residual",
-                    dof: worst,
-                });
-            }
-            report.residual = rinf;
-            if rinf <= tol {
-                return Ok(report);
-            }
-            if self.accurate(q, tg) {
-                self.timings.accuracy_accepts += 1;
-                return Ok(report);
-            }
-            if rinf > self.opts.divergence_limit * r0.max(tol) {
-                return Err(StepError::Diverged {
-                    iterations: report.iterations,
-                    residual: rinf,
-                    initial: r0,
-                    limit: self.opts.divergence_limit,
-                    worst_dof: worst,
-                });
-            }
-            if report.iterations >= self.budget() {
-                return Err(StepError::NotConverged {
-                    iterations: report.iterations,
-                    residual: rinf,
-                    tolerance: tol,
-                    worst_dof: worst,
-                });
-            }
+            let rinf = match self.verdict(q, tg, r0, tol, &mut report)? {
+                Verdict::Converged => return Ok(report),
+                Verdict::Continue(rinf) => rinf,
+            };
             if fresh {
                 self.factor(tg, &mut report)?;
             } else {
@@ -479,18 +452,10 @@ impl NewtonCore {
         norm
     }
 
-    /// One Newton update with line search from `q`; returns `(α, ‖R‖₂ at the new q, ‖Δq‖∞)`.
-    /// With a reused factorisation the full step is taken (the direction is not an exact
-    /// Newton direction, so backtracking on it would only waste evaluations).
-    fn update(
-        &mut self,
-        model: &Model,
-        q: &mut [f64],
-        tg: &Target<'_>,
-        norm: f64,
-        fresh: bool,
-        report: &mut StepReport,
-    ) -> Result<(f64, f64, f64), StepError> {
+    /// The Newton direction into `self.delta` (the held factors' solve, corrected by Krylov
+    /// where the symmetric approximation is too far from J) and its max norm; an error if it
+    /// is not finite.
+    fn direction(&mut self, fresh: bool, report: &mut StepReport) -> Result<f64, StepError> {
         self.linear_solve();
         if self.approx_held
             && !self.corrected
@@ -526,6 +491,22 @@ impl NewtonCore {
             }
             dmax = dmax.max(d.abs());
         }
+        Ok(dmax)
+    }
+
+    /// One Newton update with line search from `q`; returns `(α, ‖R‖₂ at the new q, ‖Δq‖∞)`.
+    /// With a reused factorisation the full step is taken (the direction is not an exact
+    /// Newton direction, so backtracking on it would only waste evaluations).
+    fn update(
+        &mut self,
+        model: &Model,
+        q: &mut [f64],
+        tg: &Target<'_>,
+        norm: f64,
+        fresh: bool,
+        report: &mut StepReport,
+    ) -> Result<(f64, f64, f64), StepError> {
+        let dmax = self.direction(fresh, report)?;
         let line_search = self.opts.line_search && fresh && self.exact != Some(false);
         // The Jacobian is assembled with trial residuals only when the next iteration will
         // need it (full Newton); the first trial is almost always accepted.

@@ -2,7 +2,17 @@
 //! inertia term, and the accuracy-based test against backward Euler's local error.
 
 use super::{NewtonCore, Target};
+use crate::error::StepError;
 use crate::model::Model;
+use crate::stepper::options::StepReport;
+
+/// What the convergence tests say of an iterate.
+pub(super) enum Verdict {
+    /// Converged: the solve ends here.
+    Converged,
+    /// Not yet: iterate on (the residual's max norm).
+    Continue(f64),
+}
 
 impl NewtonCore {
     pub(super) fn inf_norm(&self) -> (f64, usize) {
@@ -54,5 +64,51 @@ impl NewtonCore {
             .iter()
             .zip(&self.inv_mass)
             .all(|(r, im)| r.abs() * im <= bound)
+    }
+
+    /// The verdict on iterate `q` (its residual in `self.residual`) against the tolerance
+    /// `tol` and the first residual `r0`: converged by the force or the accuracy test, or an
+    /// error when the residual is not finite, has diverged or the budget is spent.
+    pub(super) fn verdict(
+        &mut self,
+        q: &[f64],
+        tg: &Target<'_>,
+        r0: f64,
+        tol: f64,
+        report: &mut StepReport,
+    ) -> Result<Verdict, StepError> {
+        let (rinf, worst) = self.inf_norm();
+        if !rinf.is_finite() {
+            return Err(StepError::NonFinite {
+                what: "residual",
+                dof: worst,
+            });
+        }
+        report.residual = rinf;
+        if rinf <= tol {
+            return Ok(Verdict::Converged);
+        }
+        if self.accurate(q, tg) {
+            self.timings.accuracy_accepts += 1;
+            return Ok(Verdict::Converged);
+        }
+        if rinf > self.opts.divergence_limit * r0.max(tol) {
+            return Err(StepError::Diverged {
+                iterations: report.iterations,
+                residual: rinf,
+                initial: r0,
+                limit: self.opts.divergence_limit,
+                worst_dof: worst,
+            });
+        }
+        if report.iterations >= self.budget() {
+            return Err(StepError::NotConverged {
+                iterations: report.iterations,
+                residual: rinf,
+                tolerance: tol,
+                worst_dof: worst,
+            });
+        }
+        Ok(Verdict::Continue(rinf))
     }
 }
