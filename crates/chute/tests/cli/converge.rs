@@ -227,3 +227,44 @@ fn a_failing_level_is_reported_and_exits_3() {
         "{md}"
     );
 }
+
+/// A field of an array-of-tables entry set by index (`--set control[0].start_s=…`, issue 19)
+/// reaches every level of a ladder: each level's resolved scenario has it.
+#[test]
+fn indexed_control_field_set_reaches_every_level() {
+    let tmp = tempfile::tempdir().unwrap();
+    let steer = repo().join("scenarios/control-steer.toml");
+    let out = converge(
+        tmp.path(),
+        &[
+            &steer.display().to_string(),
+            "--vary",
+            "time.dt_s=0.02,0.01",
+            "--set",
+            "control[0].start_s=0.02",
+            "--set",
+            "time.duration_s=0.06",
+            "--out",
+            "cv",
+            "--jobs",
+            "1",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for level in ["dt_s-0.02", "dt_s-0.01"] {
+        let text = std::fs::read_to_string(
+            tmp.path()
+                .join("cv")
+                .join(level)
+                .join("scenario.resolved.toml"),
+        )
+        .unwrap();
+        let t: toml::Table = text.parse().unwrap();
+        let start = t["control"].as_array().unwrap()[0]["start_s"].as_float();
+        assert_eq!(start, Some(0.02), "{level}: {text}");
+    }
+}
