@@ -58,6 +58,26 @@ pub fn rod(duration: f64, extra: &[&str]) -> Scenario {
     Scenario::load(&repo().join("scenarios/report-rod-200n.toml"), &sets).unwrap()
 }
 
+/// A 3 m square canopy on four corner lines, coarse (0.5 m edges): the symmetric payload
+/// case of the line-pull tests (lines 0 (−x, −y), 1 (+x, −y), 2 (+x, +y), 3 (−x, +y)).
+pub const SQUARE_ON_CORNERS: [&str; 5] = [
+    "canopy.shape=rectangle",
+    "canopy.span_m=3",
+    "canopy.width_m=3",
+    "canopy.edge_length_m=0.5",
+    "load.sites=corners",
+];
+
+/// Run `s` into `dir` and require it complete: the model at the end and `summary.json`.
+pub fn run_complete(s: &Scenario, dir: &Path) -> (chute::build::Built, serde_json::Value) {
+    let mut b = chute::build::build(s).unwrap();
+    let cfg = chute::app::run_config(s, false);
+    let r = chute::runner::simulate(&mut b, &cfg, dir, &AtomicBool::new(false)).unwrap();
+    assert!(r.complete, "{:?}", r.stop_reason);
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    (b, serde_json::from_str(&text).unwrap())
+}
+
 /// A coarse shell canopy (hinges, triangle drag) for the same checks on the other model.
 pub fn shell(duration: f64) -> Scenario {
     let sets = vec![

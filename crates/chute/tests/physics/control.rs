@@ -17,23 +17,19 @@ use chute::scenario::Scenario;
 
 /// Lines are the corners in node-set order: 0 (−x, −y), 1 (+x, −y), 2 (+x, +y), 3 (−x, +y).
 fn square(duration: f64, pulls: &str) -> Scenario {
-    let set: Vec<String> = [
-        "canopy.shape=rectangle",
-        "canopy.span_m=3",
-        "canopy.width_m=3",
-        "canopy.edge_length_m=0.5",
-        "load.sites=corners",
-        "time.dt_s=0.01",
-        "output.frame_interval_s=1",
-        "output.snapshots_s=[]",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .chain([
-        format!("time.duration_s={duration}"),
-        format!("control=[{pulls}]"),
-    ])
-    .collect();
+    let set: Vec<String> = SQUARE_ON_CORNERS
+        .iter()
+        .chain(&[
+            "time.dt_s=0.01",
+            "output.frame_interval_s=1",
+            "output.snapshots_s=[]",
+        ])
+        .map(|s| s.to_string())
+        .chain([
+            format!("time.duration_s={duration}"),
+            format!("control=[{pulls}]"),
+        ])
+        .collect();
     Scenario::load(&repo().join("scenarios/control-steer.toml"), &set).unwrap()
 }
 
@@ -154,19 +150,9 @@ fn a_released_pull_returns_to_the_free_steady_descent() {
 
 /// Run `s` into a fresh directory; the summary as JSON and the directory.
 fn run_in_dir(s: &Scenario) -> (serde_json::Value, tempfile::TempDir) {
-    use std::sync::atomic::AtomicBool;
     let dir = tempfile::tempdir().unwrap();
-    let mut b = build(s).unwrap();
-    let r = chute::runner::simulate(
-        &mut b,
-        &run_config(s, false),
-        dir.path(),
-        &AtomicBool::new(false),
-    )
-    .unwrap();
-    assert!(r.complete, "{:?}", r.stop_reason);
-    let text = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
-    (serde_json::from_str(&text).unwrap(), dir)
+    let (_, j) = run_complete(s, dir.path());
+    (j, dir)
 }
 
 /// A 30 m drop of the guidance scenario (1976 atmosphere, ground, a 2 m/s crosswind along +y)
@@ -178,21 +164,17 @@ fn run_in_dir(s: &Scenario) -> (serde_json::Value, tempfile::TempDir) {
 #[test]
 fn guidance_lands_closer_to_the_target_than_the_uncontrolled_drop() {
     let drop = |max_pull: &str| {
-        let set: Vec<String> = [
-            "canopy.shape=rectangle",
-            "canopy.span_m=3",
-            "canopy.width_m=3",
-            "canopy.edge_length_m=0.5",
-            "load.sites=corners",
-            "guidance.pull_side=towards",
-            "atmosphere.altitude_m=30",
-            "guidance.target_m=[5, 12]",
-            "time.dt_s=0.005",
-            max_pull,
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+        let set: Vec<String> = SQUARE_ON_CORNERS
+            .iter()
+            .chain(&[
+                "guidance.pull_side=towards",
+                "atmosphere.altitude_m=30",
+                "guidance.target_m=[5, 12]",
+                "time.dt_s=0.005",
+                max_pull,
+            ])
+            .map(|s| s.to_string())
+            .collect();
         Scenario::load(&repo().join("scenarios/control-guidance.toml"), &set).unwrap()
     };
     // A pull of a nanometre at most: the uncontrolled drop, with its miss reported.

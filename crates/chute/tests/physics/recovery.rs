@@ -3,14 +3,10 @@
 //! 1976 standard atmosphere ends on the ground with the landing interpolated and the
 //! equivalent sea-level rate scaled by √(ρ/ρ_SL).
 use std::path::Path;
-use std::sync::atomic::AtomicBool;
 
-use chute::app::run_config;
-use chute::build::build;
-use chute::runner::simulate;
 use chute::scenario::Scenario;
 
-use crate::common::repo;
+use crate::common::{repo, run_complete};
 
 fn rod_scenario(set: &[&str]) -> Scenario {
     let mut all = vec![
@@ -23,11 +19,8 @@ fn rod_scenario(set: &[&str]) -> Scenario {
 }
 
 fn run(s: &Scenario, dir: &Path) -> (f64, serde_json::Value) {
-    let mut b = build(s).unwrap();
-    let r = simulate(&mut b, &run_config(s, false), dir, &AtomicBool::new(false)).unwrap();
-    assert!(r.complete, "{:?}", r.stop_reason);
-    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    (b.planform_area_m2, serde_json::from_str(&text).unwrap())
+    let (b, j) = run_complete(s, dir);
+    (b.planform_area_m2, j)
 }
 
 fn f(j: &serde_json::Value, k: &str) -> f64 {

@@ -179,22 +179,18 @@ fn guided_run_resumed_after_stop_equals_uninterrupted() {
     // Guidance decides every 0.25 s from the state and the commands in the lines' history
     // (checkpointed): sync points every 0.64 s; stop at 1.5 s → checkpoint at 1.28 s, between
     // decisions. lines.csv and track.csv are cut back and continued.
-    let set: Vec<String> = [
-        "canopy.shape=rectangle",
-        "canopy.span_m=3",
-        "canopy.width_m=3",
-        "canopy.edge_length_m=0.5",
-        "load.sites=corners",
-        "guidance.pull_side=towards",
-        "guidance.update_s=0.25",
-        "guidance.target_m=[5, 12]",
-        "atmosphere.altitude_m=30",
-        "time.duration_s=2",
-        "output.frame_interval_s=0.1",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
+    let set: Vec<String> = SQUARE_ON_CORNERS
+        .iter()
+        .chain(&[
+            "guidance.pull_side=towards",
+            "guidance.update_s=0.25",
+            "guidance.target_m=[5, 12]",
+            "atmosphere.altitude_m=30",
+            "time.duration_s=2",
+            "output.frame_interval_s=0.1",
+        ])
+        .map(|s| s.to_string())
+        .collect();
     let s = Scenario::load(&repo().join("scenarios/control-guidance.toml"), &set).unwrap();
     stop_and_resume(&s, 1.5, None);
 }

@@ -2,14 +2,11 @@
 //! nodes at exactly the sites' angles, the built model is mirror-symmetric about every site's
 //! plane, and in free descent it neither spins nor drifts.
 use std::f64::consts::TAU;
-use std::sync::atomic::AtomicBool;
 
-use chute::app::run_config;
 use chute::build::build;
-use chute::runner::simulate;
 use chute::scenario::Scenario;
 
-use crate::common::repo;
+use crate::common::{repo, run_complete};
 
 /// The round canopy at 0.3 m (before the fix this put 30 rim nodes every 12°, so the sites
 /// at 30°, 90°, … were attached at 24°/36°, 84°/96°, …: chiral), coarse in dt, for the first
@@ -90,18 +87,7 @@ fn round_canopy_sites_are_nodes_at_the_site_angles_and_the_model_is_mirror_symme
 /// canopy at the end of a run of `s`, and the summary.
 fn spin_after(s: &Scenario) -> (f64, f64, f64, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
-    let mut b = build(s).unwrap();
-    let r = simulate(
-        &mut b,
-        &run_config(s, false),
-        dir.path(),
-        &AtomicBool::new(false),
-    )
-    .unwrap();
-    assert!(r.complete, "{:?}", r.stop_reason);
-    let j: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
-            .unwrap();
+    let (b, j) = run_complete(s, dir.path());
     let (q, v) = (&b.state.q, &b.state.v);
     let (mut lz, mut inertia, mut mass, mut vz) = (0.0, 0.0, 0.0, 0.0);
     for &i in &b.canopy_nodes {
