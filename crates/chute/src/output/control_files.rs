@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
-use super::plots::{render_atomic, PlotError, PLOT_SIZE};
+use super::plots::{line_chart, render_atomic, PlotError, PLOT_SIZE};
 
 /// `lines.csv`.
 pub const LINES_CSV: &str = "lines.csv";
@@ -130,21 +130,13 @@ pub fn track_plot(
     let (hx, hy) = (0.5 * span * aspect.max(1.0), 0.5 * span);
     let de = |e: &dyn std::fmt::Display| PlotError::Draw(e.to_string());
     render_atomic(path, PLOT_SIZE, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption("Payload track, top view", ("sans-serif", 26))
-            .margin(20)
-            .x_label_area_size(55)
-            .y_label_area_size(80)
-            .build_cartesian_2d(cx - hx..cx + hx, cy - hy..cy + hy)
-            .map_err(|e| de(&e))?;
-        chart
-            .configure_mesh()
-            .label_style(("sans-serif", 15))
-            .axis_desc_style(("sans-serif", 18))
-            .x_desc("x (m)")
-            .y_desc("y (m)")
-            .draw()
-            .map_err(|e| de(&e))?;
+        let mut chart = line_chart(
+            root,
+            "Payload track, top view",
+            ("x (m)", "y (m)"),
+            cx - hx..cx + hx,
+            cy - hy..cy + hy,
+        )?;
         chart
             .draw_series(LineSeries::new(
                 track.iter().map(|p| (p[0], p[1])),

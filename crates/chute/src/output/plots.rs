@@ -159,21 +159,13 @@ pub fn velocity_plot(
     let extra = band.into_iter().flat_map(|(v, b)| [v - b, v + b]);
     let (y0, y1) = padded_range(vz.iter().copied().chain(extra)).ok_or(PlotError::NoData("vz"))?;
     render_atomic(path, PLOT_SIZE, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption("Canopy vertical velocity", (FONT, CAPTION_PX))
-            .margin(MARGIN)
-            .x_label_area_size(X_LABEL_AREA)
-            .y_label_area_size(Y_LABEL_AREA)
-            .build_cartesian_2d(t0..t1, y0..y1)
-            .map_err(de)?;
-        chart
-            .configure_mesh()
-            .label_style((FONT, 15))
-            .axis_desc_style((FONT, 18))
-            .x_desc("time t (s)")
-            .y_desc("vertical velocity vz (m/s)")
-            .draw()
-            .map_err(de)?;
+        let mut chart = line_chart(
+            root,
+            "Canopy vertical velocity",
+            ("time t (s)", "vertical velocity vz (m/s)"),
+            t0..t1,
+            y0..y1,
+        )?;
         if let Some((v, b)) = band {
             let fill = GREEN.mix(0.2).filled();
             chart
@@ -207,6 +199,40 @@ pub fn velocity_plot(
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], line));
         draw_legend(&mut chart)
     })
+}
+
+/// A linear x–y chart in the house style of every line plot: caption, label areas, mesh and
+/// the axis descriptions `desc` = (x, y).
+pub(super) fn line_chart<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, plotters::coord::Shift>,
+    caption: &str,
+    desc: (&str, &str),
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+) -> Result<
+    ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    PlotError,
+> {
+    let mut chart = ChartBuilder::on(root)
+        .caption(caption, (FONT, CAPTION_PX))
+        .margin(MARGIN)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
+        .build_cartesian_2d(x, y)
+        .map_err(de)?;
+    chart
+        .configure_mesh()
+        .label_style((FONT, 15))
+        .axis_desc_style((FONT, 18))
+        .x_desc(desc.0)
+        .y_desc(desc.1)
+        .draw()
+        .map_err(de)?;
+    Ok(chart)
 }
 
 /// The "terminal velocity not reached" note, lower left on a white box: a falling vz(t)
@@ -254,21 +280,13 @@ pub fn height_plot(path: &Path, t: &[f64], height: &[f64]) -> Result<(), PlotErr
     let (t0, t1) = padded_range(t.iter().copied()).ok_or(PlotError::NoData("empty time"))?;
     let (y0, y1) = padded_range(height.iter().copied()).ok_or(PlotError::NoData("height"))?;
     render_atomic(path, PLOT_SIZE, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption("Canopy extended height", (FONT, CAPTION_PX))
-            .margin(MARGIN)
-            .x_label_area_size(X_LABEL_AREA)
-            .y_label_area_size(Y_LABEL_AREA)
-            .build_cartesian_2d(t0..t1, y0.min(0.0)..y1)
-            .map_err(de)?;
-        chart
-            .configure_mesh()
-            .label_style((FONT, 15))
-            .axis_desc_style((FONT, 18))
-            .x_desc("time t (s)")
-            .y_desc("extended height, max z − min z (m)")
-            .draw()
-            .map_err(de)?;
+        let mut chart = line_chart(
+            root,
+            "Canopy extended height",
+            ("time t (s)", "extended height, max z − min z (m)"),
+            t0..t1,
+            y0.min(0.0)..y1,
+        )?;
         chart
             .draw_series(LineSeries::new(
                 finite_points(t, height),

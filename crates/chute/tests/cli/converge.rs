@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::common::{chute_command, repo};
+use crate::common::{chute_command, repo, FAILING_SOLVER_SETS};
 
 fn rod() -> String {
     repo()
@@ -186,10 +186,9 @@ fn bad_ladders_exit_2_naming_key_and_value() {
 fn a_failing_level_is_reported_and_exits_3() {
     let tmp = tempfile::tempdir().unwrap();
     let rod = rod();
-    let o = converge(
-        tmp.path(),
-        &[
-            &rod,
+    let args = [
+        [
+            rod.as_str(),
             "--vary",
             "time.dt_s=0.02,0.005",
             "--out",
@@ -199,17 +198,13 @@ fn a_failing_level_is_reported_and_exits_3() {
             "--set",
             "time.duration_s=0.2",
             "--set",
-            "time.newton_max_iterations=1",
-            "--set",
-            "time.newton_exact_retry=false",
-            "--set",
-            "time.newton_tolerance_n=1e-3",
-            "--set",
-            "load.weight_n=3e3",
-            "--set",
             "output.snapshots_s=[0.1]",
-        ],
-    );
+        ]
+        .as_slice(),
+        &FAILING_SOLVER_SETS,
+    ]
+    .concat();
+    let o = converge(tmp.path(), &args);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(

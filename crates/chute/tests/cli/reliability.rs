@@ -48,26 +48,13 @@ fn run(cwd: &Path, args: &[String]) -> Output {
 #[test]
 fn a_failing_run_exits_3_with_reason_and_valid_partial_outputs() {
     let tmp = tempfile::tempdir().unwrap();
-    // One Newton iteration per step with a 1 mN tolerance under a 3 kN load: the strip is
-    // whipped so hard that after ~150 halved steps a single update no longer meets the
-    // tolerance even at dt/1024. (With
-    // the ordinary 200 N load the extrapolating predictor makes one iteration enough at small
-    // steps, so that run now completes.)
+    // FAILING_SOLVER_SETS at dt = 0.02 s: after ~150 halved steps a single update no longer
+    // meets the tolerance even at dt/1024. (With the ordinary 200 N load the extrapolating
+    // predictor makes one iteration enough at small steps, so that run completes.)
     let args = run_args(
         "f",
         "time.duration_s=1",
-        &[
-            "--set",
-            "time.newton_max_iterations=1",
-            "--set",
-            "time.newton_exact_retry=false",
-            "--set",
-            "time.newton_tolerance_n=1e-3",
-            "--set",
-            "time.dt_s=0.02",
-            "--set",
-            "load.weight_n=3e3",
-        ],
+        &[FAILING_SOLVER_SETS.as_slice(), &["--set", "time.dt_s=0.02"]].concat(),
     );
     let o = run(tmp.path(), &args);
     let err = stderr(&o);

@@ -125,20 +125,17 @@ fn force_leaves_nothing_old() {
     // A run that fails after its first frame (exit 3), once fresh and once over the earlier
     // one: the two directories hold the same files.
     let failing = [
-        "--no-viewer",
-        "--set",
-        "time.duration_s=1",
-        "--set",
-        "time.newton_max_iterations=1",
-        "--set",
-        "time.newton_exact_retry=false",
-        "--set",
-        "time.newton_tolerance_n=1e-3",
-        "--set",
-        "time.dt_s=0.02",
-        "--set",
-        "load.weight_n=3e3",
-    ];
+        [
+            "--no-viewer",
+            "--set",
+            "time.duration_s=1",
+            "--set",
+            "time.dt_s=0.02",
+        ]
+        .as_slice(),
+        &FAILING_SOLVER_SETS,
+    ]
+    .concat();
     let o = run(tmp.path(), "fresh", &failing);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     let mut forced = failing.to_vec();

@@ -68,6 +68,20 @@ pub const SQUARE_ON_CORNERS: [&str; 5] = [
     "load.sites=corners",
 ];
 
+/// `--set` arguments that make a rod run fail (exit 3) after a while: one Newton iteration per
+/// step with a 1 mN tolerance, no exact retry, under a 3 kN load: the strip is whipped so hard
+/// that, after many halved steps, a single update no longer meets the tolerance.
+pub const FAILING_SOLVER_SETS: [&str; 8] = [
+    "--set",
+    "time.newton_max_iterations=1",
+    "--set",
+    "time.newton_exact_retry=false",
+    "--set",
+    "time.newton_tolerance_n=1e-3",
+    "--set",
+    "load.weight_n=3e3",
+];
+
 /// Run `s` into `dir` and require it complete: the model at the end and `summary.json`.
 pub fn run_complete(s: &Scenario, dir: &Path) -> (chute::build::Built, serde_json::Value) {
     let mut b = chute::build::build(s).unwrap();
