@@ -7,6 +7,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
@@ -204,19 +206,12 @@ pub fn velocity_plot(
 /// A linear x–y chart in the house style of every line plot: caption, label areas, mesh and
 /// the axis descriptions `desc` = (x, y).
 pub(super) fn line_chart<'a, DB: DrawingBackend>(
-    root: &'a DrawingArea<DB, plotters::coord::Shift>,
+    root: &'a DrawingArea<DB, Shift>,
     caption: &str,
     desc: (&str, &str),
     x: std::ops::Range<f64>,
     y: std::ops::Range<f64>,
-) -> Result<
-    ChartContext<
-        'a,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
-    PlotError,
-> {
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, PlotError> {
     let mut chart = ChartBuilder::on(root)
         .caption(caption, (FONT, CAPTION_PX))
         .margin(MARGIN)
