@@ -461,7 +461,7 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
         }
     };
     mem("after build");
-    let mut stepper = engine::ImplicitEuler::new(&built.model, cfg.newton)
+    let mut stepper = crate::runner::new_stepper(&built.model, &cfg)
         .map_err(|e| AppError::RunFailed(e.to_string()))?;
     if args.mem {
         let (l, s) = stepper.solver_memory_bytes();

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
-use engine::{ImplicitEuler, NewtonOptions, StepError};
+use engine::{NewtonOptions, StepError};
 
 use crate::build::Built;
 use crate::checkpoint::Checkpoint;
@@ -39,7 +39,7 @@ mod observe;
 mod persist;
 mod recovery;
 mod session;
-pub use advance::Driver;
+pub use advance::{new_stepper, Driver};
 pub use dt_policy::{GROW_AFTER, SYNC_STEPS};
 use flight::{Attempt, End, Flight};
 pub use session::{Session, StepInfo, Stopped};
@@ -193,7 +193,7 @@ pub fn simulate_with(
     ctl: &RunControl<'_>,
 ) -> Result<RunResult, RunError> {
     let wall = Instant::now();
-    let mut stepper = ImplicitEuler::new(&built.model, cfg.newton)?;
+    let mut stepper = advance::new_stepper(&built.model, cfg)?;
     let mut run = match &ctl.resume {
         None => Run::fresh(built, cfg, out_dir)?,
         Some(c) => Run::resume(built, cfg, out_dir, c)?,

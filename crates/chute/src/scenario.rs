@@ -116,6 +116,10 @@ pub struct AdaptiveSettings {
     pub dt_min_s: f64,
     /// Largest step (s).
     pub dt_max_s: f64,
+    /// Norm of the local error estimate.
+    pub error_norm: engine::ErrorNorm,
+    /// Filter the estimate through the step's Newton matrix.
+    pub error_filter: bool,
 }
 
 impl Scenario {
@@ -132,6 +136,11 @@ impl Scenario {
             dt_max_s: t
                 .dt_max_s
                 .unwrap_or((100.0 * t.dt_s).min(self.output.frame_interval_s)),
+            error_norm: match t.error_norm {
+                Some(sections::ErrorNorm::Max) => engine::ErrorNorm::Max,
+                _ => engine::ErrorNorm::MassRms,
+            },
+            error_filter: t.error_filter.unwrap_or(true),
         })
     }
 }

@@ -70,8 +70,8 @@ pub use error::{EngineError, HistoryError, InvalidModel, SparseError, StepError}
 pub use force::{EvalInput, Force, JacobianKind, LocalBlocks};
 pub use model::{ForceId, Model, State};
 pub use stepper::{
-    ErrorController, ImplicitEuler, NewtonOptions, Predictor, StaticSolver, StepReport, Timings,
-    Trial,
+    ErrorController, ErrorNorm, ImplicitEuler, NewtonOptions, Predictor, StaticSolver, StepReport,
+    Timings, Trial,
 };
 
 /// The types most programs need: `use engine::prelude::*;`.

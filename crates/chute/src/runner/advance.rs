@@ -8,6 +8,14 @@ use super::dt_policy::{DtPolicy, Plan, Verdict};
 use super::RunConfig;
 use crate::build::Built;
 
+/// The stepper of a run under `cfg`: its Newton options, and the local error estimate
+/// filtered through each step's factors when the run is adaptive with `time.error_filter`.
+pub fn new_stepper(model: &Model, cfg: &RunConfig) -> Result<ImplicitEuler, engine::EngineError> {
+    let mut stepper = ImplicitEuler::new(model, cfg.newton)?;
+    stepper.set_error_filter(cfg.adaptive.is_some_and(|a| a.error_filter));
+    Ok(stepper)
+}
+
 /// What one attempt at a step did.
 pub(super) enum Outcome {
     /// Accepted and committed: Newton iterations, and the local error norm (≤ 1 unless the
@@ -32,7 +40,7 @@ pub(super) fn attempt(
         Ok(trial) => trial,
         Err(e) => return Outcome::Failed(e),
     };
-    let (next, err) = match dt.judge(model, &state.v, trial.v(), plan) {
+    let (next, err) = match dt.judge(model, trial.local_error(), plan) {
         Verdict::Accept { next, err } => (next, err),
         Verdict::Reject => return Outcome::Rejected,
     };

@@ -10,7 +10,9 @@
 //!
 //! **Adaptive step** (`time.adaptive = true`): the first step is `time.dt_s`; after every
 //! accepted step the elementary controller ([`engine::ErrorController`]) proposes the next
-//! one from the step's local error estimate, and a step whose error exceeds the tolerance is
+//! one from the step's local error estimate (filtered through the step's Newton matrix and
+//! measured in `time.error_norm`, [`engine::stepper::error_control`]), and a step whose error
+//! exceeds the tolerance is
 //! rejected and retried with the controller's smaller step (counted, the state untouched).
 //! Steps end exactly on the *events* — frame and snapshot times, sync points and the end —
 //! by shortening the step that would cross one; when a full step would leave less than one
@@ -21,7 +23,7 @@
 //! size) is reused. A failed Newton solve halves the step and caps the proposals there, the
 //! cap doubling after every [`GROW_AFTER`] accepted steps, like the fixed-step policy.
 
-use engine::stepper::error_control::{local_error_norm, Decision, ErrorController};
+use engine::stepper::error_control::{error_norm, Decision, ErrorController};
 use engine::Model;
 
 use super::RunConfig;
@@ -151,7 +153,8 @@ impl DtPolicy {
                 )
             }
             Some(a) => {
-                let ctrl = ErrorController::new(a.error_tolerance_m, a.dt_min_s, a.dt_max_s)?;
+                let mut ctrl = ErrorController::new(a.error_tolerance_m, a.dt_min_s, a.dt_max_s)?;
+                ctrl.norm = a.error_norm;
                 // Far below any step, far above the round-off of times up to the duration.
                 let tol = (1e-3 * a.dt_min_s).max(64.0 * f64::EPSILON * cfg.duration_s);
                 (
@@ -233,16 +236,17 @@ impl DtPolicy {
         }
     }
 
-    /// Judge a solved step from velocities `v_n` to `v_new` by its local error; on a
-    /// rejection the policy holds the retry size. Fixed steps are always accepted.
-    pub fn judge(&mut self, model: &Model, v_n: &[f64], v_new: &[f64], plan: &Plan) -> Verdict {
+    /// Judge a solved step by its local error estimate `e` (every DOF, m; the trial's
+    /// [`engine::Trial::local_error`]); on a rejection the policy holds the retry size. Fixed
+    /// steps are always accepted.
+    pub fn judge(&mut self, model: &Model, e: &[f64], plan: &Plan) -> Verdict {
         let Some(ctrl) = &self.ctrl else {
             return Verdict::Accept {
                 next: self.h,
                 err: 0.0,
             };
         };
-        let err = local_error_norm(model, v_n, v_new, plan.h, ctrl.tol_m);
+        let err = error_norm(model, e, ctrl.tol_m, ctrl.norm);
         match ctrl.propose_limited(plan.h, err, self.h) {
             Decision::Accept { next_h } => Verdict::Accept { next: next_h, err },
             Decision::Reject { retry_h } => {
@@ -341,6 +345,8 @@ mod tests {
                 error_tolerance_m: 1e-5,
                 dt_min_s: 1e-5,
                 dt_max_s: 0.05,
+                error_norm: engine::ErrorNorm::MassRms,
+                error_filter: true,
             }),
             duration_s: 10.0,
             frame_interval_s: 0.05,
@@ -456,20 +462,20 @@ mod tests {
             h: 0.01,
             lands_at: None,
         };
-        // (h/2)·Δv = 0.005 · 0.016 = 8e-5 m = 8 tol → reject, retry 0.9/√8 h.
-        let v = p.judge(&model, &[0.0; 3], &[0.0, 0.0, -0.016], &plan);
+        // e = 8e-5 m = 8 tol → reject, retry 0.9/√8 h.
+        let v = p.judge(&model, &[0.0, 0.0, -8e-5], &plan);
         assert_eq!(v, Verdict::Reject);
         assert_eq!(p.rejected_error, 1);
         assert!((p.h - 0.01 * 0.9 / 8f64.sqrt()).abs() < 1e-12);
         // Within tolerance: accepted with the controller's proposal.
         let plan = Plan { h: p.h, ..plan };
-        match p.judge(&model, &[0.0; 3], &[0.0, 0.0, -1e-4], &plan) {
+        match p.judge(&model, &[0.0, 0.0, -5e-7], &plan) {
             Verdict::Accept { err, next } => assert!(err < 1.0 && next > plan.h),
             v => panic!("{v:?}"),
         }
         // A fixed step is never judged.
         let mut f = DtPolicy::new(&cfg(false)).unwrap();
-        let v = f.judge(&model, &[0.0; 3], &[0.0, 0.0, -1e3], &plan);
+        let v = f.judge(&model, &[0.0, 0.0, -1e3], &plan);
         assert!(matches!(v, Verdict::Accept { .. }));
     }
 }

@@ -47,7 +47,7 @@ pub struct Stopped(pub String);
 impl Session {
     /// A session at the start of the run of `built` under `cfg` (`cfg.progress` is ignored).
     pub fn new(built: Built, cfg: RunConfig) -> Result<Self, RunError> {
-        let stepper = ImplicitEuler::new(&built.model, cfg.newton)?;
+        let stepper = super::advance::new_stepper(&built.model, &cfg)?;
         let mut flight = Flight::new(&built, &cfg)?;
         let s0 = flight.obs.sample(&built, &built.state, 0, cfg.dt_s);
         flight.dec.push(&s0);

@@ -491,6 +491,16 @@ section! {
 /// only takes longer steps where the acceleration has decayed (docs/adaptive-dt.md).
 pub const DEFAULT_ERROR_TOLERANCE_M: f64 = 1e-5;
 
+choice! {
+    /// Norm of an adaptive step's local error estimate.
+    pub enum ErrorNorm {
+        /// Mass-weighted RMS over the nodes.
+        MassRms = "mass_rms",
+        /// The largest component at any node.
+        Max = "max",
+    }
+}
+
 section! {
     /// `[time]`.
     pub struct Time {
@@ -536,14 +546,28 @@ section! {
         /// to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]
         adaptive: bool = false => key(),
-        /// `adaptive`: largest local position error per step, `(h/2)|v_{n+1} − v_n|` at any
-        /// node
+        /// `adaptive`: tolerance on the local position error per step, `(h/2)|v_{n+1} − v_n|`
+        /// filtered through the step's Newton matrix (`error_filter`), in the norm
+        /// `error_norm` (default: the mass-weighted RMS over the nodes, not the worst node)
         #[serde(skip_serializing_if = "Option::is_none")]
         error_tolerance_m: Option<f64> = None => key()
             .unit("m")
             .positive("a position error per step")
             .only_with(ADAPTIVE, ADAPTIVE_ONLY)
             .default_with(ADAPTIVE, DEFAULT_ERROR_TOLERANCE_M),
+        /// `adaptive`: norm of the local error: `mass_rms` (√(Σ m_i |e_i|² / Σ m_i) over the
+        /// nodes) or `max` (the worst node's component)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        error_norm: Option<ErrorNorm> = None => key()
+            .only_with(ADAPTIVE, ADAPTIVE_ONLY)
+            .default_doc("`mass_rms`"),
+        /// `adaptive`: filter the local error through the step's Newton matrix, (M + h D +
+        /// h² K)⁻¹ M e, so that stiff modes that implicit Euler damps anyway do not limit the
+        /// step (RADAU5's estimate; `false`: the raw estimate)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        error_filter: Option<bool> = None => key()
+            .only_with(ADAPTIVE, ADAPTIVE_ONLY)
+            .default_doc("`true`"),
         /// `adaptive`: smallest step (a step this small is accepted whatever its error, with a
         /// warning; Newton failing below it stops the run)
         #[serde(skip_serializing_if = "Option::is_none")]

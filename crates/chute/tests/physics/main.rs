@@ -2,6 +2,7 @@
 //! checkpoint and resume, metrics (with the lateral-instability warning), shell bending against
 //! plate theory, and the GCI arithmetic of `chute converge`.
 
+mod adaptive;
 #[path = "../common/mod.rs"]
 mod common;
 

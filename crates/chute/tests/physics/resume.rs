@@ -37,7 +37,7 @@ fn run(
     simulate_with(&mut built, &chute::app::run_config(s, false), dir, &ctl).unwrap()
 }
 
-fn stop_and_resume(s: &Scenario, stop_at: f64, every: Option<f64>) {
+pub(crate) fn stop_and_resume(s: &Scenario, stop_at: f64, every: Option<f64>) {
     let tmp = tempfile::tempdir().unwrap();
     let (full, part) = (tmp.path().join("full"), tmp.path().join("part"));
     // The uninterrupted run writes no checkpoints: sync points do not depend on them.

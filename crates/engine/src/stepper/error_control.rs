@@ -10,15 +10,36 @@
 //! ```
 //!
 //! which is `h²/2 · a + O(h³)` (`a` the acceleration over the step): the leading term of
-//! backward Euler's local position error. The norm is the worst component relative to the
-//! user's tolerance `tol` (m per step):
+//! backward Euler's local position error.
+//!
+//! **Filter.** A stiff mode (ω h ≫ 1, e.g. a membrane's in-plane vibration) that backward
+//! Euler damps anyway carries a large `e` that says nothing about the accuracy of the motion
+//! that matters. As in RADAU5 (Hairer & Wanner, *Solving ODEs II*, §IV.8) the estimate is
+//! filtered through the step's own Newton matrix `J = M/h² + K + D/h` (K = −∂F/∂q,
+//! D = −∂F/∂v), whose factors the step holds:
 //!
 //! ```text
-//!     err = max_i |e_i| / tol      over the free translational DOFs i (3 per node),
+//!     ê = J⁻¹ (M/h²) e = (M + h D + h² K)⁻¹ M e,
 //! ```
 //!
-//! so `err ≤ 1` means no node moved more than `tol` away from where a second-order step would
-//! have put it. Fixed DOFs are skipped (they do not move). The rod twist angles (rad) are not
+//! so a mode of frequency ω is scaled by `1/(1 + ω²h²)`: smooth modes (ω h ≪ 1, rigid motion
+//! under gravity) pass unchanged, stiff ones are divided by ≈ (ω h)². It costs one pair of
+//! triangular solves. When the step holds no factors for its own `h` (it converged at the
+//! predictor, e.g. right after a sync point with a changed `h`) the raw `e` is used
+//! ([`crate::Timings::error_filter_fallbacks`] counts it).
+//!
+//! **Norm.** Over the nodes `i` with free translational DOFs, relative to the user's
+//! tolerance `tol` (m per step), by default the mass-weighted RMS
+//!
+//! ```text
+//!     err = √(Σ_i m_i |ê_i|² / Σ_i m_i) / tol      (ErrorNorm::MassRms),
+//! ```
+//!
+//! the error of the body's motion as a whole (a light node, e.g. a canopy corner, counts by
+//! its mass, not as the worst node), or the worst component
+//! `err = max_i |ê_i| / tol` ([`ErrorNorm::Max`]), so that `err ≤ 1` means no node moved
+//! more than `tol` from where a second-order step would have put it. Fixed DOFs are skipped
+//! (they do not move). The rod twist angles (rad) are not
 //! controlled: they are slaved to the node positions (quasi-static material frames, their
 //! inertia is tiny), and an angle has no common scale with a position tolerance in metres.
 //! Velocities are not controlled separately: their local error `h²/2 · ȧ` follows the same
@@ -53,10 +74,63 @@ pub const MAX_GROWTH: f64 = 2.0;
 /// Largest reduction of `h` from one step (or rejected attempt) to the next.
 pub const MAX_SHRINK: f64 = 0.2;
 
-/// `err = max_i |(h/2)(v_{n+1,i} − v_{n,i})| / tol_m` over the free translational DOFs of
-/// `model` (the first `3 n_nodes` entries; twist angles and fixed DOFs are skipped). `h` in s,
-/// velocities in m/s, `tol_m` in m; the result is dimensionless. A non-finite velocity gives
-/// `+∞` (the step must be rejected).
+/// The norm of the local error estimate (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ErrorNorm {
+    /// `√(Σ m_i |e_i|² / Σ m_i)` over the nodes with free translational DOFs.
+    #[default]
+    MassRms,
+    /// `max |e_d|` over the free translational DOFs.
+    Max,
+}
+
+/// The raw estimate `e = (h/2)(v_{n+1} − v_n)` into `out` (every DOF, m or rad; zero on fixed
+/// DOFs). `h` in s, velocities in m/s (rad/s).
+pub fn raw_estimate(model: &Model, v_n: &[f64], v_new: &[f64], h: f64, out: &mut [f64]) {
+    for (d, e) in out.iter_mut().enumerate() {
+        *e = if model.fixed[d] {
+            0.0
+        } else {
+            0.5 * h * (v_new[d] - v_n[d])
+        };
+    }
+}
+
+/// `err` of the estimate `e` (m per DOF, every DOF of `model`) against `tol_m` (m) in the
+/// given norm, over the free translational DOFs (the first `3 n_nodes`; twist angles and
+/// fixed DOFs are skipped). Dimensionless; a non-finite estimate gives `+∞` (the step must
+/// be rejected). A model with no free node gives 0.
+pub fn error_norm(model: &Model, e: &[f64], tol_m: f64, norm: ErrorNorm) -> f64 {
+    let (mut worst, mut num, mut den) = (0.0f64, 0.0, 0.0);
+    for node in 0..model.layout.n_nodes {
+        let (mut e2, mut m, mut free) = (0.0, 0.0f64, false);
+        for d in 3 * node..3 * node + 3 {
+            if model.fixed[d] {
+                continue;
+            }
+            if !e[d].is_finite() {
+                return f64::INFINITY;
+            }
+            free = true;
+            worst = worst.max(e[d].abs());
+            e2 += e[d] * e[d];
+            m = m.max(model.mass[d]);
+        }
+        if free {
+            num += m * e2;
+            den += m;
+        }
+    }
+    match norm {
+        ErrorNorm::Max => worst / tol_m,
+        ErrorNorm::MassRms if den > 0.0 => (num / den).sqrt() / tol_m,
+        ErrorNorm::MassRms => 0.0,
+    }
+}
+
+/// `err = max_i |(h/2)(v_{n+1,i} − v_{n,i})| / tol_m`: the raw estimate in the max norm
+/// ([`error_norm`] with [`ErrorNorm::Max`]), without a buffer. A non-finite velocity gives
+/// `+∞`.
 pub fn local_error_norm(model: &Model, v_n: &[f64], v_new: &[f64], h: f64, tol_m: f64) -> f64 {
     let n_pos = 3 * model.layout.n_nodes;
     let mut worst: f64 = 0.0;
@@ -99,6 +173,8 @@ pub struct ErrorController {
     pub h_max: f64,
     /// Safety factor (< 1) on the proposal.
     pub safety: f64,
+    /// Norm of the local error estimate ([`ErrorNorm::MassRms`] unless set).
+    pub norm: ErrorNorm,
 }
 
 impl ErrorController {
@@ -119,6 +195,7 @@ impl ErrorController {
             h_min,
             h_max,
             safety: SAFETY,
+            norm: ErrorNorm::default(),
         })
     }
 
@@ -165,7 +242,8 @@ pub struct Advance {
     pub iterations: usize,
 }
 
-/// Advance `state` by one error-controlled step, trying `h` first: solve, estimate, and
+/// Advance `state` by one error-controlled step, trying `h` first: solve, estimate (filtered
+/// when [`ImplicitEuler::set_error_filter`] is on), and
 /// either commit or retry with the controller's smaller step (the rejected attempt changed
 /// nothing: see [`ImplicitEuler::try_step`]). Ends after at most
 /// `log(h/h_min)/log(1/0.9) + 1` attempts. A failed Newton solve is returned as is, for the
@@ -183,7 +261,7 @@ pub fn advance(
     loop {
         let trial = stepper.try_step(model, state, h)?;
         iterations += trial.report().iterations;
-        let err = local_error_norm(model, &state.v, trial.v(), h, ctrl.tol_m);
+        let err = error_norm(model, trial.local_error(), ctrl.tol_m, ctrl.norm);
         match ctrl.propose(h, err) {
             Decision::Accept { next_h } => {
                 trial.commit(model, state);
@@ -322,5 +400,33 @@ mod tests {
         assert!((err - 1e3).abs() < 1e-9, "{err}");
         let bad = [0.0, 0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0];
         assert_eq!(local_error_norm(&m, &v_n, &bad, 1e-2, 1e-5), f64::INFINITY);
+    }
+
+    #[test]
+    fn mass_rms_norm_weights_nodes_by_mass() {
+        use crate::DofLayout;
+        // Three nodes (0.5 kg, 1.5 kg, fixed) and a twist; only the light node has an error.
+        let mut m = Model::new(DofLayout::new(3, 1));
+        m.add_node_mass(0, 0.5);
+        m.add_node_mass(1, 1.5);
+        m.add_node_mass(2, 1.0);
+        m.fix_node(2);
+        let mut e = [0.0; 10];
+        e[0] = 3e-5;
+        e[2] = -4e-5; // |e_0| = 5e-5 m
+        e[6] = 1.0; // fixed node: skipped
+        e[9] = 1e3; // twist: skipped
+        let tol = 1e-5;
+        // √(0.5 · 25e-10 / 2) = 2.5e-5 m → 2.5; the worst component 4e-5 m → 4.
+        let rms = error_norm(&m, &e, tol, ErrorNorm::MassRms);
+        assert!((rms - 2.5).abs() < 1e-12, "{rms}");
+        assert!((error_norm(&m, &e, tol, ErrorNorm::Max) - 4.0).abs() < 1e-12);
+        // The same error on the heavy node instead weighs 3× more: √3 × 2.5.
+        e.swap(0, 3);
+        e.swap(2, 5);
+        let heavy = error_norm(&m, &e, tol, ErrorNorm::MassRms);
+        assert!((heavy - 2.5 * 3f64.sqrt()).abs() < 1e-12, "{heavy}");
+        e[4] = f64::NAN;
+        assert_eq!(error_norm(&m, &e, tol, ErrorNorm::MassRms), f64::INFINITY);
     }
 }

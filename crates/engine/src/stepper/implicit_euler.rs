@@ -5,6 +5,7 @@
 //! of angular frequency ω loses amplitude by the factor `1/√(1 + (ω dt)²)` per step, which is
 //! the numerical damping users see at large `dt` (tested exactly).
 
+use super::error_control::raw_estimate;
 use super::newton::{NewtonCore, Target};
 use super::options::{NewtonOptions, Predictor, StepReport, Timings};
 use crate::error::{EngineError, StepError};
@@ -30,6 +31,10 @@ pub struct ImplicitEuler {
     extrap: Vec<f64>,
     /// [`Predictor::Adaptive`]: the extrapolating guess was the closer one last step.
     accel_better: bool,
+    /// The local error estimate of the last trial (every DOF; filtered when `filter`).
+    err_est: Vec<f64>,
+    /// Filter the estimate through the step's factors ([`ImplicitEuler::set_error_filter`]).
+    filter: bool,
 }
 
 /// A solved but not yet committed backward-Euler step (from [`ImplicitEuler::try_step`]):
@@ -39,6 +44,8 @@ pub struct ImplicitEuler {
 pub struct Trial<'a> {
     q: &'a [f64],
     v: &'a [f64],
+    e: &'a [f64],
+    filtered: bool,
     dt: f64,
     report: StepReport,
 }
@@ -52,6 +59,18 @@ impl Trial<'_> {
     /// `v_{n+1} = (q_{n+1} − q_n)/dt` (m/s, rad/s; zero on fixed DOFs).
     pub fn v(&self) -> &[f64] {
         self.v
+    }
+
+    /// The local error estimate of the step (every DOF, m or rad; zero on fixed DOFs):
+    /// `(h/2)(v_{n+1} − v_n)`, filtered through the step's Newton matrix when the filter is
+    /// on and the step held its factors ([`super::error_control`] module docs).
+    pub fn local_error(&self) -> &[f64] {
+        self.e
+    }
+
+    /// Whether [`Trial::local_error`] is the filtered estimate.
+    pub fn error_filtered(&self) -> bool {
+        self.filtered
     }
 
     /// The step size (s).
@@ -93,7 +112,16 @@ impl ImplicitEuler {
             pending: None,
             extrap: vec![0.0; n],
             accel_better: true,
+            err_est: vec![0.0; n],
+            filter: false,
         })
+    }
+
+    /// Filter every trial's local error estimate through the step's own factorisation
+    /// (RADAU5-style; [`super::error_control`] module docs). Off by default: it costs a pair
+    /// of triangular solves per step, which only error-controlled stepping needs.
+    pub fn set_error_filter(&mut self, on: bool) {
+        self.filter = on;
     }
 
     /// Number of free DOFs in the Newton system.
@@ -176,7 +204,7 @@ impl ImplicitEuler {
 
     /// Solve the step of size `dt` from `state` without changing `state` or the model: the
     /// result is a [`Trial`] to inspect (e.g. for its local error,
-    /// [`super::error_control::local_error_norm`]) and then commit or drop. Nothing but the
+    /// [`Trial::local_error`]) and then commit or drop. Nothing but the
     /// stepper's own buffers (and its held factorisation, which is keyed on `dt`) changes.
     pub fn try_step(
         &mut self,
@@ -232,9 +260,16 @@ impl ImplicitEuler {
                 (self.q_new[d] - state.q[d]) / dt
             };
         }
+        raw_estimate(model, &state.v, &self.v_new, dt, &mut self.err_est);
+        let filtered = self.filter
+            && self
+                .core
+                .filter_estimate(model, &mut self.err_est, 1.0 / (dt * dt), 1.0 / dt);
         Ok(Trial {
             q: &self.q_new,
             v: &self.v_new,
+            e: &self.err_est,
+            filtered,
             dt,
             report,
         })

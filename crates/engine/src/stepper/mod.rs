@@ -7,7 +7,9 @@ mod options;
 mod start_policy;
 mod statics;
 
-pub use error_control::{advance, local_error_norm, Advance, Decision, ErrorController};
+pub use error_control::{
+    advance, error_norm, local_error_norm, Advance, Decision, ErrorController, ErrorNorm,
+};
 pub use implicit_euler::{ImplicitEuler, Trial};
 pub use options::{NewtonOptions, Predictor, StepReport, Timings};
 pub use statics::StaticSolver;

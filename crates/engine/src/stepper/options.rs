@@ -222,4 +222,10 @@ pub struct Timings {
     pub exact_retries_converged: u64,
     /// Solves that converged on the accuracy-based test (not on the force tolerance).
     pub accuracy_accepts: u64,
+    /// Local error estimates filtered through the step's factors
+    /// ([`crate::ImplicitEuler::set_error_filter`]).
+    pub error_filters: u64,
+    /// Estimates left unfiltered because the step held no factors for its own `dt` (it
+    /// converged at the predictor) or the filtered estimate was not finite.
+    pub error_filter_fallbacks: u64,
 }

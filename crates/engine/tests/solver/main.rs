@@ -5,6 +5,7 @@
 mod aero_newton;
 mod backward_euler;
 mod error_control;
+mod error_filter;
 mod exact_retry;
 mod newton_accuracy;
 mod newton_symmetric_approx;
