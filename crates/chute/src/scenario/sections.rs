@@ -542,6 +542,11 @@ section! {
         /// halved (written to the resolved scenario only when false)
         #[serde(skip_serializing_if = "Clone::clone")]
         newton_exact_retry: bool = true => key().default_doc("`true`"),
+        /// the exact retry's last stage: when exact Newton fails with full steps and with the
+        /// line search, solve the step by pseudo-transient continuation (same solution) before
+        /// it is halved (written to the resolved scenario only when false)
+        #[serde(skip_serializing_if = "Clone::clone")]
+        newton_continuation: bool = true => key().default_doc("`true`"),
         /// choose each step from its local error estimate instead of a fixed `dt_s` (written
         /// to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]

@@ -23,6 +23,7 @@ use crate::stepper::options::{NewtonOptions, StepReport, Timings};
 use crate::stepper::start_policy::{StartPolicy, FACTOR_WORK};
 use std::time::Instant;
 
+mod continuation;
 mod tolerance;
 use tolerance::Verdict;
 
@@ -245,7 +246,9 @@ impl NewtonCore {
     /// failed path may have started from an extrapolation that was the problem): first with
     /// full steps (a stiff membrane's residual rises on the first full step and then
     /// converges quadratically, where a line search on `‖R‖₂` creeps), then, if that fails
-    /// too, with the line search.
+    /// too, with the line search, and last by pseudo-transient continuation
+    /// (`newton/continuation.rs`), which converges to the same solution where Newton's
+    /// iteration from `q̃` wanders off. Each stage has twice the iteration budget.
     fn exact_retry(
         &mut self,
         model: &Model,
@@ -267,7 +270,15 @@ impl NewtonCore {
             self.exact = None;
             if res.is_ok() {
                 self.timings.exact_retries_converged += 1;
-                break;
+                return res;
+            }
+        }
+        if self.opts.continuation {
+            self.exact = Some(false);
+            res = self.continuation(model, q, tg);
+            self.exact = None;
+            if res.is_ok() {
+                self.timings.exact_retries_converged += 1;
             }
         }
         res

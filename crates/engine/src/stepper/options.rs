@@ -69,6 +69,12 @@ pub struct NewtonOptions {
     /// update of the symmetric approximation corrected into the exact update, and the line
     /// search. Only if that fails too does the error reach the caller (who shortens `dt`).
     pub exact_retry: bool,
+    /// The exact retry's last stage: when exact Newton from `q̃` fails with full steps and
+    /// with the line search, solve the step by pseudo-transient continuation (an extra
+    /// diagonal `(c_m/τ) M` in the Newton matrix, `τ` growing as the residual falls; the
+    /// converged state satisfies the same residual test, so it is the same solution). No
+    /// effect without [`NewtonOptions::exact_retry`].
+    pub continuation: bool,
 }
 
 impl NewtonOptions {
@@ -89,6 +95,7 @@ impl NewtonOptions {
             accuracy_fraction: 0.01,
             accuracy_floor: 1e-4,
             exact_retry: true,
+            continuation: true,
             ..Self::default()
         }
     }
@@ -156,6 +163,7 @@ impl Default for NewtonOptions {
             accuracy_fraction: 0.0,
             accuracy_floor: 0.0,
             exact_retry: false,
+            continuation: false,
         }
     }
 }
@@ -220,6 +228,10 @@ pub struct Timings {
     pub exact_retries: u64,
     /// Of those, retries that converged.
     pub exact_retries_converged: u64,
+    /// Retries that reached their pseudo-transient continuation stage.
+    pub continuations: u64,
+    /// Of those, continuations that converged.
+    pub continuations_converged: u64,
     /// Solves that converged on the accuracy-based test (not on the force tolerance).
     pub accuracy_accepts: u64,
     /// Local error estimates filtered through the step's factors

@@ -1,0 +1,81 @@
+//! Pseudo-transient continuation: the last stage of the exact retry
+//! ([`super::NewtonCore::exact_retry`]), for a step whose exact Newton iteration from the
+//! constant-velocity guess fails with full steps and with the line search.
+//!
+//! Each iteration solves `(J + (c_m/τ) M) Δ = −R` with a fresh exact Jacobian `J` at the
+//! iterate and takes the full update. The extra diagonal is an added inertia: with `τ` small
+//! the update is a short, well-conditioned step along `−M⁻¹R`, with `τ → ∞` it is Newton's.
+//! `τ` follows the residual (switched evolution relaxation, Mulder & van Leer 1985; Kelley &
+//! Keyes 1998): `τ ← τ ‖R_{k−1}‖₂ / ‖R_k‖₂`, so it grows as the residual falls and the
+//! iteration ends quadratically. The diagonal only changes the path: convergence is judged
+//! on `R` itself with the solve's own tolerance, so the result is the implicit-Euler solution
+//! of the step.
+
+use super::tolerance::Verdict;
+use super::{NewtonCore, Target};
+use crate::error::StepError;
+use crate::model::Model;
+use crate::stepper::options::StepReport;
+
+/// First `τ`: the extra diagonal equals `c_m M` (the inertia doubled).
+const TAU_START: f64 = 1.0;
+/// Bounds of `τ` (past the upper one the extra diagonal is below round-off of `c_m M`).
+const TAU_MIN: f64 = 1e-3;
+const TAU_MAX: f64 = 1e16;
+
+impl NewtonCore {
+    /// Pseudo-transient continuation from `q̃` (module docs); `q` holds the solution on
+    /// success. Runs with the exact retry's budget; the held factors (of a shifted matrix)
+    /// are marked as not reusable afterwards.
+    pub(super) fn continuation(
+        &mut self,
+        model: &Model,
+        q: &mut [f64],
+        tg: &Target<'_>,
+    ) -> Result<StepReport, StepError> {
+        let mut report = StepReport::default();
+        self.history.clear();
+        self.timings.solves += 1;
+        self.timings.continuations += 1;
+        self.corrected = true;
+        self.krylov_off = false;
+        q.copy_from_slice(tg.q_tilde);
+        let mut norm = self.residual_at(model, q, tg, true);
+        let (r0, _) = self.inf_norm();
+        let tol =
+            self.force_tol_abs + self.opts.force_tol_rel * r0 + self.roundoff_floor(model, q, tg);
+        self.history.push(r0);
+        let mut tau = TAU_START;
+        let res = loop {
+            match self.verdict(q, tg, r0, tol, &mut report) {
+                Ok(Verdict::Converged) => break Ok(report),
+                Ok(Verdict::Continue(_)) => {}
+                Err(e) => break Err(e),
+            }
+            let shift = tg.c_m / tau;
+            for (r, &d) in self.assembler.dof_of.iter().enumerate() {
+                self.values[self.assembler.diag[r]] += shift * model.mass[d];
+            }
+            if let Err(e) = self.factor(tg, &mut report) {
+                break Err(e);
+            }
+            if let Err(e) = self.direction(true, &mut report) {
+                break Err(e);
+            }
+            let trial = self.try_step(model, q, tg, 1.0, true);
+            q.copy_from_slice(&self.q_trial);
+            let (rinf, _) = self.inf_norm();
+            self.history.push(rinf);
+            if trial.is_finite() && trial > 0.0 {
+                tau = (tau * norm / trial).clamp(TAU_MIN, TAU_MAX);
+            }
+            norm = trial;
+        };
+        // The factors are of J + (c_m/τ) M, not of this step's Newton matrix.
+        self.factored_for = (f64::NAN, f64::NAN);
+        if res.is_ok() {
+            self.timings.continuations_converged += 1;
+        }
+        res
+    }
+}
