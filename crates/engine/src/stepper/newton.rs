@@ -78,6 +78,8 @@ pub(crate) struct NewtonCore {
     /// symmetric approximation corrected into exact Newton updates), with the line search
     /// or without.
     exact: Option<bool>,
+    /// This solve is the exact retry's pseudo-transient continuation (its own budget).
+    continuing: bool,
 }
 
 /// The target of one Newton solve.
@@ -131,6 +133,7 @@ impl NewtonCore {
                 .map(|&d| 1.0 / model.mass[d])
                 .collect(),
             exact: None,
+            continuing: false,
             force: vec![0.0; n],
             residual: vec![0.0; assembler.n_free],
             delta: vec![0.0; assembler.n_free],
@@ -197,9 +200,11 @@ impl NewtonCore {
     }
 
     /// Iterations allowed in this solve: an exact retry has twice the budget (it replaces a
-    /// halving of `dt`, which costs two solves).
+    /// halving of `dt`, which costs two solves), its continuation stage four times.
     fn budget(&self) -> usize {
-        if self.exact.is_some() {
+        if self.continuing {
+            4 * self.opts.max_iterations
+        } else if self.exact.is_some() {
             2 * self.opts.max_iterations
         } else {
             self.opts.max_iterations
@@ -248,7 +253,8 @@ impl NewtonCore {
     /// converges quadratically, where a line search on `‖R‖₂` creeps), then, if that fails
     /// too, with the line search, and last by pseudo-transient continuation
     /// (`newton/continuation.rs`), which converges to the same solution where Newton's
-    /// iteration from `q̃` wanders off. Each stage has twice the iteration budget.
+    /// iteration from `q̃` wanders off. The Newton stages have twice the iteration budget, the
+    /// continuation four times.
     fn exact_retry(
         &mut self,
         model: &Model,

@@ -3,13 +3,14 @@
 //! constant-velocity guess fails with full steps and with the line search.
 //!
 //! Each iteration solves `(J + (c_m/τ) M) Δ = −R` with a fresh exact Jacobian `J` at the
-//! iterate and takes the full update. The extra diagonal is an added inertia: with `τ` small
-//! the update is a short, well-conditioned step along `−M⁻¹R`, with `τ → ∞` it is Newton's.
-//! `τ` follows the residual (switched evolution relaxation, Mulder & van Leer 1985; Kelley &
-//! Keyes 1998): `τ ← τ ‖R_{k−1}‖₂ / ‖R_k‖₂`, so it grows as the residual falls and the
-//! iteration ends quadratically. The diagonal only changes the path: convergence is judged
-//! on `R` itself with the solve's own tolerance, so the result is the implicit-Euler solution
-//! of the step.
+//! iterate. The extra diagonal is an added inertia: with `τ` small the update is a short,
+//! well-conditioned step along `−M⁻¹R` (a smaller pseudo time step), with `τ → ∞` it is
+//! Newton's. An update that lowers `‖R‖₂` is taken and `τ` grows with the residual's fall
+//! (switched evolution relaxation, Mulder & van Leer 1985; Kelley & Keyes 1998:
+//! `τ ← τ ‖R_{k−1}‖₂ / ‖R_k‖₂`, at least doubled), so the iteration ends quadratically; one
+//! that does not is undone and `τ` is quartered (a trust region in the mass metric). The
+//! diagonal only changes the path: convergence is judged on `R` itself with the solve's own
+//! tolerance, so the result is the implicit-Euler solution of the step.
 
 use super::tolerance::Verdict;
 use super::{NewtonCore, Target};
@@ -17,10 +18,12 @@ use crate::error::StepError;
 use crate::model::Model;
 use crate::stepper::options::StepReport;
 
-/// First `τ`: the extra diagonal equals `c_m M` (the inertia doubled).
-const TAU_START: f64 = 1.0;
+/// First `τ`: the extra diagonal is `10 c_m M` (the inertia 11×, a pseudo step ~dt/3).
+const TAU_START: f64 = 0.1;
+/// An update that raises `‖R‖₂` by more than this factor is undone.
+const GROWTH_LIMIT: f64 = 10.0;
 /// Bounds of `τ` (past the upper one the extra diagonal is below round-off of `c_m M`).
-const TAU_MIN: f64 = 1e-3;
+const TAU_MIN: f64 = 1e-8;
 const TAU_MAX: f64 = 1e16;
 
 impl NewtonCore {
@@ -46,6 +49,7 @@ impl NewtonCore {
             self.force_tol_abs + self.opts.force_tol_rel * r0 + self.roundoff_floor(model, q, tg);
         self.history.push(r0);
         let mut tau = TAU_START;
+        self.continuing = true;
         let res = loop {
             match self.verdict(q, tg, r0, tol, &mut report) {
                 Ok(Verdict::Converged) => break Ok(report),
@@ -63,14 +67,20 @@ impl NewtonCore {
                 break Err(e);
             }
             let trial = self.try_step(model, q, tg, 1.0, true);
-            q.copy_from_slice(&self.q_trial);
+            if trial.is_finite() && trial < GROWTH_LIMIT * norm {
+                q.copy_from_slice(&self.q_trial);
+                tau = (tau * norm / trial.max(f64::MIN_POSITIVE)).clamp(TAU_MIN, TAU_MAX);
+                norm = trial;
+            } else {
+                // Undone: the residual and Jacobian at q again, a shorter pseudo step.
+                tau = (0.25 * tau).max(TAU_MIN);
+                norm = self.residual_at(model, q, tg, true);
+                report.backtracks += 1;
+            }
             let (rinf, _) = self.inf_norm();
             self.history.push(rinf);
-            if trial.is_finite() && trial > 0.0 {
-                tau = (tau * norm / trial).clamp(TAU_MIN, TAU_MAX);
-            }
-            norm = trial;
         };
+        self.continuing = false;
         // The factors are of J + (c_m/τ) M, not of this step's Newton matrix.
         self.factored_for = (f64::NAN, f64::NAN);
         if res.is_ok() {
