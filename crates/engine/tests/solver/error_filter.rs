@@ -76,7 +76,11 @@ fn a_step_without_factors_for_its_own_dt_uses_the_raw_estimate() {
     assert!((e1 - 0.5 * 1e-2 * (-9.81 * 1e-2)).abs() < 1e-15, "{e1}");
     trial.commit(&mut model, &mut state);
     let trial = stepper.try_step(&model, &state, 2e-2).unwrap();
-    assert_eq!(trial.report().factorizations, 0, "converged at the predictor");
+    assert_eq!(
+        trial.report().factorizations,
+        0,
+        "converged at the predictor"
+    );
     assert!(!trial.error_filtered());
     let mut raw = vec![0.0; 3];
     raw_estimate(&model, &state.v, trial.v(), 2e-2, &mut raw);

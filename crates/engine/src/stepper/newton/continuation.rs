@@ -89,3 +89,101 @@ impl NewtonCore {
         res
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::prelude::*;
+    use crate::stepper::options::NewtonOptions;
+
+    /// The 7 × 4-node Kevlar sheet of `tests/solver/exact_retry.rs` (6 m × 3 m, 2 mm,
+    /// 55 GPa) under gravity, pressure drag and 50 N per corner, flat at rest.
+    fn kevlar() -> (Model, State) {
+        let s = crate::reference::sheet::sheet(7, 4, 6.0, 3.0, 0.0);
+        let mesh = TriMesh::from_q(s.tris.clone(), &s.q, s.n_nodes).unwrap();
+        let mut model = Model::new(DofLayout::new(s.n_nodes, 0));
+        let mat = ShellMaterial {
+            youngs_modulus: 55e9,
+            thickness: 2e-3,
+            density: 1440.0,
+        };
+        crate::shell::install(&mesh, &mat, &mut model, &s.q).unwrap();
+        let nodes: Vec<usize> = (0..s.n_nodes).collect();
+        let masses: Vec<f64> = nodes.iter().map(|&i| model.mass[3 * i]).collect();
+        model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -9.81]));
+        model.add_force(PressureDrag::new(&s.tris, &s.q, 1.75, &Fluid::air()));
+        let corners = [0, 6, 21, 27];
+        model.add_force(PointForces::new(&corners, &[[0.0, 0.0, -50.0]; 4]));
+        (model, State::at_rest(s.q))
+    }
+
+    #[test]
+    fn continuation_lands_on_the_strict_newton_solution_of_the_step() {
+        let (model, state) = kevlar();
+        let dt = 1e-2;
+        // The second step from rest (the first one defeats line-searched Newton: below).
+        let mut st = crate::ImplicitEuler::new(&model, NewtonOptions::recommended()).unwrap();
+        let (mut model, mut state) = (model, state);
+        st.step(&mut model, &mut state, dt).unwrap();
+        let q_tilde: Vec<f64> = state
+            .q
+            .iter()
+            .zip(&state.v)
+            .map(|(q, v)| q + dt * v)
+            .collect();
+        let tg = Target {
+            c_m: 1.0 / (dt * dt),
+            c_v: 1.0 / dt,
+            q_tilde: &q_tilde,
+            q_n: &state.q,
+            t: state.t + dt,
+        };
+        let strict = NewtonOptions::default();
+        let mut core = NewtonCore::new(&model, strict).unwrap();
+        let mut q_newton = q_tilde.clone();
+        let newton = core.solve(&model, &mut q_newton, &tg).unwrap();
+        let mut q_cont = q_tilde.clone();
+        let rep = core.continuation(&model, &mut q_cont, &tg).unwrap();
+        // The pseudo time step really changed the path (more iterations than Newton's).
+        assert!(rep.iterations > newton.iterations, "{rep:?} {newton:?}");
+        assert_eq!(core.timings.continuations_converged, 1);
+        // Same solution: both meet ‖R‖∞ ≤ ~1e-9 (1 N + Σm) on a Newton matrix ≥ M/dt²
+        // (≥ 1e4 N/m per DOF here), so they agree far below a nanometre.
+        let diff = q_newton
+            .iter()
+            .zip(&q_cont)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(diff < 1e-9, "continuation and Newton differ by {diff} m");
+        // Its factors (of a shifted matrix) are not keyed on the step's (c_m, c_v).
+        assert!(core.factored_for.0.is_nan());
+    }
+
+    #[test]
+    fn a_first_step_line_searched_newton_fails_is_taken_by_the_retry_at_full_dt() {
+        // From rest at dt = 1e-2 s, exact Newton with the line search creeps (‖R‖ stuck at
+        // ~34 N after 25 iterations, measured); the retry's full-step stage converges.
+        let (mut model, state) = kevlar();
+        let dt = 1e-2;
+        let mut plain = crate::ImplicitEuler::new(&model, NewtonOptions::default()).unwrap();
+        assert!(
+            plain.try_step(&model, &state, dt).is_err(),
+            "line search converged"
+        );
+        let full = NewtonOptions {
+            line_search: false,
+            ..NewtonOptions::default()
+        };
+        let mut strict = crate::ImplicitEuler::new(&model, full).unwrap();
+        let q_strict = strict.try_step(&model, &state, dt).unwrap().q().to_vec();
+        let mut st =
+            crate::ImplicitEuler::new(&model, NewtonOptions::recommended().strict()).unwrap();
+        let mut s = state.clone();
+        st.step(&mut model, &mut s, dt)
+            .expect("taken at the full dt");
+        let diff = q_strict
+            .iter()
+            .zip(&s.q)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(diff < 1e-9, "{diff} m");
+    }
+}
