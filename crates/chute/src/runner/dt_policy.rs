@@ -457,7 +457,8 @@ mod tests {
         use engine::{DofLayout, Model};
         let mut p = DtPolicy::new(&cfg(true)).unwrap();
         p.h = 0.01;
-        let model = Model::new(DofLayout::new(1, 0));
+        let mut model = Model::new(DofLayout::new(1, 0));
+        model.add_node_mass(0, 1.0);
         let plan = Plan {
             h: 0.01,
             lands_at: None,
