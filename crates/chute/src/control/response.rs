@@ -141,13 +141,21 @@ mod tests {
         let away = Response::away(1.0);
         assert_eq!(away.pull_direction([3.0, -4.0]), [-0.6, 0.8]);
         assert_eq!(away.pull_direction([3.0, 4.0]), [-0.6, -0.8]);
-        assert_eq!(Response::towards(1.0).pull_direction([0.0, 2.0]), [0.0, 1.0]);
+        assert_eq!(
+            Response::towards(1.0).pull_direction([0.0, 2.0]),
+            [0.0, 1.0]
+        );
         assert_eq!(away.pull_direction([0.0, 0.0]), [0.0, 0.0]);
     }
 
     #[test]
     fn the_pull_vector_of_one_line_points_at_its_site() {
-        let sites = [[2.0, 1.0, 5.0], [0.0, 1.0, 5.0], [1.0, 2.0, 0.0], [1.0, 0.0, 0.0]];
+        let sites = [
+            [2.0, 1.0, 5.0],
+            [0.0, 1.0, 5.0],
+            [1.0, 2.0, 0.0],
+            [1.0, 0.0, 0.0],
+        ];
         assert_eq!(pull_vector(&sites, &[0.3, 0.0, 0.0, 0.0]), [0.3, 0.0]);
         assert_eq!(pull_vector(&sites, &[0.1, 0.1, 0.1, 0.1]), [0.0, 0.0]);
     }
@@ -155,7 +163,10 @@ mod tests {
     #[test]
     fn shape_picks_the_measured_response_of_each_outline() {
         let of = |s| Response::of(PullSide::Shape, s);
-        assert_eq!(of(CanopyShape::Rectangle), Some(Response::towards(SQUARE_GAIN)));
+        assert_eq!(
+            of(CanopyShape::Rectangle),
+            Some(Response::towards(SQUARE_GAIN))
+        );
         assert_eq!(of(CanopyShape::Circle), Some(Response::away(ROUND_GAIN)));
         assert_eq!(of(CanopyShape::Hexagon), None);
         assert_eq!(of(CanopyShape::Mesh), None);

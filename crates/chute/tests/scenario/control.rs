@@ -170,9 +170,17 @@ fn guidance_is_checked() {
         "shape",
     );
     // `shape` has no measured response for a hexagon; `away` is accepted there.
-    let hexagon = ["canopy.shape=hexagon", "load.sites=corners", "guidance.pull_side=shape"];
+    let hexagon = [
+        "canopy.shape=hexagon",
+        "load.sites=corners",
+        "guidance.pull_side=shape",
+    ];
     refused(&with(&ground, &hexagon), "guidance.pull_side", "towards");
-    let hexagon = ["canopy.shape=hexagon", "load.sites=corners", "guidance.pull_side=away"];
+    let hexagon = [
+        "canopy.shape=hexagon",
+        "load.sites=corners",
+        "guidance.pull_side=away",
+    ];
     assert!(round(&with(&ground, &hexagon)).is_ok());
     let e = round(&["guidance.target_m=[10, 0]", "guidance.max_pull_m=0.3"]).unwrap_err();
     assert_eq!(e.key(), Some("guidance.target_m"), "{e}");
