@@ -33,7 +33,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::app::AppError;
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, REPORT_SHELL_MODEL};
 
 /// `chute bench`.
 #[derive(Debug, Clone, Default, PartialEq, clap::Args)]
@@ -437,14 +437,17 @@ fn run_child(exe: &std::path::Path, c: &Case, args: &BenchArgs) -> Result<CaseRe
         .map_err(|e| AppError::RunFailed(format!("bench case `{}`: bad output: {e}", c.name)))
 }
 
-/// The case's scenario with its own overrides, then `set` (the `--set` options).
+/// The case's scenario with its own overrides, then `set` (the `--set` options). The shell
+/// cases fly the report's model (springs + hinges, dt = 1 ms: [`REPORT_SHELL_MODEL`]), the
+/// ladder's reference since issue 7, whatever the bundled scenario ships.
 fn scenario_of(c: &Case, set: &[String]) -> Result<Scenario, AppError> {
-    let (text, path) = match c.base {
-        "rod" => (ROD, ROD_PATH),
-        "shell" => (SHELL, SHELL_PATH),
-        _ => (HEX, HEX_PATH),
+    let (text, path, model): (_, _, &[&str]) = match c.base {
+        "rod" => (ROD, ROD_PATH, &[]),
+        "shell" => (SHELL, SHELL_PATH, &REPORT_SHELL_MODEL),
+        _ => (HEX, HEX_PATH, &[]),
     };
-    let mut overrides = c.overrides.clone();
+    let mut overrides: Vec<String> = model.iter().map(|s| s.to_string()).collect();
+    overrides.extend(c.overrides.iter().cloned());
     overrides.extend(set.iter().cloned());
     Ok(Scenario::from_str_with_name(text, path, &overrides)?)
 }

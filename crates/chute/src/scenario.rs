@@ -48,6 +48,16 @@ pub use sections::{
     PullSide, Shell, ShellDrag, SiteSet, Sites, Time, DEFAULT_ERROR_TOLERANCE_M,
 };
 
+/// `--set` overrides that turn the bundled report shells (`scenarios/report-shell-*.toml`,
+/// which ship the converged continuum shell at dt = 4 ms) back into the report's own model:
+/// edge springs, dihedral hinges, dt = 1 ms. Benchmarks and checks whose reference is that
+/// model (`flight-1k`, `cross-613`, the symmetry and balance checks) apply them.
+pub const REPORT_SHELL_MODEL: [&str; 3] = [
+    "shell.membrane=springs",
+    "shell.bending=hinge",
+    "time.dt_s=1e-3",
+];
+
 /// A complete, validated scenario with every default filled in.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

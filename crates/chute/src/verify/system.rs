@@ -25,6 +25,14 @@ fn scenario(text: &str, file: &str, overrides: &[&str]) -> Result<Scenario, Stri
         .map_err(|e| e.to_string())
 }
 
+/// The bundled 4-site shell as the report's model (springs + hinges, dt = 1 ms: the model
+/// these checks' references were set on) with `overrides` on top.
+fn report_shell_4(overrides: &[&str]) -> Result<Scenario, String> {
+    let mut all: Vec<&str> = crate::scenario::REPORT_SHELL_MODEL.to_vec();
+    all.extend_from_slice(overrides);
+    scenario(SHELL_4, "report-shell-4-sites.toml", &all)
+}
+
 /// Build and simulate `s`, writing its outputs to a temporary directory (VTK frames and
 /// snapshots off: only the summary is needed).
 fn simulate(s: &Scenario) -> Result<(Summary, Built), String> {
@@ -98,7 +106,7 @@ pub fn shell_force_balance(quick: bool) -> CaseResult {
     } else {
         (&["canopy.edge_length_m=0.25"], "ℓ = 0.25 m, 10 s")
     };
-    let s = scenario(SHELL_4, "report-shell-4-sites.toml", over)?;
+    let s = report_shell_4(over)?;
     let (sum, _) = simulate(&s)?;
     Ok(vec![Check::new(
         "shell-canopy-force-balance",
@@ -121,11 +129,7 @@ pub fn shell_force_balance(quick: bool) -> CaseResult {
 pub fn no_spin(quick: bool) -> CaseResult {
     let duration = if quick { 2.0 } else { 5.0 };
     let d = format!("time.duration_s={duration}");
-    let s = scenario(
-        SHELL_4,
-        "report-shell-4-sites.toml",
-        &["canopy.edge_length_m=0.5", &d],
-    )?;
+    let s = report_shell_4(&["canopy.edge_length_m=0.5", &d])?;
     let mut built = build(&s).map_err(|e| e.to_string())?;
     let cfg = crate::app::run_config(&s, false);
     let mut stepper = ImplicitEuler::new(&built.model, cfg.newton).map_err(|e| e.to_string())?;

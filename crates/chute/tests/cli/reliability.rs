@@ -222,6 +222,7 @@ fn parallel_element_loops_give_identical_files_whatever_the_threads() {
             .args(["run", shell.to_str().unwrap(), "--quiet", "--out", out])
             .args(["--set", "canopy.edge_length_m=0.1"])
             .args(["--set", "time.duration_s=0.003"])
+            .args(["--set", "time.dt_s=0.001"])
             .args(["--set", "output.frame_interval_s=0.001"])
             .args(["--set", "output.snapshots_s=[0.002]"])
             .env("RAYON_NUM_THREADS", threads)

@@ -92,13 +92,18 @@ pub fn run_complete(s: &Scenario, dir: &Path) -> (chute::build::Built, serde_jso
     (b, serde_json::from_str(&text).unwrap())
 }
 
-/// A coarse shell canopy (hinges, triangle drag) for the same checks on the other model.
+/// A coarse shell canopy (the report's springs + hinges, triangle drag) for the same checks
+/// on the other model.
 pub fn shell(duration: f64) -> Scenario {
-    let sets = vec![
+    let mut sets: Vec<String> = chute::scenario::REPORT_SHELL_MODEL
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    sets.extend([
         "canopy.edge_length_m=1".to_string(),
         format!("time.duration_s={duration}"),
         "output.snapshots_s=[0.05]".to_string(),
-    ];
+    ]);
     Scenario::load(&repo().join("scenarios/report-shell-4-sites.toml"), &sets).unwrap()
 }
 

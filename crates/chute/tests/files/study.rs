@@ -416,6 +416,7 @@ fn bundled_studies_parse_and_their_cases_validate() {
     for (file, cases) in [
         ("table1.toml", vec!["20N", "200N", "2000N"]),
         ("table2.toml", vec!["4-sites", "6-sites"]),
+        ("table2-springs-hinges.toml", vec!["4-sites", "6-sites"]),
     ] {
         let st = Study::load(&root.join(file)).unwrap();
         assert_eq!(names(&st), cases);
