@@ -16,7 +16,7 @@
 //! * the flat square on four corner lines: `θ = 0`, `k = 1.36 (m/s)/m` (lines 1 and 2 pulled
 //!   by 0.3 m: `p = (0.424, 0) m`, steady `Δv_h = (+0.577, 0) m/s`);
 //! * the round canopy on rim lines: `θ = π`, `k ≈ 0.7 (m/s)/m` (line 0 pulled by 0.3 m in the
-//!   crosswind of control-guidance.toml: `Δv_h ≈ (−0.20, −0.07) m/s` 3.5 s after the pull),
+//!   crosswind of control-guidance.toml: `Δv_h ≈ (−0.19, −0.09) m/s` 3.5 s after the pull),
 //!   valid only for the first seconds after a pull: the glide then turns, and other lines
 //!   respond differently (docs/control.md has the measurements: no fixed S fits them all).
 use crate::scenario::{CanopyShape, PullSide};
