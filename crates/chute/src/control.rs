@@ -3,7 +3,9 @@
 //! Scheduled pulls (`[[control]]`) need nothing at run time: they are rest-length schedules
 //! of the line rods (`build::control`, engine `rod::stretch`), read from the evaluation time.
 //! Guidance (`[guidance]`) decides pulls while flying: [`guidance::Controller`] writes the
-//! lines' commands between steps. docs/control.md has the laws and the studies.
+//! lines' commands between steps, choosing the pull direction by inverting
+//! the canopy's measured response to pulls ([`response::Response`]). docs/control.md has the laws and the studies.
 pub mod guidance;
+pub mod response;
 
 pub use guidance::Controller;

@@ -200,8 +200,15 @@ pub fn describe(s: &Scenario) -> Vec<(String, String)> {
         out.push((
             "guidance".into(),
             format!(
-                "to [{}, {}] m: pull ≤ {} m = {} × predicted miss, every {} s over {} s",
-                g.target_m[0], g.target_m[1], g.max_pull_m, g.gain, g.update_s, g.ramp_s
+                "to [{}, {}] m: pull ≤ {} m = {} × predicted miss, every {} s over {} s, \
+                 pull side by `{}`",
+                g.target_m[0],
+                g.target_m[1],
+                g.max_pull_m,
+                g.gain,
+                g.update_s,
+                g.ramp_s,
+                g.pull_side.name()
             ),
         ));
     }

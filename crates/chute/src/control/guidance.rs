@@ -3,13 +3,14 @@
 //! Every `update_s` the controller predicts where the payload would land if it kept its
 //! current velocity, `p̂ = x_h + v_h t_go` with `t_go = h / max(−v_z, V_MIN)` (h the height
 //! above the ground), and takes the miss `e = T − p̂` to the target `T`. It pulls by
-//! `u = min(max_pull, gain |e|)` in the direction of `e`: line `i`, whose site lies in the
-//! horizontal direction `d̂_i` from the sites' centroid, gets `u_i = u · max(0, σ d̂_i · ê)`
-//! — with `σ = +1` (`pull_side = "towards"`) the lines on the target's side, most the one
-//! facing it, for a canopy that glides towards its pulled side (a flat square does); with
-//! `σ = −1` (`"away"`) the far side, for one that glides away from it (this model's round
-//! canopy: docs/control.md). Each decision ramps the lines from their current shortening to
-//! the new one over `ramp_s`.
+//! `u = min(max_pull, gain |e|)` so that the canopy's predicted glide change points along `ê`:
+//! with the response model `Δv_h = S p` of [`super::response`] (`S = k R(θ)`, `p` the pull
+//! vector), the pull direction is `p̂ = R(−θ) ê`, and line `i`, whose site lies in the
+//! horizontal direction `d̂_i` from the sites' centroid, gets `u_i = u · max(0, d̂_i · p̂)`.
+//! `pull_side = "towards"` is `θ = 0` (the lines on the target's side: a flat square glides
+//! towards its pulled side), `"away"` is `θ = π` (the far side), and `"shape"` (the default)
+//! takes the measured response of the canopy's outline (rectangle: towards; circle: away).
+//! Each decision ramps the lines from their current shortening to the new one over `ramp_s`.
 //!
 //! The controller holds no state of its own: its commands are the history of the lines'
 //! stretching family (the time of the last decision included), which checkpoints carry, and a
@@ -17,6 +18,7 @@
 //! exactly as the uninterrupted one.
 use crate::build::control::Lines;
 use crate::build::Built;
+use crate::control::response::{centroid, Response};
 use crate::scenario::Scenario;
 use engine::rod::Command;
 
@@ -33,8 +35,8 @@ pub struct Controller {
     update_s: f64,
     ramp_s: f64,
     ground_z: f64,
-    /// +1: pull the lines facing the miss; −1: those facing away.
-    side: f64,
+    /// The canopy's response to pulls, inverted to choose the pull direction.
+    response: Response,
 }
 
 /// One decision: the predicted landing point, the miss, and the pull of each line.
@@ -50,20 +52,18 @@ pub struct Decision {
 
 impl Controller {
     /// The controller of `s` for ground at model height `ground_z` (m), or `None` without
-    /// `[guidance]`.
+    /// `[guidance]` (or without a response for its `pull_side`, which the scenario check
+    /// refuses).
     pub fn new(s: &Scenario, ground_z: f64) -> Option<Self> {
         let g = s.guidance.as_ref()?;
         Some(Self {
+            response: Response::of(g.pull_side, s.canopy.shape)?,
             target: [g.target_m[0], g.target_m[1]],
             max_pull: g.max_pull_m,
             gain: g.gain,
             update_s: g.update_s,
             ramp_s: g.ramp_s,
             ground_z,
-            side: match g.pull_side {
-                crate::scenario::PullSide::Towards => 1.0,
-                crate::scenario::PullSide::Away => -1.0,
-            },
         })
     }
 
@@ -95,18 +95,17 @@ impl Controller {
         ];
         let dist = miss_m[0].hypot(miss_m[1]);
         let u = (self.gain * dist).min(self.max_pull);
-        let n = sites.len().max(1) as f64;
-        let c = [0, 1].map(|k| sites.iter().map(|p| p[k]).sum::<f64>() / n);
+        let c = centroid(sites);
+        let p = self.response.pull_direction(miss_m);
         let pulls_m = sites
             .iter()
-            .map(|p| {
-                let d = [p[0] - c[0], p[1] - c[1]];
+            .map(|s| {
+                let d = [s[0] - c[0], s[1] - c[1]];
                 let r = d[0].hypot(d[1]);
                 if dist == 0.0 || r == 0.0 {
                     return 0.0;
                 }
-                let cos = self.side * (d[0] * miss_m[0] + d[1] * miss_m[1]) / (r * dist);
-                u * cos.max(0.0)
+                u * ((d[0] * p[0] + d[1] * p[1]) / r).max(0.0)
             })
             .collect();
         Decision {
@@ -165,7 +164,7 @@ mod tests {
             update_s: 0.5,
             ramp_s: 0.25,
             ground_z: -30.0,
-            side: 1.0,
+            response: Response::towards(1.0),
         }
     }
 
@@ -196,7 +195,10 @@ mod tests {
         let d = c.decide([-100.0, 0.0, 0.0], [0.0, 0.0, -5.0], &SITES);
         assert_eq!(d.pulls_m, [0.3, 0.0, 0.0, 0.0]);
         // Pulling the far side instead: the line facing away.
-        let away = Controller { side: -1.0, ..c };
+        let away = Controller {
+            response: Response::away(1.0),
+            ..c
+        };
         let d = away.decide([-100.0, 0.0, 0.0], [0.0, 0.0, -5.0], &SITES);
         assert_eq!(d.pulls_m, [0.0, 0.0, 0.3, 0.0]);
     }

@@ -95,6 +95,17 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
                 ),
             );
         }
+        if crate::control::response::Response::of(g.pull_side, s.canopy.shape).is_none() {
+            c.fail(
+                "guidance.pull_side",
+                g.pull_side.name(),
+                format!(
+                    "no response to line pulls is measured for a `{}` canopy: set `towards` \
+                     or `away` (measure it with a `[[control]]` pull, docs/control.md)",
+                    s.canopy.shape.name()
+                ),
+            );
+        }
         if g.ramp_s > g.update_s {
             c.fail(
                 "guidance.ramp_s",

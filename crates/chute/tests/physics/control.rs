@@ -5,8 +5,9 @@
 //!
 //! The canopy is a 3 m square on four corner lines (the mesh and the sites are mirror
 //! symmetric about both axes), 0.5 m elements, dt = 0.01 s: about 3 s of wall time per run.
-//! The round canopy's rim sites are not yet exactly on rim nodes (issue 19 item 0), so its
-//! glide direction is not yet a clean check; these tests do not use it.
+//! The round canopy is not used: its model is mirror-symmetric (rim sites on rim nodes), but its
+//! free descent is not (the symmetric shape buckles from round-off and glides), and its glide
+//! response to a pull depends on the line and turns within seconds (docs/control.md).
 use crate::common::*;
 
 use chute::app::run_config;
@@ -156,9 +157,9 @@ fn run_in_dir(s: &Scenario) -> (serde_json::Value, tempfile::TempDir) {
 }
 
 /// A 30 m drop of the guidance scenario (1976 atmosphere, ground, a 2 m/s crosswind along +y)
-/// with the square canopy on four corner lines, which glides towards its pulled side
-/// (`pull_side = "towards"`): uncontrolled it drifts to about (0, 9.6) m; guided to (5, 12) m
-/// it lands closer (5.5 m → 3.7 m at dt = 0.005 s). The flight is 5.5 s, of which the first
+/// with the square canopy on four corner lines, which glides towards its pulled side (the
+/// default `pull_side = "shape"` picks that for a rectangle): uncontrolled it drifts to about
+/// (0, 9.6) m; guided to (5, 12) m it lands closer (5.5 m → 3.4 m at dt = 0.005 s). The flight is 5.5 s, of which the first
 /// two inflate the canopy; dt = 0.01 s does not resolve that transient (the guided run then
 /// misses by more: docs/control.md), hence the smaller step here.
 #[test]
@@ -167,7 +168,6 @@ fn guidance_lands_closer_to_the_target_than_the_uncontrolled_drop() {
         let set: Vec<String> = SQUARE_ON_CORNERS
             .iter()
             .chain(&[
-                "guidance.pull_side=towards",
                 "atmosphere.altitude_m=30",
                 "guidance.target_m=[5, 12]",
                 "time.dt_s=0.005",

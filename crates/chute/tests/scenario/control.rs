@@ -139,6 +139,7 @@ fn guidance_is_checked() {
     let s = round(&with(&ground, &[])).unwrap();
     let g = s.guidance.as_ref().unwrap();
     assert_eq!((g.target_m.clone(), g.max_pull_m), (vec![10.0, 0.0], 0.3));
+    assert_eq!(g.pull_side, chute::scenario::PullSide::Shape);
     assert_eq!(
         Scenario::from_str_with_name(&s.to_toml(), "r.toml", &[]).unwrap(),
         s
@@ -163,6 +164,24 @@ fn guidance_is_checked() {
         "guidance.ramp_s",
         "update_s",
     );
+    refused(
+        &with(&ground, &["guidance.pull_side=sideways"]),
+        "guidance.pull_side",
+        "shape",
+    );
+    // `shape` has no measured response for a hexagon; `away` is accepted there.
+    let hexagon = [
+        "canopy.shape=hexagon",
+        "load.sites=corners",
+        "guidance.pull_side=shape",
+    ];
+    refused(&with(&ground, &hexagon), "guidance.pull_side", "towards");
+    let hexagon = [
+        "canopy.shape=hexagon",
+        "load.sites=corners",
+        "guidance.pull_side=away",
+    ];
+    assert!(round(&with(&ground, &hexagon)).is_ok());
     let e = round(&["guidance.target_m=[10, 0]", "guidance.max_pull_m=0.3"]).unwrap_err();
     assert_eq!(e.key(), Some("guidance.target_m"), "{e}");
     assert!(e.to_string().contains("ground_altitude_m"), "{e}");

@@ -37,6 +37,10 @@ choice! {
         /// The lines facing away: a canopy that glides away from its pulled side (the round
         /// canopy of this model, docs/control.md).
         Away = "away",
+        /// The measured response of the canopy's outline (`control::response`): a rectangle
+        /// glides towards its pulled side, a circle away from it; none is measured for a
+        /// hexagon or an imported mesh.
+        Shape = "shape",
     }
 }
 
@@ -54,9 +58,11 @@ section! {
             .positive("a pull")
             .required("say how far a line may be pulled, e.g. `max_pull_m = 0.3`")
             .note("leaves every line ≥ 10 % of its length (with `[[control]]` pulls)"),
-        /// which lines to pull to glide towards the target: those facing it or those facing
-        /// away (how the canopy responds: measure it with a `[[control]]` pull)
-        pull_side: PullSide = PullSide::Away => key(),
+        /// which lines to pull to glide towards the target: by the canopy outline's measured
+        /// response (`shape`), or those facing it or facing away (measure how a canopy
+        /// responds with a `[[control]]` pull)
+        pull_side: PullSide = PullSide::Shape => key()
+            .note("`shape`: rectangle or circle canopies only"),
         /// pull per metre of predicted miss (proportional gain)
         gain: f64 = 0.05 => key().unit("m/m").positive("a gain"),
         /// time between the controller's decisions
