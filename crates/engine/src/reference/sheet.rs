@@ -115,3 +115,33 @@ pub fn thrown_crumpled_sheet(
     }
     (model, state, s)
 }
+
+/// A Kevlar sheet (E = 55 GPa, 2 mm, 1,440 kg/m³; the course report's canopy) of `lx × ly` m
+/// on an `nx × ny` grid (springs + hinges), flat at rest, under gravity, the DisMech pressure
+/// drag and a downward point force `corner_n` (N) on each corner: the stiff-membrane,
+/// drag-dominated start of the report's flight, on which modified Newton gives up at large dt.
+pub fn kevlar_sheet(
+    nx: usize,
+    ny: usize,
+    lx: f64,
+    ly: f64,
+    corner_n: f64,
+) -> (crate::Model, crate::State) {
+    use crate::prelude::*;
+    let s = sheet(nx, ny, lx, ly, 0.0);
+    let mesh = TriMesh::from_q(s.tris.clone(), &s.q, s.n_nodes).expect("a valid grid");
+    let mut model = Model::new(DofLayout::new(s.n_nodes, 0));
+    let mat = ShellMaterial {
+        youngs_modulus: 55e9,
+        thickness: 2e-3,
+        density: 1440.0,
+    };
+    crate::shell::install(&mesh, &mat, &mut model, &s.q).expect("a valid material");
+    let nodes: Vec<usize> = (0..s.n_nodes).collect();
+    let masses: Vec<f64> = nodes.iter().map(|&i| model.mass[3 * i]).collect();
+    model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -9.81]));
+    model.add_force(PressureDrag::new(&s.tris, &s.q, 1.75, &Fluid::air()));
+    let corners = [0, nx - 1, nx * (ny - 1), nx * ny - 1];
+    model.add_force(PointForces::new(&corners, &[[0.0, 0.0, -corner_n]; 4]));
+    (model, State::at_rest(s.q))
+}

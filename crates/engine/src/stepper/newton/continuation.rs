@@ -96,25 +96,10 @@ mod tests {
     use crate::prelude::*;
     use crate::stepper::options::NewtonOptions;
 
-    /// The 7 × 4-node Kevlar sheet of `tests/solver/exact_retry.rs` (6 m × 3 m, 2 mm,
-    /// 55 GPa) under gravity, pressure drag and 50 N per corner, flat at rest.
+    /// The 7 × 4-node Kevlar sheet of `tests/solver/exact_retry.rs` (6 m × 3 m) under
+    /// gravity, pressure drag and 50 N per corner, flat at rest.
     fn kevlar() -> (Model, State) {
-        let s = crate::reference::sheet::sheet(7, 4, 6.0, 3.0, 0.0);
-        let mesh = TriMesh::from_q(s.tris.clone(), &s.q, s.n_nodes).unwrap();
-        let mut model = Model::new(DofLayout::new(s.n_nodes, 0));
-        let mat = ShellMaterial {
-            youngs_modulus: 55e9,
-            thickness: 2e-3,
-            density: 1440.0,
-        };
-        crate::shell::install(&mesh, &mat, &mut model, &s.q).unwrap();
-        let nodes: Vec<usize> = (0..s.n_nodes).collect();
-        let masses: Vec<f64> = nodes.iter().map(|&i| model.mass[3 * i]).collect();
-        model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -9.81]));
-        model.add_force(PressureDrag::new(&s.tris, &s.q, 1.75, &Fluid::air()));
-        let corners = [0, 6, 21, 27];
-        model.add_force(PointForces::new(&corners, &[[0.0, 0.0, -50.0]; 4]));
-        (model, State::at_rest(s.q))
+        crate::reference::sheet::kevlar_sheet(7, 4, 6.0, 3.0, 50.0)
     }
 
     #[test]
