@@ -4,7 +4,9 @@ use super::canopy::Geometry;
 use super::load::Plan;
 use crate::scenario::{AtmosphereModel, DragLaw, ModelKind, Scenario, ShellDrag};
 use engine::aero::atmosphere::sutherland;
-use engine::aero::{Fabric, Fluid, LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
+use engine::aero::{
+    Fabric, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
+};
 use engine::rod::RodHandles;
 use engine::{ForceId, Model};
 
@@ -126,14 +128,22 @@ pub fn install(
                     }
                 }
                 ShellDrag::Pressure => {
-                    let q: Vec<f64> = geo.mesh.positions.iter().flatten().copied().collect();
-                    let mut qfull = q;
-                    qfull.resize(model.n_dofs(), 0.0);
-                    let d = PressureDrag::new(&faces, &qfull, cd, &fluid);
+                    let d = PressureDrag::new(&faces, &rest_q(geo, model), cd, &fluid);
                     match fabric {
                         Some(fab) => model.add_force(d.with_fabric(fab)),
                         None => model.add_force(d),
                     }
+                }
+                ShellDrag::Inflation => {
+                    // Skin friction: the report law with its normal part off (the pressure
+                    // replaces it); validation refuses a permeable fabric here.
+                    let ct = f.tangential_drag_coefficient;
+                    if ct > 0.0 {
+                        let t = TriangleDrag::new(&faces, 0.0, ct, &fluid);
+                        out.forces.push(model.add_force(t));
+                    }
+                    let p = InflationPressure::new(&faces, &rest_q(geo, model), cd, &fluid);
+                    model.add_force(p)
                 }
             };
             out.forces.push(id);
@@ -155,4 +165,12 @@ pub fn install(
             .push(model.add_force(NodeDrag::new(&ln, &la, cd_lines, &fluid)));
     }
     out
+}
+
+/// The rest positions of the canopy mesh as a vector over all of the model's DOFs (the
+/// triangle laws read their rest areas or orientations from it).
+fn rest_q(geo: &Geometry, model: &Model) -> Vec<f64> {
+    let mut q: Vec<f64> = geo.mesh.positions.iter().flatten().copied().collect();
+    q.resize(model.n_dofs(), 0.0);
+    q
 }

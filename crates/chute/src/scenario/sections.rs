@@ -410,6 +410,10 @@ choice! {
         Report = "report",
         /// DisMech-style pressure drag on the normal velocity only, coefficient C_D.
         Pressure = "pressure",
+        /// Inflation pressure C_D ½ρ|u|² on every triangle's inside normal whatever its angle
+        /// to the flow (the trapped air of an inflated canopy), plus the report's tangential
+        /// drag C_t.
+        Inflation = "inflation",
     }
 }
 
@@ -432,8 +436,9 @@ section! {
         drag_coefficient: f64 = 1.75 => key().positive("without drag there is no terminal velocity"),
         /// C_t: shell tangential drag
         tangential_drag_coefficient: f64 = 0.5 => key().non_negative("drag opposes motion"),
-        /// shell drag model: `report` (§II.D: normal C_D and tangential C_t per triangle) or
-        /// `pressure` (DisMech: normal velocity only, C_D)
+        /// shell drag model: `report` (§II.D: normal C_D and tangential C_t per triangle),
+        /// `pressure` (DisMech: normal velocity only, C_D) or `inflation` (the trapped air's
+        /// pressure C_D ½ρ|u|² on every triangle's inside normal, plus tangential C_t)
         shell_drag: ShellDrag = ShellDrag::Report => key(),
         /// `drag = "linear"`: whole-canopy coefficient c; node k gets −c (A_k/A) u_rel,k, so a
         /// flat rigid canopy falls at W/c

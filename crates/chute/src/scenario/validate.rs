@@ -7,7 +7,9 @@ use super::error::Origin;
 use super::error::{short, ScenarioError};
 use super::sections::SECTIONS;
 use super::source::Provenance;
-use super::{AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, Sites};
+use super::{
+    AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, ShellDrag, Sites,
+};
 
 /// Upper bounds that keep a typo (an extra zero or three) from exhausting memory or time.
 const MAX_SHELL_TRIANGLES: f64 = 2.0e6;
@@ -150,16 +152,27 @@ fn permeability(c: &mut Checker, s: &Scenario) {
             "only used with a permeable fabric: set material.permeability_m2 or material.air_permeability_cfm",
         );
     }
-    if permeable && s.fluid.drag == DragLaw::Linear {
-        let key = if m.permeability_m2.is_some() {
-            "material.permeability_m2"
-        } else {
-            "material.air_permeability_cfm"
-        };
+    if !permeable {
+        return;
+    }
+    let (key, value) = match m.permeability_m2 {
+        Some(k) => ("material.permeability_m2", k),
+        None => (
+            "material.air_permeability_cfm",
+            m.air_permeability_cfm.unwrap_or(0.0),
+        ),
+    };
+    if s.fluid.drag == DragLaw::Linear {
         c.fail(
             key,
-            m.permeability_m2.or(m.air_permeability_cfm).unwrap_or(0.0),
+            value,
             "leakage splits the quadratic drag's normal flow; fluid.drag = \"linear\" has none",
+        );
+    } else if s.fluid.shell_drag == ShellDrag::Inflation {
+        c.fail(
+            key,
+            value,
+            "fluid.shell_drag = \"inflation\" has no leakage model; use \"report\" or \"pressure\" with a permeable fabric",
         );
     }
 }

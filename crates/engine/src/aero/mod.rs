@@ -4,6 +4,8 @@
 //! - [`TriangleDrag`]: quadratic normal + tangential drag on shell triangles (report §II.D),
 //!   exact Jacobians in positions and velocities;
 //! - [`PressureDrag`]: the DisMech peer's per-node normal pressure law on triangles;
+//! - [`InflationPressure`]: a canopy's trapped-air pressure, uniform coefficient, on every
+//!   triangle's inside normal whatever its angle to the flow;
 //! - [`LinearDrag`]: linear (Stokes-like) drag for low Reynolds numbers;
 //! - [`Fluid`], [`reynolds`] and [`DragRegime`]: which law applies; [`Profile`]: density and
 //!   viscosity varying with height (uniform, exponential, the 1976 standard atmosphere of
@@ -19,6 +21,7 @@
 pub mod atmosphere;
 mod fluid;
 mod geometry;
+mod inflation;
 mod linear;
 mod node_drag;
 pub mod permeability;
@@ -27,6 +30,7 @@ mod regularize;
 mod triangle;
 
 pub use fluid::{reynolds, DragRegime, Fluid, LocalFluid, Profile};
+pub use inflation::{InflationPressure, InflationPressureLaw};
 pub use linear::{stokes_sphere, LinearDrag, LinearDragLaw};
 pub use node_drag::{NodeDrag, NodeDragLaw};
 pub use permeability::Fabric;

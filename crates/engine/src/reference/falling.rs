@@ -8,7 +8,7 @@
 //! body translates rigidly: the springs carry no load and the 1-DOF solution is exact.
 use super::sheet::sheet;
 use super::RefError;
-use crate::aero::{Fluid, NodeDrag, PressureDrag, TriangleDrag};
+use crate::aero::{Fluid, InflationPressure, NodeDrag, PressureDrag, TriangleDrag};
 use crate::loads::Gravity;
 use crate::rod::Stretch;
 use crate::{DofLayout, ImplicitEuler, Model, NewtonOptions, State};
@@ -97,6 +97,8 @@ pub enum Body {
     SheetTriangle,
     /// The same sheet with [`PressureDrag`].
     SheetPressure,
+    /// The same sheet with [`InflationPressure`] (`C_p = C_D`).
+    SheetInflation,
     /// 2 m × 0.5 m strip of 11 nodes with [`NodeDrag`] (`A_k = 2 r_d l̄_k`, `r_d` = width/2).
     StripNodes,
 }
@@ -105,7 +107,7 @@ pub enum Body {
 pub fn build(body: Body, fluid: &Fluid) -> (Model, State) {
     let m = mass_for_vt(fluid);
     match body {
-        Body::SheetTriangle | Body::SheetPressure => {
+        Body::SheetTriangle | Body::SheetPressure | Body::SheetInflation => {
             let s = sheet(3, 3, 1.0, 1.0, 10.0);
             let mut model = Model::new(DofLayout::new(s.n_nodes, 0));
             let masses = s.lumped_masses(m);
@@ -117,7 +119,8 @@ pub fn build(body: Body, fluid: &Fluid) -> (Model, State) {
             model.add_force(s.springs(K_SPRING));
             match body {
                 Body::SheetTriangle => model.add_force(TriangleDrag::new(&s.tris, CD, CD_T, fluid)),
-                _ => model.add_force(PressureDrag::new(&s.tris, &s.q, CD, fluid)),
+                Body::SheetPressure => model.add_force(PressureDrag::new(&s.tris, &s.q, CD, fluid)),
+                _ => model.add_force(InflationPressure::new(&s.tris, &s.q, CD, fluid)),
             };
             (model, State::at_rest(s.q))
         }

@@ -11,7 +11,7 @@ mod fixtures;
 mod membranes;
 mod rods;
 
-use engine::aero::{LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
+use engine::aero::{InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
 use engine::conformance::Case;
 use engine::force::Force;
 use engine::force_conformance;
@@ -68,6 +68,22 @@ force_conformance!(triangle_drag_edge_on_and_reversing, {
 force_conformance!(pressure_drag, {
     let (tris, q) = grid(3, 2.0);
     Case::new(PressureDrag::new(&tris, &q, 1.75, &windy()), q)
+        .perturb(0.4)
+        .velocities(10.0)
+        .trials(20)
+});
+// Inflation pressure: triangles tilted and stretched, flow from every side (σ is fixed at
+// rest, so the draws also reach panels whose inside faces away from the flow).
+force_conformance!(inflation_pressure, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(InflationPressure::new(&tris, &q, 1.4, &windy()), q)
+        .perturb(0.4)
+        .velocities(10.0)
+        .trials(20)
+});
+force_conformance!(inflation_pressure_stratified, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(InflationPressure::new(&tris, &q, 1.4, &stratified()), q)
         .perturb(0.4)
         .velocities(10.0)
         .trials(20)

@@ -1,7 +1,8 @@
 //! Falling bodies against the analytic quadratic-drag solution: from rest,
 //! `v(t) = v_t tanh(g t / v_t)`, `v_t = √(2 m g / (ρ C_D A))`.
 //!
-//! Bodies: a flat, stiff horizontal sheet with [`TriangleDrag`] or [`PressureDrag`], and a
+//! Bodies: a flat, stiff horizontal sheet with [`TriangleDrag`], [`PressureDrag`] or
+//! [`InflationPressure`] (C_p = C_D: falling flat it is the same force), and a
 //! straight horizontal strip (nodes + springs) with [`NodeDrag`]. Masses are lumped in
 //! proportion to each node's drag area, so every node has the same drag per unit mass and the
 //! body translates rigidly: the springs carry no load and the 1-DOF solution is exact.
@@ -42,6 +43,11 @@ fn flat_sheet_with_triangle_drag_follows_tanh_law() {
 #[test]
 fn flat_sheet_with_pressure_drag_follows_tanh_law() {
     check_body(Body::SheetPressure);
+}
+
+#[test]
+fn flat_sheet_with_inflation_pressure_follows_tanh_law() {
+    check_body(Body::SheetInflation);
 }
 
 #[test]

@@ -1,0 +1,117 @@
+//! Inflation pressure on a canopy: the trapped air's differential pressure, independent of
+//! each panel's angle to the flow.
+//!
+//! The panel laws ([`TriangleDrag`](super::TriangleDrag), [`PressureDrag`](super::PressureDrag))
+//! push each triangle along its normal with a weight that vanishes when the panel turns
+//! edge-on to the flow, so nothing holds the side of a deep canopy out. An inflated canopy is
+//! held open by the air it traps: over the inside the differential pressure is a fraction of
+//! the free stream's dynamic pressure that varies little from panel to panel. Prescribing that
+//! pressure is how parachute structural codes load a canopy (Sandia's CANO and its successor
+//! take "dynamic pressure and pressure distribution" as input; Ludtke, NSWC TR 84-204, 1984;
+//! MONSTR runs a constant distribution). This law takes the simplest, a uniform coefficient:
+//!
+//! - relative velocity of the triangle `u = (v₀ + v₁ + v₂)/3 − U∞` (m/s);
+//! - current area vector `N = ½ (x₁ − x₀) × (x₂ − x₀)` (m²);
+//! - differential pressure `Δp = C_p ½ ρ |u|²` (Pa), ρ at the centroid's height;
+//! - each node receives `f_i = σ Δp N / 3` (N): the pressure on the triangle's current area
+//!   along its inside normal. `σ = ±1` per triangle, fixed at construction so that `σ N`
+//!   points up (+z) in the rest configuration: the canopy is set up flat, its mouth facing
+//!   down towards the payload and the oncoming air of the descent.
+//!
+//! A flat canopy falling flat sees exactly the report law's normal drag `½ ρ C_D A w²`, so
+//! `C_p = C_D` calibrates the same way (a flat plate: `v = √(2 W/(ρ C_p A))`); on a uniform
+//! flow the resultant is `σ Δp` times the vector area bounded by the canopy's rim, the
+//! projected area, whatever the shape. Limits: `Δp ≥ 0` always (the inside stays the inside:
+//! the law is for a canopy descending mouth first, not for one blown inside out), no
+//! dependence on the local incidence, hence no aerodynamic restoring moment of its own.
+//!
+//! Exact Jacobians (neither symmetric):
+//! - `∂f_i/∂v_b = σ (C_p ρ / 9) N uᵀ`;
+//! - `∂f_i/∂x_b = σ (Δp / 3) ∂N/∂x_b`, plus, in height-dependent air,
+//!   `⅓ (ρ′/ρ) f_i e_zᵀ` from `∂z̄/∂z_b = 1/3`.
+
+use super::fluid::Fluid;
+use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
+use crate::element::{node_stencils, Element, Family};
+use crate::force::{BlockMut, EvalInput, JacobianKind};
+use crate::vec3::{node, outer, V3};
+
+/// The inflation-pressure law: pressure coefficient `C_p`, fluid and wind.
+#[derive(Debug, Clone, Copy)]
+pub struct InflationPressureLaw {
+    /// Pressure coefficient C_p: Δp over the dynamic pressure ½ρ|u|².
+    cp: f64,
+    fluid: Fluid,
+    wind: V3,
+}
+
+/// Uniform-coefficient inflation pressure on a family of triangles (module docs). Each
+/// triangle's data is its orientation `σ = ±1`.
+pub type InflationPressure = Family<InflationPressureLaw>;
+
+impl InflationPressure {
+    /// Inflation pressure with coefficient `cp` on `triangles`, oriented by the rest
+    /// positions `q_rest` (σ N points up there; a triangle exactly vertical at rest takes
+    /// σ = +1), in `fluid`.
+    pub fn new(triangles: &[[usize; 3]], q_rest: &[f64], cp: f64, fluid: &Fluid) -> Self {
+        let sigma: Vec<f64> = triangles
+            .iter()
+            .map(|t| {
+                let n = area_vector(&t.map(|i| node(q_rest, i)));
+                if n.z < 0.0 {
+                    -1.0
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        let law = InflationPressureLaw {
+            cp,
+            fluid: *fluid,
+            wind: V3::from(fluid.wind),
+        };
+        Family::from_elements("inflation-pressure", law, node_stencils(triangles), sigma)
+    }
+}
+
+impl Element for InflationPressureLaw {
+    const STENCIL: usize = 9;
+    const KIND: JacobianKind = JacobianKind::GENERAL;
+    type Data = f64;
+
+    fn evaluate(&self, &sigma: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+        let (q, v) = (input.q, input.v);
+        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+        let u = ([0, 1, 2].map(|i| stencil_vec(v, st, i)).iter().sum::<V3>()) / 3.0 - self.wind;
+        let nv = area_vector(&x);
+        let air = self.fluid.at((x[0].z + x[1].z + x[2].z) / 3.0);
+        let dp = self.cp * 0.5 * air.density * u.norm_squared();
+        let f = (sigma * dp / 3.0) * nv;
+        for i in 0..3 {
+            for r in 0..3 {
+                b.f[3 * i + r] = f[r];
+            }
+        }
+        if b.dfdq.is_empty() {
+            return;
+        }
+        // Every node's force is the same f, so each 3 × 3 block row repeats.
+        let dv = (sigma * self.cp * air.density / 9.0) * outer(&nv, &u);
+        let dn = area_vector_jacobians(&x);
+        let dz = f * (air.density_gradient / air.density / 3.0);
+        for bn in 0..3 {
+            let mut dq = (sigma * dp / 3.0) * dn[bn];
+            for r in 0..3 {
+                dq[(r, 2)] += dz[r];
+            }
+            for i in 0..3 {
+                for r in 0..3 {
+                    for c in 0..3 {
+                        b.dfdq[(3 * i + r) * 9 + 3 * bn + c] = dq[(r, c)];
+                        b.dfdv[(3 * i + r) * 9 + 3 * bn + c] = dv[(r, c)];
+                    }
+                }
+            }
+        }
+    }
+}
