@@ -410,9 +410,9 @@ choice! {
         Report = "report",
         /// DisMech-style pressure drag on the normal velocity only, coefficient C_D.
         Pressure = "pressure",
-        /// Inflation pressure C_D ½ρ|u|² on every triangle's inside normal whatever its angle
-        /// to the flow (the trapped air of an inflated canopy), plus the report's tangential
-        /// drag C_t.
+        /// Inflation pressure C_D ½ρw² (w: descent speed through the air) on every triangle's
+        /// inside normal whatever its angle to the flow (the trapped air of an inflated
+        /// canopy), plus the report's tangential drag C_t.
         Inflation = "inflation",
     }
 }
@@ -438,7 +438,8 @@ section! {
         tangential_drag_coefficient: f64 = 0.5 => key().non_negative("drag opposes motion"),
         /// shell drag model: `report` (§II.D: normal C_D and tangential C_t per triangle),
         /// `pressure` (DisMech: normal velocity only, C_D) or `inflation` (the trapped air's
-        /// pressure C_D ½ρ|u|² on every triangle's inside normal, plus tangential C_t)
+        /// pressure C_D ½ρw², w the descent speed through the air, on every triangle's inside
+        /// normal, plus tangential C_t)
         shell_drag: ShellDrag = ShellDrag::Report => key(),
         /// `drag = "linear"`: whole-canopy coefficient c; node k gets −c (A_k/A) u_rel,k, so a
         /// flat rigid canopy falls at W/c

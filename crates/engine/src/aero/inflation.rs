@@ -8,11 +8,14 @@
 //! the free stream's dynamic pressure that varies little from panel to panel. Prescribing that
 //! pressure is how parachute structural codes load a canopy (Sandia's CANO and its successor
 //! take "dynamic pressure and pressure distribution" as input; Ludtke, NSWC TR 84-204, 1984;
-//! MONSTR runs a constant distribution). This law takes the simplest, a uniform coefficient:
+//! MONSTR runs a constant distribution). This law takes the simplest, a uniform coefficient
+//! on the dynamic pressure of the descent:
 //!
 //! - relative velocity of the triangle `u = (v₀ + v₁ + v₂)/3 − U∞` (m/s);
+//! - descent speed through the air `w = max(0, −u_z)` (m/s): the flow into the mouth of a
+//!   canopy whose axis is vertical, so a horizontal wind or glide does not inflate it;
 //! - current area vector `N = ½ (x₁ − x₀) × (x₂ − x₀)` (m²);
-//! - differential pressure `Δp = C_p ½ ρ |u|²` (Pa), ρ at the centroid's height;
+//! - differential pressure `Δp = C_p ½ ρ w²` (Pa), ρ at the centroid's height;
 //! - each node receives `f_i = σ Δp N / 3` (N): the pressure on the triangle's current area
 //!   along its inside normal. `σ = ±1` per triangle, fixed at construction so that `σ N`
 //!   points up (+z) in the rest configuration: the canopy is set up flat, its mouth facing
@@ -21,12 +24,14 @@
 //! A flat canopy falling flat sees exactly the report law's normal drag `½ ρ C_D A w²`, so
 //! `C_p = C_D` calibrates the same way (a flat plate: `v = √(2 W/(ρ C_p A))`); on a uniform
 //! flow the resultant is `σ Δp` times the vector area bounded by the canopy's rim, the
-//! projected area, whatever the shape. Limits: `Δp ≥ 0` always (the inside stays the inside:
-//! the law is for a canopy descending mouth first, not for one blown inside out), no
-//! dependence on the local incidence, hence no aerodynamic restoring moment of its own.
+//! projected area, whatever the shape. Limits: the axis is taken vertical (a canopy swinging
+//! by α sees `w`, not the `w cos α` along its axis: a second-order error in α), `Δp ≥ 0` (the
+//! inside stays the inside), and no dependence on the local incidence, hence no aerodynamic
+//! restoring moment of its own. `w²` with `w = max(0, −u_z)` is C¹, so no regularisation is
+//! needed.
 //!
 //! Exact Jacobians (neither symmetric):
-//! - `∂f_i/∂v_b = σ (C_p ρ / 9) N uᵀ`;
+//! - `∂f_i/∂v_b = −σ (C_p ρ w / 9) N e_zᵀ`;
 //! - `∂f_i/∂x_b = σ (Δp / 3) ∂N/∂x_b`, plus, in height-dependent air,
 //!   `⅓ (ρ′/ρ) f_i e_zᵀ` from `∂z̄/∂z_b = 1/3`.
 
@@ -39,7 +44,7 @@ use crate::vec3::{node, outer, V3};
 /// The inflation-pressure law: pressure coefficient `C_p`, fluid and wind.
 #[derive(Debug, Clone, Copy)]
 pub struct InflationPressureLaw {
-    /// Pressure coefficient C_p: Δp over the dynamic pressure ½ρ|u|².
+    /// Pressure coefficient C_p: Δp over the descent's dynamic pressure ½ρw².
     cp: f64,
     fluid: Fluid,
     wind: V3,
@@ -85,7 +90,8 @@ impl Element for InflationPressureLaw {
         let u = ([0, 1, 2].map(|i| stencil_vec(v, st, i)).iter().sum::<V3>()) / 3.0 - self.wind;
         let nv = area_vector(&x);
         let air = self.fluid.at((x[0].z + x[1].z + x[2].z) / 3.0);
-        let dp = self.cp * 0.5 * air.density * u.norm_squared();
+        let w = (-u.z).max(0.0);
+        let dp = self.cp * 0.5 * air.density * w * w;
         let f = (sigma * dp / 3.0) * nv;
         for i in 0..3 {
             for r in 0..3 {
@@ -96,7 +102,7 @@ impl Element for InflationPressureLaw {
             return;
         }
         // Every node's force is the same f, so each 3 × 3 block row repeats.
-        let dv = (sigma * self.cp * air.density / 9.0) * outer(&nv, &u);
+        let dv = (-sigma * self.cp * air.density * w / 9.0) * outer(&nv, &V3::z());
         let dn = area_vector_jacobians(&x);
         let dz = f * (air.density_gradient / air.density / 3.0);
         for bn in 0..3 {

@@ -2,7 +2,8 @@
 //! panel whatever its angle to the flow, and on a uniform flow the resultant over any surface
 //! is `Δp` times the vector area bounded by its rim (Σ N_t telescopes to ½ ∮ x × dx), so a
 //! dome whose rim stays in a plane feels exactly the flat canopy's force, normal to the rim's
-//! plane, from any direction of the flow. Exact identities: round-off tolerance.
+//! plane, whatever the flow's horizontal part. Only the descent `w = max(0, −u_z)` inflates.
+//! Exact identities: round-off tolerance.
 use engine::aero::{resultant, Fluid, InflationPressure, TriangleDrag};
 use engine::reference::sheet;
 use engine::DofLayout;
@@ -40,16 +41,20 @@ fn dome_with_a_flat_rim_feels_the_projected_area_from_any_flow_direction() {
     for trial in 0..10 {
         let (s, q) = dome(&mut rng);
         let law = InflationPressure::new(&s.tris, &s.q, CP, &Fluid::air());
-        let vel: [f64; 3] = [0, 1, 2].map(|_| rng.random_range(-6.0..6.0));
-        let u2: f64 = vel.iter().map(|x| x * x).sum();
+        let vel = [
+            rng.random_range(-6.0..6.0),
+            rng.random_range(-6.0..6.0),
+            rng.random_range(-6.0..-0.5),
+        ];
+        let w2 = vel[2] * vel[2];
         let f = resultant(
             &law,
             &DofLayout::new(s.n_nodes, 0),
             &q,
             &uniform(s.n_nodes, vel),
         );
-        // Rectangle 2 m × 1 m: vector area (0, 0, 2); Δp = C_p ½ ρ |u|².
-        let want = [0.0, 0.0, CP * 0.5 * rho * u2 * 2.0];
+        // Rectangle 2 m × 1 m: vector area (0, 0, 2); Δp = C_p ½ ρ w², w = −u_z.
+        let want = [0.0, 0.0, CP * 0.5 * rho * w2 * 2.0];
         for k in 0..3 {
             assert!(
                 (f[k] - want[k]).abs() <= 1e-12 * want[2],
@@ -60,27 +65,52 @@ fn dome_with_a_flat_rim_feels_the_projected_area_from_any_flow_direction() {
 }
 
 #[test]
-fn a_panel_edge_on_to_the_flow_keeps_its_pressure_unlike_the_panel_law() {
-    // The flat sheet moving in its own plane at 5 m/s: the report law's normal drag vanishes
-    // (only skin friction, along −x), the inflation pressure pushes along +z with the full
-    // ½ ρ C_p |u|² A.
+fn a_side_panel_edge_on_to_the_descent_keeps_its_pressure_unlike_the_panel_law() {
+    // The flat sheet (σ fixed flat) turned vertical, its normal along −y, descending at
+    // 5 m/s: the report law's normal drag vanishes edge-on, the inflation pressure pushes the
+    // panel outwards along σ N with the full ½ ρ C_p w² A, as on the side of a deep canopy.
     let s = sheet::sheet(3, 2, 2.0, 1.0, 0.0);
     let layout = DofLayout::new(s.n_nodes, 0);
-    let v = uniform(s.n_nodes, [5.0, 0.0, 0.0]);
+    let q: Vec<f64> = s.q.chunks(3).flat_map(|p| [p[0], 0.0, p[1]]).collect();
+    let v = uniform(s.n_nodes, [0.0, 0.0, -5.0]);
     let rho = Fluid::air().density;
     let infl = InflationPressure::new(&s.tris, &s.q, CP, &Fluid::air());
-    let f = resultant(&infl, &layout, &s.q, &v);
+    let f = resultant(&infl, &layout, &q, &v);
     let want = CP * 0.5 * rho * 25.0 * 2.0;
+    assert!((f[1] + want).abs() <= 1e-12 * want, "{f:?} vs −{want}");
     assert!(
-        (f[2] - want).abs() <= 1e-12 * want && f[0].abs() <= 1e-12 * want,
+        f[0].abs() <= 1e-12 * want && f[2].abs() <= 1e-12 * want,
         "{f:?}"
     );
     let panel = TriangleDrag::new(&s.tris, CP, 0.0, &Fluid::air());
-    let g = resultant(&panel, &layout, &s.q, &v);
+    let g = resultant(&panel, &layout, &q, &v);
     assert!(
         g.iter().all(|x| x.abs() < 1e-9),
         "report law edge-on: {g:?}"
     );
+}
+
+#[test]
+fn a_horizontal_wind_or_a_rising_canopy_does_not_inflate() {
+    // At rest in a 2 m/s crosswind (the start of a drop in wind), and rising at 1 m/s: no
+    // descent through the air, no pressure (the report law would push on the rising sheet).
+    let s = sheet::sheet(3, 2, 2.0, 1.0, 0.0);
+    let layout = DofLayout::new(s.n_nodes, 0);
+    let windy = Fluid {
+        wind: [0.0, 2.0, 0.0],
+        ..Fluid::air()
+    };
+    let at_rest = uniform(s.n_nodes, [0.0, 0.0, 0.0]);
+    let f = resultant(
+        &InflationPressure::new(&s.tris, &s.q, CP, &windy),
+        &layout,
+        &s.q,
+        &at_rest,
+    );
+    assert_eq!(f, [0.0; 3]);
+    let rising = uniform(s.n_nodes, [0.3, 0.0, 1.0]);
+    let infl = InflationPressure::new(&s.tris, &s.q, CP, &Fluid::air());
+    assert_eq!(resultant(&infl, &layout, &s.q, &rising), [0.0; 3]);
 }
 
 #[test]
