@@ -57,7 +57,7 @@ impl Controller {
     pub fn new(s: &Scenario, ground_z: f64) -> Option<Self> {
         let g = s.guidance.as_ref()?;
         Some(Self {
-            response: Response::of(g.pull_side, s.canopy.shape)?,
+            response: Response::of(g.pull_side, s.canopy.shape, s.fluid.shell_drag)?,
             target: [g.target_m[0], g.target_m[1]],
             max_pull: g.max_pull_m,
             gain: g.gain,

@@ -18,13 +18,20 @@
 //! * the round canopy on rim lines: `θ = π`, `k ≈ 0.7 (m/s)/m` (line 0 pulled by 0.3 m in the
 //!   crosswind of control-guidance.toml: `Δv_h ≈ (−0.19, −0.09) m/s` 3.5 s after the pull),
 //!   valid only for the first seconds after a pull: the glide then turns, and other lines
-//!   respond differently (docs/control.md has the measurements: no fixed S fits them all).
-use crate::scenario::{CanopyShape, PullSide};
+//!   respond differently (docs/control.md has the measurements: no fixed S fits them all);
+//! * the round canopy under the inflation pressure (`fluid.shell_drag = "inflation"`):
+//!   `θ = 0`, `k ≈ 4 (m/s)/m` (line 0, 3 or 6 pulled by 0.3 m in still air: the canopy glides
+//!   towards the pulled side at about 1.2 m/s in the first seconds, then the glide turns
+//!   slowly; docs/control.md).
+use crate::scenario::{CanopyShape, PullSide, ShellDrag};
 
 /// Gain of the flat square's response ((m/s)/m of pull vector), measured (module doc).
 pub const SQUARE_GAIN: f64 = 1.36;
 /// Gain of the round canopy's response ((m/s)/m), measured in the first seconds (module doc).
 pub const ROUND_GAIN: f64 = 0.7;
+/// Gain of the round canopy's response under the inflation pressure ((m/s)/m), measured in
+/// the first seconds after a pull (module doc).
+pub const INFLATED_ROUND_GAIN: f64 = 4.0;
 
 /// The map `S = k R(θ)` from pull vector to glide change.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,17 +72,22 @@ impl Response {
         }
     }
 
-    /// The response `pull_side` selects for a canopy of outline `shape`, or `None` when
-    /// `"shape"` has no measured response for it (hexagon, imported mesh).
-    pub fn of(side: PullSide, shape: CanopyShape) -> Option<Self> {
-        match (side, shape) {
-            (PullSide::Towards, CanopyShape::Rectangle) => Some(Self::towards(SQUARE_GAIN)),
-            (PullSide::Towards, _) => Some(Self::towards(ROUND_GAIN)),
-            (PullSide::Away, CanopyShape::Rectangle) => Some(Self::away(SQUARE_GAIN)),
-            (PullSide::Away, _) => Some(Self::away(ROUND_GAIN)),
-            (PullSide::Shape, CanopyShape::Rectangle) => Some(Self::towards(SQUARE_GAIN)),
-            (PullSide::Shape, CanopyShape::Circle) => Some(Self::away(ROUND_GAIN)),
-            (PullSide::Shape, _) => None,
+    /// The response `pull_side` selects for a canopy of outline `shape` under the shell drag
+    /// law `drag`, or `None` when `"shape"` has no measured response for the pair.
+    pub fn of(side: PullSide, shape: CanopyShape, drag: ShellDrag) -> Option<Self> {
+        let inflated = drag == ShellDrag::Inflation;
+        let gain = match (shape, inflated) {
+            (CanopyShape::Rectangle, _) => SQUARE_GAIN,
+            (_, true) => INFLATED_ROUND_GAIN,
+            (_, false) => ROUND_GAIN,
+        };
+        match (side, shape, inflated) {
+            (PullSide::Towards, _, _) => Some(Self::towards(gain)),
+            (PullSide::Away, _, _) => Some(Self::away(gain)),
+            (PullSide::Shape, CanopyShape::Rectangle, false) => Some(Self::towards(gain)),
+            (PullSide::Shape, CanopyShape::Circle, false) => Some(Self::away(gain)),
+            (PullSide::Shape, CanopyShape::Circle, true) => Some(Self::towards(gain)),
+            (PullSide::Shape, _, _) => None,
         }
     }
 
@@ -161,8 +173,8 @@ mod tests {
     }
 
     #[test]
-    fn shape_picks_the_measured_response_of_each_outline() {
-        let of = |s| Response::of(PullSide::Shape, s);
+    fn shape_picks_the_measured_response_of_each_outline_and_law() {
+        let of = |s| Response::of(PullSide::Shape, s, ShellDrag::Report);
         assert_eq!(
             of(CanopyShape::Rectangle),
             Some(Response::towards(SQUARE_GAIN))
@@ -170,7 +182,15 @@ mod tests {
         assert_eq!(of(CanopyShape::Circle), Some(Response::away(ROUND_GAIN)));
         assert_eq!(of(CanopyShape::Hexagon), None);
         assert_eq!(of(CanopyShape::Mesh), None);
-        let away = Response::of(PullSide::Away, CanopyShape::Mesh).unwrap();
+        // Inflated, the round canopy glides towards its pulled side; the square under that
+        // law is not measured.
+        let inflated = |s| Response::of(PullSide::Shape, s, ShellDrag::Inflation);
+        assert_eq!(
+            inflated(CanopyShape::Circle),
+            Some(Response::towards(INFLATED_ROUND_GAIN))
+        );
+        assert_eq!(inflated(CanopyShape::Rectangle), None);
+        let away = Response::of(PullSide::Away, CanopyShape::Mesh, ShellDrag::Report).unwrap();
         assert_eq!((away.cos, away.sin), (-1.0, 0.0));
     }
 }

@@ -95,14 +95,18 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
                 ),
             );
         }
-        if crate::control::response::Response::of(g.pull_side, s.canopy.shape).is_none() {
+        if crate::control::response::Response::of(g.pull_side, s.canopy.shape, s.fluid.shell_drag)
+            .is_none()
+        {
             c.fail(
                 "guidance.pull_side",
                 g.pull_side.name(),
                 format!(
-                    "no response to line pulls is measured for a `{}` canopy: set `towards` \
-                     or `away` (measure it with a `[[control]]` pull, docs/control.md)",
-                    s.canopy.shape.name()
+                    "no response to line pulls is measured for a `{}` canopy under \
+                     fluid.shell_drag = `{}`: set `towards` or `away` (measure it with a \
+                     `[[control]]` pull, docs/control.md)",
+                    s.canopy.shape.name(),
+                    s.fluid.shell_drag.name()
                 ),
             );
         }

@@ -182,6 +182,18 @@ fn guidance_is_checked() {
         "guidance.pull_side=away",
     ];
     assert!(round(&with(&ground, &hexagon)).is_ok());
+    // Under the inflation pressure the round canopy's response is measured, the square's not.
+    let inflated = ["fluid.shell_drag=\"inflation\"", "guidance.pull_side=shape"];
+    assert!(round(&with(&ground, &inflated)).is_ok());
+    let square = [
+        "fluid.shell_drag=\"inflation\"",
+        "guidance.pull_side=shape",
+        "canopy.shape=rectangle",
+        "canopy.span_m=3",
+        "canopy.width_m=3",
+        "load.sites=corners",
+    ];
+    refused(&with(&ground, &square), "guidance.pull_side", "inflation");
     let e = round(&["guidance.target_m=[10, 0]", "guidance.max_pull_m=0.3"]).unwrap_err();
     assert_eq!(e.key(), Some("guidance.target_m"), "{e}");
     assert!(e.to_string().contains("ground_altitude_m"), "{e}");
