@@ -170,6 +170,7 @@ fn guidance_lands_closer_to_the_target_than_the_uncontrolled_drop() {
         let set: Vec<String> = SQUARE_ON_CORNERS
             .iter()
             .chain(&[
+                "fluid.shell_drag=\"report\"",
                 "atmosphere.altitude_m=30",
                 "guidance.target_m=[5, 12]",
                 "time.dt_s=0.005",
@@ -217,7 +218,6 @@ fn guidance_lands_closer_to_the_target_than_the_uncontrolled_drop() {
 fn guidance_brings_the_inflated_round_canopy_closer_to_the_target() {
     let drop = |max_pull: &str| {
         let set: Vec<String> = [
-            "fluid.shell_drag=\"inflation\"",
             "atmosphere.altitude_m=30",
             "guidance.target_m=[5, 12]",
             "time.dt_s=0.005",

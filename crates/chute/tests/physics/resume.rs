@@ -182,6 +182,7 @@ fn guided_run_resumed_after_stop_equals_uninterrupted() {
     let set: Vec<String> = SQUARE_ON_CORNERS
         .iter()
         .chain(&[
+            "fluid.shell_drag=\"report\"",
             "guidance.pull_side=towards",
             "guidance.update_s=0.25",
             "guidance.target_m=[5, 12]",
