@@ -432,7 +432,8 @@ section! {
         wind_mps: [f64; 3] = [0.0; 3] => key().unit("m/s"),
         /// drag law
         drag: DragLaw = DragLaw::Quadratic => key(),
-        /// C_D: rod drag; shell normal drag
+        /// C_D: rod drag; shell normal drag; with `shell_drag = "inflation"` the pressure
+        /// coefficient C_p of Δp = C_p ½ρw²
         drag_coefficient: f64 = 1.75 => key().positive("without drag there is no terminal velocity"),
         /// C_t: shell tangential drag
         tangential_drag_coefficient: f64 = 0.5 => key().non_negative("drag opposes motion"),
