@@ -136,14 +136,17 @@ pub fn install(
                 }
                 ShellDrag::Inflation => {
                     // Skin friction: the report law with its normal part off (the pressure
-                    // replaces it); validation refuses a permeable fabric here.
+                    // replaces it, and only it sees the fabric's leakage).
                     let ct = f.tangential_drag_coefficient;
                     if ct > 0.0 {
                         let t = TriangleDrag::new(&faces, 0.0, ct, &fluid);
                         out.forces.push(model.add_force(t));
                     }
                     let p = InflationPressure::new(&faces, &rest_q(geo, model), cd, &fluid);
-                    model.add_force(p)
+                    match fabric {
+                        Some(fab) => model.add_force(p.with_fabric(fab)),
+                        None => model.add_force(p),
+                    }
                 }
             };
             out.forces.push(id);

@@ -7,9 +7,7 @@ use super::error::Origin;
 use super::error::{short, ScenarioError};
 use super::sections::SECTIONS;
 use super::source::Provenance;
-use super::{
-    AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, ShellDrag, Sites,
-};
+use super::{AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, Sites};
 
 /// Upper bounds that keep a typo (an extra zero or three) from exhausting memory or time.
 const MAX_SHELL_TRIANGLES: f64 = 2.0e6;
@@ -167,12 +165,6 @@ fn permeability(c: &mut Checker, s: &Scenario) {
             key,
             value,
             "leakage splits the quadratic drag's normal flow; fluid.drag = \"linear\" has none",
-        );
-    } else if s.fluid.shell_drag == ShellDrag::Inflation {
-        c.fail(
-            key,
-            value,
-            "fluid.shell_drag = \"inflation\" has no leakage model; use \"report\" or \"pressure\" with a permeable fabric",
         );
     }
 }

@@ -100,14 +100,6 @@ fn bad_atmosphere_and_fabric_inputs_exit_2_naming_the_key() {
             &["material.permeability_m2=1e-10"],
             &["material.permeability_m2", "shell"],
         ),
-        (
-            &round(),
-            &[
-                "fluid.shell_drag=\"inflation\"",
-                "material.air_permeability_cfm=100",
-            ],
-            &["material.air_permeability_cfm", "inflation", "no leakage"],
-        ),
     ];
     for (file, set, want) in cases {
         let o = check(dir.path(), file, set);

@@ -30,13 +30,20 @@
 //! restoring moment of its own. `w²` with `w = max(0, −u_z)` is C¹, so no regularisation is
 //! needed.
 //!
+//! **Permeable fabric** ([`InflationPressure::with_fabric`]): air leaks through the cloth at
+//! `u_p`, and the pressure is that of the flow that does not, `Δp = C_p ½ ρ (w − u_p)²`,
+//! equal to the fabric's Darcy–Forchheimer drop `h (μ u_p/k + ρ C_F u_p²/√k)`; the same split
+//! as the panel laws' ([`super::permeability`]), with `w` the descent speed. Then `Δp(w)` and
+//! its partials come from [`leakage`] and replace `c w²` below (`∂Δp/∂w` for `C_p ρ w`).
+//!
 //! Exact Jacobians (neither symmetric):
-//! - `∂f_i/∂v_b = −σ (C_p ρ w / 9) N e_zᵀ`;
+//! - `∂f_i/∂v_b = −σ (∂Δp/∂w / 9) N e_zᵀ` (impermeable: `∂Δp/∂w = C_p ρ w`);
 //! - `∂f_i/∂x_b = σ (Δp / 3) ∂N/∂x_b`, plus, in height-dependent air,
-//!   `⅓ (ρ′/ρ) f_i e_zᵀ` from `∂z̄/∂z_b = 1/3`.
+//!   `σ (∂Δp/∂z̄ / 9) N e_zᵀ` from `∂z̄/∂z_b = 1/3` (impermeable: `∂Δp/∂z̄ = (ρ′/ρ) Δp`).
 
-use super::fluid::Fluid;
+use super::fluid::{Fluid, LocalFluid};
 use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
+use super::permeability::{leakage, Fabric};
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, outer, V3};
@@ -48,6 +55,7 @@ pub struct InflationPressureLaw {
     cp: f64,
     fluid: Fluid,
     wind: V3,
+    fabric: Option<Fabric>,
 }
 
 /// Uniform-coefficient inflation pressure on a family of triangles (module docs). Each
@@ -74,8 +82,35 @@ impl InflationPressure {
             cp,
             fluid: *fluid,
             wind: V3::from(fluid.wind),
+            fabric: None,
         };
         Family::from_elements("inflation-pressure", law, node_stencils(triangles), sigma)
+    }
+
+    /// Let air leak through the fabric: the pressure is that of the flow around it (module
+    /// docs).
+    pub fn with_fabric(mut self, fabric: Fabric) -> Self {
+        self.law.fabric = Some(fabric);
+        self
+    }
+}
+
+impl InflationPressureLaw {
+    /// `Δp` (Pa), `∂Δp/∂w` (Pa·s/m) and `∂Δp/∂z̄` (Pa/m) at descent speed `w` (m/s) in the
+    /// air `air` at the centroid.
+    #[inline]
+    fn pressure(&self, w: f64, air: &LocalFluid) -> (f64, f64, f64) {
+        let c = 0.5 * self.cp * air.density;
+        let dc = 0.5 * self.cp * air.density_gradient;
+        let Some(fab) = &self.fabric else {
+            return (c * w * w, 2.0 * c * w, dc * w * w);
+        };
+        let (darcy, inertial) = (fab.darcy(), fab.inertial());
+        let l = leakage(w, c, air.viscosity * darcy, air.density * inertial);
+        let dz = l.d_c * dc
+            + l.d_b * inertial * air.density_gradient
+            + l.d_a * darcy * air.viscosity_gradient;
+        (l.pressure, l.d_w, dz)
     }
 }
 
@@ -91,7 +126,7 @@ impl Element for InflationPressureLaw {
         let nv = area_vector(&x);
         let air = self.fluid.at((x[0].z + x[1].z + x[2].z) / 3.0);
         let w = (-u.z).max(0.0);
-        let dp = self.cp * 0.5 * air.density * w * w;
+        let (dp, dp_w, dp_z) = self.pressure(w, &air);
         let f = (sigma * dp / 3.0) * nv;
         for i in 0..3 {
             for r in 0..3 {
@@ -102,9 +137,10 @@ impl Element for InflationPressureLaw {
             return;
         }
         // Every node's force is the same f, so each 3 × 3 block row repeats.
-        let dv = (-sigma * self.cp * air.density * w / 9.0) * outer(&nv, &V3::z());
+        // ∂w/∂v_b = −e_z/3 while w > 0 (and dp_w = 0 at w = 0).
+        let dv = (-sigma * dp_w / 9.0) * outer(&nv, &V3::z());
         let dn = area_vector_jacobians(&x);
-        let dz = f * (air.density_gradient / air.density / 3.0);
+        let dz = (sigma * dp_z / 9.0) * nv;
         for bn in 0..3 {
             let mut dq = (sigma * dp / 3.0) * dn[bn];
             for r in 0..3 {

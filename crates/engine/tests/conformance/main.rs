@@ -81,6 +81,16 @@ force_conformance!(inflation_pressure, {
         .velocities(10.0)
         .trials(20)
 });
+force_conformance!(inflation_pressure_permeable_stratified, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(
+        InflationPressure::new(&tris, &q, 1.4, &stratified()).with_fabric(leaky()),
+        q,
+    )
+    .perturb(0.4)
+    .velocities(10.0)
+    .trials(20)
+});
 force_conformance!(inflation_pressure_stratified, {
     let (tris, q) = grid(3, 2.0);
     Case::new(InflationPressure::new(&tris, &q, 1.4, &stratified()), q)

@@ -11,7 +11,7 @@
 //! 3.06 m/s). Masses lumped by area: the plate translates rigidly. Backward Euler's steady
 //! state is the exact fixed point and the transient decays like e^{−2gt/v} (e^{−20} after
 //! 4 s), so the steady speed must match to 1e-6 — far inside the 0.5 % issue 18 asks.
-use engine::aero::{Fabric, Fluid, PressureDrag, TriangleDrag};
+use engine::aero::{Fabric, Fluid, InflationPressure, PressureDrag, TriangleDrag};
 use engine::loads::Gravity;
 use engine::reference::falling::{run, CD, CD_T, G, K_SPRING};
 use engine::reference::sheet::sheet;
@@ -67,6 +67,18 @@ fn permeable_plate_with_pressure_drag_descends_at_leakage_plus_drag_speed() {
     let e = expected();
     eprintln!(
         "pressure drag: v = {v:.9} m/s, expected {e:.9} m/s, rel. err {:.2e}",
+        v / e - 1.0
+    );
+    assert!((v / e - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn permeable_plate_with_inflation_pressure_descends_at_leakage_plus_drag_speed() {
+    let v =
+        steady_speed(|t, q, f| Box::new(InflationPressure::new(t, q, CD, f).with_fabric(fabric())));
+    let e = expected();
+    eprintln!(
+        "inflation pressure: v = {v:.9} m/s, expected {e:.9} m/s, rel. err {:.2e}",
         v / e - 1.0
     );
     assert!((v / e - 1.0).abs() < 1e-6);
