@@ -37,7 +37,7 @@
 
 use std::collections::HashMap;
 
-use super::dihedral::{angle, angle_grad, angle_grad_hess, Hess12};
+use super::dihedral::{angle, angle_grad, angle_grad_hess_into, Hess12};
 use super::mesh::TriMesh;
 use crate::element::{Element, Family};
 use crate::error::{EngineError, InvalidModel};
@@ -168,11 +168,7 @@ fn edge(
     let beta = if el.interior[i] {
         let hx = hinge(x, i);
         let (theta, gt) = match theta_hess {
-            Some(ht) => {
-                let (t, g, h) = angle_grad_hess(&hx);
-                *ht = h;
-                (t, g)
-            }
+            Some(ht) => angle_grad_hess_into(&hx, ht),
             None => angle_grad(&hx),
         };
         for (r, node) in [a, b, i, 3 + i].into_iter().enumerate() {
@@ -317,6 +313,7 @@ impl Element for MidedgeLaw {
         let (x, psi) = read(input.q, st);
         let want_hess = !b.dfdq.is_empty();
         let area = twice_area_derivs(&[x[0], x[1], x[2]], want_hess);
+        // (Every entry of an interior edge's is written; a boundary edge's is not read.)
         let mut ht = [Hess12::zeros(); 3];
         let mut hts = ht.iter_mut();
         let edges = [0, 1, 2].map(|i| {
