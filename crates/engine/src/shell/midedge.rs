@@ -206,7 +206,7 @@ fn side(i: usize, k: usize) -> f64 {
 
 /// `h −= U W Uᵀ` (row-major 21 × 21), `U = [∇h₀, ∇β₀, ∇h₁, ∇β₁, ∇h₂, ∇β₂]`: column `2i`
 /// lives on `v0, v1, v2`, column `2i + 1` also on `o_i` and `ψ_i`.
-fn sub_low_rank(h: &mut [f64], edges: &[Edge; 3], w: &[[f64; 6]; 6]) {
+fn sub_low_rank(h: &mut [f64; NS * NS], edges: &[Edge; 3], w: &[[f64; 6]; 6]) {
     let mut u = [[0.0; NS]; 6];
     for (i, e) in edges.iter().enumerate() {
         u[2 * i][..9].copy_from_slice(&e.grad_h);
@@ -242,7 +242,12 @@ fn sub_low_rank(h: &mut [f64], edges: &[Edge; 3], w: &[[f64; 6]; 6]) {
 /// `h −= Σ_i α_i ∇²h_i` on the `v0, v1, v2` block, with `h_i = |N|/l_i`: block `(k, m)` of
 /// `∇²h_i` is `∇²_{km}|N|/l − (s_m ∇_k|N| êᵀ + s_k ê ∇_m|N|ᵀ)/l² + s_k s_m (|N|/l³)(3êêᵀ − I)`
 /// (`s_k` = [`side`]), so the `|N|` Hessian enters once, weighted by `Σ α_i/l_i`.
-fn sub_altitude_hessians(h: &mut [f64], edges: &[Edge; 3], alpha: &[f64; 3], area: &AreaDerivs) {
+fn sub_altitude_hessians(
+    h: &mut [f64; NS * NS],
+    edges: &[Edge; 3],
+    alpha: &[f64; 3],
+    area: &AreaDerivs,
+) {
     let (nn, gn, hn) = area;
     let mut hv = [[0.0; 9]; 9];
     let wsum: f64 = (0..3).map(|i| alpha[i] / edges[i].len).sum();
@@ -282,14 +287,18 @@ fn sub_altitude_hessians(h: &mut [f64], edges: &[Edge; 3], alpha: &[f64; 3], are
 }
 
 /// `h −= ρ ∇²θ` of edge `i`'s hinge `[v_{i+1}, v_{i+2}, v_i, o_i]`.
-fn sub_dihedral_hessian(h: &mut [f64], i: usize, rho: f64, ht: &Hess12) {
+fn sub_dihedral_hessian(h: &mut [f64; NS * NS], i: usize, rho: f64, ht: &Hess12) {
     let nodes = [(i + 1) % 3, (i + 2) % 3, i, 3 + i];
+    // `∇²θ` is symmetric, so row `r` is its (contiguous, column-major) column `r`.
+    let hs = ht.as_slice();
     for (rs, &nr) in nodes.iter().enumerate() {
         for d in 0..3 {
-            let row = NS * (3 * nr + d);
+            let (row, col) = (NS * (3 * nr + d), 12 * (3 * rs + d));
             for (cs, &nc) in nodes.iter().enumerate() {
+                let src = &hs[col + 3 * cs..col + 3 * cs + 3];
+                let dst = &mut h[row + 3 * nc..row + 3 * nc + 3];
                 for e in 0..3 {
-                    h[row + 3 * nc + e] -= rho * ht[(3 * rs + d, 3 * cs + e)];
+                    dst[e] -= rho * src[e];
                 }
             }
         }
@@ -354,8 +363,8 @@ impl Element for MidedgeLaw {
             w[2 * i + 1][2 * i] += r[i] * 2.0 * sc[i].1;
             w[2 * i + 1][2 * i + 1] -= r[i] * edges[i].h * coef[i].0;
         }
-        let h = b.dfdq;
-        h.iter_mut().for_each(|x| *x = 0.0);
+        let h: &mut [f64; NS * NS] = b.dfdq.try_into().expect("a 21 × 21 block");
+        h.fill(0.0);
         sub_low_rank(h, &edges, &w);
         let alpha = [0, 1, 2].map(|i| r[i] * coef[i].0);
         sub_altitude_hessians(h, &edges, &alpha, &area);

@@ -30,10 +30,13 @@
 //!
 //! `P*` is found by Newton on `G/μ` (self-concordant: inside `λ < ¼` full steps stay in
 //! `P ≻ 0` and converge quadratically; outside, a backtracking line search), started from
-//! the better of two guesses: the exact solution of the decoupled 1-D problems along the
-//! principal axes of the elastic stress `Qε` (good near the transitions, `|ε| ≲ ε_r`), and
-//! the exact unregularised (taut, wrinkled or slack) state perturbed to first order in `μ`
-//! (good far from them, where a poor start would cost hundreds of damped steps).
+//! the exact unregularised (taut, wrinkled or slack) state perturbed in `μ`: closed form
+//! for taut and slack, and for a wrinkled triangle the tension-field solution (Mansfield,
+//! *The Bending and Stretching of Plates*; Roddeman et al. 1987, *J. Appl. Mech.* 54) whose
+//! wrinkling angle solves one scalar equation, by Newton from the minor principal strain
+//! direction (exact for an isotropic law). Only when that start is outside the quadratic
+//! region (near the transitions, `|ε| ≲ ε_r`) is the exact solution of the decoupled 1-D
+//! problems along the principal axes of `Qε` tried too, and the lower `G` wins.
 
 use super::membrane::{dot, mul, Voigt, Voigt3};
 
@@ -49,8 +52,10 @@ const LAST_STEP: f64 = 1e-16;
 /// Newton steps on the wrinkling angle after which [`TensionField::wrinkle_newton`] gives
 /// up (and the sampled root search takes over).
 const ANGLE_ITERATIONS: usize = 8;
-/// Angle step (rad) below which the wrinkling angle has converged.
-const ANGLE_TOLERANCE: f64 = 1e-10;
+/// Angle step (rad) below which the wrinkling angle has converged: Newton converges
+/// quadratically, so the angle after that step is good to ~1e-12 rad, more than the start
+/// of the inner solve needs (its error enters as O((ε/ε_r) δθ) in the decrement).
+const ANGLE_TOLERANCE: f64 = 1e-6;
 
 /// The barrier-regularised tension-field relaxation for one stiffness `Q`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -340,7 +345,8 @@ impl TensionField {
     fn wrinkle(&self, eps: &Voigt) -> Option<(f64, f64, f64, f64)> {
         const SAMPLES: usize = 16;
         let phi = |theta: f64| {
-            let (m, cw) = self.wrinkle_axes(theta);
+            let (s, c) = theta.sin_cos();
+            let (m, cw) = self.wrinkle_axes(c, s);
             det3(eps, &cw, &m)
         };
         let step = std::f64::consts::PI / SAMPLES as f64;
@@ -351,7 +357,8 @@ impl TensionField {
             let fb = phi(b);
             if fa * fb <= 0.0 {
                 let theta = bracketed_root(&phi, a, b, fa, fb);
-                if let Some((energy, state)) = self.wrinkle_at(eps, theta) {
+                let (s, c) = theta.sin_cos();
+                if let Some((energy, state)) = self.wrinkle_state(eps, c, s) {
                     if best.is_none_or(|(e, _)| energy < e) {
                         best = Some((energy, state));
                     }
@@ -362,16 +369,9 @@ impl TensionField {
         best.map(|(_, state)| state)
     }
 
-    /// `m(θ)` and `Q⁻¹ w(θ)`.
-    #[inline]
-    fn wrinkle_axes(&self, theta: f64) -> (Voigt, Voigt) {
-        let (s, c) = theta.sin_cos();
-        self.wrinkle_axes_cs(c, s)
-    }
-
     /// `m` and `Q⁻¹ w` for the normal `n = (c, s)`.
     #[inline]
-    fn wrinkle_axes_cs(&self, c: f64, s: f64) -> (Voigt, Voigt) {
+    fn wrinkle_axes(&self, c: f64, s: f64) -> (Voigt, Voigt) {
         let m = [c * c, s * s, 2.0 * c * s];
         let w = [s * s, c * c, -c * s];
         (m, mul(&self.compliance, &w))
@@ -380,8 +380,8 @@ impl TensionField {
     /// The unregularised wrinkled state (as [`Self::wrinkle`]) by scalar Newton on `φ(θ)`,
     /// started from the minor principal direction of the strain `E`. For an isotropic `Q`
     /// that start is the root (tension-field theory: the wrinkles run along the major
-    /// principal strain, uniaxial tension along them; Mansfield 1969, Roddeman et al.
-    /// 1987); for an orthotropic one the wrinkling angle is the nearby root of this scalar
+    /// principal strain, uniaxial tension along them: Mansfield; Roddeman et al. 1987);
+    /// for an orthotropic one the wrinkling angle is the nearby root of this scalar
     /// equation, found in 2–4 steps. `(cos θ, sin θ)` is rotated by `atan δ` for a Newton
     /// step `δ` (rad), without trigonometry. `None` when it does not converge in
     /// [`ANGLE_ITERATIONS`] or lands on an inadmissible root.
@@ -402,7 +402,7 @@ impl TensionField {
         }
         let (mut c, mut s) = (-b / norm, a / norm);
         for _ in 0..ANGLE_ITERATIONS {
-            let (m, cw) = self.wrinkle_axes_cs(c, s);
+            let (m, cw) = self.wrinkle_axes(c, s);
             let (cs2, diff) = (2.0 * c * s, c * c - s * s);
             let dm = [-cs2, cs2, 2.0 * diff];
             let cdw = mul(&self.compliance, &[cs2, -cs2, -diff]);
@@ -421,16 +421,10 @@ impl TensionField {
         None
     }
 
-    /// Energy and state `(c, s, s_t, γ)` of the wrinkled state with normal at `theta`, if
+    /// Energy and state `(c, s, s_t, γ)` of the wrinkled state with normal `n = (c, s)`, if
     /// admissible (`s_t, γ > 0`): `(s_t, γ)` by least squares of `s_t Q⁻¹w − γ m = ε`.
-    fn wrinkle_at(&self, eps: &Voigt, theta: f64) -> Option<(f64, (f64, f64, f64, f64))> {
-        let (s, c) = theta.sin_cos();
-        self.wrinkle_state(eps, c, s)
-    }
-
-    /// [`Self::wrinkle_at`] for the normal `n = (c, s)`.
     fn wrinkle_state(&self, eps: &Voigt, c: f64, s: f64) -> Option<(f64, (f64, f64, f64, f64))> {
-        let (m, cw) = self.wrinkle_axes_cs(c, s);
+        let (m, cw) = self.wrinkle_axes(c, s);
         let (aa, ab, bb) = (dot(&cw, &cw), -dot(&cw, &m), dot(&m, &m));
         let (ra, rb) = (dot(&cw, eps), -dot(&m, eps));
         let det = aa * bb - ab * ab;
