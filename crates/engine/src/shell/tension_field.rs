@@ -397,7 +397,8 @@ impl TensionField {
             (off, r - half)
         };
         let norm = (a * a + b * b).sqrt();
-        if !(norm > 0.0) {
+        // (Also refuses a NaN strain.)
+        if norm.is_nan() || norm <= 0.0 {
             return None;
         }
         let (mut c, mut s) = (-b / norm, a / norm);
