@@ -102,7 +102,15 @@ fn inv_sq_jacobian(n: &V3) -> M3 {
 }
 
 /// θ, its gradient and its Hessian `∂²θ/∂x²` (rad/m²).
+#[inline]
 pub fn angle_grad_hess(x: &[V3; 4]) -> (f64, Grad12, Hess12) {
+    let mut h = Hess12::zeros();
+    let (theta, g) = angle_grad_hess_into(x, &mut h);
+    (theta, g, h)
+}
+
+/// θ and its gradient, with the Hessian written into `h` (every entry; no temporaries).
+pub fn angle_grad_hess_into(x: &[V3; 4], h: &mut Hess12) -> (f64, Grad12) {
     let f = Frame::new(x);
     let (len, eh) = (f.len, f.e_hat);
     let z = M3::zeros();
@@ -130,7 +138,6 @@ pub fn angle_grad_hess(x: &[V3; 4]) -> (f64, Grad12, Hess12) {
     let dtb = dt(&f.b, f.tb, 3);
     let (pa, pb) = (inv_sq_jacobian(&f.na), inv_sq_jacobian(&f.nb));
     let (ua, ub) = (f.na / f.na.norm_squared(), f.nb / f.nb.norm_squared());
-    let mut h = Hess12::zeros();
     for k in 0..4 {
         let dg2 = -ua * dl[k].transpose() - pa * dna[k] * len;
         let dg3 = -ub * dl[k].transpose() - pb * dnb[k] * len;
@@ -141,10 +148,17 @@ pub fn angle_grad_hess(x: &[V3; 4]) -> (f64, Grad12, Hess12) {
             h.fixed_view_mut::<3, 3>(3 * i, 3 * k).copy_from(blk);
         }
     }
-    let h = (h + h.transpose()) * 0.5;
+    // Symmetrise in place.
+    for r in 0..12 {
+        for c in 0..r {
+            let m = 0.5 * (h[(r, c)] + h[(c, r)]);
+            h[(r, c)] = m;
+            h[(c, r)] = m;
+        }
+    }
     let mut g = Grad12::zeros();
     for k in 0..4 {
         g.fixed_rows_mut::<3>(3 * k).copy_from(&f.g[k]);
     }
-    (angle(x), g, h)
+    (angle(x), g)
 }

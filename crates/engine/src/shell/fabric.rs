@@ -98,7 +98,7 @@ impl FabricLaw {
     pub fn stress(&self, eps: &Voigt) -> Voigt {
         match &self.tension_field {
             None => membrane::mul(&self.stiffness, eps),
-            Some(tf) => tf.relax(eps).stress,
+            Some(tf) => tf.stress(eps),
         }
     }
 
@@ -176,12 +176,12 @@ impl Element for FabricLaw {
                 membrane::write(el, &s, &sigma, d, self.psd_projection, b);
             }
             Some(tf) if jacobian => {
-                let (r, d) = tf.relax_with_tangent(&s.eps);
-                membrane::write(el, &s, &r.stress, Some(&d), self.psd_projection, b);
+                let (sigma, d) = tf.stress_and_tangent(&s.eps);
+                membrane::write(el, &s, &sigma, Some(&d), self.psd_projection, b);
             }
             Some(tf) => {
-                let r = tf.relax(&s.eps);
-                membrane::write(el, &s, &r.stress, None, false, b);
+                let sigma = tf.stress(&s.eps);
+                membrane::write(el, &s, &sigma, None, false, b);
             }
         }
     }

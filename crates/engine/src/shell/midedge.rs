@@ -37,21 +37,16 @@
 
 use std::collections::HashMap;
 
-use super::dihedral::{angle, angle_grad, angle_grad_hess};
+use super::dihedral::{angle, angle_grad, angle_grad_hess_into, Hess12};
 use super::mesh::TriMesh;
 use crate::element::{Element, Family};
 use crate::error::{EngineError, InvalidModel};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::model::{ForceId, Model};
 use crate::vec3::{node, outer, skew, M3, V3};
-use nalgebra::{SMatrix, SVector};
 
 /// DOFs per face stencil: 6 nodes and 3 edge angles.
 const NS: usize = 21;
-/// DOFs an edge scalar `c_i` depends on: `v0, v1, v2, o_i, ψ_i`.
-const NL: usize = 13;
-type VecL = SVector<f64, NL>;
-type MatL = SMatrix<f64, NL, NL>;
 
 /// Name of the mid-edge bending family added by [`install`].
 pub const NAME: &str = "shell-midedge";
@@ -87,22 +82,6 @@ fn read(q: &[f64], st: &[usize]) -> ([V3; 6], [f64; 3]) {
 #[inline]
 fn hinge(x: &[V3; 6], i: usize) -> [V3; 4] {
     [x[(i + 1) % 3], x[(i + 2) % 3], x[i], x[3 + i]]
-}
-
-/// Offsets in the 13-vector of edge `i` of the hinge nodes `[v_{i+1}, v_{i+2}, v_i, o_i]`.
-#[inline]
-fn hinge_slots(i: usize) -> [usize; 4] {
-    [3 * ((i + 1) % 3), 3 * ((i + 2) % 3), 3 * i, 9]
-}
-
-/// Stencil position of entry `m` of the 13-vector of edge `i`.
-#[inline]
-fn to_stencil(i: usize, m: usize) -> usize {
-    match m {
-        0..=8 => m,
-        9..=11 => 9 + 3 * i + (m - 9),
-        _ => 18 + i,
-    }
 }
 
 /// Edge scalars `c_i = 2 h_i sin β_i` (m) of the face at `x`, `psi`.
@@ -151,123 +130,183 @@ fn twice_area_derivs(v: &[V3; 3], hess: bool) -> (f64, [V3; 3], [[M3; 3]; 3]) {
     (nn, g, h)
 }
 
-/// Altitude `h_i = |N|/|e_i|` (m), gradient and Hessian in `v0, v1, v2` (9-vectors/9×9,
-/// laid out as the first 9 entries of a 13-vector).
-fn altitude(
-    i: usize,
-    nn: f64,
-    gn: &[V3; 3],
-    hn: &[[M3; 3]; 3],
-    v: &[V3; 3],
-    hess: bool,
-) -> (f64, VecL, MatL) {
-    let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-    let e = v[b] - v[a];
-    let l = e.norm();
-    let eh = e / l;
-    let mut gl = [V3::zeros(); 3];
-    gl[a] = -eh;
-    gl[b] = eh;
-    let h = nn / l;
-    let mut g = VecL::zeros();
-    for k in 0..3 {
-        let gk = gn[k] / l - gl[k] * (nn / (l * l));
-        g.fixed_rows_mut::<3>(3 * k).copy_from(&gk);
-    }
-    let mut hm = MatL::zeros();
-    if hess {
-        let q = (M3::identity() - outer(&eh, &eh)) / l;
-        let hl = |k: usize, m: usize| -> M3 {
-            let s = |j: usize| {
-                if j == a {
-                    -1.0
-                } else if j == b {
-                    1.0
-                } else {
-                    0.0
-                }
-            };
-            q * (s(k) * s(m))
-        };
-        let (l2, l3) = (l * l, l * l * l);
-        for k in 0..3 {
-            for m in 0..3 {
-                let blk = hn[k][m] / l
-                    - (outer(&gn[k], &gl[m]) + outer(&gl[k], &gn[m])) / l2
-                    - hl(k, m) * (nn / l2)
-                    + outer(&gl[k], &gl[m]) * (2.0 * nn / l3);
-                hm.fixed_view_mut::<3, 3>(3 * k, 3 * m).copy_from(&blk);
-            }
-        }
-    }
-    (h, g, hm)
+/// Edge `i` of a face: its length, unit vector `ê` (from `v_{i+1}` to `v_{i+2}`), altitude
+/// `h`, angle `β` and their gradients on the stencil (`∇h` on `v0, v1, v2`, the first 9).
+struct Edge {
+    len: f64,
+    e_hat: V3,
+    h: f64,
+    beta: f64,
+    grad_h: [f64; 9],
+    grad_beta: [f64; NS],
 }
 
-/// `c_i`, `∇c_i` and (if `hess`) `∇²c_i` on the 13 DOFs `v0, v1, v2, o_i, ψ_i`.
-struct EdgeTerm {
-    c: f64,
-    grad: VecL,
-    hess: MatL,
-}
-
-/// The face's `|N|`, its gradient and Hessian ([`twice_area_derivs`]), shared by its edges.
-type AreaDerivs = (f64, [V3; 3], [[M3; 3]; 3]);
-
-fn edge_term(
+/// Edge `i` of the face at `x`, `psi`, with `|N|` and its gradient `gn`; on an interior
+/// edge with `hess`, `∇²θ` (on its hinge `[v_{i+1}, v_{i+2}, v_i, o_i]`) into `theta_hess`.
+fn edge(
     el: &MidedgeData,
     x: &[V3; 6],
     psi: &[f64; 3],
     i: usize,
-    area: &AreaDerivs,
-    hess: bool,
-) -> EdgeTerm {
-    let v = [x[0], x[1], x[2]];
-    let (nn, gn, hn) = area;
-    let (h, gh, hh) = altitude(i, *nn, gn, hn, &v, hess);
-    let mut gb = VecL::zeros();
-    let mut hb = MatL::zeros();
-    let b = if el.interior[i] {
-        let slots = hinge_slots(i);
+    (nn, gn): (f64, &[V3; 3]),
+    theta_hess: Option<&mut Hess12>,
+) -> Edge {
+    let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+    let e = x[b] - x[a];
+    let len = e.norm();
+    let e_hat = e / len;
+    // ∇h = ∇|N|/l − |N| ∇l/l², ∇l = ∓ê at v_{i+1}, v_{i+2}.
+    let mut grad_h = [0.0; 9];
+    let w = nn / (len * len);
+    for k in 0..3 {
+        let s = side(i, k);
+        for d in 0..3 {
+            grad_h[3 * k + d] = gn[k][d] / len - s * w * e_hat[d];
+        }
+    }
+    let mut grad_beta = [0.0; NS];
+    let beta = if el.interior[i] {
         let hx = hinge(x, i);
-        let (theta, gt, ht) = if hess {
-            angle_grad_hess(&hx)
-        } else {
-            let (t, g) = angle_grad(&hx);
-            (t, g, SMatrix::zeros())
+        let (theta, gt) = match theta_hess {
+            Some(ht) => angle_grad_hess_into(&hx, ht),
+            None => angle_grad(&hx),
         };
-        for (r, &sr) in slots.iter().enumerate() {
+        for (r, node) in [a, b, i, 3 + i].into_iter().enumerate() {
             for d in 0..3 {
-                gb[sr + d] += 0.5 * gt[3 * r + d];
+                grad_beta[3 * node + d] = 0.5 * gt[3 * r + d];
             }
-            if hess {
-                for (c, &sc) in slots.iter().enumerate() {
-                    let blk = ht.fixed_view::<3, 3>(3 * r, 3 * c) * 0.5;
-                    let mut dst = hb.fixed_view_mut::<3, 3>(sr, sc);
-                    dst += blk;
+        }
+        grad_beta[18 + i] = el.sign[i];
+        0.5 * theta + el.sign[i] * psi[i]
+    } else {
+        grad_beta[18 + i] = 1.0;
+        psi[i]
+    };
+    Edge {
+        len,
+        e_hat,
+        h: nn / len,
+        beta,
+        grad_h,
+        grad_beta,
+    }
+}
+
+/// `∂l_i/∂v_k = side · ê_i`: −1 at `v_{i+1}`, +1 at `v_{i+2}`, 0 at `v_i`.
+#[inline]
+fn side(i: usize, k: usize) -> f64 {
+    if k == (i + 1) % 3 {
+        -1.0
+    } else if k == (i + 2) % 3 {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// `h −= U W Uᵀ` (row-major 21 × 21), `U = [∇h₀, ∇β₀, ∇h₁, ∇β₁, ∇h₂, ∇β₂]`: column `2i`
+/// lives on `v0, v1, v2`, column `2i + 1` also on `o_i` and `ψ_i`.
+fn sub_low_rank(h: &mut [f64; NS * NS], edges: &[Edge; 3], w: &[[f64; 6]; 6]) {
+    let mut u = [[0.0; NS]; 6];
+    for (i, e) in edges.iter().enumerate() {
+        u[2 * i][..9].copy_from_slice(&e.grad_h);
+        u[2 * i + 1] = e.grad_beta;
+    }
+    // V = U W, column by column.
+    let mut v = [[0.0; NS]; 6];
+    for (k, vk) in v.iter_mut().enumerate() {
+        for (l, ul) in u.iter().enumerate() {
+            let wlk = w[l][k];
+            for m in 0..NS {
+                vk[m] += wlk * ul[m];
+            }
+        }
+    }
+    for m in 0..NS {
+        let row: &mut [f64; NS] = (&mut h[NS * m..NS * (m + 1)]).try_into().expect("a row");
+        for k in 0..6 {
+            let vkm = v[k][m];
+            for n in 0..9 {
+                row[n] -= vkm * u[k][n];
+            }
+        }
+        for i in 0..3 {
+            let (vkm, uk) = (v[2 * i + 1][m], &u[2 * i + 1]);
+            for n in [9 + 3 * i, 10 + 3 * i, 11 + 3 * i, 18 + i] {
+                row[n] -= vkm * uk[n];
+            }
+        }
+    }
+}
+
+/// `h −= Σ_i α_i ∇²h_i` on the `v0, v1, v2` block, with `h_i = |N|/l_i`: block `(k, m)` of
+/// `∇²h_i` is `∇²_{km}|N|/l − (s_m ∇_k|N| êᵀ + s_k ê ∇_m|N|ᵀ)/l² + s_k s_m (|N|/l³)(3êêᵀ − I)`
+/// (`s_k` = [`side`]), so the `|N|` Hessian enters once, weighted by `Σ α_i/l_i`.
+fn sub_altitude_hessians(
+    h: &mut [f64; NS * NS],
+    edges: &[Edge; 3],
+    alpha: &[f64; 3],
+    area: &AreaDerivs,
+) {
+    let (nn, gn, hn) = area;
+    let mut hv = [[0.0; 9]; 9];
+    let wsum: f64 = (0..3).map(|i| alpha[i] / edges[i].len).sum();
+    for k in 0..3 {
+        for m in 0..3 {
+            for r in 0..3 {
+                for c in 0..3 {
+                    hv[3 * k + r][3 * m + c] = wsum * hn[k][m][(r, c)];
                 }
             }
         }
-        gb[12] = el.sign[i];
-        0.5 * theta + el.sign[i] * psi[i]
-    } else {
-        gb[12] = 1.0;
-        psi[i]
-    };
-    let (sb, cb) = b.sin_cos();
-    let grad = gh * (2.0 * sb) + gb * (2.0 * h * cb);
-    let mut hm = MatL::zeros();
-    if hess {
-        hm = hh * (2.0 * sb)
-            + (gh * gb.transpose() + gb * gh.transpose()) * (2.0 * cb)
-            + hb * (2.0 * h * cb)
-            - gb * gb.transpose() * (2.0 * h * sb);
     }
-    EdgeTerm {
-        c: 2.0 * h * sb,
-        grad,
-        hess: hm,
+    let gn9: [f64; 9] = std::array::from_fn(|p| gn[p / 3][p % 3]);
+    for (i, e) in edges.iter().enumerate() {
+        let l = e.len;
+        let (c1, c2) = (alpha[i] / (l * l), alpha[i] * nn / (l * l * l));
+        let gl: [f64; 9] = std::array::from_fn(|p| side(i, p / 3) * e.e_hat[p % 3]);
+        for p in 0..9 {
+            let (a1, a2) = (c1 * gn9[p] - 3.0 * c2 * gl[p], c1 * gl[p]);
+            for q in 0..9 {
+                hv[p][q] -= a1 * gl[q] + a2 * gn9[q];
+            }
+        }
+        let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+        for (k, m) in [(a, a), (b, b), (a, b), (b, a)] {
+            let s = side(i, k) * side(i, m) * c2;
+            for d in 0..3 {
+                hv[3 * k + d][3 * m + d] -= s;
+            }
+        }
+    }
+    for p in 0..9 {
+        for q in 0..9 {
+            h[NS * p + q] -= hv[p][q];
+        }
     }
 }
+
+/// `h −= ρ ∇²θ` of edge `i`'s hinge `[v_{i+1}, v_{i+2}, v_i, o_i]`.
+fn sub_dihedral_hessian(h: &mut [f64; NS * NS], i: usize, rho: f64, ht: &Hess12) {
+    let nodes = [(i + 1) % 3, (i + 2) % 3, i, 3 + i];
+    // `∇²θ` is symmetric, so row `r` is its (contiguous, column-major) column `r`.
+    let hs = ht.as_slice();
+    for (rs, &nr) in nodes.iter().enumerate() {
+        for d in 0..3 {
+            let (row, col) = (NS * (3 * nr + d), 12 * (3 * rs + d));
+            for (cs, &nc) in nodes.iter().enumerate() {
+                let src = &hs[col + 3 * cs..col + 3 * cs + 3];
+                let dst = &mut h[row + 3 * nc..row + 3 * nc + 3];
+                for e in 0..3 {
+                    dst[e] -= rho * src[e];
+                }
+            }
+        }
+    }
+}
+
+/// The face's `|N|`, its gradient and Hessian ([`twice_area_derivs`]), shared by its edges.
+type AreaDerivs = (f64, [V3; 3], [[M3; 3]; 3]);
 
 impl Element for MidedgeLaw {
     const STENCIL: usize = NS;
@@ -275,45 +314,62 @@ impl Element for MidedgeLaw {
     const CONSERVATIVE: bool = true;
     type Data = MidedgeData;
 
+    /// `∇c_i = A_i ∇h_i + B_i ∇β_i` (`A = 2 sin β`, `B = 2h cos β`), so the Hessian is
+    /// `U W Uᵀ + Σ_i (r_i A_i ∇²h_i + ½ r_i B_i ∇²θ_i)` with the 6 × 6 `W` of
+    /// `K_ij ∇c_i ∇c_jᵀ` and the rank-one parts of `r_i ∇²c_i` (module docs), written in
+    /// place into the 21 × 21 block.
     fn evaluate(&self, el: &MidedgeData, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
         let (x, psi) = read(input.q, st);
         let want_hess = !b.dfdq.is_empty();
         let area = twice_area_derivs(&[x[0], x[1], x[2]], want_hess);
-        let terms = [0, 1, 2].map(|i| edge_term(el, &x, &psi, i, &area, want_hess));
+        // (Every entry of an interior edge's is written; a boundary edge's is not read.)
+        let mut ht = [Hess12::zeros(); 3];
+        let mut hts = ht.iter_mut();
+        let edges = [0, 1, 2].map(|i| {
+            let slot = hts.next().filter(|_| want_hess);
+            edge(el, &x, &psi, i, (area.0, &area.1), slot)
+        });
+        let sc = edges.each_ref().map(|e| e.beta.sin_cos());
+        let coef = [0, 1, 2].map(|i| (2.0 * sc[i].0, 2.0 * edges[i].h * sc[i].1));
         let k = &el.stiffness;
-        let dc = [0, 1, 2].map(|i| terms[i].c - el.rest[i]);
+        let dc = [0, 1, 2].map(|i| edges[i].h * coef[i].0 - el.rest[i]);
         let r = [0, 1, 2].map(|i| k[i][0] * dc[0] + k[i][1] * dc[1] + k[i][2] * dc[2]);
         b.f.iter_mut().for_each(|f| *f = 0.0);
-        for (i, t) in terms.iter().enumerate() {
-            for m in 0..NL {
-                b.f[to_stencil(i, m)] -= r[i] * t.grad[m];
+        for (i, e) in edges.iter().enumerate() {
+            let (a, bb) = (r[i] * coef[i].0, r[i] * coef[i].1);
+            for n in 0..9 {
+                b.f[n] -= a * e.grad_h[n];
+            }
+            for n in 0..NS {
+                b.f[n] -= bb * e.grad_beta[n];
             }
         }
         if !want_hess {
             return;
         }
-        let h = b.dfdq;
-        h.iter_mut().for_each(|x| *x = 0.0);
-        for (i, t) in terms.iter().enumerate() {
-            for m in 0..NL {
-                let row = NS * to_stencil(i, m);
-                for n in 0..NL {
-                    h[row + to_stencil(i, n)] -= r[i] * t.hess[(m, n)];
-                }
-            }
-            for (j, u) in terms.iter().enumerate() {
-                let kij = k[i][j];
-                for m in 0..NL {
-                    let a = kij * t.grad[m];
-                    if a == 0.0 {
-                        continue;
-                    }
-                    let row = NS * to_stencil(i, m);
-                    for n in 0..NL {
-                        h[row + to_stencil(j, n)] -= a * u.grad[n];
+        let mut w = [[0.0; 6]; 6];
+        for i in 0..3 {
+            let ci = [coef[i].0, coef[i].1];
+            for j in 0..3 {
+                let cj = [coef[j].0, coef[j].1];
+                for (p, cp) in ci.iter().enumerate() {
+                    for (q, cq) in cj.iter().enumerate() {
+                        w[2 * i + p][2 * j + q] = k[i][j] * cp * cq;
                     }
                 }
             }
+            // r_i (2 cos β (∇h ∇βᵀ + ∇β ∇hᵀ) − 2 h sin β ∇β ∇βᵀ).
+            w[2 * i][2 * i + 1] += r[i] * 2.0 * sc[i].1;
+            w[2 * i + 1][2 * i] += r[i] * 2.0 * sc[i].1;
+            w[2 * i + 1][2 * i + 1] -= r[i] * edges[i].h * coef[i].0;
+        }
+        let h: &mut [f64; NS * NS] = b.dfdq.try_into().expect("a 21 × 21 block");
+        h.fill(0.0);
+        sub_low_rank(h, &edges, &w);
+        let alpha = [0, 1, 2].map(|i| r[i] * coef[i].0);
+        sub_altitude_hessians(h, &edges, &alpha, &area);
+        for i in (0..3).filter(|&i| el.interior[i]) {
+            sub_dihedral_hessian(h, i, 0.5 * r[i] * coef[i].1, &ht[i]);
         }
     }
 

@@ -30,10 +30,13 @@
 //!
 //! `P*` is found by Newton on `G/μ` (self-concordant: inside `λ < ¼` full steps stay in
 //! `P ≻ 0` and converge quadratically; outside, a backtracking line search), started from
-//! the better of two guesses: the exact solution of the decoupled 1-D problems along the
-//! principal axes of the elastic stress `Qε` (good near the transitions, `|ε| ≲ ε_r`), and
-//! the exact unregularised (taut, wrinkled or slack) state perturbed to first order in `μ`
-//! (good far from them, where a poor start would cost hundreds of damped steps).
+//! the exact unregularised (taut, wrinkled or slack) state perturbed in `μ`: closed form
+//! for taut and slack, and for a wrinkled triangle the tension-field solution (Mansfield,
+//! *The Bending and Stretching of Plates*; Roddeman et al. 1987, *J. Appl. Mech.* 54) whose
+//! wrinkling angle solves one scalar equation, by Newton from the minor principal strain
+//! direction (exact for an isotropic law). Only when that start is outside the quadratic
+//! region (near the transitions, `|ε| ≲ ε_r`) is the exact solution of the decoupled 1-D
+//! problems along the principal axes of `Qε` tried too, and the lower `G` wins.
 
 use super::membrane::{dot, mul, Voigt, Voigt3};
 
@@ -46,6 +49,13 @@ const QUADRATIC: f64 = 0.0625;
 /// Squared Newton decrement (of `G/μ`) below which the next step is the last: the error
 /// after it is O(λ⁴) ≈ 1e-32.
 const LAST_STEP: f64 = 1e-16;
+/// Newton steps on the wrinkling angle after which [`TensionField::wrinkle_newton`] gives
+/// up (and the sampled root search takes over).
+const ANGLE_ITERATIONS: usize = 8;
+/// Angle step (rad) below which the wrinkling angle has converged: Newton converges
+/// quadratically, so the angle after that step is good to ~1e-12 rad, more than the start
+/// of the inner solve needs (its error enters as O((ε/ε_r) δθ) in the decrement).
+const ANGLE_TOLERANCE: f64 = 1e-6;
 
 /// The barrier-regularised tension-field relaxation for one stiffness `Q`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -81,39 +91,74 @@ fn det_grad(p: &Voigt) -> (f64, Voigt) {
     (p[0] * p[1] - 0.25 * p[2] * p[2], [p[1], p[0], -0.5 * p[2]])
 }
 
+/// Hessian `B` of `−μ ln det P` (strain-Voigt), from `det P` and its gradient.
+#[inline]
+fn barrier_hessian_of(mu: f64, d: f64, g: &Voigt) -> Voigt3 {
+    // (One division: this is the inner loop's latency chain.)
+    let a = mu / d;
+    let s = a / d;
+    let mut b = [[0.0; 3]; 3];
+    for r in 0..3 {
+        for c in 0..3 {
+            b[r][c] = s * g[r] * g[c];
+        }
+    }
+    // −μ ∇²d / d with ∇²d = [[0, 1, 0], [1, 0, 0], [0, 0, −½]].
+    b[0][1] -= a;
+    b[1][0] -= a;
+    b[2][2] += 0.5 * a;
+    b
+}
+
 /// Hessian `B` of `−μ ln det P` (strain-Voigt).
 #[inline]
 fn barrier_hessian(mu: f64, p: &Voigt) -> Voigt3 {
     let (d, g) = det_grad(p);
-    let mut b = [[0.0; 3]; 3];
-    for r in 0..3 {
-        for c in 0..3 {
-            b[r][c] = mu * g[r] * g[c] / (d * d);
-        }
-    }
-    // −μ ∇²d / d with ∇²d = [[0, 1, 0], [1, 0, 0], [0, 0, −½]].
-    b[0][1] -= mu / d;
-    b[1][0] -= mu / d;
-    b[2][2] += 0.5 * mu / d;
-    b
+    barrier_hessian_of(mu, d, &g)
 }
 
-/// Solve `A x = r` for symmetric positive-definite 3 × 3 `A` (Cholesky).
+/// The `L D Lᵀ` factors (`L` unit lower triangular: `l₁₀, l₂₀, l₂₁`; the inverse pivots
+/// `1/dᵢ`) of a symmetric positive-definite 3 × 3 `A`: three divisions and no square root,
+/// where a Cholesky factor and its solve put three roots and nine divisions on the inner
+/// solve's critical path. A pivot that is not positive makes every solve NaN.
+#[derive(Clone, Copy)]
+struct Ldl3 {
+    l: [f64; 3],
+    inv: [f64; 3],
+}
+
+impl Ldl3 {
+    #[inline]
+    fn new(a: &Voigt3) -> Self {
+        let inverse = |d: f64| if d > 0.0 { 1.0 / d } else { f64::NAN };
+        let i0 = inverse(a[0][0]);
+        let (l10, l20) = (a[1][0] * i0, a[2][0] * i0);
+        let i1 = inverse(a[1][1] - l10 * a[1][0]);
+        let l21 = (a[2][1] - l20 * a[1][0]) * i1;
+        let i2 = inverse(a[2][2] - l20 * a[2][0] - l21 * (a[2][1] - l20 * a[1][0]));
+        Self {
+            l: [l10, l20, l21],
+            inv: [i0, i1, i2],
+        }
+    }
+
+    /// `A⁻¹ r`.
+    #[inline]
+    fn solve(&self, r: &Voigt) -> Voigt {
+        let [l10, l20, l21] = self.l;
+        let y1 = r[1] - l10 * r[0];
+        let y2 = r[2] - l20 * r[0] - l21 * y1;
+        let x2 = y2 * self.inv[2];
+        let x1 = y1 * self.inv[1] - l21 * x2;
+        let x0 = r[0] * self.inv[0] - l10 * x1 - l20 * x2;
+        [x0, x1, x2]
+    }
+}
+
+/// Solve `A x = r` for symmetric positive-definite 3 × 3 `A`.
 #[inline]
 fn spd_solve(a: &Voigt3, r: &Voigt) -> Voigt {
-    let l00 = a[0][0].sqrt();
-    let l10 = a[1][0] / l00;
-    let l20 = a[2][0] / l00;
-    let l11 = (a[1][1] - l10 * l10).sqrt();
-    let l21 = (a[2][1] - l20 * l10) / l11;
-    let l22 = (a[2][2] - l20 * l20 - l21 * l21).sqrt();
-    let y0 = r[0] / l00;
-    let y1 = (r[1] - l10 * y0) / l11;
-    let y2 = (r[2] - l20 * y0 - l21 * y1) / l22;
-    let x2 = y2 / l22;
-    let x1 = (y1 - l21 * x2) / l11;
-    let x0 = (y0 - l10 * x1 - l20 * x2) / l00;
-    [x0, x1, x2]
+    Ldl3::new(a).solve(r)
 }
 
 /// Positive root of `k p² + s p − μ = 0`, without cancellation.
@@ -238,16 +283,49 @@ impl TensionField {
     /// `None` when the perturbed state is not in `P ≻ 0` (near a transition, where the
     /// 1-D start of [`Self::start`] is as good).
     fn unregularised_start(&self, eps: &Voigt) -> Option<Voigt> {
+        self.perturbed(eps, |e| self.wrinkle_newton(e).or_else(|| self.wrinkle(e)))
+    }
+
+    /// [`Self::unregularised_start`] with the wrinkling angle by sampling only.
+    #[cfg(test)]
+    fn unregularised_start_sampled(&self, eps: &Voigt) -> Option<Voigt> {
+        self.perturbed(eps, |e| self.wrinkle(e))
+    }
+
+    /// [`Self::unregularised_start`] with the wrinkled state from `wrinkle`.
+    #[inline]
+    fn perturbed(
+        &self,
+        eps: &Voigt,
+        wrinkle: impl Fn(&Voigt) -> Option<(f64, f64, f64, f64)>,
+    ) -> Option<Voigt> {
         let mu = self.mu;
         let s = mul(&self.stiffness, eps);
+        // `μ T⁻¹` of a stress `T` as a strain (Voigt), or of a strain as a stress.
+        let strain_of = |inv: Voigt| [mu * inv[0], mu * inv[1], 2.0 * mu * inv[2]];
         let p = if let Some(inv) = inverse_if_pd(&s) {
-            [mu * inv[0], mu * inv[1], 2.0 * mu * inv[2]]
+            // Taut, then one fixed-point step `P = μ (S + Q p)⁻¹` (error O(μ³)).
+            let p = strain_of(inv);
+            let sigma = mul(
+                &self.stiffness,
+                &[eps[0] + p[0], eps[1] + p[1], eps[2] + p[2]],
+            );
+            inverse_if_pd(&sigma).map_or(p, strain_of)
         } else if let Some(inv) = inverse_if_pd(&[-eps[0], -eps[1], -0.5 * eps[2]]) {
-            let sigma = inv.map(|x| mu * x);
-            let e_el = mul(&self.compliance, &sigma);
-            [0, 1, 2].map(|k| e_el[k] - eps[k])
+            // Slack, then one fixed-point step `σ = μ (Q⁻¹σ − E)⁻¹`.
+            let mut p = [0.0; 3];
+            let mut sigma = inv.map(|x| mu * x);
+            for pass in 0..2 {
+                let e_el = mul(&self.compliance, &sigma);
+                p = [0, 1, 2].map(|k| e_el[k] - eps[k]);
+                match inverse_if_pd(&[p[0], p[1], 0.5 * p[2]]) {
+                    Some(inv) if pass == 0 => sigma = inv.map(|x| mu * x),
+                    _ => break,
+                }
+            }
+            p
         } else {
-            let (c, sn, tension, gamma) = self.wrinkle(eps)?;
+            let (c, sn, tension, gamma) = wrinkle(eps)?;
             let slack = mu / tension;
             [
                 gamma * c * c + slack * sn * sn,
@@ -267,7 +345,8 @@ impl TensionField {
     fn wrinkle(&self, eps: &Voigt) -> Option<(f64, f64, f64, f64)> {
         const SAMPLES: usize = 16;
         let phi = |theta: f64| {
-            let (m, cw) = self.wrinkle_axes(theta);
+            let (s, c) = theta.sin_cos();
+            let (m, cw) = self.wrinkle_axes(c, s);
             det3(eps, &cw, &m)
         };
         let step = std::f64::consts::PI / SAMPLES as f64;
@@ -278,7 +357,8 @@ impl TensionField {
             let fb = phi(b);
             if fa * fb <= 0.0 {
                 let theta = bracketed_root(&phi, a, b, fa, fb);
-                if let Some((energy, state)) = self.wrinkle_at(eps, theta) {
+                let (s, c) = theta.sin_cos();
+                if let Some((energy, state)) = self.wrinkle_state(eps, c, s) {
                     if best.is_none_or(|(e, _)| energy < e) {
                         best = Some((energy, state));
                     }
@@ -289,19 +369,63 @@ impl TensionField {
         best.map(|(_, state)| state)
     }
 
-    /// `m(θ)` and `Q⁻¹ w(θ)`.
+    /// `m` and `Q⁻¹ w` for the normal `n = (c, s)`.
     #[inline]
-    fn wrinkle_axes(&self, theta: f64) -> (Voigt, Voigt) {
-        let (s, c) = theta.sin_cos();
+    fn wrinkle_axes(&self, c: f64, s: f64) -> (Voigt, Voigt) {
         let m = [c * c, s * s, 2.0 * c * s];
         let w = [s * s, c * c, -c * s];
         (m, mul(&self.compliance, &w))
     }
 
-    /// Energy and state `(c, s, s_t, γ)` of the wrinkled state with normal at `theta`, if
+    /// The unregularised wrinkled state (as [`Self::wrinkle`]) by scalar Newton on `φ(θ)`,
+    /// started from the minor principal direction of the strain `E`. For an isotropic `Q`
+    /// that start is the root (tension-field theory: the wrinkles run along the major
+    /// principal strain, uniaxial tension along them: Mansfield; Roddeman et al. 1987);
+    /// for an orthotropic one the wrinkling angle is the nearby root of this scalar
+    /// equation, found in 2–4 steps. `(cos θ, sin θ)` is rotated by `atan δ` for a Newton
+    /// step `δ` (rad), without trigonometry. `None` when it does not converge in
+    /// [`ANGLE_ITERATIONS`] or lands on an inadmissible root.
+    fn wrinkle_newton(&self, eps: &Voigt) -> Option<(f64, f64, f64, f64)> {
+        let half = 0.5 * (eps[0] - eps[1]);
+        let off = 0.5 * eps[2];
+        let r = (half * half + off * off).sqrt();
+        // An eigenvector of the larger principal strain, by the better-conditioned of the
+        // two rows of (E − λI) v = 0; its normal is the start.
+        let (a, b) = if half >= 0.0 {
+            (r + half, off)
+        } else {
+            (off, r - half)
+        };
+        let norm = (a * a + b * b).sqrt();
+        // (Also refuses a NaN strain.)
+        if norm.is_nan() || norm <= 0.0 {
+            return None;
+        }
+        let (mut c, mut s) = (-b / norm, a / norm);
+        for _ in 0..ANGLE_ITERATIONS {
+            let (m, cw) = self.wrinkle_axes(c, s);
+            let (cs2, diff) = (2.0 * c * s, c * c - s * s);
+            let dm = [-cs2, cs2, 2.0 * diff];
+            let cdw = mul(&self.compliance, &[cs2, -cs2, -diff]);
+            let phi = det3(eps, &cw, &m);
+            let dphi = det3(eps, &cdw, &m) + det3(eps, &cw, &dm);
+            let delta = -phi / dphi;
+            if !delta.is_finite() {
+                return None;
+            }
+            let k = 1.0 / (1.0 + delta * delta).sqrt();
+            (c, s) = ((c - s * delta) * k, (s + c * delta) * k);
+            if delta.abs() < ANGLE_TOLERANCE {
+                return self.wrinkle_state(eps, c, s).map(|(_, state)| state);
+            }
+        }
+        None
+    }
+
+    /// Energy and state `(c, s, s_t, γ)` of the wrinkled state with normal `n = (c, s)`, if
     /// admissible (`s_t, γ > 0`): `(s_t, γ)` by least squares of `s_t Q⁻¹w − γ m = ε`.
-    fn wrinkle_at(&self, eps: &Voigt, theta: f64) -> Option<(f64, (f64, f64, f64, f64))> {
-        let (m, cw) = self.wrinkle_axes(theta);
+    fn wrinkle_state(&self, eps: &Voigt, c: f64, s: f64) -> Option<(f64, (f64, f64, f64, f64))> {
+        let (m, cw) = self.wrinkle_axes(c, s);
         let (aa, ab, bb) = (dot(&cw, &cw), -dot(&cw, &m), dot(&m, &m));
         let (ra, rb) = (dot(&cw, eps), -dot(&m, eps));
         let det = aa * bb - ab * ab;
@@ -311,7 +435,6 @@ impl TensionField {
             return None;
         }
         let el = [0, 1, 2].map(|k| eps[k] + gamma * m[k]);
-        let (s, c) = theta.sin_cos();
         Some((dot(&el, &mul(&self.stiffness, &el)), (c, s, tension, gamma)))
     }
 
@@ -337,35 +460,94 @@ impl TensionField {
         }
     }
 
-    /// The relaxed state at strain `eps` (Voigt `(E₁₁, E₂₂, 2E₁₂)`).
-    pub fn relax(&self, eps: &Voigt) -> Relaxed {
-        let q = &self.stiffness;
-        let mu = self.mu;
-        let mut p = self.start(eps);
-        if let Some(near) = self.unregularised_start(eps) {
-            // Far from the transitions (|ε| ≫ ε_r) the unregularised state is the better
-            // start, near them the 1-D one.
-            if self.objective(eps, &near) < self.objective(eps, &p) {
-                p = near;
+    /// The Newton step on `G` at `p` and its squared decrement (of `G/μ`).
+    #[inline]
+    fn newton_step(&self, eps: &Voigt, p: &Voigt) -> (Voigt, f64) {
+        let (q, mu) = (&self.stiffness, self.mu);
+        let (d, gd) = det_grad(p);
+        let el = [eps[0] + p[0], eps[1] + p[1], eps[2] + p[2]];
+        let qe = mul(q, &el);
+        let a = mu / d;
+        let g = [qe[0] - a * gd[0], qe[1] - a * gd[1], qe[2] - a * gd[2]];
+        let b = barrier_hessian_of(mu, d, &gd);
+        let mut h = *q;
+        for r in 0..3 {
+            for c in 0..3 {
+                h[r][c] += b[r][c];
             }
         }
+        let step = spd_solve(&h, &g).map(|x| -x);
+        (step, -dot(&g, &step) / mu)
+    }
+
+    /// The start of the inner solve and the Newton step there: the perturbed unregularised
+    /// state when it exists and is inside the region of quadratic convergence (far from
+    /// the transitions, |ε| ≫ ε_r), else the better (lower `G`) of it and the 1-D start.
+    fn first_step(&self, eps: &Voigt) -> (Voigt, (Voigt, f64)) {
+        let Some(near) = self.unregularised_start(eps) else {
+            let p = self.start(eps);
+            return (p, self.newton_step(eps, &p));
+        };
+        let step = self.newton_step(eps, &near);
+        if step.1 < QUADRATIC {
+            return (near, step);
+        }
+        let p = self.start(eps);
+        if self.objective(eps, &p) < self.objective(eps, &near) {
+            (p, self.newton_step(eps, &p))
+        } else {
+            (near, step)
+        }
+    }
+
+    /// The relaxed state at strain `eps` (Voigt `(E₁₁, E₂₂, 2E₁₂)`).
+    pub fn relax(&self, eps: &Voigt) -> Relaxed {
+        let (p, next) = self.first_step(eps);
+        self.relax_from(eps, p, next)
+    }
+
+    /// The relaxed stress `σ` at strain `eps` (N/m): [`Self::relax`] without the energy.
+    pub fn stress(&self, eps: &Voigt) -> Voigt {
+        let (p, next) = self.first_step(eps);
+        self.stress_at(eps, &self.minimise(eps, p, next).0)
+    }
+
+    /// The relaxed stress and the tangent (as [`Self::relax_with_tangent`]) without the
+    /// energy.
+    pub fn stress_and_tangent(&self, eps: &Voigt) -> (Voigt, Voigt3) {
+        let (p, next) = self.first_step(eps);
+        let p = self.minimise(eps, p, next).0;
+        (self.stress_at(eps, &p), self.tangent(&p))
+    }
+
+    /// `σ = Q(ε + p)`.
+    #[inline]
+    fn stress_at(&self, eps: &Voigt, p: &Voigt) -> Voigt {
+        mul(
+            &self.stiffness,
+            &[eps[0] + p[0], eps[1] + p[1], eps[2] + p[2]],
+        )
+    }
+
+    /// [`Self::minimise`] and the relaxed state it reaches.
+    fn relax_from(&self, eps: &Voigt, p: Voigt, next: (Voigt, f64)) -> Relaxed {
+        let (p, iterations) = self.minimise(eps, p, next);
+        Relaxed {
+            wrinkle: p,
+            stress: self.stress_at(eps, &p),
+            energy: self.objective(eps, &p) - self.offset,
+            iterations,
+        }
+    }
+
+    /// Newton on `G` from `p`, whose Newton step is `next`: the minimiser `p*` and the
+    /// iterations taken.
+    fn minimise(&self, eps: &Voigt, mut p: Voigt, mut next: (Voigt, f64)) -> (Voigt, usize) {
         let mut iterations = 0;
         let mut previous = f64::INFINITY;
         while iterations < MAX_ITERATIONS {
             iterations += 1;
-            let (d, gd) = det_grad(&p);
-            let el = [eps[0] + p[0], eps[1] + p[1], eps[2] + p[2]];
-            let qe = mul(q, &el);
-            let g = [0, 1, 2].map(|k| qe[k] - mu * gd[k] / d);
-            let b = barrier_hessian(mu, &p);
-            let mut h = *q;
-            for r in 0..3 {
-                for c in 0..3 {
-                    h[r][c] += b[r][c];
-                }
-            }
-            let step = spd_solve(&h, &g).map(|x| -x);
-            let lambda2 = -dot(&g, &step) / mu;
+            let (step, lambda2) = next;
             if !lambda2.is_finite() {
                 break;
             }
@@ -377,7 +559,7 @@ impl TensionField {
                     p[k] += step[k];
                 }
             } else {
-                p = self.line_search(eps, &p, &step, lambda2 * mu);
+                p = self.line_search(eps, &p, &step, lambda2 * self.mu);
             }
             // Converged, or at the round-off floor: after a full step inside the quadratic
             // region the squared decrement must fall by ≥ 9× (λ⁺ ≤ (λ/(1 − λ))²); when it
@@ -387,21 +569,22 @@ impl TensionField {
                 break;
             }
             previous = lambda2;
+            next = self.newton_step(eps, &p);
         }
-        let el = [eps[0] + p[0], eps[1] + p[1], eps[2] + p[2]];
-        Relaxed {
-            wrinkle: p,
-            stress: mul(q, &el),
-            energy: self.objective(eps, &p) - self.offset,
-            iterations,
-        }
+        (p, iterations)
     }
 
     /// The relaxed state and the tangent `D = ∂σ/∂ε = Q (Q + B)⁻¹ B` (N/m), symmetrised.
     pub fn relax_with_tangent(&self, eps: &Voigt) -> (Relaxed, Voigt3) {
         let r = self.relax(eps);
+        let d = self.tangent(&r.wrinkle);
+        (r, d)
+    }
+
+    /// The tangent `D = Q (Q + B)⁻¹ B` at the relaxed wrinkling strain `p*`, symmetrised.
+    fn tangent(&self, p: &Voigt) -> Voigt3 {
         let q = &self.stiffness;
-        let b = barrier_hessian(self.mu, &r.wrinkle);
+        let b = barrier_hessian(self.mu, p);
         let mut h = *q;
         for i in 0..3 {
             for j in 0..3 {
@@ -409,7 +592,8 @@ impl TensionField {
             }
         }
         // X = (Q + B)⁻¹ B column by column, then D = Q X.
-        let cols = [0, 1, 2].map(|j| spd_solve(&h, &[b[0][j], b[1][j], b[2][j]]));
+        let chol = Ldl3::new(&h);
+        let cols = [0, 1, 2].map(|j| chol.solve(&[b[0][j], b[1][j], b[2][j]]));
         let mut d = [[0.0; 3]; 3];
         for i in 0..3 {
             for j in 0..3 {
@@ -423,6 +607,10 @@ impl TensionField {
                 d[j][i] = s;
             }
         }
-        (r, d)
+        d
     }
 }
+
+#[cfg(test)]
+#[path = "tension_field_tests.rs"]
+mod tests;

@@ -1,0 +1,83 @@
+//! Unit tests of [`super`]: the wrinkling angle by Newton and the inner solve.
+use super::*;
+use crate::conformance::Rng;
+
+/// The weak-shear fabric of the conformance tests (N/m) and the bench's Kevlar weave.
+const LAWS: [Voigt3; 2] = [
+    [
+        [1.2363e5, 1.8547e4, 0.0],
+        [1.8547e4, 6.1817e4, 0.0],
+        [0.0, 0.0, 5e3],
+    ],
+    [[5.6e6, 8.4e5, 0.0], [8.4e5, 2.8e6, 0.0], [0.0, 0.0, 2.8e5]],
+];
+
+/// A random strain of magnitude `10^[lo, hi]` in a random direction.
+fn strain(rng: &mut Rng, lo: f64, hi: f64) -> Voigt {
+    let size = 10f64.powf(rng.uniform(lo, hi));
+    let e = [0, 1, 2].map(|_| rng.symmetric(1.0));
+    e.map(|x| size * x / dot(&e, &e).sqrt())
+}
+
+#[test]
+fn wrinkling_angle_by_newton_matches_the_sampled_roots() {
+    let mut rng = Rng::new(3);
+    for q in LAWS {
+        let tf = TensionField::new(q, 1e-5);
+        let (mut wrinkled, mut found) = (0, 0);
+        for _ in 0..2000 {
+            let eps = strain(&mut rng, -6.0, -1.0);
+            let Some((c, s, t, g)) = tf.wrinkle(&eps) else {
+                continue;
+            };
+            wrinkled += 1;
+            let Some((c1, s1, t1, g1)) = tf.wrinkle_newton(&eps) else {
+                continue;
+            };
+            found += 1;
+            // The same wrinkle normal (up to sign), tension and wrinkle strain.
+            assert!((c * s1 - s * c1).abs() < 1e-9, "{eps:?}");
+            assert!(
+                (t1 - t).abs() <= 1e-8 * t && (g1 - g).abs() <= 1e-8 * g,
+                "{eps:?}"
+            );
+        }
+        assert!(wrinkled > 500, "{wrinkled} wrinkled draws");
+        assert!(
+            found as f64 > 0.99 * wrinkled as f64,
+            "{found} of {wrinkled}"
+        );
+    }
+}
+
+#[test]
+fn inner_solve_converges_in_few_steps_to_the_same_state_from_either_start() {
+    let mut rng = Rng::new(5);
+    for (q, eps_r) in [(LAWS[0], 1e-2), (LAWS[0], 1e-5), (LAWS[1], 1e-5)] {
+        let tf = TensionField::new(q, eps_r);
+        let (mut total, n) = (0, 4000);
+        for _ in 0..n {
+            let eps = strain(&mut rng, -6.0, -1.5);
+            let r = tf.relax(&eps);
+            total += r.iterations;
+            // The previous start: the better of both, with the wrinkling angle sampled.
+            let mut p = tf.start(&eps);
+            let near = tf.unregularised_start_sampled(&eps);
+            if near.is_some_and(|n| tf.objective(&eps, &n) < tf.objective(&eps, &p)) {
+                p = near.unwrap();
+            }
+            let reference = tf.relax_from(&eps, p, tf.newton_step(&eps, &p));
+            let scale = dot(&r.stress, &r.stress).sqrt();
+            for k in 0..3 {
+                let diff = (r.stress[k] - reference.stress[k]).abs();
+                assert!(diff <= 1e-10 * scale, "{eps:?}: {r:?} vs {reference:?}");
+            }
+        }
+        let mean = total as f64 / n as f64;
+        // (3.4 for ε_r = 1e-5 and 4.3 for 1e-2 over these strains, 1e-6–0.03.)
+        assert!(
+            mean < if eps_r > 1e-3 { 5.0 } else { 4.0 },
+            "ε_r = {eps_r}: {mean} iterations on average"
+        );
+    }
+}
