@@ -5,11 +5,23 @@
 //! `J = diag(m) c_m − c_q ∂F/∂q − c_v ∂F/∂v` with coefficients chosen by the solver
 //! (implicit Euler: `c_m = 1/dt²`, `c_q = 1`, `c_v = 1/dt`; statics: `c_m = 0`, `c_q = 1`,
 //! `c_v = 0`). The force vector `F` is assembled over all DOFs.
+//!
+//! One assembly is one parallel region (rayon): the forces are evaluated concurrently (each
+//! family's elements in parallel tasks, `LocalBlocks::par_for_each`), then the force vector
+//! and the matrix values are scattered by chunks of the output, each summed in the serial
+//! order (module `plan`): the results are bitwise the same for any number of threads.
 
 use crate::force::{EvalInput, LocalBlocks};
 use crate::model::Model;
+use rayon::prelude::*;
 
-/// Sentinel for "this local entry touches a fixed DOF".
+mod plan;
+#[cfg(test)]
+mod tests;
+
+use plan::Chunks;
+
+/// Sentinel for "this local entry touches a fixed DOF" (never inside a scatter chunk).
 const NONE: u32 = u32::MAX;
 
 /// Coefficients of the assembled matrix `J = c_m M − c_q ∂F/∂q − c_v ∂F/∂v`.
@@ -44,11 +56,23 @@ pub struct Assembler {
     /// `transpose[k]` = value index of the mirror entry `(c, r)` of entry `k = (r, c)` (the
     /// pattern is structurally symmetric: every stencil couples all its DOFs both ways).
     pub transpose: Vec<u32>,
+    /// Chunks of the matrix values (at column boundaries) for the parallel scatter.
+    val_chunks: Chunks,
+    /// Chunks of the force vector (all DOFs).
+    dof_chunks: Chunks,
 }
 
 impl Assembler {
-    /// Build the pattern from the model's forces (plus the diagonal).
+    /// Build the pattern from the model's forces (plus the diagonal), with scatter chunks
+    /// for the threads of rayon's pool.
     pub fn new(model: &Model) -> Self {
+        Self::with_chunks(model, plan::chunk_count(rayon::current_num_threads()))
+    }
+
+    /// [`Assembler::new`] with the scatter cut into at most `n_chunks` chunks (results do
+    /// not depend on it).
+    pub(crate) fn with_chunks(model: &Model, n_chunks: usize) -> Self {
+        let n_chunks = n_chunks.clamp(1, plan::MAX_CHUNKS);
         let n = model.n_dofs();
         let mut free_of = vec![NONE; n];
         let mut dof_of = Vec::new();
@@ -130,7 +154,11 @@ impl Assembler {
                 transpose[k] = find(c, row_idx[k]);
             }
         }
+        let val_chunks = value_chunks(model, &col_ptr, &maps, n_chunks);
+        let dof_chunks = force_chunks(model, n_chunks);
         Self {
+            val_chunks,
+            dof_chunks,
             transpose,
             n_free,
             dof_of,
@@ -164,40 +192,109 @@ impl Assembler {
         force: &mut [f64],
         values: Option<(&mut [f64], Coefficients)>,
     ) {
-        force.iter_mut().for_each(|x| *x = 0.0);
-        for (f, blocks) in model.forces.iter().zip(self.blocks.iter_mut()) {
-            f.evaluate(input, blocks);
+        let blocks = &mut self.blocks;
+        let (vc, dc) = (&self.val_chunks, &self.dof_chunks);
+        let (maps, forces) = (&self.maps, &model.forces[..]);
+        let (dof_of, diag) = (&self.dof_of, &self.diag);
+        // One region of the pool for the whole assembly (every `par_*` inside runs on its
+        // workers without another wake-up).
+        rayon::scope(|_| {
+            forces
+                .par_iter()
+                .zip(blocks.par_iter_mut())
+                .for_each(|(f, b)| f.evaluate(input, b));
+            let blocks = &blocks[..];
+            let mut scatter_f = || {
+                dc.run(force, |t, lo, out| {
+                    plan::force_chunk(dc, t, lo, out, forces, blocks)
+                })
+            };
+            let Some((values, c)) = values else {
+                return scatter_f();
+            };
+            let scatter_j = || {
+                vc.run(values, |t, lo, out| {
+                    jacobian_chunk(vc, t, lo, out, (maps, blocks), (dof_of, diag), model, c)
+                })
+            };
+            rayon::join(scatter_f, scatter_j);
+        });
+    }
+}
+
+/// Values `lo..lo + out.len()` (chunk `t` of `vc`) of `J = c_m M − c_q ∂F/∂q − c_v ∂F/∂v`:
+/// zero, the mass diagonal, then every force's blocks in serial order.
+#[allow(clippy::too_many_arguments)]
+fn jacobian_chunk(
+    vc: &Chunks,
+    t: usize,
+    lo: usize,
+    out: &mut [f64],
+    (maps, blocks): (&[Vec<u32>], &[LocalBlocks]),
+    (dof_of, diag): (&[usize], &[usize]),
+    model: &Model,
+    c: Coefficients,
+) {
+    out.iter_mut().for_each(|x| *x = 0.0);
+    let hi = lo + out.len();
+    // Columns of the chunk are contiguous, and so are their diagonal entries.
+    let first = diag.partition_point(|&k| k < lo);
+    for (r, &k) in diag.iter().enumerate().skip(first) {
+        if k >= hi {
+            break;
         }
-        for (fi, f) in model.forces.iter().enumerate() {
-            let k = f.stencil_size();
-            let b = &self.blocks[fi];
-            for (st, loc) in f.stencils().chunks(k).zip(b.f.chunks(k)) {
-                for (&d, &x) in st.iter().zip(loc) {
-                    force[d] += x;
-                }
-            }
+        out[k - lo] += c.c_m * model.mass[dof_of[r]];
+    }
+    for (fi, (map, b)) in maps.iter().zip(blocks).enumerate() {
+        let elems = &vc.elems[t][fi];
+        let kk = b.k * b.k;
+        if !b.dfdq.is_empty() && c.c_q != 0.0 {
+            plan::scatter_chunk(out, lo, elems, kk, map, &b.dfdq, -c.c_q);
         }
-        let Some((values, c)) = values else { return };
-        values.iter_mut().for_each(|x| *x = 0.0);
-        for (r, &d) in self.dof_of.iter().enumerate() {
-            values[self.diag[r]] += c.c_m * model.mass[d];
-        }
-        for (map, b) in self.maps.iter().zip(&self.blocks) {
-            if !b.dfdq.is_empty() && c.c_q != 0.0 {
-                scatter(values, map, &b.dfdq, -c.c_q);
-            }
-            if !b.dfdv.is_empty() && c.c_v != 0.0 {
-                scatter(values, map, &b.dfdv, -c.c_v);
-            }
+        if !b.dfdv.is_empty() && c.c_v != 0.0 {
+            plan::scatter_chunk(out, lo, elems, kk, map, &b.dfdv, -c.c_v);
         }
     }
 }
 
-#[inline]
-fn scatter(values: &mut [f64], map: &[u32], local: &[f64], scale: f64) {
-    for (&m, &x) in map.iter().zip(local) {
+/// Chunks of the values at column starts, balanced by the number of additions per value.
+fn value_chunks(model: &Model, col_ptr: &[usize], maps: &[Vec<u32>], n_chunks: usize) -> Chunks {
+    let nnz = *col_ptr.last().unwrap_or(&0);
+    let mut weight = vec![1u32; nnz];
+    for &m in maps.iter().flatten() {
         if m != NONE {
-            values[m as usize] += scale * x;
+            weight[m as usize] += 1;
         }
     }
+    let mut col_start = vec![false; nnz + 1];
+    for &p in col_ptr {
+        col_start[p] = true;
+    }
+    let mut ch = Chunks::cut(nnz, n_chunks, &weight, |i| col_start[i], maps.len());
+    for (fi, (f, map)) in model.forces.iter().zip(maps).enumerate() {
+        let kk = f.stencil_size() * f.stencil_size();
+        for (e, m) in map.chunks(kk.max(1)).enumerate() {
+            ch.add(fi, e, m.iter().filter(|&&m| m != NONE).map(|&m| m as usize));
+        }
+    }
+    ch
+}
+
+/// Chunks of the force vector (all DOFs), balanced by the number of additions per DOF.
+fn force_chunks(model: &Model, n_chunks: usize) -> Chunks {
+    let n = model.n_dofs();
+    let mut weight = vec![1u32; n];
+    for f in &model.forces {
+        for &d in f.stencils() {
+            weight[d] += 1;
+        }
+    }
+    let mut ch = Chunks::cut(n, n_chunks, &weight, |_| true, model.forces.len());
+    for (fi, f) in model.forces.iter().enumerate() {
+        let k = f.stencil_size().max(1);
+        for (e, st) in f.stencils().chunks(k).enumerate() {
+            ch.add(fi, e, st.iter().copied());
+        }
+    }
+    ch
 }
