@@ -56,6 +56,9 @@ pub struct Assembler {
     /// `transpose[k]` = value index of the mirror entry `(c, r)` of entry `k = (r, c)` (the
     /// pattern is structurally symmetric: every stencil couples all its DOFs both ways).
     pub transpose: Vec<u32>,
+    /// The free DOFs are numbered in the fill-reducing (AMD) order of the pattern: a
+    /// Cholesky factorisation of it needs no ordering of its own.
+    pub ordered: bool,
     /// Chunks of the matrix values (at column boundaries) for the parallel scatter.
     val_chunks: Chunks,
     /// Chunks of the force vector (all DOFs).
@@ -83,40 +86,24 @@ impl Assembler {
             }
         }
         let n_free = dof_of.len();
-        // Collect (col, row) pairs as u64 keys, sort, dedup.
-        let mut keys: Vec<u64> = (0..n_free as u64).map(|r| (r << 32) | r).collect();
-        for f in &model.forces {
-            let kind = f.jacobian_kind();
-            if !(kind.dq || kind.dv) {
-                continue;
-            }
-            let k = f.stencil_size();
-            for st in f.stencils().chunks(k) {
-                for &a in st {
-                    let ra = free_of[a];
-                    if ra == NONE {
-                        continue;
-                    }
-                    for &b in st {
-                        let cb = free_of[b];
-                        if cb != NONE {
-                            keys.push(((cb as u64) << 32) | ra as u64);
-                        }
-                    }
+        // Number the free DOFs in the factorisation's fill-reducing order (AMD of the
+        // pattern), so that the factorisation needs no permutation ([`Assembler::ordered`]).
+        let (col_ptr, row_idx) = pattern(model, &free_of, n_free);
+        let ordered = match crate::linsolve::amd_order(n_free, &col_ptr, &row_idx) {
+            Some(fwd) => {
+                dof_of = fwd.iter().map(|&r| dof_of[r]).collect();
+                for (r, &d) in dof_of.iter().enumerate() {
+                    free_of[d] = r as u32;
                 }
+                true
             }
-        }
-        keys.sort_unstable();
-        keys.dedup();
-        let mut col_ptr = vec![0usize; n_free + 1];
-        let mut row_idx = Vec::with_capacity(keys.len());
-        for &key in &keys {
-            col_ptr[(key >> 32) as usize + 1] += 1;
-            row_idx.push((key & 0xffff_ffff) as usize);
-        }
-        for c in 0..n_free {
-            col_ptr[c + 1] += col_ptr[c];
-        }
+            None => false,
+        };
+        let (col_ptr, row_idx) = if ordered {
+            pattern(model, &free_of, n_free)
+        } else {
+            (col_ptr, row_idx)
+        };
         let find = |r: usize, c: usize| -> u32 {
             let s = &row_idx[col_ptr[c]..col_ptr[c + 1]];
             (col_ptr[c] + s.binary_search(&r).expect("entry in pattern")) as u32
@@ -157,6 +144,7 @@ impl Assembler {
         let val_chunks = value_chunks(model, &col_ptr, &maps, n_chunks);
         let dof_chunks = force_chunks(model, n_chunks);
         Self {
+            ordered,
             val_chunks,
             dof_chunks,
             transpose,
@@ -220,6 +208,46 @@ impl Assembler {
             rayon::join(scatter_f, scatter_j);
         });
     }
+}
+
+/// The CSC pattern (sorted rows) of the free-DOF system with free numbers `free_of`: the
+/// diagonal and every pair of free DOFs of a stencil of a force with a Jacobian.
+fn pattern(model: &Model, free_of: &[u32], n_free: usize) -> (Vec<usize>, Vec<usize>) {
+    // Collect (col, row) pairs as u64 keys, sort, dedup.
+    let mut keys: Vec<u64> = (0..n_free as u64).map(|r| (r << 32) | r).collect();
+    for f in &model.forces {
+        let kind = f.jacobian_kind();
+        if !(kind.dq || kind.dv) {
+            continue;
+        }
+        let k = f.stencil_size();
+        for st in f.stencils().chunks(k) {
+            for &a in st {
+                let ra = free_of[a];
+                if ra == NONE {
+                    continue;
+                }
+                for &b in st {
+                    let cb = free_of[b];
+                    if cb != NONE {
+                        keys.push(((cb as u64) << 32) | ra as u64);
+                    }
+                }
+            }
+        }
+    }
+    keys.sort_unstable();
+    keys.dedup();
+    let mut col_ptr = vec![0usize; n_free + 1];
+    let mut row_idx = Vec::with_capacity(keys.len());
+    for &key in &keys {
+        col_ptr[(key >> 32) as usize + 1] += 1;
+        row_idx.push((key & 0xffff_ffff) as usize);
+    }
+    for c in 0..n_free {
+        col_ptr[c + 1] += col_ptr[c];
+    }
+    (col_ptr, row_idx)
 }
 
 /// Values `lo..lo + out.len()` (chunk `t` of `vc`) of `J = c_m M − c_q ∂F/∂q − c_v ∂F/∂v`:
