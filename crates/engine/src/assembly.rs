@@ -86,24 +86,8 @@ impl Assembler {
             }
         }
         let n_free = dof_of.len();
-        // Number the free DOFs in the factorisation's fill-reducing order (AMD of the
-        // pattern), so that the factorisation needs no permutation ([`Assembler::ordered`]).
-        let (col_ptr, row_idx) = pattern(model, &free_of, n_free);
-        let ordered = match crate::linsolve::amd_order(n_free, &col_ptr, &row_idx) {
-            Some(fwd) => {
-                dof_of = fwd.iter().map(|&r| dof_of[r]).collect();
-                for (r, &d) in dof_of.iter().enumerate() {
-                    free_of[d] = r as u32;
-                }
-                true
-            }
-            None => false,
-        };
-        let (col_ptr, row_idx) = if ordered {
-            pattern(model, &free_of, n_free)
-        } else {
-            (col_ptr, row_idx)
-        };
+        // Number the free DOFs in the fill-reducing order of the factorisation.
+        let (ordered, col_ptr, row_idx) = amd_numbering(model, &mut free_of, &mut dof_of);
         let find = |r: usize, c: usize| -> u32 {
             let s = &row_idx[col_ptr[c]..col_ptr[c + 1]];
             (col_ptr[c] + s.binary_search(&r).expect("entry in pattern")) as u32
@@ -208,6 +192,27 @@ impl Assembler {
             rayon::join(scatter_f, scatter_j);
         });
     }
+}
+
+/// Renumber the free DOFs in the AMD order of their pattern (so that the factorisation needs
+/// no permutation, [`Assembler::ordered`]); returns whether it did and the pattern in the
+/// final numbering.
+fn amd_numbering(
+    model: &Model,
+    free_of: &mut [u32],
+    dof_of: &mut Vec<usize>,
+) -> (bool, Vec<usize>, Vec<usize>) {
+    let n_free = dof_of.len();
+    let (col_ptr, row_idx) = pattern(model, free_of, n_free);
+    let Some(fwd) = crate::linsolve::amd_order(n_free, &col_ptr, &row_idx) else {
+        return (false, col_ptr, row_idx);
+    };
+    *dof_of = fwd.iter().map(|&r| dof_of[r]).collect();
+    for (r, &d) in dof_of.iter().enumerate() {
+        free_of[d] = r as u32;
+    }
+    let (col_ptr, row_idx) = pattern(model, free_of, n_free);
+    (true, col_ptr, row_idx)
 }
 
 /// The CSC pattern (sorted rows) of the free-DOF system with free numbers `free_of`: the

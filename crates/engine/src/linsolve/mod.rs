@@ -151,6 +151,18 @@ impl Lower {
             values,
         }
     }
+
+    /// The lower triangle of the `n × n` matrix with values `full` (in the full pattern).
+    fn matrix(&mut self, n: usize, full: &[f64]) -> SparseColMatRef<'_, usize, f64> {
+        for (v, &k) in self.values.iter_mut().zip(&self.src) {
+            *v = full[k];
+        }
+        // SAFETY: the lower triangle of a checked pattern is a valid pattern.
+        let sym = unsafe {
+            SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
+        };
+        SparseColMatRef::new(sym, &self.values[..])
+    }
 }
 
 impl LinearSolver {
@@ -311,16 +323,7 @@ impl LinearSolver {
         let a = SparseColMatRef::new(sym, full);
         if let (Some((chol, lvals)), Some(spd)) = (self.llt.as_mut(), spd) {
             let a_spd = match self.lower.as_mut() {
-                Some(lo) => {
-                    for (v, &k) in lo.values.iter_mut().zip(&lo.src) {
-                        *v = spd[k];
-                    }
-                    // SAFETY: the lower triangle of the checked pattern is a valid pattern.
-                    let sym = unsafe {
-                        SymbolicSparseColMatRef::new_unchecked(n, n, &lo.col_ptr, None, &lo.row_idx)
-                    };
-                    SparseColMatRef::new(sym, &lo.values[..])
-                }
+                Some(lo) => lo.matrix(n, spd),
                 None => SparseColMatRef::new(sym, spd),
             };
             let stack = MemStack::new(&mut self.mem);
