@@ -26,6 +26,10 @@ pub mod elements;
 pub mod fabric;
 pub mod flight;
 pub mod plot;
+mod table;
+
+pub use table::peak_rss_mib;
+use table::{header, row, rss_mib};
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -67,6 +71,10 @@ pub struct BenchArgs {
     /// Every step attempt and its Newton residual history on stderr.
     #[arg(long, hide = true)]
     pub trace: bool,
+    /// Time this many steps instead of the case's own count (a shorter `flight-1k` for
+    /// quick A/B iterations).
+    #[arg(long, hide = true, value_name = "N")]
+    pub steps: Option<usize>,
     /// Newton experiment knobs.
     #[command(flatten)]
     pub newton: NewtonExperiment,
@@ -171,6 +179,9 @@ impl BenchArgs {
             (self.trace, "--trace"),
         ];
         a.extend(flags.iter().filter(|f| f.0).map(|f| f.1.to_string()));
+        if let Some(n) = self.steps {
+            a.extend(["--steps".into(), n.to_string()]);
+        }
         for kv in &self.set {
             a.extend(["--set".into(), kv.clone()]);
         }
@@ -381,12 +392,15 @@ pub fn main(args: &BenchArgs) -> Result<(), AppError> {
     }
     let cases = ladder(args.quick, args.tiny);
     if let Some(name) = &args.case {
-        let c = cases
+        let mut c = cases
             .iter()
             .chain(ladder(false, false).iter())
             .find(|c| &c.name == name)
             .cloned()
             .ok_or_else(|| AppError::Input(format!("no bench case `{name}`")))?;
+        if let Some(n) = args.steps {
+            c.steps = n;
+        }
         let r = run_case(&c, args)?;
         println!("{}", serde_json::to_string(&r).expect("serialisable"));
         return Ok(());
@@ -534,70 +548,4 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
         exact_retries: tm.exact_retries,
         exact_retries_converged: tm.exact_retries_converged,
     })
-}
-
-/// A `/proc/self/status` memory field (`VmRSS`, `VmHWM`, …) in MiB; 0 where `/proc` is
-/// unavailable.
-fn status_mib(field: &str) -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.strip_prefix(field).is_some_and(|r| r.starts_with(':')))
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|kb| kb.parse::<f64>().ok())
-        })
-        .map_or(0.0, |kb| kb / 1024.0)
-}
-
-/// Current and peak resident memory, for the `--mem` stage report.
-fn rss_mib() -> String {
-    format!(
-        "RSS {:.1} MiB (peak {:.1} MiB)",
-        status_mib("VmRSS"),
-        status_mib("VmHWM")
-    )
-}
-
-/// `VmHWM` of this process (MiB); 0 where `/proc` is unavailable.
-pub fn peak_rss_mib() -> f64 {
-    status_mib("VmHWM")
-}
-
-fn header() -> String {
-    format!(
-        "{:<16} {:>6} {:>7} {:>9} {:>9} {:>6} {:>8} {:>6} {:>5} {:>5} {:>5} {:>5} {:>8}",
-        "case",
-        "nodes",
-        "DOFs",
-        "nnz",
-        "ms/step",
-        "it/st",
-        "ms/it",
-        "fac/st",
-        "asm%",
-        "Φ%",
-        "fac%",
-        "sol%",
-        "RSS MiB"
-    )
-}
-
-fn row(r: &CaseResult) -> String {
-    format!(
-        "{:<16} {:>6} {:>7} {:>9} {:>9.3} {:>6.2} {:>8.3} {:>6.2} {:>5.1} {:>5.1} {:>5.1} {:>5.1} {:>8.1}",
-        r.name,
-        r.nodes,
-        r.dofs,
-        r.nnz,
-        r.ms_per_step,
-        r.newton_per_step,
-        r.ms_per_newton,
-        r.factorizations_per_step,
-        100.0 * r.share_assembly,
-        100.0 * r.share_merit,
-        100.0 * r.share_factor,
-        100.0 * r.share_solve,
-        r.peak_rss_mib
-    )
 }

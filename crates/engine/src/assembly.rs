@@ -5,11 +5,23 @@
 //! `J = diag(m) c_m − c_q ∂F/∂q − c_v ∂F/∂v` with coefficients chosen by the solver
 //! (implicit Euler: `c_m = 1/dt²`, `c_q = 1`, `c_v = 1/dt`; statics: `c_m = 0`, `c_q = 1`,
 //! `c_v = 0`). The force vector `F` is assembled over all DOFs.
+//!
+//! One assembly is one parallel region (rayon): the forces are evaluated concurrently (each
+//! family's elements in parallel tasks, `LocalBlocks::par_for_each`), then the force vector
+//! and the matrix values are scattered by chunks of the output, each summed in the serial
+//! order (module `plan`): the results are bitwise the same for any number of threads.
 
 use crate::force::{EvalInput, LocalBlocks};
 use crate::model::Model;
+use rayon::prelude::*;
 
-/// Sentinel for "this local entry touches a fixed DOF".
+mod plan;
+#[cfg(test)]
+mod tests;
+
+use plan::Chunks;
+
+/// Sentinel for "this local entry touches a fixed DOF" (never inside a scatter chunk).
 const NONE: u32 = u32::MAX;
 
 /// Coefficients of the assembled matrix `J = c_m M − c_q ∂F/∂q − c_v ∂F/∂v`.
@@ -44,11 +56,26 @@ pub struct Assembler {
     /// `transpose[k]` = value index of the mirror entry `(c, r)` of entry `k = (r, c)` (the
     /// pattern is structurally symmetric: every stencil couples all its DOFs both ways).
     pub transpose: Vec<u32>,
+    /// The free DOFs are numbered in the fill-reducing (AMD) order of the pattern: a
+    /// Cholesky factorisation of it needs no ordering of its own.
+    pub ordered: bool,
+    /// Chunks of the matrix values (at column boundaries) for the parallel scatter.
+    val_chunks: Chunks,
+    /// Chunks of the force vector (all DOFs).
+    dof_chunks: Chunks,
 }
 
 impl Assembler {
-    /// Build the pattern from the model's forces (plus the diagonal).
+    /// Build the pattern from the model's forces (plus the diagonal), with scatter chunks
+    /// for the threads of rayon's pool.
     pub fn new(model: &Model) -> Self {
+        Self::with_chunks(model, plan::chunk_count(rayon::current_num_threads()))
+    }
+
+    /// [`Assembler::new`] with the scatter cut into at most `n_chunks` chunks (results do
+    /// not depend on it).
+    pub(crate) fn with_chunks(model: &Model, n_chunks: usize) -> Self {
+        let n_chunks = n_chunks.clamp(1, plan::MAX_CHUNKS);
         let n = model.n_dofs();
         let mut free_of = vec![NONE; n];
         let mut dof_of = Vec::new();
@@ -59,40 +86,8 @@ impl Assembler {
             }
         }
         let n_free = dof_of.len();
-        // Collect (col, row) pairs as u64 keys, sort, dedup.
-        let mut keys: Vec<u64> = (0..n_free as u64).map(|r| (r << 32) | r).collect();
-        for f in &model.forces {
-            let kind = f.jacobian_kind();
-            if !(kind.dq || kind.dv) {
-                continue;
-            }
-            let k = f.stencil_size();
-            for st in f.stencils().chunks(k) {
-                for &a in st {
-                    let ra = free_of[a];
-                    if ra == NONE {
-                        continue;
-                    }
-                    for &b in st {
-                        let cb = free_of[b];
-                        if cb != NONE {
-                            keys.push(((cb as u64) << 32) | ra as u64);
-                        }
-                    }
-                }
-            }
-        }
-        keys.sort_unstable();
-        keys.dedup();
-        let mut col_ptr = vec![0usize; n_free + 1];
-        let mut row_idx = Vec::with_capacity(keys.len());
-        for &key in &keys {
-            col_ptr[(key >> 32) as usize + 1] += 1;
-            row_idx.push((key & 0xffff_ffff) as usize);
-        }
-        for c in 0..n_free {
-            col_ptr[c + 1] += col_ptr[c];
-        }
+        // Number the free DOFs in the fill-reducing order of the factorisation.
+        let (ordered, col_ptr, row_idx) = amd_numbering(model, &mut free_of, &mut dof_of);
         let find = |r: usize, c: usize| -> u32 {
             let s = &row_idx[col_ptr[c]..col_ptr[c + 1]];
             (col_ptr[c] + s.binary_search(&r).expect("entry in pattern")) as u32
@@ -130,7 +125,12 @@ impl Assembler {
                 transpose[k] = find(c, row_idx[k]);
             }
         }
+        let val_chunks = value_chunks(model, &col_ptr, &maps, n_chunks);
+        let dof_chunks = force_chunks(model, n_chunks);
         Self {
+            ordered,
+            val_chunks,
+            dof_chunks,
             transpose,
             n_free,
             dof_of,
@@ -164,40 +164,170 @@ impl Assembler {
         force: &mut [f64],
         values: Option<(&mut [f64], Coefficients)>,
     ) {
-        force.iter_mut().for_each(|x| *x = 0.0);
-        for (f, blocks) in model.forces.iter().zip(self.blocks.iter_mut()) {
-            f.evaluate(input, blocks);
+        let blocks = &mut self.blocks;
+        let (vc, dc) = (&self.val_chunks, &self.dof_chunks);
+        let (maps, forces) = (&self.maps, &model.forces[..]);
+        let (dof_of, diag) = (&self.dof_of, &self.diag);
+        // One region of the pool for the whole assembly (every `par_*` inside runs on its
+        // workers without another wake-up).
+        rayon::scope(|_| {
+            forces
+                .par_iter()
+                .zip(blocks.par_iter_mut())
+                .for_each(|(f, b)| f.evaluate(input, b));
+            let blocks = &blocks[..];
+            let mut scatter_f = || {
+                dc.run(force, |t, lo, out| {
+                    plan::force_chunk(dc, t, lo, out, forces, blocks)
+                })
+            };
+            let Some((values, c)) = values else {
+                return scatter_f();
+            };
+            let scatter_j = || {
+                vc.run(values, |t, lo, out| {
+                    jacobian_chunk(vc, t, lo, out, (maps, blocks), (dof_of, diag), model, c)
+                })
+            };
+            rayon::join(scatter_f, scatter_j);
+        });
+    }
+}
+
+/// Renumber the free DOFs in the AMD order of their pattern (so that the factorisation needs
+/// no permutation, [`Assembler::ordered`]); returns whether it did and the pattern in the
+/// final numbering.
+fn amd_numbering(
+    model: &Model,
+    free_of: &mut [u32],
+    dof_of: &mut Vec<usize>,
+) -> (bool, Vec<usize>, Vec<usize>) {
+    let n_free = dof_of.len();
+    let (col_ptr, row_idx) = pattern(model, free_of, n_free);
+    let Some(fwd) = crate::linsolve::amd_order(n_free, &col_ptr, &row_idx) else {
+        return (false, col_ptr, row_idx);
+    };
+    *dof_of = fwd.iter().map(|&r| dof_of[r]).collect();
+    for (r, &d) in dof_of.iter().enumerate() {
+        free_of[d] = r as u32;
+    }
+    let (col_ptr, row_idx) = pattern(model, free_of, n_free);
+    (true, col_ptr, row_idx)
+}
+
+/// The CSC pattern (sorted rows) of the free-DOF system with free numbers `free_of`: the
+/// diagonal and every pair of free DOFs of a stencil of a force with a Jacobian.
+fn pattern(model: &Model, free_of: &[u32], n_free: usize) -> (Vec<usize>, Vec<usize>) {
+    // Collect (col, row) pairs as u64 keys, sort, dedup.
+    let mut keys: Vec<u64> = (0..n_free as u64).map(|r| (r << 32) | r).collect();
+    for f in &model.forces {
+        let kind = f.jacobian_kind();
+        if !(kind.dq || kind.dv) {
+            continue;
         }
-        for (fi, f) in model.forces.iter().enumerate() {
-            let k = f.stencil_size();
-            let b = &self.blocks[fi];
-            for (st, loc) in f.stencils().chunks(k).zip(b.f.chunks(k)) {
-                for (&d, &x) in st.iter().zip(loc) {
-                    force[d] += x;
+        let k = f.stencil_size();
+        for st in f.stencils().chunks(k) {
+            for &a in st {
+                let ra = free_of[a];
+                if ra == NONE {
+                    continue;
+                }
+                for &b in st {
+                    let cb = free_of[b];
+                    if cb != NONE {
+                        keys.push(((cb as u64) << 32) | ra as u64);
+                    }
                 }
             }
         }
-        let Some((values, c)) = values else { return };
-        values.iter_mut().for_each(|x| *x = 0.0);
-        for (r, &d) in self.dof_of.iter().enumerate() {
-            values[self.diag[r]] += c.c_m * model.mass[d];
+    }
+    keys.sort_unstable();
+    keys.dedup();
+    let mut col_ptr = vec![0usize; n_free + 1];
+    let mut row_idx = Vec::with_capacity(keys.len());
+    for &key in &keys {
+        col_ptr[(key >> 32) as usize + 1] += 1;
+        row_idx.push((key & 0xffff_ffff) as usize);
+    }
+    for c in 0..n_free {
+        col_ptr[c + 1] += col_ptr[c];
+    }
+    (col_ptr, row_idx)
+}
+
+/// Values `lo..lo + out.len()` (chunk `t` of `vc`) of `J = c_m M − c_q ∂F/∂q − c_v ∂F/∂v`:
+/// zero, the mass diagonal, then every force's blocks in serial order.
+#[allow(clippy::too_many_arguments)]
+fn jacobian_chunk(
+    vc: &Chunks,
+    t: usize,
+    lo: usize,
+    out: &mut [f64],
+    (maps, blocks): (&[Vec<u32>], &[LocalBlocks]),
+    (dof_of, diag): (&[usize], &[usize]),
+    model: &Model,
+    c: Coefficients,
+) {
+    out.iter_mut().for_each(|x| *x = 0.0);
+    let hi = lo + out.len();
+    // Columns of the chunk are contiguous, and so are their diagonal entries.
+    let first = diag.partition_point(|&k| k < lo);
+    for (r, &k) in diag.iter().enumerate().skip(first) {
+        if k >= hi {
+            break;
         }
-        for (map, b) in self.maps.iter().zip(&self.blocks) {
-            if !b.dfdq.is_empty() && c.c_q != 0.0 {
-                scatter(values, map, &b.dfdq, -c.c_q);
-            }
-            if !b.dfdv.is_empty() && c.c_v != 0.0 {
-                scatter(values, map, &b.dfdv, -c.c_v);
-            }
+        out[k - lo] += c.c_m * model.mass[dof_of[r]];
+    }
+    for (fi, (map, b)) in maps.iter().zip(blocks).enumerate() {
+        let elems = &vc.elems[t][fi];
+        let kk = b.k * b.k;
+        if !b.dfdq.is_empty() && c.c_q != 0.0 {
+            plan::scatter_chunk(out, lo, elems, kk, map, &b.dfdq, -c.c_q);
+        }
+        if !b.dfdv.is_empty() && c.c_v != 0.0 {
+            plan::scatter_chunk(out, lo, elems, kk, map, &b.dfdv, -c.c_v);
         }
     }
 }
 
-#[inline]
-fn scatter(values: &mut [f64], map: &[u32], local: &[f64], scale: f64) {
-    for (&m, &x) in map.iter().zip(local) {
+/// Chunks of the values at column starts, balanced by the number of additions per value.
+fn value_chunks(model: &Model, col_ptr: &[usize], maps: &[Vec<u32>], n_chunks: usize) -> Chunks {
+    let nnz = *col_ptr.last().unwrap_or(&0);
+    let mut weight = vec![1u32; nnz];
+    for &m in maps.iter().flatten() {
         if m != NONE {
-            values[m as usize] += scale * x;
+            weight[m as usize] += 1;
         }
     }
+    let mut col_start = vec![false; nnz + 1];
+    for &p in col_ptr {
+        col_start[p] = true;
+    }
+    let mut ch = Chunks::cut(nnz, n_chunks, &weight, |i| col_start[i], maps.len());
+    for (fi, (f, map)) in model.forces.iter().zip(maps).enumerate() {
+        let kk = f.stencil_size() * f.stencil_size();
+        for (e, m) in map.chunks(kk.max(1)).enumerate() {
+            ch.add(fi, e, m.iter().filter(|&&m| m != NONE).map(|&m| m as usize));
+        }
+    }
+    ch
+}
+
+/// Chunks of the force vector (all DOFs), balanced by the number of additions per DOF.
+fn force_chunks(model: &Model, n_chunks: usize) -> Chunks {
+    let n = model.n_dofs();
+    let mut weight = vec![1u32; n];
+    for f in &model.forces {
+        for &d in f.stencils() {
+            weight[d] += 1;
+        }
+    }
+    let mut ch = Chunks::cut(n, n_chunks, &weight, |_| true, model.forces.len());
+    for (fi, f) in model.forces.iter().enumerate() {
+        let k = f.stencil_size().max(1);
+        for (e, st) in f.stencils().chunks(k).enumerate() {
+            ch.add(fi, e, st.iter().copied());
+        }
+    }
+    ch
 }

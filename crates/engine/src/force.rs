@@ -133,9 +133,16 @@ impl LocalBlocks {
         if n == 0 {
             return;
         }
-        // Below this many stencils per task, waking rayon's threads costs more than the
-        // elements (docs/performance.md §Engine tuning).
+        // Tasks of about a quarter of the family per thread (the assembler evaluates the
+        // families concurrently inside one region of the pool, so stealing balances them),
+        // but not below MIN_TASK stencils, nor above MIN_PAR: below that many stencils per
+        // task, the threads' bookkeeping costs more than the elements
+        // (docs/performance.md §Engine tuning).
+        const MIN_TASK: usize = 256;
         const MIN_PAR: usize = 2048;
+        let min_len = n
+            .div_ceil(2 * rayon::current_num_threads())
+            .clamp(MIN_TASK, MIN_PAR);
         type Item<'a> = (usize, (&'a mut [f64], (&'a mut [f64], &'a mut [f64])));
         let body = |(i, (f, (q, v))): Item<'_>| {
             func(BlockMut {
@@ -150,24 +157,24 @@ impl LocalBlocks {
                 .par_chunks_mut(k)
                 .zip(fq.par_chunks_mut(kk).zip(fv.par_chunks_mut(kk)))
                 .enumerate()
-                .with_min_len(MIN_PAR)
+                .with_min_len(min_len)
                 .for_each(body),
             (true, false) => f
                 .par_chunks_mut(k)
                 .zip(fq.par_chunks_mut(kk))
                 .enumerate()
-                .with_min_len(MIN_PAR)
+                .with_min_len(min_len)
                 .for_each(|(i, (f, q))| body((i, (f, (q, &mut [][..]))))),
             (false, true) => f
                 .par_chunks_mut(k)
                 .zip(fv.par_chunks_mut(kk))
                 .enumerate()
-                .with_min_len(MIN_PAR)
+                .with_min_len(min_len)
                 .for_each(|(i, (f, v))| body((i, (f, (&mut [][..], v))))),
             (false, false) => f
                 .par_chunks_mut(k)
                 .enumerate()
-                .with_min_len(MIN_PAR)
+                .with_min_len(min_len)
                 .for_each(|(i, f)| body((i, (f, (&mut [][..], &mut [][..]))))),
         }
     }

@@ -15,6 +15,7 @@
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
+use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, IntranodeLbltRef, LltRef,
     SymbolicCholesky, SymmetricOrdering,
@@ -64,6 +65,27 @@ fn check_pattern(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<(), S
     Ok(())
 }
 
+/// The fill-reducing order faer's Cholesky would use for this pattern (AMD with its default
+/// control; `fwd[i]` = old index of new row `i`), or `None` if it fails (too large). A
+/// system numbered in this order is factorised with [`LinearSolver::new_ordered`].
+pub fn amd_order(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Option<Vec<usize>> {
+    check_pattern(n, col_ptr, row_idx).ok()?;
+    // SAFETY: checked just above.
+    let a = unsafe { SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx) };
+    let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);
+    let mut mem =
+        MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, row_idx.len())).ok()?;
+    amd::order_maybe_unsorted(
+        &mut fwd,
+        &mut inv,
+        a,
+        amd::Control::default(),
+        MemStack::new(&mut mem),
+    )
+    .ok()?;
+    Some(fwd)
+}
+
 /// Which factorisation solved the last system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Factorization {
@@ -95,6 +117,52 @@ pub struct LinearSolver {
     /// Factorisation held (or used last).
     pub last: Factorization,
     valid: bool,
+    /// Preordered systems: the lower triangle handed to the numeric LLᵀ / LBLᵀ (faer reads
+    /// an unpermuted matrix as it is, and its simplicial kernel wants one triangle only).
+    lower: Option<Lower>,
+}
+
+/// The lower triangle of a pattern and a buffer for its values.
+struct Lower {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// Index in the full pattern's values of each lower entry.
+    src: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl Lower {
+    fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
+        let (mut cp, mut ri, mut src) = (vec![0], Vec::new(), Vec::new());
+        for c in 0..n {
+            for k in col_ptr[c]..col_ptr[c + 1] {
+                if row_idx[k] >= c {
+                    ri.push(row_idx[k]);
+                    src.push(k);
+                }
+            }
+            cp.push(ri.len());
+        }
+        let values = vec![0.0; ri.len()];
+        Self {
+            col_ptr: cp,
+            row_idx: ri,
+            src,
+            values,
+        }
+    }
+
+    /// The lower triangle of the `n × n` matrix with values `full` (in the full pattern).
+    fn matrix(&mut self, n: usize, full: &[f64]) -> SparseColMatRef<'_, usize, f64> {
+        for (v, &k) in self.values.iter_mut().zip(&self.src) {
+            *v = full[k];
+        }
+        // SAFETY: the lower triangle of a checked pattern is a valid pattern.
+        let sym = unsafe {
+            SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
+        };
+        SparseColMatRef::new(sym, &self.values[..])
+    }
 }
 
 impl LinearSolver {
@@ -105,6 +173,27 @@ impl LinearSolver {
         col_ptr: &[usize],
         row_idx: &[usize],
         symmetric: bool,
+    ) -> Result<Self, EngineError> {
+        Self::with_ordering(n, col_ptr, row_idx, symmetric, SymmetricOrdering::Amd)
+    }
+
+    /// [`LinearSolver::new`] for a system already numbered in its fill-reducing order
+    /// ([`amd_order`]): LLᵀ / LBLᵀ factorise it as it is, with no permutation.
+    pub fn new_ordered(
+        n: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        symmetric: bool,
+    ) -> Result<Self, EngineError> {
+        Self::with_ordering(n, col_ptr, row_idx, symmetric, SymmetricOrdering::Identity)
+    }
+
+    fn with_ordering(
+        n: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        symmetric: bool,
+        ordering: SymmetricOrdering<'_, usize>,
     ) -> Result<Self, EngineError> {
         check_pattern(n, col_ptr, row_idx).map_err(EngineError::Symbolic)?;
         let par = if n > 20_000 { Par::rayon(0) } else { Par::Seq };
@@ -122,17 +211,18 @@ impl LinearSolver {
             par,
             last: Factorization::Lu,
             valid: false,
+            lower: None,
         };
         // SAFETY: `check_pattern` verified the CSC invariants faer requires.
         let sym = unsafe { SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx) };
         let mut req = StackReq::EMPTY;
         if symmetric {
-            // AMD. A nested dissection by BFS level structures was tried (docs/performance.md):
+            // AMD (done by the caller with `new_ordered`). A nested dissection by BFS level structures was tried (docs/performance.md):
             // 20 % more fill and 9 % slower factorisations than AMD at 16k–33k nodes.
             let chol = factorize_symbolic_cholesky(
                 sym,
                 Side::Lower,
-                SymmetricOrdering::Amd,
+                ordering,
                 CholeskySymbolicParams::default(),
             )
             .map_err(|e| EngineError::Symbolic(sparse_error(e)))?;
@@ -143,6 +233,9 @@ impl LinearSolver {
             let vals = vec![0.0; chol.len_val()];
             s.llt = Some((chol, vals));
             s.lblt = (vec![0.0; n], vec![0; n], vec![0; n]);
+            if matches!(ordering, SymmetricOrdering::Identity) {
+                s.lower = Some(Lower::new(n, col_ptr, row_idx));
+            }
         } else {
             s.ensure_lu()?;
         }
@@ -229,7 +322,10 @@ impl LinearSolver {
         };
         let a = SparseColMatRef::new(sym, full);
         if let (Some((chol, lvals)), Some(spd)) = (self.llt.as_mut(), spd) {
-            let a_spd = SparseColMatRef::new(sym, spd);
+            let a_spd = match self.lower.as_mut() {
+                Some(lo) => lo.matrix(n, spd),
+                None => SparseColMatRef::new(sym, spd),
+            };
             let stack = MemStack::new(&mut self.mem);
             let ok = chol
                 .factorize_numeric_llt::<f64>(

@@ -96,7 +96,12 @@ impl NewtonCore {
     pub fn new(model: &Model, opts: NewtonOptions) -> Result<Self, EngineError> {
         let assembler = Assembler::new(model);
         let approx = opts.symmetric_approx && !assembler.symmetric;
-        let solver = LinearSolver::new(
+        let new_solver = if assembler.ordered {
+            LinearSolver::new_ordered
+        } else {
+            LinearSolver::new
+        };
+        let solver = new_solver(
             assembler.n_free,
             &assembler.col_ptr,
             &assembler.row_idx,
