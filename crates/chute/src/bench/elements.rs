@@ -3,7 +3,7 @@
 //! compression) and bending law (hinges, mid-edge) of the `shell-1k` mesh is evaluated alone,
 //! force and Jacobian, at one fixed deformed configuration, on one thread (so the per-element
 //! figures do not depend on which families are large enough for the parallel loop), in
-//! [`ROUNDS`] rounds over all the laws (each law's time its fastest round), and reported per
+//! `ROUNDS` (3) rounds over all the laws (each law's time its fastest round), and reported per
 //! element and relative to the report's laws (springs, hinges).
 
 use std::time::Instant;
