@@ -34,7 +34,7 @@
 //! `u_p`, and the pressure is that of the flow that does not, `Δp = C_p ½ ρ (w − u_p)²`,
 //! equal to the fabric's Darcy–Forchheimer drop `h (μ u_p/k + ρ C_F u_p²/√k)`; the same split
 //! as the panel laws' ([`super::permeability`]), with `w` the descent speed. Then `Δp(w)` and
-//! its partials come from [`leakage`] and replace `c w²` below (`∂Δp/∂w` for `C_p ρ w`).
+//! its partials come from [`leakage`](super::permeability::leakage) and replace `c w²` below (`∂Δp/∂w` for `C_p ρ w`).
 //!
 //! Exact Jacobians (neither symmetric):
 //! - `∂f_i/∂v_b = −σ (∂Δp/∂w / 9) N e_zᵀ` (impermeable: `∂Δp/∂w = C_p ρ w`);
@@ -43,7 +43,7 @@
 
 use super::fluid::{Fluid, LocalFluid};
 use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
-use super::permeability::{leakage, Fabric};
+use super::permeability::{leakage_in, Fabric};
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, outer, V3};
@@ -105,12 +105,7 @@ impl InflationPressureLaw {
         let Some(fab) = &self.fabric else {
             return (c * w * w, 2.0 * c * w, dc * w * w);
         };
-        let (darcy, inertial) = (fab.darcy(), fab.inertial());
-        let l = leakage(w, c, air.viscosity * darcy, air.density * inertial);
-        let dz = l.d_c * dc
-            + l.d_b * inertial * air.density_gradient
-            + l.d_a * darcy * air.viscosity_gradient;
-        (l.pressure, l.d_w, dz)
+        leakage_in(w, c, dc, air, fab)
     }
 }
 

@@ -26,6 +26,8 @@
 //! `∂Δp/∂a = 2c u_p (w − u_p)/G_u`, `∂Δp/∂b = 2c u_p² (w − u_p)/G_u`.
 //! See docs/aero.md §Permeability.
 
+use super::fluid::LocalFluid;
+
 /// A permeable fabric: thickness, Darcy permeability and Forchheimer coefficient.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fabric {
@@ -121,6 +123,27 @@ pub fn leakage(w: f64, c: f64, a: f64, b: f64) -> Leakage {
         d_a: u * k,
         d_b: u * u * k,
     }
+}
+
+/// The split of [`leakage`] for a pressure `c w²` whose coefficient `c` (kg/m³) changes with
+/// height at `dc` (kg/m⁴), behind `fabric` in the air `air` (whose ρ and μ set the fabric's
+/// coefficients): `Δp` (Pa), `∂Δp/∂w` (Pa·s/m) and `∂Δp/∂z` (Pa/m), the last through `c`,
+/// `a = μ h/k` and `b = ρ C_F h/√k` all at once. For laws whose `c` depends on height only
+/// through ρ (the per-node pressure and the inflation pressure).
+#[inline]
+pub(crate) fn leakage_in(
+    w: f64,
+    c: f64,
+    dc: f64,
+    air: &LocalFluid,
+    fabric: &Fabric,
+) -> (f64, f64, f64) {
+    let (darcy, inertial) = (fabric.darcy(), fabric.inertial());
+    let l = leakage(w, c, air.viscosity * darcy, air.density * inertial);
+    let dz = l.d_c * dc
+        + l.d_b * inertial * air.density_gradient
+        + l.d_a * darcy * air.viscosity_gradient;
+    (l.pressure, l.d_w, dz)
 }
 
 #[cfg(test)]

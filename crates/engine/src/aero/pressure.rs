@@ -29,7 +29,7 @@
 
 use super::fluid::{Fluid, LocalFluid};
 use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
-use super::permeability::{leakage, Fabric};
+use super::permeability::{leakage_in, Fabric};
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, outer, M3, V3};
@@ -96,14 +96,9 @@ impl PressureDragLaw {
     fn pressure(&self, s: f64, air: &LocalFluid, fab: &Fabric) -> NodePressure {
         let c = 0.5 * air.density * self.cd;
         let dc = 0.5 * air.density_gradient * self.cd;
-        let (darcy, inertial) = (fab.darcy(), fab.inertial());
-        let l = leakage(s.abs(), c, air.viscosity * darcy, air.density * inertial);
+        let (dp, dp_w, dp_z) = leakage_in(s.abs(), c, dc, air, fab);
         let sg = if s < 0.0 { -1.0 } else { 1.0 };
-        let dz = sg
-            * (l.d_c * dc
-                + l.d_b * inertial * air.density_gradient
-                + l.d_a * darcy * air.viscosity_gradient);
-        (sg * l.pressure, l.d_w, dz)
+        (sg * dp, dp_w, sg * dp_z)
     }
 }
 
