@@ -127,6 +127,44 @@ pub fn kevlar_sheet(
     ly: f64,
     corner_n: f64,
 ) -> (crate::Model, crate::State) {
+    kevlar_sheet_with(nx, ny, lx, ly, corner_n, |s| {
+        Box::new(crate::aero::PressureDrag::new(
+            &s.tris,
+            &s.q,
+            1.75,
+            &crate::aero::Fluid::air(),
+        ))
+    })
+}
+
+/// [`kevlar_sheet`] with the report's triangle drag law (C_D,n 1.75, C_D,t 0.5) instead of
+/// the pressure drag: its Jacobian is not symmetric, so Newton runs on the symmetric
+/// approximation with Krylov corrections.
+pub fn kevlar_sheet_report_drag(
+    nx: usize,
+    ny: usize,
+    lx: f64,
+    ly: f64,
+    corner_n: f64,
+) -> (crate::Model, crate::State) {
+    kevlar_sheet_with(nx, ny, lx, ly, corner_n, |s| {
+        Box::new(crate::aero::TriangleDrag::new(
+            &s.tris,
+            1.75,
+            0.5,
+            &crate::aero::Fluid::air(),
+        ))
+    })
+}
+
+fn kevlar_sheet_with(
+    nx: usize,
+    ny: usize,
+    lx: f64,
+    ly: f64,
+    corner_n: f64,
+    drag: impl Fn(&Sheet) -> Box<dyn crate::force::Force>,
+) -> (crate::Model, crate::State) {
     use crate::prelude::*;
     let s = sheet(nx, ny, lx, ly, 0.0);
     let mesh = TriMesh::from_q(s.tris.clone(), &s.q, s.n_nodes).expect("a valid grid");
@@ -140,7 +178,7 @@ pub fn kevlar_sheet(
     let nodes: Vec<usize> = (0..s.n_nodes).collect();
     let masses: Vec<f64> = nodes.iter().map(|&i| model.mass[3 * i]).collect();
     model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -9.81]));
-    model.add_force(PressureDrag::new(&s.tris, &s.q, 1.75, &Fluid::air()));
+    model.forces.push(drag(&s));
     let corners = [0, nx - 1, nx * (ny - 1), nx * ny - 1];
     model.add_force(PointForces::new(&corners, &[[0.0, 0.0, -corner_n]; 4]));
     (model, State::at_rest(s.q))

@@ -81,6 +81,9 @@ pub(crate) struct NewtonCore {
     exact: Option<bool>,
     /// This solve is the exact retry's pseudo-transient continuation (its own budget).
     continuing: bool,
+    /// This stage of an exact retry factorises `J` by LU instead of correcting the symmetric
+    /// approximation's updates by BiCGStab.
+    retry_lu: bool,
 }
 
 /// The target of one Newton solve.
@@ -140,6 +143,7 @@ impl NewtonCore {
                 .collect(),
             exact: None,
             continuing: false,
+            retry_lu: false,
             force: vec![0.0; n],
             residual: vec![0.0; assembler.n_free],
             delta: vec![0.0; assembler.n_free],
@@ -236,13 +240,14 @@ impl NewtonCore {
         let (e0, f0) = (self.timings.evaluations, self.timings.factorizations);
         let retry = self.opts.exact_retry && !self.is_exact_path();
         let mut res = self.solve_from(model, q, tg, fresh);
+        if retry && res.is_err() {
+            res = self.exact_retry(model, q, tg);
+        }
+        // Recorded after the retry: a stale start that fails is charged the retry it caused.
         if choice {
             let evals = (self.timings.evaluations - e0) as f64;
             let facts = (self.timings.factorizations - f0) as f64;
             self.start.record(fresh, evals + FACTOR_WORK * facts);
-        }
-        if retry && res.is_err() {
-            res = self.exact_retry(model, q, tg);
         }
         res
     }
@@ -254,13 +259,15 @@ impl NewtonCore {
     }
 
     /// Retry a failed solve with exact Newton from the constant-velocity guess `q̃` (the
-    /// failed path may have started from an extrapolation that was the problem): first with
-    /// full steps (a stiff membrane's residual rises on the first full step and then
-    /// converges quadratically, where a line search on `‖R‖₂` creeps), then, if that fails
-    /// too, with the line search, and last by pseudo-transient continuation
-    /// (`newton/continuation.rs`), which converges to the same solution where Newton's
-    /// iteration from `q̃` wanders off. The Newton stages have twice the iteration budget, the
-    /// continuation four times.
+    /// failed path may have started from an extrapolation that was the problem). Stages, each
+    /// with twice the iteration budget: full steps (a stiff membrane's residual rises on the
+    /// first full step and then converges quadratically, where a line search on `‖R‖₂`
+    /// creeps) with the symmetric approximation's factors and every update corrected by
+    /// BiCGStab; where that fails, full steps with `J` factorised by LU (a correction that
+    /// does not converge is what may have failed); then LU with the line search; last
+    /// pseudo-transient continuation (`newton/continuation.rs`, four times the budget),
+    /// which converges to the same solution where Newton's iteration from `q̃` wanders off.
+    /// Without the approximation (symmetric `J`) the LU stage would repeat the first.
     fn exact_retry(
         &mut self,
         model: &Model,
@@ -272,12 +279,14 @@ impl NewtonCore {
             what: "exact retry",
             dof: 0,
         });
-        for search in [false, true] {
-            if search && !self.opts.line_search {
-                break;
+        let approx = !self.sym_values.is_empty();
+        for (search, lu) in [(false, false), (false, true), (true, true)] {
+            if (search && !self.opts.line_search) || (lu && !search && !approx) {
+                continue;
             }
             q.copy_from_slice(tg.q_tilde);
             self.exact = Some(search);
+            self.retry_lu = lu;
             res = self.solve_from(model, q, tg, true);
             self.exact = None;
             if res.is_ok() {
@@ -287,6 +296,7 @@ impl NewtonCore {
         }
         if self.opts.continuation {
             self.exact = Some(false);
+            self.retry_lu = true;
             res = self.continuation(model, q, tg);
             self.exact = None;
             if res.is_ok() {
@@ -362,9 +372,9 @@ impl NewtonCore {
     fn factor(&mut self, tg: &Target<'_>, report: &mut StepReport) -> Result<(), StepError> {
         let t0 = Instant::now();
         let approx = !self.sym_values.is_empty();
-        let fac = if approx && self.exact.is_some() {
-            // An exact retry factorises J itself (LU): the symmetric approximation with its
-            // Krylov correction is what may have failed.
+        let fac = if approx && self.exact.is_some() && self.retry_lu {
+            // A later stage of an exact retry factorises J itself (LU): the symmetric
+            // approximation with its Krylov correction is what may have failed.
             self.solver.factor_lu(&self.values)
         } else if approx {
             self.assembler

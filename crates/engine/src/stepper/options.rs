@@ -65,9 +65,10 @@ pub struct NewtonOptions {
     pub accuracy_floor: f64,
     /// When a solve using a reused factorisation or the symmetric approximation fails
     /// (diverged, not converged, non-finite), retry the same step once from the
-    /// constant-velocity guess with exact Newton: a fresh Jacobian every iteration, every
-    /// update of the symmetric approximation corrected into the exact update, and the line
-    /// search. Only if that fails too does the error reach the caller (who shortens `dt`).
+    /// constant-velocity guess with exact Newton: a fresh Jacobian every iteration, first
+    /// with every update of the symmetric approximation corrected into the exact update by
+    /// BiCGStab, then with LU of `J`, then with the line search (docs/engine.md §Exact
+    /// retry). Only if that fails too does the error reach the caller (who shortens `dt`).
     pub exact_retry: bool,
     /// The exact retry's last stage: when exact Newton from `q̃` fails with full steps and
     /// with the line search, solve the step by pseudo-transient continuation (an extra

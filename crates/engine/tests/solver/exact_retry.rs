@@ -58,3 +58,28 @@ fn a_step_modified_newton_abandons_is_taken_by_the_exact_retry() {
         "{t:?}"
     );
 }
+
+/// The retry's first stage keeps the symmetric approximation's Cholesky/LDLᵀ factors and
+/// corrects every update by BiCGStab; LU (several times the storage and the time of those
+/// factors) is only its fallback. On the Kevlar sheet with the report's (non-symmetric)
+/// triangle drag every retry converges in that first stage: no LU at all, and still no step
+/// rejected.
+#[test]
+fn the_exact_retry_converges_without_lu_where_the_correction_converges() {
+    let o = NewtonOptions {
+        reference_acceleration: G,
+        ..NewtonOptions::recommended()
+    };
+    let sheet = || engine::reference::sheet::kevlar_sheet_report_drag(7, 4, 6.0, 3.0, 50.0);
+    let (failed, t) = failures(o, 1e-2, 40, sheet());
+    assert_eq!(failed, 0, "{t:?}");
+    assert!(t.exact_retries > 0, "{t:?}");
+    assert_eq!(t.lu_factorizations, 0, "{t:?}");
+    // The control: J is not symmetric, so without the approximation every factorisation is LU.
+    let exact = NewtonOptions {
+        symmetric_approx: false,
+        ..o
+    };
+    let (_, t) = failures(exact, 1e-2, 5, sheet());
+    assert_eq!(t.lu_factorizations, t.factorizations, "{t:?}");
+}
