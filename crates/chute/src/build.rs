@@ -21,6 +21,9 @@ pub struct Built {
     pub drag_forces: Vec<engine::ForceId>,
     /// The triangle drag family (per-triangle output).
     pub triangle_drag: Option<engine::ForceId>,
+    /// A copy of the canopy's membrane when it cannot carry compression (fabric with
+    /// `material.no_compression`), evaluated for the frames' wrinkling fields.
+    pub wrinkle_probe: Option<engine::shell::FabricMembrane>,
     /// Total weight of everything that falls (N).
     pub total_weight_n: f64,
     /// Weight of the canopy alone (N).
@@ -104,9 +107,10 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
     let mut q: Vec<f64> = plan.positions.iter().flatten().copied().collect();
     q.resize(layout.len(), 0.0);
     let handles = plan.rods.install(&mut model, &q, 0)?;
-    if let Some(tri) = &geo.tri_mesh {
-        canopy::install_shell(s, tri, &mut model, &q, plan.rods.n_edges())?;
-    }
+    let wrinkle_probe = match &geo.tri_mesh {
+        Some(tri) => canopy::install_shell(s, tri, &mut model, &q, plan.rods.n_edges())?,
+        None => None,
+    };
     plan.add_masses_and_loads(s, &mut model);
     check_masses(s, &model)?;
     let g = s.fluid.gravity_mps2;
@@ -137,6 +141,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         rod_twists: plan.rods.n_edges(),
         drag_forces: drag.forces,
         triangle_drag: drag.triangle,
+        wrinkle_probe,
         total_weight_n,
         canopy_weight_n,
         flat_drag_area_m2: drag.flat_cd_area,
@@ -148,6 +153,23 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
     };
     built.derived = derived(s, &built, &geo);
     Ok(built)
+}
+
+impl Built {
+    /// The wrinkling cell data of the canopy's triangles at positions `q`, when its membrane
+    /// cannot carry compression ([`Built::wrinkle_probe`]); `None` otherwise.
+    pub fn wrinkles(&self, q: &[f64]) -> Option<crate::output::vtk::Wrinkles> {
+        let probe = self.wrinkle_probe.as_ref()?;
+        let (strain, state) = (0..probe.len())
+            .map(|i| {
+                let w = probe
+                    .wrinkling(q, i)
+                    .expect("the probe has a tension field");
+                (w.principal[0].max(0.0), w.slack_directions)
+            })
+            .unzip();
+        Some(crate::output::vtk::Wrinkles { strain, state })
+    }
 }
 
 /// Every free DOF must have mass before anything runs (the stepper would refuse the model

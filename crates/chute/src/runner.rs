@@ -335,6 +335,7 @@ impl Run {
                 c.push(b, out_dir)?;
             }
             obs.drag(b, &s.q, &s.v, s.t);
+            self.vtk.set_wrinkles(b.wrinkles(&s.q));
             self.vtk
                 .write_frame(
                     s.t,

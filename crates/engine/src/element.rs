@@ -78,6 +78,21 @@ pub struct Family<E: Element> {
     pub(crate) data: Vec<E::Data>,
 }
 
+// By hand: a derive would bound only `E: Clone`, not the per-element data.
+impl<E: Element + Clone> Clone for Family<E>
+where
+    E::Data: Clone,
+{
+    fn clone(&self) -> Self {
+        Self {
+            name: self.name.clone(),
+            law: self.law.clone(),
+            stencils: self.stencils.clone(),
+            data: self.data.clone(),
+        }
+    }
+}
+
 impl<E: Element> Family<E> {
     /// A family named `name` (diagnostics) of elements with law `law`: element `i` acts on
     /// the global DOFs `stencils[STENCIL i .. STENCIL (i + 1)]` with data `data[i]`.

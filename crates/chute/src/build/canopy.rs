@@ -68,9 +68,9 @@ pub fn install_shell(
     model: &mut engine::Model,
     q: &[f64],
     first_twist: usize,
-) -> Result<(), BuildError> {
+) -> Result<Option<FabricMembrane>, BuildError> {
     let mat = shell_material(s);
-    install_membrane(s, tri, model, q)?;
+    let wrinkles = install_membrane(s, tri, model, q)?;
     match s.shell.bending.unwrap_or(Bending::Hinge) {
         Bending::Hinge => {
             engine::shell::install_hinges(tri, &mat, model, q)?;
@@ -81,7 +81,7 @@ pub fn install_shell(
             midedge::install(tri, &plate_bending(s), mat.density, model, q, first_twist)?;
         }
     }
-    Ok(())
+    Ok(wrinkles)
 }
 
 /// The fabric constants of the scenario (`shell.membrane = "fabric"`; validation has
@@ -102,13 +102,14 @@ pub fn fabric(s: &Scenario) -> Result<Orthotropic, BuildError> {
 
 /// Add the scenario's membrane (`shell.membrane`) on `tri`: the report's edge springs,
 /// constant-strain triangles, or the fabric law, under the name
-/// [`engine::shell::STRETCH_NAME`].
+/// [`engine::shell::STRETCH_NAME`]. Returns a copy of a fabric membrane that cannot carry
+/// compression, for the frames' wrinkling fields ([`crate::build::Built::wrinkles`]).
 pub fn install_membrane(
     s: &Scenario,
     tri: &TriMesh,
     model: &mut engine::Model,
     q: &[f64],
-) -> Result<(), BuildError> {
+) -> Result<Option<FabricMembrane>, BuildError> {
     let name = engine::shell::STRETCH_NAME;
     let m = &s.material;
     match s.shell.membrane.unwrap_or(Membrane::Springs) {
@@ -127,10 +128,12 @@ pub fn install_membrane(
                 .then(|| m.wrinkle_strain.unwrap_or(DEFAULT_WRINKLE_STRAIN));
             let f = FabricMembrane::new(name, &tri.faces, q, &fabric(s)?, warp, eps_r)
                 .map_err(|e| membrane_error(e, "material.fabric_poisson_ratio"))?;
+            let probe = eps_r.is_some().then(|| f.clone());
             model.add_force(f);
+            return Ok(probe);
         }
     }
-    Ok(())
+    Ok(None)
 }
 
 /// A membrane error as a build error naming the key the user changes: the warp direction

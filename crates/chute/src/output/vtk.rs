@@ -49,6 +49,18 @@ pub fn point_roles(
     roles
 }
 
+/// Cell data of a membrane that cannot carry compression, one value per triangle
+/// (docs/outputs.md §Frames): where the fabric wrinkles, and how much.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Wrinkles {
+    /// `wrinkle_strain`: the largest principal wrinkling strain (dimensionless; the strain
+    /// taken up by wrinkles); segments get 0.
+    pub strain: Vec<f64>,
+    /// `membrane_state`: 0 taut, 1 wrinkled (one slack direction), 2 slack (both); segments
+    /// get 0.
+    pub state: Vec<u8>,
+}
+
 /// One mesh state to write. Cells are the triangles followed by the segments.
 #[derive(Debug, Clone, Copy)]
 pub struct Frame<'a> {
@@ -66,6 +78,8 @@ pub struct Frame<'a> {
     pub triangle_drag: &'a [[f64; 3]],
     /// What each node is ([`point_roles`]), point data `role`; empty to leave it out.
     pub roles: &'a [u8],
+    /// The wrinkling cell data, for a membrane that cannot carry compression.
+    pub wrinkles: Option<&'a Wrinkles>,
 }
 
 /// Writer of a frame series into one output directory.
@@ -76,6 +90,8 @@ pub struct VtkSeries {
     entries: Vec<(f64, String)>,
     /// Point data `role` written with every frame (empty: none).
     roles: Vec<u8>,
+    /// Cell data of the next frame only ([`VtkSeries::set_wrinkles`]).
+    wrinkles: Option<Wrinkles>,
 }
 
 impl VtkSeries {
@@ -86,6 +102,7 @@ impl VtkSeries {
             out_dir: out_dir.to_path_buf(),
             entries: Vec::new(),
             roles: Vec::new(),
+            wrinkles: None,
         })
     }
 
@@ -121,6 +138,12 @@ impl VtkSeries {
         self.roles = roles;
     }
 
+    /// Write `wrinkles` as cell data with the next frame (only), taken by
+    /// [`write_frame`](Self::write_frame).
+    pub fn set_wrinkles(&mut self, wrinkles: Option<Wrinkles>) {
+        self.wrinkles = wrinkles;
+    }
+
     /// Times (s) of the frames written so far, in order.
     pub fn times(&self) -> Vec<f64> {
         self.entries.iter().map(|(t, _)| *t).collect()
@@ -145,6 +168,7 @@ impl VtkSeries {
     ) -> io::Result<PathBuf> {
         // Moved out for the call: `write` borrows `self` mutably.
         let roles = std::mem::take(&mut self.roles);
+        let wrinkles = self.wrinkles.take();
         let frame = Frame {
             t_s: t,
             positions,
@@ -153,6 +177,7 @@ impl VtkSeries {
             segments,
             triangle_drag,
             roles: &roles,
+            wrinkles: wrinkles.as_ref(),
         };
         let written = self.write(&frame);
         self.roles = roles;
@@ -201,6 +226,17 @@ fn validate(f: &Frame<'_>) -> io::Result<()> {
     }
     if !f.roles.is_empty() && f.roles.len() != n {
         return Err(invalid(format!("{} roles for {n} points", f.roles.len())));
+    }
+    if let Some(w) = f
+        .wrinkles
+        .filter(|w| w.strain.len() != f.triangles.len() || w.state.len() != f.triangles.len())
+    {
+        return Err(invalid(format!(
+            "{} wrinkle strains and {} membrane states for {} triangles",
+            w.strain.len(),
+            w.state.len(),
+            f.triangles.len()
+        )));
     }
     if f.triangle_drag.len() != f.triangles.len() {
         return Err(invalid(format!(
@@ -267,12 +303,36 @@ pub fn vtu_string(f: &Frame<'_>) -> String {
         "        ",
         f.triangle_drag.iter().copied().chain(zeros),
     );
+    if let Some(w) = f.wrinkles {
+        wrinkle_arrays(&mut s, w, n_seg);
+    }
     s.push_str("      </CellData>\n      <Points>\n");
     vec3_array(&mut s, "Points", "        ", f.positions.iter().copied());
     s.push_str("      </Points>\n      <Cells>\n");
     cells(&mut s, f);
     s.push_str("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
     s
+}
+
+/// The `wrinkle_strain` and `membrane_state` cell arrays (segments get zeros).
+fn wrinkle_arrays(s: &mut String, w: &Wrinkles, n_seg: usize) {
+    let indent = "        ";
+    let _ = writeln!(
+        s,
+        "{indent}<DataArray type=\"Float64\" Name=\"wrinkle_strain\" format=\"ascii\">"
+    );
+    for x in w.strain.iter().chain(std::iter::repeat_n(&0.0, n_seg)) {
+        let _ = writeln!(s, "{indent}  {x}");
+    }
+    let _ = writeln!(s, "{indent}</DataArray>");
+    let _ = write!(
+        s,
+        "{indent}<DataArray type=\"UInt8\" Name=\"membrane_state\" format=\"ascii\">\n{indent}  "
+    );
+    for x in w.state.iter().chain(std::iter::repeat_n(&0, n_seg)) {
+        let _ = write!(s, "{x} ");
+    }
+    let _ = writeln!(s, "\n{indent}</DataArray>");
 }
 
 /// Connectivity, offsets (end index of each cell in the connectivity) and types.

@@ -220,3 +220,90 @@ fn xml_checker_rejects_malformed_documents() {
         );
     }
 }
+
+/// The area of triangle `t` with corners `x`.
+fn area(x: &[f64], t: [usize; 3]) -> f64 {
+    let p = |i: usize| [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
+    let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+    let (u, v) = (
+        [0, 1, 2].map(|k| b[k] - a[k]),
+        [0, 1, 2].map(|k| c[k] - a[k]),
+    );
+    let n = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+}
+
+/// A no-compression fabric canopy's frames carry `wrinkle_strain` and `membrane_state` per
+/// cell, consistent with the kinematics: a triangle whose area shrank by more than the
+/// regularisation allows cannot be taut (a taut triangle has both principal strains ≳ −ε_r,
+/// so its area ratio is ≥ 1 − 2ε_r to first order); a wrinkled one has a wrinkle strain
+/// above ε_r; and the inflating canopy wrinkles somewhere (its skirt is drawn in by the lines).
+#[test]
+fn fabric_frames_show_where_the_membrane_wrinkles() {
+    let sets = [
+        "canopy.edge_length_m=0.25",
+        "time.duration_s=0.3",
+        "output.frame_interval_s=0.1",
+        "output.snapshots_s=[]",
+    ]
+    .map(String::from);
+    let path = crate::common::repo().join("scenarios/round-fabric.toml");
+    let s = chute::scenario::Scenario::load(&path, &sets).unwrap();
+    // (1e-5: the default of `material.wrinkle_strain`, docs/scenarios.md.)
+    let eps_r = s.material.wrinkle_strain.unwrap_or(1e-5);
+    let dir = tempfile::tempdir().unwrap();
+    let (b, _) = crate::common::run_complete(&s, dir.path());
+    let q0 = chute::build::build(&s).unwrap().state.q;
+    let src = fs::read_to_string(dir.path().join("frames/frame_000003.vtu")).unwrap();
+    let piece = parse_xml(&src);
+    let piece = piece.child("UnstructuredGrid").child("Piece");
+    let cells = piece.child("CellData");
+    let strain = cells.array("wrinkle_strain").numbers();
+    let state = cells.array("membrane_state").numbers();
+    let n_tri = b.triangles.len();
+    assert_eq!(strain.len(), n_tri + b.segments.len());
+    assert_eq!(state.len(), strain.len());
+    assert!(strain[n_tri..]
+        .iter()
+        .chain(&state[n_tri..])
+        .all(|&x| x == 0.0));
+    let x: Vec<f64> = piece.child("Points").array("Points").numbers();
+    assert_eq!(x.len(), 3 * b.model.layout.n_nodes);
+    let (mut wrinkled, mut shrunk) = (0, 0);
+    for (i, &t) in b.triangles.iter().enumerate() {
+        assert!([0.0, 1.0, 2.0].contains(&state[i]), "{}", state[i]);
+        let shrink = 1.0 - area(&x, t) / area(&q0, t);
+        if shrink > 10.0 * eps_r {
+            shrunk += 1;
+            assert!(
+                state[i] >= 1.0,
+                "triangle {i} shrank by {shrink} but is taut"
+            );
+        }
+        if state[i] >= 1.0 {
+            wrinkled += 1;
+            assert!(strain[i] > eps_r, "triangle {i}: {} ≤ ε_r", strain[i]);
+        } else {
+            assert!(
+                strain[i] <= eps_r,
+                "triangle {i}: {} > ε_r while taut",
+                strain[i]
+            );
+        }
+    }
+    assert!(wrinkled > 0, "no wrinkled triangle of {n_tri}");
+    assert!(
+        shrunk > 0,
+        "no triangle shrank: the kinematic check is empty"
+    );
+    // A membrane that carries compression has no such fields.
+    let springs = crate::common::shell(0.02);
+    let dir = tempfile::tempdir().unwrap();
+    crate::common::run_complete(&springs, dir.path());
+    let src = fs::read_to_string(dir.path().join("frames/frame_000000.vtu")).unwrap();
+    assert!(!src.contains("wrinkle_strain") && !src.contains("membrane_state"));
+}

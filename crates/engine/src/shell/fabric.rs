@@ -20,7 +20,7 @@
 //! option.
 
 use super::membrane::{self, corners, MembraneError, RestTriangle, Strain, Voigt, Voigt3};
-use super::tension_field::TensionField;
+use super::tension_field::{TensionField, Wrinkling};
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::V3;
@@ -151,6 +151,13 @@ impl FabricMembrane {
     /// Green strain `(E₁₁, E₂₂, 2E₁₂)` of triangle `i` at `q`, in its (warp, weft) frame.
     pub fn strain(&self, q: &[f64], i: usize) -> Voigt {
         Strain::new(&self.data[i], &corners(q, self.stencil(i))).eps
+    }
+
+    /// The wrinkling state of triangle `i` at `q`; `None` for a fabric that carries
+    /// compression (it never wrinkles in this model).
+    pub fn wrinkling(&self, q: &[f64], i: usize) -> Option<Wrinkling> {
+        let tf = self.law.tension_field.as_ref()?;
+        Some(tf.wrinkling(&self.strain(q, i)))
     }
 
     /// Second Piola–Kirchhoff stress `(S₁₁, S₂₂, S₁₂)` (N/m) of triangle `i` at `q`, in its

@@ -28,7 +28,7 @@ pub use hinge::{HingeBending, HingeData, HingeLaw};
 pub use membrane::{MembraneError, RestTriangle};
 pub use mesh::{Hinge, MeshError, TriMesh};
 pub use midedge::{MidedgeBending, PlateBending};
-pub use tension_field::TensionField;
+pub use tension_field::{TensionField, Wrinkling};
 
 use crate::error::{EngineError, InvalidModel};
 use crate::model::Model;

@@ -91,6 +91,20 @@ pub struct Relaxed {
     pub iterations: usize,
 }
 
+/// What the wrinkling strain says of a triangle: its principal values and how many
+/// directions are slack.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wrinkling {
+    /// Principal values `λ₁ ≥ λ₂` of the wrinkling strain `P*` (dimensionless): the strain
+    /// taken up by wrinkles, along the directions of the principal stresses.
+    pub principal: [f64; 2],
+    /// Principal directions with `λ > ε_r`: 0 taut, 1 wrinkled, 2 slack. By stationarity
+    /// `P* = μ σ⁻¹`, so `λᵢ > ε_r` exactly when the principal stress `σᵢ < ε_r k_ref`, the
+    /// regularisation's own pre-tension: a direction that carries no more than the
+    /// regularisation puts there is counted slack.
+    pub slack_directions: u8,
+}
+
 impl TensionField {
     /// The relaxation of `stiffness` with regularisation strain `strain` (> 0).
     pub fn new(stiffness: Voigt3, strain: f64) -> Self {
@@ -379,6 +393,20 @@ impl TensionField {
     pub fn stress(&self, eps: &Voigt) -> Voigt {
         let (p, next) = self.first_step(eps);
         self.stress_at(eps, &self.minimise(eps, p, next).0)
+    }
+
+    /// The wrinkling state at `eps` ([`Wrinkling`]).
+    pub fn wrinkling(&self, eps: &Voigt) -> Wrinkling {
+        let p = self.relax(eps).wrinkle;
+        // P as a tensor: (P₁₁, P₂₂, P₁₂ = p₂/2).
+        let (mean, half) = (0.5 * (p[0] + p[1]), 0.5 * (p[0] - p[1]));
+        let r = (half * half + 0.25 * p[2] * p[2]).sqrt();
+        let principal = [mean + r, mean - r];
+        let slack_directions = principal.iter().filter(|&&l| l > self.strain).count() as u8;
+        Wrinkling {
+            principal,
+            slack_directions,
+        }
     }
 
     /// The relaxed stress and the tangent (as [`Self::relax_with_tangent`]) without the

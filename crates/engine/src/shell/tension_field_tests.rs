@@ -81,3 +81,40 @@ fn inner_solve_converges_in_few_steps_to_the_same_state_from_either_start() {
         );
     }
 }
+
+/// Tension-field theory on the material axes (no shear strain, so the principal axes of `P*`
+/// are the axes): taut under biaxial tension (`P* = 0`); wrinkled along 1 when
+/// `−ε₁ > Q₁₂ε₂/Q₁₁` (then `σ₁₁ = 0`, so `P₁₁ = −ε₁ − Q₁₂ε₂/Q₁₁`); slack under biaxial
+/// compression (`σ = 0`, `P* = −ε`). The barrier moves each wrinkled value by the stress it
+/// leaves, `σᵢ = μ/λᵢ`, i.e. by `ε_r² k_ref/(Q λ)` in strain: the tolerance.
+#[test]
+fn wrinkling_state_and_strains_are_those_of_tension_field_theory() {
+    let eps_r = 1e-5;
+    for q in LAWS {
+        let tf = TensionField::new(q, eps_r);
+        let k_ref = 0.5 * (q[0][0] + q[1][1]);
+        let qmin = q[0][0].min(q[1][1]) - q[0][1].abs();
+        let tol = |l: f64| 10.0 * eps_r * eps_r * k_ref / (qmin * l);
+        for (a, b) in [(1e-2, 2e-2), (3e-3, 1e-3), (5e-2, 1e-2)] {
+            let taut = tf.wrinkling(&[a, b, 0.0]);
+            assert_eq!(taut.slack_directions, 0, "{a} {b}");
+            assert!(taut.principal[0] < eps_r * eps_r / a.min(b), "{taut:?}");
+
+            let w = tf.wrinkling(&[-a, b, 0.0]);
+            let exact = a - q[0][1] * b / q[0][0];
+            assert!(exact > 0.0);
+            assert_eq!(w.slack_directions, 1, "{a} {b}: {w:?}");
+            assert!(
+                (w.principal[0] - exact).abs() < tol(exact),
+                "{w:?} vs {exact}"
+            );
+            assert!(w.principal[1] < eps_r, "{w:?}");
+
+            let s = tf.wrinkling(&[-a, -b, 0.0]);
+            assert_eq!(s.slack_directions, 2, "{a} {b}: {s:?}");
+            let (hi, lo) = (a.max(b), a.min(b));
+            assert!((s.principal[0] - hi).abs() < tol(lo), "{s:?}");
+            assert!((s.principal[1] - lo).abs() < tol(lo), "{s:?}");
+        }
+    }
+}
