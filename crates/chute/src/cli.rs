@@ -158,7 +158,7 @@ pub struct ConvergeArgs {
     /// Scenario file (TOML).
     pub scenario: PathBuf,
     /// A ladder: KEY=V1,V2,V3[,…] with KEY one of canopy.edge_length_m, canopy.nodes,
-    /// time.dt_s (repeatable: one ladder each).
+    /// time.dt_s, time.error_tolerance_m (adaptive) (repeatable: one ladder each).
     #[arg(long, value_name = "KEY=V1,V2,…", required = true)]
     pub vary: Vec<String>,
     /// Override a scenario key on every level (repeatable).

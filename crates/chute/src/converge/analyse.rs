@@ -183,11 +183,16 @@ pub struct StudyReport {
 /// The note every dt ladder carries.
 pub const DT_NOTE: &str = "A steady descent of implicit Euler satisfies the same static balance at any dt: the terminal velocity, the final shape and C_D·A depend on dt only through the transient and the branch it selects. The time to terminal is the dt-sensitive quantity (first order).";
 
+/// The note every error-tolerance ladder carries.
+pub const TOLERANCE_NOTE: &str = "Levels differ in the adaptive steps' local error tolerance; h = √tol, since an error-controlled implicit Euler step scales as √tol and its global error is first order in the step. As for a dt ladder, a steady descent is the same static balance at any step: the transient (time to terminal) is the tolerance-sensitive quantity.";
+
 /// Estimate one ladder from its levels' results (same order as `ladder.levels`).
 pub fn analyse(ladder: &Ladder, results: &[LevelResult]) -> StudyReport {
     let mut notes = Vec::new();
-    if ladder.axis == Axis::Time {
-        notes.push(DT_NOTE.to_string());
+    match ladder.axis {
+        Axis::Time => notes.push(DT_NOTE.to_string()),
+        Axis::Tolerance => notes.push(TOLERANCE_NOTE.to_string()),
+        Axis::Space => {}
     }
     let mut levels: Vec<LevelReport> = ladder
         .levels

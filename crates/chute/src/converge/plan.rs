@@ -18,6 +18,10 @@ pub enum Axis {
     Space,
     /// The time step: h = dt (s).
     Time,
+    /// The local error tolerance of adaptive steps: h = √tol (m^½). An error-controlled
+    /// implicit Euler step is set so that its local error `(h/2)|Δv| ≈ h² |a|/2` meets
+    /// `tol`, so its steps, and its first-order global error, scale as √tol.
+    Tolerance,
 }
 
 impl Axis {
@@ -26,7 +30,7 @@ impl Axis {
     pub fn formal_order(self) -> f64 {
         match self {
             Axis::Space => 2.0,
-            Axis::Time => 1.0,
+            Axis::Time | Axis::Tolerance => 1.0,
         }
     }
 }
@@ -36,6 +40,7 @@ pub const VARY_KEYS: &[(&str, Axis)] = &[
     ("canopy.edge_length_m", Axis::Space),
     ("canopy.nodes", Axis::Space),
     ("time.dt_s", Axis::Time),
+    ("time.error_tolerance_m", Axis::Tolerance),
 ];
 
 /// The solver-resolution inputs of one level (docs/convergence.md §Round-off).
@@ -244,6 +249,9 @@ pub fn plan(
             let built = crate::build::build(&s).map_err(|e| input(format!("{what}: {e}")))?;
             let h = match axis {
                 Axis::Time => s.time.dt_s,
+                Axis::Tolerance => s
+                    .adaptive_settings()
+                    .map_or(f64::NAN, |a| a.error_tolerance_m.sqrt()),
                 Axis::Space => mesh_size(&built),
             };
             let case = match seen.iter().position(|o| *o == s) {
@@ -305,7 +313,12 @@ fn level_scenario(
         })?;
     if axis == Axis::Time && s.time.adaptive {
         return Err(input(format!(
-            "{what}: with time.adaptive = true, time.dt_s is only the first step; a dt ladder needs a fixed step"
+            "{what}: with time.adaptive = true, time.dt_s is only the first step; a dt ladder needs a fixed step (or vary time.error_tolerance_m)"
+        )));
+    }
+    if axis == Axis::Tolerance && !s.time.adaptive {
+        return Err(input(format!(
+            "{what}: time.error_tolerance_m sets the steps only with time.adaptive = true; set it (--set time.adaptive=true) or vary time.dt_s"
         )));
     }
     Ok((s, axis))

@@ -61,10 +61,10 @@ fn panel(
     };
     let (lo, hi) = y_range(&pts, q.extrapolated, band);
     let h_max = pts.iter().map(|p| p.0).fold(0.0, f64::max) * 1.1;
-    let unit = if st.axis == Axis::Time {
-        "dt (s)"
-    } else {
-        "h (m)"
+    let unit = match st.axis {
+        Axis::Time => "dt (s)",
+        Axis::Tolerance => "√tol (m^½)",
+        Axis::Space => "h (m)",
     };
     // Enough decimals that neighbouring tick labels differ, however tight the range.
     let decimals = ((-(hi - lo).log10()).ceil() + 2.0).clamp(0.0, 15.0) as usize;

@@ -62,6 +62,7 @@ fn study_markdown(st: &StudyReport) -> String {
         match st.axis {
             super::plan::Axis::Space => "mesh",
             super::plan::Axis::Time => "time-step",
+            super::plan::Axis::Tolerance => "error-tolerance",
         }
     );
     md.push_str(&levels_table(st));

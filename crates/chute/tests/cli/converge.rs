@@ -126,7 +126,7 @@ fn bad_ladders_exit_2_naming_key_and_value() {
         .join("scenarios/report-shell-4-sites.toml")
         .display()
         .to_string();
-    let cases: [(&str, &str, &[&str]); 8] = [
+    let cases: [(&str, &str, &[&str]); 9] = [
         (
             &rod,
             "canopy.nodez=31,61",
@@ -161,6 +161,11 @@ fn bad_ladders_exit_2_naming_key_and_value() {
             &rod,
             "load.weight_n=20,200",
             &["load.weight_n", "not a discretisation parameter"],
+        ),
+        (
+            &rod,
+            "time.error_tolerance_m=1e-4,1e-5",
+            &["time.error_tolerance_m=1e-4", "time.adaptive = true"],
         ),
         (
             &shell,
@@ -262,4 +267,39 @@ fn indexed_control_field_set_reaches_every_level() {
         let start = t["control"].as_array().unwrap()[0]["start_s"].as_float();
         assert_eq!(start, Some(0.02), "{level}: {text}");
     }
+}
+
+/// An error-tolerance ladder of adaptive runs: h = √tol on every level, the tolerance note,
+/// and the rod's analytic steady speed on each level (a steady descent does not depend on the
+/// step), so the verdict is round-off.
+#[test]
+fn tolerance_ladder_of_adaptive_runs_has_h_the_root_of_the_tolerance() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod();
+    let mut args = vec![
+        rod.as_str(),
+        "--vary",
+        "time.error_tolerance_m=4e-4,1e-4,2.5e-5",
+        "--set",
+        "time.adaptive=true",
+        "--out",
+        "t",
+        "-j",
+        "2",
+    ];
+    args.extend(FAST);
+    let o = converge(tmp.path(), &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let c = json(&tmp.path().join("t/convergence.json"));
+    let st = &c["studies"][0];
+    assert_eq!(st["key"], "time.error_tolerance_m");
+    assert_eq!(st["axis"], "tolerance");
+    let vt = &st["quantities"]["terminal_velocity_mps"];
+    for (h, tol) in vt["h"].as_array().unwrap().iter().zip([4e-4, 1e-4, 2.5e-5]) {
+        let h = h.as_f64().unwrap();
+        assert!((h - f64::sqrt(tol)).abs() < 1e-15, "h = {h} for {tol}");
+    }
+    let notes = st["notes"].to_string();
+    assert!(notes.contains("√tol"), "{notes}");
+    assert_eq!(vt["verdict"], "round-off", "{vt}");
 }
