@@ -378,6 +378,14 @@ impl Run {
         let roles = node_roles(built);
         let scene = shape_scene(built, &obs.pos, &roles);
         let _ = plots::final_shape_plot(out_dir, built.state.t, &scene);
+        if let Some(w) = built.wrinkles(&built.state.q) {
+            // One state per canopy triangle (the probe is the canopy's membrane).
+            let by_state = plots::ShapeScene {
+                cell_state: &w.state,
+                ..scene
+            };
+            let _ = plots::wrinkle_plot(out_dir, built.state.t, &by_state);
+        }
         let end = End {
             ended: true,
             complete,

@@ -20,8 +20,11 @@ pub struct Quantity {
     pub label: &'static str,
     /// Relative error per unit of relative unbalanced force ε_F (docs/convergence.md):
     /// v_t ∝ W^½ gives ½, C_D·A ∝ W/v² gives 1, a linear response of the shape to its
-    /// loads gives 1, and the ±2 % band crossing moves by T δv/(0.02 |v_t|) ≤ 25 ε_F t.
+    /// loads gives 1, and the ±2 % band crossing moves by T δv/(0.02 |v_t|) ≤ 25 ε_F t;
+    /// a landing at terminal speed gives ½ for its speed and ½ for the flight time H/|v|.
     pub sensitivity: f64,
+    /// Only reported when some level has it: the drop quantities of a run with a ground.
+    pub optional: bool,
 }
 
 /// The quantities estimated, in table order.
@@ -30,21 +33,37 @@ pub const QUANTITIES: &[Quantity] = &[
         name: "terminal_velocity_mps",
         label: "v_t (m/s)",
         sensitivity: 0.5,
+        optional: false,
     },
     Quantity {
         name: "time_to_terminal_s",
         label: "time to terminal (s)",
         sensitivity: 25.0,
+        optional: false,
     },
     Quantity {
         name: "final_extended_height_m",
         label: "final extended height (m)",
         sensitivity: 1.0,
+        optional: false,
     },
     Quantity {
         name: "drag_area_m2",
         label: "C_D·A (m²)",
         sensitivity: 1.0,
+        optional: false,
+    },
+    Quantity {
+        name: "landing_velocity_mps",
+        label: "landing velocity (m/s)",
+        sensitivity: 0.5,
+        optional: true,
+    },
+    Quantity {
+        name: "flight_time_s",
+        label: "flight time (s)",
+        sensitivity: 0.5,
+        optional: true,
     },
 ];
 
@@ -166,7 +185,7 @@ pub struct QuantityReport {
 pub struct StudyReport {
     /// The varied key.
     pub key: String,
-    /// `space` or `time`.
+    /// `space`, `time` or `tolerance`.
     pub axis: Axis,
     /// The values, in the order given.
     pub values: Vec<f64>,
@@ -178,6 +197,16 @@ pub struct StudyReport {
     pub relative_force_resolution: f64,
     /// Messages for the reader (branch changes, failures, the dt-ladder note).
     pub notes: Vec<String>,
+}
+
+impl StudyReport {
+    /// The quantities this study reports, in table order (the optional ones only when some
+    /// level has them).
+    pub fn reported(&self) -> impl Iterator<Item = &'static Quantity> + '_ {
+        QUANTITIES
+            .iter()
+            .filter(|q| self.quantities.contains_key(q.name))
+    }
 }
 
 /// The note every dt ladder carries.
@@ -227,6 +256,9 @@ pub fn analyse(ladder: &Ladder, results: &[LevelResult]) -> StudyReport {
         .fold(0.0, f64::max);
     let mut quantities = BTreeMap::new();
     for (qi, q) in QUANTITIES.iter().enumerate() {
+        if q.optional && results.iter().all(|r| r.values[qi].is_none()) {
+            continue;
+        }
         let rep = quantity(
             ladder,
             results,

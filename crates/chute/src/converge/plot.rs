@@ -7,7 +7,7 @@ use std::path::Path;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::analyse::{QuantityReport, StudyReport, QUANTITIES};
+use super::analyse::{QuantityReport, StudyReport};
 use super::plan::Axis;
 use crate::output::plots::{render_atomic, PlotError};
 
@@ -22,12 +22,17 @@ pub fn convergence_plot(path: &Path, studies: &[StudyReport]) -> Result<(), Plot
     if studies.is_empty() {
         return Err(PlotError::NoData("no convergence studies"));
     }
-    let cols = QUANTITIES.len();
+    // One column per quantity any study reports (the drop quantities only with a ground).
+    let cols = studies
+        .iter()
+        .map(|st| st.reported().count())
+        .max()
+        .unwrap_or(0);
     let size = (PANEL.0 * cols as u32, PANEL.1 * studies.len() as u32);
     render_atomic(path, size, |root| {
         let panels = root.split_evenly((studies.len(), cols));
         for (r, st) in studies.iter().enumerate() {
-            for (c, q) in QUANTITIES.iter().enumerate() {
+            for (c, q) in st.reported().enumerate() {
                 if let Some(rep) = st.quantities.get(q.name) {
                     panel(&panels[r * cols + c], st, rep, q.label)?;
                 }

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::analyse::{StudyReport, QUANTITIES};
+use super::analyse::StudyReport;
 use crate::scenario::derived::sig4;
 
 /// Everything `chute converge` found (the root of `convergence.json`).
@@ -71,8 +71,8 @@ fn study_markdown(st: &StudyReport) -> String {
         "\nRound-off resolution: the Newton tolerance leaves a fraction ε_F = {:.2e} of the weight unresolved; a quantity whose finest difference is below its share of it is `round-off` (docs/convergence.md).\n",
         st.relative_force_resolution
     ));
-    let msgs: Vec<String> = QUANTITIES
-        .iter()
+    let msgs: Vec<String> = st
+        .reported()
         .filter_map(|q| {
             let r = st.quantities.get(q.name)?;
             r.message.as_ref().map(|m| format!("{}: {m}", q.label))
@@ -88,11 +88,11 @@ fn study_markdown(st: &StudyReport) -> String {
 /// One row per level: value, h, nodes, status, the quantities, wall time.
 fn levels_table(st: &StudyReport) -> String {
     let mut md = String::from("| value | h | nodes | status | used |");
-    for q in QUANTITIES {
+    for q in st.reported() {
         md.push_str(&format!(" {} |", q.label));
     }
     md.push_str(" wall (s) |\n|");
-    md.push_str(&"---|".repeat(6 + QUANTITIES.len()));
+    md.push_str(&"---|".repeat(6 + st.reported().count()));
     md.push('\n');
     for (i, l) in st.levels.iter().enumerate() {
         md.push_str(&format!(
@@ -103,7 +103,7 @@ fn levels_table(st: &StudyReport) -> String {
             l.status,
             if l.used { "yes" } else { "no" }
         ));
-        for q in QUANTITIES {
+        for q in st.reported() {
             let v = st.quantities.get(q.name).and_then(|r| r.results[i]);
             md.push_str(&format!(" {} |", opt(v)));
         }
@@ -118,7 +118,7 @@ fn levels_table(st: &StudyReport) -> String {
 /// One row per quantity: verdict, finest value, order, extrapolation, errors, GCIs.
 fn estimates_table(st: &StudyReport) -> String {
     let mut md = String::from("\n| quantity | verdict | finest | p | extrapolated | e_a | e_ext | GCI (fine) | GCI by level |\n|---|---|---|---|---|---|---|---|---|\n");
-    for q in QUANTITIES {
+    for q in st.reported() {
         let Some(r) = st.quantities.get(q.name) else {
             continue;
         };

@@ -25,6 +25,8 @@ pub const VELOCITY_PNG: &str = "velocity.png";
 pub const HEIGHT_PNG: &str = "height.png";
 /// Name of the final-shape plot.
 pub const SHAPE_PNG: &str = "shape.png";
+/// Name of the final membrane-state picture of a no-compression fabric.
+pub const WRINKLES_PNG: &str = "wrinkles.png";
 
 const FONT: &str = "sans-serif";
 /// Label areas and margin (pixels); also used to estimate the plotting area for equal aspect.
@@ -312,6 +314,7 @@ pub fn shape_plot(path: &Path, title: &str, scene: &ShapeScene<'_>) -> Result<()
         let what = match scene.colour_by {
             ColourBy::Height => "height",
             ColourBy::Speed => "speed",
+            ColourBy::MembraneState => "membrane state",
         };
         let panel = caption(&oblique, &format!("3-D view (coloured by {what})"))?;
         scene3d::draw_view(&panel, scene, &View::oblique(), None).map_err(PlotError::Draw)?;
@@ -357,6 +360,24 @@ pub fn final_shape_plot(
     let path = out_dir.join(SHAPE_PNG);
     let title = format!("Final canopy shape (t = {t_s:.3} s)");
     shape_plot(&path, &title, scene)?;
+    Ok(path)
+}
+
+/// `wrinkles.png` in `out_dir`: the state at time `t_s` coloured by each triangle's membrane
+/// state (taut, wrinkled, slack; `scene.cell_state`), for a membrane that cannot carry
+/// compression.
+pub fn wrinkle_plot(
+    out_dir: &Path,
+    t_s: f64,
+    scene: &ShapeScene<'_>,
+) -> Result<PathBuf, PlotError> {
+    let path = out_dir.join(WRINKLES_PNG);
+    let title = format!("Where the fabric wrinkles (t = {t_s:.3} s)");
+    let by_state = ShapeScene {
+        colour_by: ColourBy::MembraneState,
+        ..*scene
+    };
+    shape_plot(&path, &title, &by_state)?;
     Ok(path)
 }
 

@@ -1,7 +1,7 @@
 //! Shaded 3-D pictures of the canopy for the PNG plots: an orthographic projection along a
 //! view direction, triangles depth-sorted back to front (painter's algorithm) and shaded by
-//! the angle to a light, coloured by height or speed; segments drawn in the same depth
-//! order; load sites and the payload marked on top.
+//! the angle to a light, coloured by height, speed or each triangle's membrane state;
+//! segments drawn in the same depth order; load sites and the payload marked on top.
 //!
 //! Drawn through plotters into an equal-aspect chart of the projected coordinates, so the
 //! side views keep their axes in metres and no view is distorted.
@@ -17,6 +17,11 @@ pub const LOAD_SITE_RGB: (u8, u8, u8) = (230, 0, 170);
 pub const PAYLOAD_RGB: (u8, u8, u8) = (20, 20, 20);
 /// Colour of suspension lines and other non-canopy segments.
 pub const LINE_RGB: (u8, u8, u8) = (150, 60, 30);
+/// Colours of the membrane states 0 taut (blue), 1 wrinkled (orange) and 2 slack (red), the
+/// `membrane_state` cell values of the frames (docs/outputs.md §Frames).
+pub const MEMBRANE_STATE_RGB: [(u8, u8, u8); 3] = [(60, 110, 200), (245, 160, 20), (200, 20, 60)];
+/// Legend names of the membrane states.
+const MEMBRANE_STATE_NAMES: [&str; 3] = ["taut", "wrinkled", "slack"];
 
 /// The field that colours the canopy.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,6 +30,8 @@ pub enum ColourBy {
     Height,
     /// Node speed |v| (m/s).
     Speed,
+    /// Each triangle's membrane state ([`ShapeScene::cell_state`]): taut, wrinkled or slack.
+    MembraneState,
 }
 
 /// One state of the model to draw.
@@ -43,6 +50,9 @@ pub struct ShapeScene<'a> {
     pub roles: &'a [u8],
     /// Colouring of the canopy.
     pub colour_by: ColourBy,
+    /// One membrane state per triangle (0 taut, 1 wrinkled, 2 slack; the frames'
+    /// `membrane_state`); needed only for [`ColourBy::MembraneState`], else may be empty.
+    pub cell_state: &'a [u8],
 }
 
 impl<'a> ShapeScene<'a> {
@@ -59,6 +69,7 @@ impl<'a> ShapeScene<'a> {
             segments,
             roles: &[],
             colour_by: ColourBy::Height,
+            cell_state: &[],
         }
     }
 
@@ -91,6 +102,13 @@ impl<'a> ShapeScene<'a> {
         if need_v && self.velocities.len() != n {
             return Err("colouring by speed needs one velocity per node");
         }
+        let need_state = self.colour_by == ColourBy::MembraneState;
+        if need_state && self.cell_state.len() != self.triangles.len() {
+            return Err("colouring by membrane state needs one state per triangle");
+        }
+        if need_state && self.cell_state.iter().any(|&c| c > 2) {
+            return Err("a membrane state is 0 (taut), 1 (wrinkled) or 2 (slack)");
+        }
         if self.positions.iter().flatten().any(|x| !x.is_finite()) {
             return Err("non-finite position");
         }
@@ -101,6 +119,8 @@ impl<'a> ShapeScene<'a> {
     fn field(&self) -> (Vec<f64>, (f64, f64)) {
         let vals: Vec<f64> = match self.colour_by {
             ColourBy::Height => self.positions.iter().map(|p| p[2]).collect(),
+            // Triangles take their state's colour; nodes have no field.
+            ColourBy::MembraneState => vec![0.0; self.positions.len()],
             ColourBy::Speed => self
                 .velocities
                 .iter()
@@ -112,7 +132,7 @@ impl<'a> ShapeScene<'a> {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| {
                 (a.min(vals[i]), b.max(vals[i]))
             });
-        let lo = if self.colour_by == ColourBy::Speed {
+        let lo = if self.colour_by != ColourBy::Height {
             0.0
         } else {
             lo
@@ -290,7 +310,7 @@ pub fn draw_view<DB: DrawingBackend>(
     let pos = scene.positions;
     let mut items: Vec<(f64, Item)> =
         Vec::with_capacity(scene.triangles.len() + scene.segments.len());
-    for &t in scene.triangles {
+    for (k, &t) in scene.triangles.iter().enumerate() {
         let [a, b, c] = t.map(|i| pos[i]);
         let n = normalised(cross(
             [0, 1, 2].map(|k| b[k] - a[k]),
@@ -298,7 +318,13 @@ pub fn draw_view<DB: DrawingBackend>(
         ));
         // Two-sided Lambert shading plus ambient: the canopy has no outside or inside.
         let shade = 0.35 + 0.65 * dot(n, light).abs();
-        let RGBColor(r, g, bl) = colour(t.iter().map(|&i| vals[i]).sum::<f64>() / 3.0);
+        let RGBColor(r, g, bl) = match scene.cell_state.get(k) {
+            Some(&st) if scene.colour_by == ColourBy::MembraneState => {
+                let (r, g, b) = MEMBRANE_STATE_RGB[usize::from(st)];
+                RGBColor(r, g, b)
+            }
+            _ => colour(t.iter().map(|&i| vals[i]).sum::<f64>() / 3.0),
+        };
         let lit = |x: u8| (f64::from(x) * shade).round() as u8;
         let depth = (dot(a, view.toward) + dot(b, view.toward) + dot(c, view.toward)) / 3.0;
         items.push((depth, Item::Triangle(t, RGBColor(lit(r), lit(g), lit(bl)))));
@@ -374,6 +400,7 @@ pub fn draw_colour_bar<DB: DrawingBackend>(
     let (name, value) = match scene.colour_by {
         ColourBy::Height => ("height above lowest node", hi - lo),
         ColourBy::Speed => ("speed |v|", hi),
+        ColourBy::MembraneState => return draw_state_legend(area, scene, (x, y)).map_err(e),
     };
     let unit = if scene.colour_by == ColourBy::Height {
         "m"
@@ -400,6 +427,35 @@ pub fn draw_colour_bar<DB: DrawingBackend>(
     .map_err(e)?;
     area.draw(&Text::new(name, (x - 4, y - 22), font))
         .map_err(e)
+}
+
+/// The membrane states' swatches at pixel `(x, y)` of `area`, each with its share of the
+/// canopy's triangles.
+fn draw_state_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    scene: &ShapeScene<'_>,
+    (x, y): (i32, i32),
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let font = ("sans-serif", 15).into_font();
+    area.draw(&Text::new("membrane state", (x - 4, y - 22), font.clone()))?;
+    let n = scene.cell_state.len().max(1) as f64;
+    for (k, ((r, g, b), name)) in MEMBRANE_STATE_RGB
+        .iter()
+        .zip(MEMBRANE_STATE_NAMES)
+        .enumerate()
+    {
+        let count = scene
+            .cell_state
+            .iter()
+            .filter(|&&c| usize::from(c) == k)
+            .count();
+        let top = y + 26 * k as i32;
+        let swatch = [(x, top), (x + 16, top + 16)];
+        area.draw(&Rectangle::new(swatch, RGBColor(*r, *g, *b).filled()))?;
+        let label = format!("{name} {:.0} %", 100.0 * count as f64 / n);
+        area.draw(&Text::new(label, (x + 22, top), font.clone()))?;
+    }
+    Ok(())
 }
 
 /// Axis directions x, y, z of `view` as a small labelled triad centred at pixel `(x, y)`.

@@ -82,6 +82,9 @@ fn rod_ladder_is_round_off_at_the_analytic_speed() {
         "extrapolated {ext} vs analytic {analytic} (resolution {resolution})"
     );
     assert_eq!(st["quantities"]["drag_area_m2"]["verdict"], "round-off");
+    // No ground, no drop quantities.
+    assert!(st["quantities"]["landing_velocity_mps"].is_null());
+    assert!(st["quantities"]["flight_time_s"].is_null());
     for f in [
         "convergence.md",
         "convergence.png",
@@ -302,4 +305,55 @@ fn tolerance_ladder_of_adaptive_runs_has_h_the_root_of_the_tolerance() {
     let notes = st["notes"].to_string();
     assert!(notes.contains("√tol"), "{notes}");
     assert_eq!(vt["verdict"], "round-off", "{vt}");
+}
+
+/// A ladder of drops onto the ground also estimates the landing velocity and the flight time:
+/// the rod lands 12 s after reaching terminal speed, so it lands at its analytic v_t (the
+/// approach to it decays with τ = |v_t|/(2g) ≈ 0.3 s, its slowest bending mode at about 1/s:
+/// measured, the landing is off v_t by 1.7e-5 from 40 m and 1.5e-8 from 80 m), and starting
+/// from rest it takes longer than H/|v_t| (less the lead its lowest node gains by bending).
+#[test]
+fn drop_ladder_estimates_landing_velocity_and_flight_time() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod();
+    let mut args = vec![
+        rod.as_str(),
+        "--vary",
+        "canopy.nodes=31,61,121",
+        "--set",
+        "atmosphere.altitude_m=80",
+        "--set",
+        "atmosphere.ground_altitude_m=0",
+        "--out",
+        "d",
+        "-j",
+        "2",
+    ];
+    args.extend(FAST);
+    // An upper bound: the ground ends every level first.
+    args.extend(["--set", "time.duration_s=30"]);
+    let o = converge(tmp.path(), &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let c = json(&tmp.path().join("d/convergence.json"));
+    let q = &c["studies"][0]["quantities"];
+    let w: f64 = 200.0 + 1440.0 * 6.0 * 3.0 * 0.002 * 9.81;
+    let analytic = -(2.0 * w / (1.225 * 1.75 * 18.0)).sqrt();
+    let landing = &q["landing_velocity_mps"];
+    for v in landing["results"].as_array().unwrap() {
+        let v = v.as_f64().unwrap();
+        assert!(
+            ((v - analytic) / analytic).abs() < 1e-5,
+            "{v} vs {analytic}"
+        );
+    }
+    assert!(landing["gci"].as_f64().unwrap() < 1e-5, "{landing}");
+    let flight = &q["flight_time_s"];
+    let lead = q["final_extended_height_m"]["extrapolated"]
+        .as_f64()
+        .unwrap();
+    let t = flight["extrapolated"].as_f64().unwrap();
+    assert!(t > (80.0 - lead) / analytic.abs(), "flight time {t} s");
+    assert!(flight["gci"].as_f64().unwrap() < 1e-3, "{flight}");
+    let md = std::fs::read_to_string(tmp.path().join("d/convergence.md")).unwrap();
+    assert!(md.contains("| landing velocity (m/s) |"), "{md}");
 }

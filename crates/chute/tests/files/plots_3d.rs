@@ -6,9 +6,10 @@
 use crate::common::image::{distance, fraction, saturated, Image};
 
 use chute::output::plots::{
-    final_shape_plot, velocity_plot, ColourBy, ShapeScene, TerminalMark, PLOT_SIZE, SHAPE_SIZE,
+    final_shape_plot, velocity_plot, wrinkle_plot, ColourBy, ShapeScene, TerminalMark, PLOT_SIZE,
+    SHAPE_SIZE, WRINKLES_PNG,
 };
-use chute::output::scene3d::{viridis, LOAD_SITE_RGB, PAYLOAD_RGB};
+use chute::output::scene3d::{viridis, LOAD_SITE_RGB, MEMBRANE_STATE_RGB, PAYLOAD_RGB};
 use chute::output::vtk::point_roles;
 
 /// Nodes, triangles, segments and load sites.
@@ -178,6 +179,52 @@ fn speed_colouring_needs_velocities() {
     };
     let img = render(&scene);
     assert!(fraction(&img.region(OBLIQUE), |p| saturated(p, 40)) > 0.08);
+}
+
+#[test]
+fn membrane_state_colours_each_triangle_and_needs_one_state_per_triangle() {
+    let (x, tri, seg, _) = dome();
+    let dir = tempfile::tempdir().unwrap();
+    let bad = [0u8; 3];
+    let scene = ShapeScene {
+        cell_state: &bad,
+        ..ShapeScene::new(&x, &tri, &seg)
+    };
+    let e = wrinkle_plot(dir.path(), 0.0, &scene).unwrap_err();
+    assert!(e.to_string().contains("one state per triangle"), "{e}");
+    // The inner third taut, the middle wrinkled, the rim slack (16 sectors per ring, the
+    // centre ring one triangle each, then two).
+    let state: Vec<u8> = (0..tri.len())
+        .map(|k| [0, 0, 0, 1, 1, 2][(k + 16) / 32])
+        .collect();
+    let scene = ShapeScene {
+        cell_state: &state,
+        ..scene
+    };
+    let path = wrinkle_plot(dir.path(), 1.0, &scene).unwrap();
+    assert!(path.ends_with(WRINKLES_PNG));
+    let img = Image::read(&path);
+    let top = img.region(TOP);
+    // Each state's colour, dimmed by the shading (0.35–1 of it), covers its share.
+    let shaded = |c: (u8, u8, u8)| {
+        move |p: [u8; 3]| {
+            let s = f64::from(p[0].max(p[1]).max(p[2])) / f64::from(c.0.max(c.1).max(c.2));
+            s > 0.3
+                && [c.0, c.1, c.2]
+                    .iter()
+                    .zip(p)
+                    .all(|(&a, b)| (s * f64::from(a) - f64::from(b)).abs() < 25.0)
+        }
+    };
+    let share: Vec<f64> = MEMBRANE_STATE_RGB
+        .iter()
+        .map(|&c| fraction(&top, shaded(c)))
+        .collect();
+    assert!(share.iter().all(|&f| f > 0.01), "state shares {share:?}");
+    // Seen from above, rings 4–5 (wrinkled) cover 2.4× the area of the rim ring (slack).
+    assert!(share[1] > 1.5 * share[2], "{share:?}");
+    // Nothing is coloured by height: no viridis yellow.
+    assert_eq!(fraction(&top, near((253, 231, 37), 20)), 0.0);
 }
 
 #[test]

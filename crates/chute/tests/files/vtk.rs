@@ -300,10 +300,14 @@ fn fabric_frames_show_where_the_membrane_wrinkles() {
         shrunk > 0,
         "no triangle shrank: the kinematic check is empty"
     );
-    // A membrane that carries compression has no such fields.
+    // The final state is also drawn by membrane state.
+    let png = dir.path().join(chute::output::plots::WRINKLES_PNG);
+    assert!(png.is_file(), "no {}", png.display());
+    // A membrane that carries compression has no such fields and no such picture.
     let springs = crate::common::shell(0.02);
     let dir = tempfile::tempdir().unwrap();
     crate::common::run_complete(&springs, dir.path());
     let src = fs::read_to_string(dir.path().join("frames/frame_000000.vtu")).unwrap();
     assert!(!src.contains("wrinkle_strain") && !src.contains("membrane_state"));
+    assert!(!dir.path().join(chute::output::plots::WRINKLES_PNG).exists());
 }
