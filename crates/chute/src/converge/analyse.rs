@@ -87,6 +87,13 @@ pub struct LevelResult {
     pub wall_time_s: Option<f64>,
 }
 
+impl LevelResult {
+    /// The value of quantity `qi` of [`QUANTITIES`] (`None`: absent, null, or not listed).
+    pub fn value(&self, qi: usize) -> Option<f64> {
+        self.values.get(qi).copied().flatten()
+    }
+}
+
 fn read_json(path: &Path) -> Option<serde_json::Value> {
     serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()
 }
@@ -256,7 +263,7 @@ pub fn analyse(ladder: &Ladder, results: &[LevelResult]) -> StudyReport {
         .fold(0.0, f64::max);
     let mut quantities = BTreeMap::new();
     for (qi, q) in QUANTITIES.iter().enumerate() {
-        if q.optional && results.iter().all(|r| r.values[qi].is_none()) {
+        if q.optional && results.iter().all(|r| r.value(qi).is_none()) {
             continue;
         }
         let rep = quantity(
@@ -325,7 +332,7 @@ fn quantity(
     qi: usize,
     resolution: f64,
 ) -> QuantityReport {
-    let values: Vec<Option<f64>> = results.iter().map(|r| r.values[qi]).collect();
+    let values: Vec<Option<f64>> = results.iter().map(|r| r.value(qi)).collect();
     let mut used: Vec<usize> = (0..levels.len())
         .filter(|&i| levels[i].used && values[i].is_some())
         .collect();
