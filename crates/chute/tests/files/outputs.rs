@@ -185,6 +185,11 @@ fn summary_json_has_every_documented_field() {
             dt_used_mean_s: Some(9.98e-3),
             dt_used_max_s: Some(0.05),
         },
+        solver: Some(chute::output::summary::SolverCounters {
+            lu_factorizations: 2,
+            factor_s: 0.25,
+            ..Default::default()
+        }),
         warnings: vec!["from the run loop".into()],
     };
     let s = Summary::new(run, &m);
@@ -203,6 +208,22 @@ fn summary_json_has_every_documented_field() {
         obj.keys()
     );
     assert_eq!(v["horizontal_velocity_mps"].as_array().unwrap().len(), 2);
+    let solver = v["solver"].as_object().unwrap();
+    for f in crate::common::SOLVER_FIELDS {
+        assert!(solver.contains_key(f), "missing solver.{f}");
+    }
+    assert_eq!(
+        solver.len(),
+        crate::common::SOLVER_FIELDS.len(),
+        "{solver:?}"
+    );
+    assert_eq!(
+        (
+            v["solver"]["lu_factorizations"].as_u64(),
+            v["solver"]["factor_s"].as_f64()
+        ),
+        (Some(2), Some(0.25))
+    );
     // vz ramps (not steady) ⇒ not reached ⇒ null, and the incomplete run is flagged first.
     assert!(v["time_to_terminal_s"].is_null());
     let warnings = v["warnings"].as_array().unwrap();
@@ -228,6 +249,12 @@ fn summary_json_has_every_documented_field() {
     assert_eq!(back.warnings, s.warnings);
     assert_eq!(back.steps, s.steps);
     assert_eq!(back.stepping, s.stepping);
+    assert_eq!(back.solver, s.solver);
+    // A summary written before `solver` existed still reads (as not known).
+    let mut old = v.clone();
+    old.as_object_mut().unwrap().remove("solver");
+    let old: Summary = serde_json::from_value(old).unwrap();
+    assert_eq!(old.solver, None);
     assert_eq!(v["rejected_steps_error"], 3);
     assert!(v["error_tolerance_m"].is_number());
     assert_eq!(names(dir.path()), vec!["summary.json".to_string()]);
