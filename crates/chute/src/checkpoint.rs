@@ -469,6 +469,17 @@ mod tests {
         assert_eq!(Checkpoint::decode(&c.encode()).unwrap(), c);
     }
 
+    /// A known flag other than 0 or 1 (with a valid checksum) is refused, not guessed.
+    #[test]
+    fn refuses_a_bad_solver_counters_flag() {
+        let mut body = sample().encode();
+        body.truncate(body.len() - 8);
+        let at = body.len() - SOLVER_BYTES;
+        body[at..at + 8].copy_from_slice(&2u64.to_le_bytes());
+        let e = Checkpoint::decode(&reseal(body, FORMAT_VERSION)).unwrap_err();
+        assert!(e.contains("solver-counters flag 2"), "{e}");
+    }
+
     /// A version-3 file (before the solver counters) still reads, without counters.
     #[test]
     fn reads_version_3() {

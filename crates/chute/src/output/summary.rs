@@ -78,8 +78,8 @@ pub struct SolverCounters {
     pub jacobian_evaluations: u64,
     /// Numeric factorisations of every kind (Cholesky, LBLᵀ, LU).
     pub factorizations: u64,
-    /// Of those, LU factorisations of the non-symmetric Jacobian: the symmetric approximation
-    /// was not good enough for a solve (or the run asked for the exact path).
+    /// Of those, LU factorisations of the non-symmetric Jacobian: the later stages of an
+    /// exact retry, after the symmetric approximation (Krylov-corrected) failed the solve.
     pub lu_factorizations: u64,
     /// Of those, LBLᵀ factorisations: the symmetric matrix was not positive definite.
     pub lblt_factorizations: u64,
@@ -209,34 +209,32 @@ impl SolverCounters {
         [self.assembly_s, self.merit_s, self.factor_s, self.solve_s]
     }
 
-    /// The counters of [`SolverCounters::counts`] and [`SolverCounters::seconds`].
+    /// The counters of [`SolverCounters::counts`] and [`SolverCounters::seconds`] (their
+    /// inverse).
     pub fn from_parts(c: [u64; Self::COUNTS], s: [f64; Self::TIMES]) -> Self {
-        let [evaluations, jacobian_evaluations, factorizations, lu_factorizations, lblt_factorizations, iterations, solves, rejected, approx_fallbacks, krylov_iterations, krylov_failures, exact_retries, exact_retries_converged, continuations, continuations_converged, accuracy_accepts, error_filters, error_filter_fallbacks] =
-            c;
-        let [assembly_s, merit_s, factor_s, solve_s] = s;
         Self {
-            evaluations,
-            jacobian_evaluations,
-            factorizations,
-            lu_factorizations,
-            lblt_factorizations,
-            iterations,
-            solves,
-            rejected,
-            approx_fallbacks,
-            krylov_iterations,
-            krylov_failures,
-            exact_retries,
-            exact_retries_converged,
-            continuations,
-            continuations_converged,
-            accuracy_accepts,
-            error_filters,
-            error_filter_fallbacks,
-            assembly_s,
-            merit_s,
-            factor_s,
-            solve_s,
+            evaluations: c[0],
+            jacobian_evaluations: c[1],
+            factorizations: c[2],
+            lu_factorizations: c[3],
+            lblt_factorizations: c[4],
+            iterations: c[5],
+            solves: c[6],
+            rejected: c[7],
+            approx_fallbacks: c[8],
+            krylov_iterations: c[9],
+            krylov_failures: c[10],
+            exact_retries: c[11],
+            exact_retries_converged: c[12],
+            continuations: c[13],
+            continuations_converged: c[14],
+            accuracy_accepts: c[15],
+            error_filters: c[16],
+            error_filter_fallbacks: c[17],
+            assembly_s: s[0],
+            merit_s: s[1],
+            factor_s: s[2],
+            solve_s: s[3],
         }
     }
 

@@ -9,6 +9,7 @@ use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
 use chute::checkpoint::Checkpoint;
+use chute::output::summary::SolverCounters;
 use chute::runner::{simulate_with, RunControl, RunResult};
 use chute::scenario::Scenario;
 
@@ -85,8 +86,8 @@ pub(crate) fn stop_and_resume(s: &Scenario, stop_at: f64, every: Option<f64>) {
     assert_eq!(a, b);
 }
 
-/// Bytes of the version-4 solver counters before the checksum (flag, 18 counts, 4 times).
-const SOLVER_BYTES: usize = 8 * (1 + 18 + 4);
+/// Bytes of the version-4 solver counters before the checksum (flag, counts, times).
+const SOLVER_BYTES: usize = 8 * (1 + SolverCounters::COUNTS + SolverCounters::TIMES);
 
 /// Rewrite `dir/checkpoint.bin` as the format-3 file an earlier chute wrote: the same bytes
 /// without the solver counters, version 3, checksum (FNV-1a-64) recomputed.
