@@ -21,11 +21,18 @@
 //! resumed run keeps checkpointing as the original did. Version 1 files (fixed steps only)
 //! are still read: no cap, no error rejections, and the Newton rejections counted from the
 //! "step rejected" warnings (exact up to the 20 warnings kept, a lower bound beyond);
-//! versions 1 and 2 record no checkpoint interval.
+//! versions 1 and 2 record no checkpoint interval. 4 (solver counters in `summary.json`)
+//! appends the Newton solves' counters accumulated so far
+//! ([`crate::output::summary::SolverCounters`]): a u64 flag (1 when they are known for the
+//! whole run so far, 0 when the run was resumed from a checkpoint without them), then the 18
+//! counts (u64) and the 4 times (f64, s) in the order of `SolverCounters::counts` and
+//! `SolverCounters::seconds` (zeros when unknown). Versions 1 to 3 record no counters: a run
+//! resumed from one reports `"solver": null` with a warning, and so do its later checkpoints.
 
 use std::io::{self, BufRead};
 use std::path::{Path, PathBuf};
 
+use crate::output::summary::SolverCounters;
 use crate::output::timeseries::Sample;
 use crate::output::write_atomic;
 
@@ -33,7 +40,7 @@ use crate::output::write_atomic;
 pub const FILE_NAME: &str = "checkpoint.bin";
 const MAGIC: &[u8; 8] = b"CHUTECKP";
 /// Version of the binary layout; bump on any change.
-pub const FORMAT_VERSION: u32 = 3;
+pub const FORMAT_VERSION: u32 = 4;
 /// The oldest version this build reads.
 const OLDEST_READABLE: u32 = 1;
 
@@ -84,6 +91,9 @@ pub struct Checkpoint {
     pub warnings: Vec<String>,
     /// The run's `--checkpoint-every` interval (s), which `chute resume` keeps using.
     pub checkpoint_every_s: Option<f64>,
+    /// The Newton solves' counters and times so far; `None` when they are not known for
+    /// the whole run so far (it was resumed from a checkpoint older than version 4).
+    pub solver: Option<SolverCounters>,
 }
 
 /// Why a checkpoint could not be used.
@@ -174,6 +184,23 @@ impl Dec<'_> {
         let n = self.len(1)?;
         String::from_utf8(self.take(n)?.to_vec()).map_err(|e| e.to_string())
     }
+    /// The solver counters of version 4: the known flag, the counts, the times.
+    fn solver(&mut self) -> Result<Option<SolverCounters>, String> {
+        let known = match self.u64()? {
+            0 => false,
+            1 => true,
+            k => return Err(format!("solver-counters flag {k}, not 0 or 1")),
+        };
+        let mut counts = [0; SolverCounters::COUNTS];
+        for c in &mut counts {
+            *c = self.u64()?;
+        }
+        let mut seconds = [0.0; SolverCounters::TIMES];
+        for x in &mut seconds {
+            *x = self.f64()?;
+        }
+        Ok(known.then(|| SolverCounters::from_parts(counts, seconds)))
+    }
 }
 
 impl Checkpoint {
@@ -205,6 +232,10 @@ impl Checkpoint {
         e.u64(self.rejected_error);
         e.u64(self.rejected_newton);
         e.f64(self.checkpoint_every_s.unwrap_or(0.0));
+        e.u64(u64::from(self.solver.is_some()));
+        let solver = self.solver.unwrap_or_default();
+        solver.counts().iter().for_each(|&c| e.u64(c));
+        solver.seconds().iter().for_each(|&x| e.f64(x));
         let sum = fnv1a(&e.0);
         e.u64(sum);
         e.0
@@ -257,6 +288,7 @@ impl Checkpoint {
         };
         let every = if version >= 3 { d.f64()? } else { 0.0 };
         let checkpoint_every_s = (every > 0.0 && every.is_finite()).then_some(every);
+        let solver = if version >= 4 { d.solver()? } else { None };
         if d.at != body.len() {
             return Err(format!("{} unexpected trailing bytes", body.len() - d.at));
         }
@@ -282,6 +314,7 @@ impl Checkpoint {
             next_sync,
             warnings,
             checkpoint_every_s,
+            solver,
         })
     }
 
@@ -402,8 +435,15 @@ mod tests {
                 "other".into(),
             ],
             checkpoint_every_s: Some(0.25),
+            solver: Some(SolverCounters::from_parts(
+                std::array::from_fn(|i| 3 * i as u64 + 1),
+                [0.5, 0.125, 2.0, 1e-3],
+            )),
         }
     }
+
+    /// Bytes of the version-4 solver counters at the end of the body.
+    const SOLVER_BYTES: usize = 8 * (1 + SolverCounters::COUNTS + SolverCounters::TIMES);
 
     #[test]
     fn round_trips_bit_for_bit() {
@@ -419,11 +459,46 @@ mod tests {
         body
     }
 
+    /// Unknown counters (a run resumed from an older checkpoint) stay unknown.
+    #[test]
+    fn unknown_solver_counters_round_trip() {
+        let c = Checkpoint {
+            solver: None,
+            ..sample()
+        };
+        assert_eq!(Checkpoint::decode(&c.encode()).unwrap(), c);
+    }
+
+    /// A known flag other than 0 or 1 (with a valid checksum) is refused, not guessed.
+    #[test]
+    fn refuses_a_bad_solver_counters_flag() {
+        let mut body = sample().encode();
+        body.truncate(body.len() - 8);
+        let at = body.len() - SOLVER_BYTES;
+        body[at..at + 8].copy_from_slice(&2u64.to_le_bytes());
+        let e = Checkpoint::decode(&reseal(body, FORMAT_VERSION)).unwrap_err();
+        assert!(e.contains("solver-counters flag 2"), "{e}");
+    }
+
+    /// A version-3 file (before the solver counters) still reads, without counters.
+    #[test]
+    fn reads_version_3() {
+        let c = sample();
+        let v4 = c.encode();
+        let old = reseal(v4[..v4.len() - 8 - SOLVER_BYTES].to_vec(), 3);
+        let old = Checkpoint::decode(&old).unwrap();
+        assert_eq!(old.solver, None);
+        assert_eq!(old.checkpoint_every_s, c.checkpoint_every_s);
+        assert_eq!((old.q, old.warnings), (c.q, c.warnings));
+    }
+
     /// A version-2 file (before `chute resume`: no checkpoint interval) still reads.
     #[test]
     fn reads_version_2() {
         let c = sample();
-        let v3 = c.encode();
+        let v4 = c.encode();
+        // The version-3 layout (its checksum's 8 bytes left as they were).
+        let v3 = [&v4[..v4.len() - 8 - SOLVER_BYTES], &v4[v4.len() - 8..]].concat();
         let old = Checkpoint::decode(&reseal(v3[..v3.len() - 8 - 8].to_vec(), 2)).unwrap();
         assert_eq!(old.checkpoint_every_s, None);
         assert_eq!(
@@ -436,16 +511,18 @@ mod tests {
     #[test]
     fn reads_version_1() {
         let c = sample();
-        let v3 = c.encode();
+        let v4 = c.encode();
+        // The version-3 layout (its checksum's 8 bytes left as they were).
+        let v3 = [&v4[..v4.len() - 8 - SOLVER_BYTES], &v4[v4.len() - 8..]].concat();
         // Version 1 = version 3 without the 32 trailing bytes of the newer fields.
         let old = Checkpoint::decode(&reseal(v3[..v3.len() - 8 - 32].to_vec(), 1)).unwrap();
         assert_eq!((old.dt_cap, old.checkpoint_every_s), (f64::INFINITY, None));
         assert_eq!((old.rejected_error, old.rejected_newton), (0, 1));
         assert_eq!((old.q, old.dt, old.warnings), (c.q, c.dt, c.warnings));
         // A future version is refused with both numbers.
-        let e = Checkpoint::decode(&reseal(v3[..v3.len() - 8].to_vec(), 4)).unwrap_err();
+        let e = Checkpoint::decode(&reseal(v4[..v4.len() - 8].to_vec(), 5)).unwrap_err();
         assert!(
-            e.contains("format version 4") && e.contains("1 to 3"),
+            e.contains("format version 5") && e.contains("1 to 4"),
             "{e}"
         );
     }

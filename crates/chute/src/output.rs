@@ -18,6 +18,6 @@ pub mod viewer;
 pub mod vtk;
 
 pub use atomic::write_atomic;
-pub use summary::{RunInfo, Stepping, Summary};
+pub use summary::{RunInfo, SolverCounters, Stepping, Summary};
 pub use timeseries::{canopy_means, CanopyMeans, DecimatedSeries, Sample, TimeSeriesWriter};
 pub use vtk::VtkSeries;

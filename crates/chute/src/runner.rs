@@ -206,7 +206,7 @@ pub fn simulate_with(
         .map(|s| next_multiple(s, built.state.t));
     run.flight.start_watches(built);
     // The start (fresh or resumed) is a sync point: the stepper holds no factorisation.
-    let mut last_sync = run.checkpoint(built, ctl, &wall, true);
+    let mut last_sync = run.checkpoint(built, ctl, &wall, stepper.timings(), true);
     let mut stop_reason = None;
     while built.state.t < cfg.duration_s - tol {
         if ctl.stop.load(Ordering::Relaxed) {
@@ -231,7 +231,7 @@ pub fn simulate_with(
             Attempt::Failed(e) => {
                 if let Some(reason) = run.flight.reject(built, &e, plan.h) {
                     stop_reason = Some(reason);
-                    let good = run.checkpoint(built, ctl, &wall, false);
+                    let good = run.checkpoint(built, ctl, &wall, stepper.timings(), false);
                     run.save(&good, out_dir)?;
                     break;
                 }
@@ -242,18 +242,13 @@ pub fn simulate_with(
             t.store(built.state.t.to_bits(), Ordering::Relaxed);
         }
         if let Some(bar) = &bar {
-            bar.set_position((built.state.t / cfg.duration_s * 1000.0) as u64);
-            let rate = run.flight.steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);
-            bar.set_message(format!(
-                "t = {:.3} s, {rate:.0} steps/s, {iterations} Newton it/step",
-                built.state.t
-            ));
+            show_progress(bar, built.state.t, cfg, run.flight.steps, &wall, iterations);
         }
         if !run.flight.passed_sync(built.state.t) {
             continue;
         }
         stepper.invalidate_factorization();
-        last_sync = run.checkpoint(built, ctl, &wall, true);
+        last_sync = run.checkpoint(built, ctl, &wall, stepper.timings(), true);
         if let (Some(k), Some(every)) = (next_ckpt, ctl.checkpoint_every_s) {
             if built.state.t >= k as f64 * every - tol {
                 run.save(&last_sync, out_dir)?;
@@ -264,7 +259,24 @@ pub fn simulate_with(
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
-    run.finish(built, cfg, out_dir, stop_reason, &wall)
+    let end = run.end(stop_reason, &wall, stepper.timings());
+    run.finish(built, cfg, out_dir, end)
+}
+
+/// Show the simulated time, the step rate and the last step's Newton iterations.
+fn show_progress(
+    bar: &indicatif::ProgressBar,
+    t: f64,
+    cfg: &RunConfig,
+    steps: u64,
+    wall: &Instant,
+    iterations: usize,
+) {
+    bar.set_position((t / cfg.duration_s * 1000.0) as u64);
+    let rate = steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);
+    bar.set_message(format!(
+        "t = {t:.3} s, {rate:.0} steps/s, {iterations} Newton it/step"
+    ));
 }
 
 /// A flight and the outputs it streams into its run directory: what a checkpoint saves and
@@ -355,18 +367,29 @@ impl Run {
         Ok(())
     }
 
+    /// How the run ended: stopped early for `stop_reason` (or not), after `wall` and, in the
+    /// stepper, `timings` since the start or resume.
+    fn end(&self, stop_reason: Option<String>, wall: &Instant, timings: &engine::Timings) -> End {
+        End {
+            ended: true,
+            complete: stop_reason.is_none() || self.flight.landing.is_some(),
+            stop_reason,
+            wall_time_s: self.wall_before_s + wall.elapsed().as_secs_f64(),
+            timings: *timings,
+        }
+    }
+
     /// Close the outputs: time series, final plots and `summary.json` (always written, marked
-    /// incomplete with the reason when the run stopped early).
+    /// incomplete with the reason when the run stopped early, as `end` says).
     fn finish(
         mut self,
         built: &mut Built,
         cfg: &RunConfig,
         out_dir: &Path,
-        stop_reason: Option<String>,
-        wall: &Instant,
+        end: End,
     ) -> Result<RunResult, RunError> {
         self.ts.finish().map_err(io_err(&self.ts_path))?;
-        let complete = stop_reason.is_none() || self.flight.landing.is_some();
+        let (complete, stop_reason) = (end.complete, end.stop_reason.clone());
         if let Some(c) = &mut self.control {
             c.push(built, out_dir)?;
             let target = cfg.guidance.as_ref().map(|g| g.target());
@@ -386,12 +409,6 @@ impl Run {
             };
             let _ = plots::wrinkle_plot(out_dir, built.state.t, &by_state);
         }
-        let end = End {
-            ended: true,
-            complete,
-            stop_reason: stop_reason.clone(),
-            wall_time_s: self.wall_before_s + wall.elapsed().as_secs_f64(),
-        };
         let info = self.flight.info(built, cfg, end);
         let (summary, metrics) = self.flight.summary(built, cfg, info);
         if let Some(m) = metrics {

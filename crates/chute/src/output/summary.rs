@@ -32,6 +32,9 @@ pub struct RunInfo {
     pub dofs: usize,
     /// Time-stepping settings and statistics.
     pub stepping: Stepping,
+    /// What the Newton solves did over the whole run; `None` when it is not known for the
+    /// whole run (resumed from a checkpoint that did not record it; a warning says so).
+    pub solver: Option<SolverCounters>,
     /// Warnings raised by the run loop (they precede the metric warnings in the summary).
     pub warnings: Vec<String>,
 }
@@ -61,6 +64,189 @@ pub struct Stepping {
     pub dt_used_mean_s: Option<f64>,
     /// Largest accepted step (s).
     pub dt_used_max_s: Option<f64>,
+}
+
+/// What the Newton solves of a run did: the stepper's [`engine::Timings`] accumulated over
+/// the whole run, across checkpoint and resume (the object `solver` of `summary.json`,
+/// docs/outputs.md). The counts of an interrupted and resumed run equal the uninterrupted
+/// run's; the times are wall time and differ from run to run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SolverCounters {
+    /// Residual evaluations (each one a full pass over the elements).
+    pub evaluations: u64,
+    /// Of those, evaluations that also assembled the Jacobian.
+    pub jacobian_evaluations: u64,
+    /// Numeric factorisations of every kind (Cholesky, LBLᵀ, LU).
+    pub factorizations: u64,
+    /// Of those, LU factorisations of the non-symmetric Jacobian: the later stages of an
+    /// exact retry, after the symmetric approximation (Krylov-corrected) failed the solve.
+    pub lu_factorizations: u64,
+    /// Of those, LBLᵀ factorisations: the symmetric matrix was not positive definite.
+    pub lblt_factorizations: u64,
+    /// Newton iterations (linear solves), failed and rejected attempts included.
+    pub iterations: u64,
+    /// Newton solves: attempted time steps, failed and rejected ones included.
+    pub solves: u64,
+    /// Updates with a reused factorisation that were undone (non-finite residual).
+    pub rejected: u64,
+    /// Solves whose symmetric-approximation updates were corrected by BiCGStab towards the
+    /// exact Newton update (the approximation was poor).
+    pub approx_fallbacks: u64,
+    /// BiCGStab iterations of those corrections.
+    pub krylov_iterations: u64,
+    /// Corrections that did not converge (the approximate update was kept).
+    pub krylov_failures: u64,
+    /// Solves that failed on the reused or approximate path and were retried with exact
+    /// Newton, before the step was halved.
+    pub exact_retries: u64,
+    /// Of those, retries that converged (a halving saved).
+    pub exact_retries_converged: u64,
+    /// Retries that reached their pseudo-transient continuation stage.
+    pub continuations: u64,
+    /// Of those, continuations that converged.
+    pub continuations_converged: u64,
+    /// Solves that converged on the accuracy-based test rather than the force tolerance.
+    pub accuracy_accepts: u64,
+    /// Local error estimates filtered through the step's factors (`time.error_filter`).
+    pub error_filters: u64,
+    /// Estimates left unfiltered (no factors for the step's own dt, or not finite).
+    pub error_filter_fallbacks: u64,
+    /// Wall time of element evaluation and assembly (s).
+    pub assembly_s: f64,
+    /// Wall time of the line search's energy evaluations (s).
+    pub merit_s: f64,
+    /// Wall time of the numeric factorisations (s).
+    pub factor_s: f64,
+    /// Wall time of the triangular solves and Krylov corrections (s).
+    pub solve_s: f64,
+}
+
+impl SolverCounters {
+    /// Number of counts ([`SolverCounters::counts`]).
+    pub const COUNTS: usize = 18;
+    /// Number of times ([`SolverCounters::seconds`]).
+    pub const TIMES: usize = 4;
+
+    /// The counters of a stepper's [`engine::Timings`].
+    pub fn from_timings(t: &engine::Timings) -> Self {
+        // Destructured without `..`: a counter added to the engine must be added here.
+        let engine::Timings {
+            assembly_s,
+            merit_s,
+            factor_s,
+            solve_s,
+            evaluations,
+            jacobian_evaluations,
+            factorizations,
+            lu_factorizations,
+            lblt_factorizations,
+            iterations,
+            solves,
+            rejected,
+            approx_fallbacks,
+            krylov_iterations,
+            krylov_failures,
+            exact_retries,
+            exact_retries_converged,
+            continuations,
+            continuations_converged,
+            accuracy_accepts,
+            error_filters,
+            error_filter_fallbacks,
+        } = *t;
+        Self {
+            evaluations,
+            jacobian_evaluations,
+            factorizations,
+            lu_factorizations,
+            lblt_factorizations,
+            iterations,
+            solves,
+            rejected,
+            approx_fallbacks,
+            krylov_iterations,
+            krylov_failures,
+            exact_retries,
+            exact_retries_converged,
+            continuations,
+            continuations_converged,
+            accuracy_accepts,
+            error_filters,
+            error_filter_fallbacks,
+            assembly_s,
+            merit_s,
+            factor_s,
+            solve_s,
+        }
+    }
+
+    /// The counts, in field order (the order of a checkpoint).
+    pub fn counts(&self) -> [u64; Self::COUNTS] {
+        [
+            self.evaluations,
+            self.jacobian_evaluations,
+            self.factorizations,
+            self.lu_factorizations,
+            self.lblt_factorizations,
+            self.iterations,
+            self.solves,
+            self.rejected,
+            self.approx_fallbacks,
+            self.krylov_iterations,
+            self.krylov_failures,
+            self.exact_retries,
+            self.exact_retries_converged,
+            self.continuations,
+            self.continuations_converged,
+            self.accuracy_accepts,
+            self.error_filters,
+            self.error_filter_fallbacks,
+        ]
+    }
+
+    /// The times (s), in field order.
+    pub fn seconds(&self) -> [f64; Self::TIMES] {
+        [self.assembly_s, self.merit_s, self.factor_s, self.solve_s]
+    }
+
+    /// The counters of [`SolverCounters::counts`] and [`SolverCounters::seconds`] (their
+    /// inverse).
+    pub fn from_parts(c: [u64; Self::COUNTS], s: [f64; Self::TIMES]) -> Self {
+        Self {
+            evaluations: c[0],
+            jacobian_evaluations: c[1],
+            factorizations: c[2],
+            lu_factorizations: c[3],
+            lblt_factorizations: c[4],
+            iterations: c[5],
+            solves: c[6],
+            rejected: c[7],
+            approx_fallbacks: c[8],
+            krylov_iterations: c[9],
+            krylov_failures: c[10],
+            exact_retries: c[11],
+            exact_retries_converged: c[12],
+            continuations: c[13],
+            continuations_converged: c[14],
+            accuracy_accepts: c[15],
+            error_filters: c[16],
+            error_filter_fallbacks: c[17],
+            assembly_s: s[0],
+            merit_s: s[1],
+            factor_s: s[2],
+            solve_s: s[3],
+        }
+    }
+
+    /// The sum of `self` (an earlier part of the run) and `later`, field by field.
+    pub fn plus(&self, later: &Self) -> Self {
+        let (a, b) = (self.counts(), later.counts());
+        let (x, y) = (self.seconds(), later.seconds());
+        Self::from_parts(
+            std::array::from_fn(|i| a[i] + b[i]),
+            std::array::from_fn(|i| x[i] + y[i]),
+        )
+    }
 }
 
 /// Contents of `summary.json`. SI units; field names carry the unit suffix. See
@@ -136,6 +322,11 @@ pub struct Summary {
     /// Time-stepping settings and statistics (their fields appear at this level).
     #[serde(flatten)]
     pub stepping: Stepping,
+    /// The Newton solves' counters and times over the whole run (the object `solver`);
+    /// null when they are not known for the whole run (a warning says why). Absent from
+    /// summaries written before it existed, which read back as `None`.
+    #[serde(default)]
+    pub solver: Option<SolverCounters>,
     /// Run-loop warnings followed by metric warnings.
     pub warnings: Vec<String>,
 }
@@ -198,6 +389,7 @@ impl Summary {
             wall_time_s: run.wall_time_s,
             dofs: run.dofs,
             stepping: run.stepping,
+            solver: run.solver,
             warnings,
         }
     }

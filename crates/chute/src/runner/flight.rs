@@ -4,7 +4,8 @@
 //! The run loop ([`super::simulate_with`]) writes its outputs around a [`Flight`]; a
 //! [`super::Session`] (the Python `Simulation`) drives one and writes nothing. Both therefore
 //! take the same steps, book them alike and stop at the same ground, and a session stepped to
-//! the end has the run's state bit for bit and its summary but for the wall time.
+//! the end has the run's state bit for bit and its summary but for the wall times (the
+//! solver counts are equal too).
 
 use engine::{ImplicitEuler, StepError};
 
@@ -15,7 +16,7 @@ use super::{failure_message, recovery, RunConfig, RunError};
 use crate::build::Built;
 use crate::metrics::landing::{GroundWatch, Landing};
 use crate::metrics::{self, Metrics};
-use crate::output::summary::{RunInfo, Summary};
+use crate::output::summary::{RunInfo, SolverCounters, Summary};
 use crate::output::timeseries::{DecimatedSeries, Sample};
 
 /// At most this many step warnings (rejections, accepted over-tolerance steps) are kept.
@@ -47,7 +48,14 @@ pub(super) struct Flight {
     guidance: Option<crate::control::Controller>,
     /// The touchdown, once the landing body has reached the ground.
     pub landing: Option<Landing>,
+    /// The Newton solves' counters before this flight's stepper was made: zero at the
+    /// start, a checkpoint's on resume; `None` when unknown (resumed from a checkpoint that
+    /// did not record them), and then the summary reports none.
+    pub solver_before: Option<SolverCounters>,
 }
+
+/// The warning of a summary without solver counters.
+pub(super) const SOLVER_UNKNOWN: &str = "solver counters not reported (\"solver\": null): the run was resumed from a checkpoint written before they were recorded (checkpoint format < 4), so the solves before it are unknown";
 
 /// What one attempt at a step did.
 pub(super) enum Attempt {
@@ -86,6 +94,7 @@ impl Flight {
             ground: cfg.ground_z_m.map(GroundWatch::new),
             guidance: cfg.guidance.clone(),
             landing: None,
+            solver_before: Some(SolverCounters::default()),
         })
     }
 
@@ -273,8 +282,24 @@ impl Flight {
         }
     }
 
+    /// The solver counters of the whole run so far, the stepper's `timings` (since the
+    /// flight's start or resume) included; `None` when the part before a resume is unknown.
+    pub fn solver(&self, timings: &engine::Timings) -> Option<SolverCounters> {
+        let now = SolverCounters::from_timings(timings);
+        self.solver_before.map(|before| before.plus(&now))
+    }
+
     /// The run record of the summary: how it ended and what it cost.
     pub fn info(&self, built: &Built, cfg: &RunConfig, end: End) -> RunInfo {
+        let solver = self.solver(&end.timings);
+        let mut warnings = if end.ended {
+            self.final_warnings(built.state.t)
+        } else {
+            self.warnings.clone()
+        };
+        if solver.is_none() {
+            warnings.push(SOLVER_UNKNOWN.to_string());
+        }
         RunInfo {
             scenario_name: cfg.name.clone(),
             complete: end.complete,
@@ -285,11 +310,8 @@ impl Flight {
             wall_time_s: end.wall_time_s,
             dofs: built.model.n_dofs(),
             stepping: self.dt.stepping(cfg),
-            warnings: if end.ended {
-                self.final_warnings(built.state.t)
-            } else {
-                self.warnings.clone()
-            },
+            solver,
+            warnings,
         }
     }
 }
@@ -304,4 +326,6 @@ pub(super) struct End {
     pub stop_reason: Option<String>,
     /// Wall time spent (s).
     pub wall_time_s: f64,
+    /// The stepper's counters since the flight started or resumed.
+    pub timings: engine::Timings,
 }

@@ -51,16 +51,19 @@ impl Run {
         f.next_frame = c.next_frame;
         f.snap_idx = (c.snap_idx as usize).min(f.snaps.len());
         f.next_sync = c.next_sync;
+        f.solver_before = c.solver;
         run.wall_before_s = c.wall_time_s;
         Ok(run)
     }
 
-    /// The checkpoint of the current state.
+    /// The checkpoint of the current state; `timings` are the stepper's since the start or
+    /// resume.
     pub(super) fn checkpoint(
         &self,
         built: &Built,
         ctl: &RunControl<'_>,
         wall: &Instant,
+        timings: &engine::Timings,
         synced: bool,
     ) -> Checkpoint {
         let f = &self.flight;
@@ -86,6 +89,7 @@ impl Run {
             next_sync: f.next_sync,
             warnings: f.warnings.clone(),
             checkpoint_every_s: ctl.checkpoint_every_s,
+            solver: f.solver(timings),
         }
     }
 

@@ -6,7 +6,7 @@
 //! times, sync points, the end), failed solves halved the same way, the stepper's reused
 //! factorisation dropped at the same sync points, and the same ground watch (it ends at the
 //! ground, complete). Stepping to the end therefore gives the run's final state bit for bit,
-//! and [`Session::summary`] at the end equals the run's `summary.json` but for the wall time
+//! and [`Session::summary`] at the end equals the run's `summary.json` but for the wall times
 //! (`tests/physics/session.rs` holds both to it). It writes nothing: the frame and snapshot
 //! times are only followed because adaptive steps end on them.
 
@@ -172,6 +172,7 @@ impl Session {
             complete: self.stop_reason.is_none() && self.finished(),
             stop_reason: self.stop_reason().map(str::to_string),
             wall_time_s: self.wall.as_secs_f64(),
+            timings: *self.stepper.timings(),
         };
         let info = self.flight.info(&self.built, &self.cfg, end);
         self.flight.summary(&self.built, &self.cfg, info).0

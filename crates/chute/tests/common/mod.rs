@@ -192,7 +192,7 @@ pub fn assert_same_outputs(a: &Path, b: &Path) {
         }
         String::from_utf8_lossy(bytes)
             .lines()
-            .filter(|l| !l.contains("\"wall_time_s\""))
+            .filter(|l| !WALL_TIMES.iter().any(|w| l.contains(&format!("\"{w}\""))))
             .collect::<Vec<_>>()
             .join("\n")
             .into_bytes()
@@ -223,8 +223,55 @@ pub fn csv_rows(path: &Path) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// The wall times of `summary.json` (at the top level and in `solver`): the only values
+/// that differ between runs of the same scenario.
+pub const WALL_TIMES: [&str; 5] = [
+    "wall_time_s",
+    "assembly_s",
+    "merit_s",
+    "factor_s",
+    "solve_s",
+];
+
+/// `summary.json` as JSON without its wall times ([`WALL_TIMES`]).
+pub fn without_wall_times(mut j: serde_json::Value) -> serde_json::Value {
+    j.as_object_mut().unwrap().remove("wall_time_s");
+    if let Some(solver) = j["solver"].as_object_mut() {
+        WALL_TIMES[1..].iter().for_each(|w| {
+            solver.remove(*w).expect("a solver time");
+        });
+    }
+    j
+}
+
+/// Every field of the `solver` object of `summary.json` (docs/outputs.md §solver).
+pub const SOLVER_FIELDS: [&str; 22] = [
+    "evaluations",
+    "jacobian_evaluations",
+    "factorizations",
+    "lu_factorizations",
+    "lblt_factorizations",
+    "iterations",
+    "solves",
+    "rejected",
+    "approx_fallbacks",
+    "krylov_iterations",
+    "krylov_failures",
+    "exact_retries",
+    "exact_retries_converged",
+    "continuations",
+    "continuations_converged",
+    "accuracy_accepts",
+    "error_filters",
+    "error_filter_fallbacks",
+    "assembly_s",
+    "merit_s",
+    "factor_s",
+    "solve_s",
+];
+
 /// Every field documented in docs/outputs.md §summary.json.
-pub const SUMMARY_FIELDS: [&str; 50] = [
+pub const SUMMARY_FIELDS: [&str; 51] = [
     "summary_version",
     "scenario_name",
     "complete",
@@ -274,5 +321,6 @@ pub const SUMMARY_FIELDS: [&str; 50] = [
     "dt_used_min_s",
     "dt_used_mean_s",
     "dt_used_max_s",
+    "solver",
     "warnings",
 ];

@@ -36,6 +36,7 @@ fn summary() -> Summary {
         wall_time_s: 187.4,
         dofs: 2946,
         stepping: Stepping::default(),
+        solver: None,
         warnings: vec!["something to know".into()],
     }
 }

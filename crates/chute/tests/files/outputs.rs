@@ -3,6 +3,7 @@
 use std::fs;
 
 use chute::metrics::{compute, Params};
+use chute::output::summary::SolverCounters;
 use chute::output::timeseries::HEADER;
 use chute::output::{
     canopy_means, write_atomic, DecimatedSeries, RunInfo, Sample, Stepping, Summary,
@@ -150,21 +151,33 @@ fn canopy_means_are_mass_weighted() {
     assert!(canopy_means(&x, &v, &m, &[]).is_none());
 }
 
-#[test]
-fn summary_json_has_every_documented_field() {
-    let mut d = DecimatedSeries::default();
-    for i in 0..500 {
-        d.push(&sample(i));
+/// Solver counters whose every field differs: count i is 10 i + 1, time i is (i + 1) / 8 s.
+fn distinct_counters() -> SolverCounters {
+    SolverCounters::from_parts(
+        std::array::from_fn(|i| 10 * i as u64 + 1),
+        std::array::from_fn(|i| (i + 1) as f64 / 8.0),
+    )
+}
+
+/// The `solver` object of [`distinct_counters`]: exactly the documented fields
+/// (`common::SOLVER_FIELDS`, in the order of docs/outputs.md §solver), each holding its own
+/// value (so `counts`/`seconds` follow that order too).
+fn assert_solver_object(solver: &serde_json::Value) {
+    let obj = solver.as_object().unwrap();
+    let fields = crate::common::SOLVER_FIELDS;
+    assert_eq!(obj.len(), fields.len(), "{obj:?}");
+    let (counts, times) = fields.split_at(SolverCounters::COUNTS);
+    for (i, f) in counts.iter().enumerate() {
+        assert_eq!(obj[*f].as_u64(), Some(10 * i as u64 + 1), "solver.{f}");
     }
-    let p = Params {
-        total_weight_n: 9.81,
-        air_density_kg_m3: 1.225,
-        air_viscosity_pa_s: 1.81e-5,
-        reference_length_m: 1.0,
-        quadratic_drag: true,
-    };
-    let m = compute(&d.series(), &p).unwrap();
-    let run = RunInfo {
+    for (i, f) in times.iter().enumerate() {
+        assert_eq!(obj[*f].as_f64(), Some((i + 1) as f64 / 8.0), "solver.{f}");
+    }
+}
+
+/// The run record of the summary test: incomplete, adaptive, with every field set.
+fn run_info() -> RunInfo {
+    RunInfo {
         scenario_name: "round-1m".into(),
         complete: false,
         stop_reason: Some("Newton failed".into()),
@@ -185,8 +198,26 @@ fn summary_json_has_every_documented_field() {
             dt_used_mean_s: Some(9.98e-3),
             dt_used_max_s: Some(0.05),
         },
+        solver: Some(distinct_counters()),
         warnings: vec!["from the run loop".into()],
+    }
+}
+
+#[test]
+fn summary_json_has_every_documented_field() {
+    let mut d = DecimatedSeries::default();
+    for i in 0..500 {
+        d.push(&sample(i));
+    }
+    let p = Params {
+        total_weight_n: 9.81,
+        air_density_kg_m3: 1.225,
+        air_viscosity_pa_s: 1.81e-5,
+        reference_length_m: 1.0,
+        quadratic_drag: true,
     };
+    let m = compute(&d.series(), &p).unwrap();
+    let run = run_info();
     let s = Summary::new(run, &m);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("summary.json");
@@ -203,6 +234,7 @@ fn summary_json_has_every_documented_field() {
         obj.keys()
     );
     assert_eq!(v["horizontal_velocity_mps"].as_array().unwrap().len(), 2);
+    assert_solver_object(&v["solver"]);
     // vz ramps (not steady) ⇒ not reached ⇒ null, and the incomplete run is flagged first.
     assert!(v["time_to_terminal_s"].is_null());
     let warnings = v["warnings"].as_array().unwrap();
@@ -228,6 +260,17 @@ fn summary_json_has_every_documented_field() {
     assert_eq!(back.warnings, s.warnings);
     assert_eq!(back.steps, s.steps);
     assert_eq!(back.stepping, s.stepping);
+    assert_eq!(back.solver, s.solver);
+    // A summary written before `solver` existed still reads (as not known), and so does null.
+    let mut old = v.clone();
+    old.as_object_mut().unwrap().remove("solver");
+    assert_eq!(serde_json::from_value::<Summary>(old).unwrap().solver, None);
+    let mut null = v.clone();
+    null["solver"] = serde_json::Value::Null;
+    assert_eq!(
+        serde_json::from_value::<Summary>(null).unwrap().solver,
+        None
+    );
     assert_eq!(v["rejected_steps_error"], 3);
     assert!(v["error_tolerance_m"].is_number());
     assert_eq!(names(dir.path()), vec!["summary.json".to_string()]);

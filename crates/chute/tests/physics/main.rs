@@ -1,6 +1,6 @@
 //! Physics through the library: whole runs against analytic results, failed-step recovery,
 //! checkpoint and resume, metrics (with the lateral-instability warning), shell bending against
-//! plate theory, and the GCI arithmetic of `chute converge`.
+//! plate theory, the GCI arithmetic of `chute converge`, and the solver counters of a run.
 
 mod adaptive;
 #[path = "../common/mod.rs"]
@@ -18,3 +18,4 @@ mod runs;
 mod session;
 mod shell_bending;
 mod shell_midedge;
+mod solver;

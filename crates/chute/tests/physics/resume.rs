@@ -1,12 +1,15 @@
 //! Checkpoint and resume: a run stopped part-way and resumed from its checkpoint writes the
-//! same files, bit for bit, as the uninterrupted run (wall time aside), for the rod model
-//! (whose DER frames are history) and the shell model.
+//! same files, bit for bit, as the uninterrupted run (wall times aside; the solver counters
+//! too), for the rod model (whose DER frames are history) and the shell model; a checkpoint
+//! of the format before the solver counters still resumes, and its summary says they are
+//! unknown.
 use crate::common::*;
 
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
 use chute::checkpoint::Checkpoint;
+use chute::output::summary::SolverCounters;
 use chute::runner::{simulate_with, RunControl, RunResult};
 use chute::scenario::Scenario;
 
@@ -63,9 +66,96 @@ pub(crate) fn stop_and_resume(s: &Scenario, stop_at: f64, every: Option<f64>) {
     let longest = s.time.dt_max_s.unwrap_or(s.time.dt_s);
     assert!(rows.last().unwrap()[0] >= stop_at - longest);
 
+    let before = c
+        .solver
+        .expect("the checkpoint records the solver counters");
+    assert!(before.solves > 0);
     let r = run(s, &part, None, every, true);
     assert!(r.complete, "{:?}", r.stop_reason);
     assert_same_outputs(&full, &part);
+    // The summaries' solver counts (so the whole summaries but for wall times) are equal.
+    let summary = |d: &Path| -> serde_json::Value {
+        serde_json::from_slice(&std::fs::read(d.join("summary.json")).unwrap()).unwrap()
+    };
+    let (a, b) = (
+        without_wall_times(summary(&full)),
+        without_wall_times(summary(&part)),
+    );
+    assert!(a["solver"]["solves"].as_u64().unwrap() > before.solves);
+    assert_eq!(a["solver"], b["solver"]);
+    assert_eq!(a, b);
+}
+
+/// Bytes of the version-4 solver counters before the checksum (flag, counts, times).
+const SOLVER_BYTES: usize = 8 * (1 + SolverCounters::COUNTS + SolverCounters::TIMES);
+
+/// Rewrite `dir/checkpoint.bin` as the format-3 file an earlier chute wrote: the same bytes
+/// without the solver counters, version 3, checksum (FNV-1a-64) recomputed.
+fn downgrade_to_version_3(dir: &Path) {
+    let path = dir.join(chute::checkpoint::FILE_NAME);
+    let bytes = std::fs::read(&path).unwrap();
+    assert_eq!(bytes[8..12], 4u32.to_le_bytes());
+    let mut body = bytes[..bytes.len() - 8 - SOLVER_BYTES].to_vec();
+    body[8..12].copy_from_slice(&3u32.to_le_bytes());
+    let sum = body.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    body.extend_from_slice(&sum.to_le_bytes());
+    std::fs::write(&path, body).unwrap();
+}
+
+#[test]
+fn version_3_checkpoint_resumes_with_the_solver_counters_marked_unknown() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (long, ext) = (tmp.path().join("long"), tmp.path().join("ext"));
+    run(&rod(0.3, &[]), &long, None, None, false);
+    assert!(run(&rod(0.2, &[]), &ext, None, Some(0.1), false).complete);
+    downgrade_to_version_3(&ext);
+    let c = Checkpoint::read(&ext).unwrap();
+    assert_eq!(c.solver, None);
+    let r = run(&rod(0.3, &[]), &ext, None, Some(0.1), true);
+    assert!(r.complete, "{:?}", r.stop_reason);
+    // The physics resumes bit for bit; only the summary differs: no counters, a warning.
+    for f in ["timeseries.csv", "canopy.pvd"] {
+        assert_eq!(
+            std::fs::read(long.join(f)).unwrap(),
+            std::fs::read(ext.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(ext.join("summary.json")).unwrap()).unwrap();
+    assert!(s["solver"].is_null(), "{}", s["solver"]);
+    assert!(r.summary.solver.is_none());
+    let warned = |w: &serde_json::Value| {
+        w.as_str()
+            .unwrap()
+            .starts_with("solver counters not reported")
+            && w.as_str().unwrap().contains("checkpoint format < 4")
+    };
+    assert_eq!(
+        s["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|w| warned(w))
+            .count(),
+        1
+    );
+    assert_eq!(s["steps"], 300);
+    // Its own (version-4) checkpoints keep the counters unknown, so a second resume does not
+    // report the part after the first as the whole run; the warning is not repeated.
+    let c = Checkpoint::read(&ext).unwrap();
+    assert!(c.t > 0.25 && c.solver.is_none(), "t = {}", c.t);
+    let r = run(&rod(0.35, &[]), &ext, None, Some(0.1), true);
+    assert!(r.complete && r.summary.solver.is_none());
+    let n = r
+        .summary
+        .warnings
+        .iter()
+        .filter(|w| w.starts_with("solver counters not reported"))
+        .count();
+    assert_eq!(n, 1, "{:?}", r.summary.warnings);
 }
 
 #[test]

@@ -11,11 +11,10 @@ use chute::runner::{simulate, RunResult, Session};
 use chute::scenario::Scenario;
 use std::sync::atomic::AtomicBool;
 
-/// The summary as JSON without the wall time (the only thing that may differ).
+/// The summary as JSON without the wall times (the only things that may differ; the
+/// solver counters must be equal).
 fn comparable(s: &Summary) -> serde_json::Value {
-    let mut j: serde_json::Value = serde_json::from_str(&s.to_json()).unwrap();
-    j.as_object_mut().unwrap().remove("wall_time_s");
-    j
+    without_wall_times(serde_json::from_str(&s.to_json()).unwrap())
 }
 
 fn run(mut built: Built, s: &Scenario) -> (Built, RunResult) {
