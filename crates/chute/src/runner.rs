@@ -41,6 +41,7 @@ mod recovery;
 mod session;
 pub use advance::{new_stepper, Driver};
 pub use dt_policy::{GROW_AFTER, SYNC_STEPS};
+pub use flight::WASTED_WORK_WARN;
 use flight::{Attempt, End, Flight};
 pub use session::{Session, StepInfo, Stopped};
 

@@ -297,8 +297,9 @@ impl Flight {
         } else {
             self.warnings.clone()
         };
-        if solver.is_none() {
-            warnings.push(SOLVER_UNKNOWN.to_string());
+        match &solver {
+            None => warnings.push(SOLVER_UNKNOWN.to_string()),
+            Some(c) => warnings.extend(wasted_work(c, self.newton_total, self.dt.rejected_newton)),
         }
         RunInfo {
             scenario_name: cfg.name.clone(),
@@ -316,6 +317,30 @@ impl Flight {
     }
 }
 
+/// The share of Newton iterations spent on attempts that were not accepted above which a run
+/// that also halved steps warns.
+pub const WASTED_WORK_WARN: f64 = 0.5;
+
+/// A warning when most Newton iterations went into attempts that did not give the accepted
+/// steps (failed solves, their exact retries, and the halvings after them): the run then
+/// spends its time crossing a region where the step is hard to solve, whatever its progress
+/// bar says (docs/outputs.md §solver).
+fn wasted_work(c: &SolverCounters, accepted_iterations: u64, halvings: u64) -> Option<String> {
+    let wasted = c.iterations.saturating_sub(accepted_iterations);
+    if halvings == 0 || (wasted as f64) <= WASTED_WORK_WARN * c.iterations as f64 {
+        return None;
+    }
+    Some(format!(
+        "{:.0} % of the {} Newton iterations went into attempts that were not accepted \
+         ({halvings} halved steps, {} exact retries, {} LU factorisations): the run crossed a \
+         region where the step is hard to solve (docs/outputs.md §solver)",
+        100.0 * wasted as f64 / c.iterations as f64,
+        c.iterations,
+        c.exact_retries,
+        c.lu_factorizations,
+    ))
+}
+
 /// How a flight ended, for its summary.
 pub(super) struct End {
     /// The flight is over (a summary before the end does not warn of snapshots to come).
@@ -328,4 +353,30 @@ pub(super) struct End {
     pub wall_time_s: f64,
     /// The stepper's counters since the flight started or resumed.
     pub timings: engine::Timings,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn counters(iterations: u64) -> SolverCounters {
+        SolverCounters {
+            iterations,
+            exact_retries: 7,
+            lu_factorizations: 3,
+            ..SolverCounters::default()
+        }
+    }
+
+    #[test]
+    fn wasted_work_warns_only_past_half_the_iterations_with_halvings() {
+        // 600 of 1,000 iterations not accepted, 2 halvings: warned, with the counts.
+        let w = wasted_work(&counters(1000), 400, 2).expect("60 % wasted");
+        assert!(w.starts_with("60 % of the 1000 Newton iterations"), "{w}");
+        assert!(w.contains("2 halved steps, 7 exact retries, 3 LU"), "{w}");
+        // Exactly half, or no halving, or every iteration accepted: quiet.
+        assert_eq!(wasted_work(&counters(1000), 500, 2), None);
+        assert_eq!(wasted_work(&counters(1000), 400, 0), None);
+        assert_eq!(wasted_work(&counters(1000), 1000, 5), None);
+    }
 }

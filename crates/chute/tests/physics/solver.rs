@@ -96,3 +96,42 @@ fn springs_shell_at_the_report_settings_needs_no_lu() {
     assert_eq!((c.lu_factorizations, c.exact_retries), (0, 0), "{c:?}");
     assert_eq!(c.iterations, s.newton_iterations);
 }
+
+/// The run warns when most of its Newton work was thrown away (docs/outputs.md §solver): the
+/// warning is there exactly when the counters say so, with their numbers. One Newton
+/// iteration per step under a 3 kN load makes every step fail first and be retried exactly,
+/// and some halve (measured: about half the iterations not accepted).
+#[test]
+fn wasted_newton_work_is_warned_as_the_counters_say() {
+    use chute::runner::WASTED_WORK_WARN;
+    let warned = |s: &Summary| {
+        s.warnings
+            .iter()
+            .find(|w| w.contains("Newton iterations went into attempts that were not accepted"))
+            .cloned()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let clean = run(&rod(0.1, &[]), dir.path());
+    assert_eq!(warned(&clean), None);
+    let hard = [
+        "time.newton_max_iterations=1",
+        "time.newton_tolerance_n=1e-3",
+        "load.weight_n=3e3",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let s = run(&rod(0.3, &hard), dir.path());
+    let c = assert_consistent(&s);
+    let halvings = s.stepping.rejected_steps_newton;
+    assert!(halvings > 0 && c.exact_retries > 0, "{c:?}");
+    let wasted = c.iterations - s.newton_iterations;
+    let expect = wasted as f64 > WASTED_WORK_WARN * c.iterations as f64;
+    match warned(&s) {
+        Some(w) => {
+            assert!(expect, "warned at {wasted} of {}: {w}", c.iterations);
+            let pct = format!("{:.0} %", 100.0 * wasted as f64 / c.iterations as f64);
+            assert!(w.starts_with(&pct), "{w} (expected {pct})");
+            assert!(w.contains(&format!("{halvings} halved steps")), "{w}");
+        }
+        None => assert!(!expect, "{wasted} of {} not warned", c.iterations),
+    }
+}
