@@ -357,9 +357,13 @@ pub fn final_shape_plot(
     t_s: f64,
     scene: &ShapeScene<'_>,
 ) -> Result<PathBuf, PlotError> {
-    let path = out_dir.join(SHAPE_PNG);
     let title = format!("Final canopy shape (t = {t_s:.3} s)");
-    shape_plot(&path, &title, scene)?;
+    shape_file(out_dir.join(SHAPE_PNG), &title, scene)
+}
+
+/// [`shape_plot`] into `path`, which is returned.
+fn shape_file(path: PathBuf, title: &str, scene: &ShapeScene<'_>) -> Result<PathBuf, PlotError> {
+    shape_plot(&path, title, scene)?;
     Ok(path)
 }
 
@@ -371,14 +375,12 @@ pub fn wrinkle_plot(
     t_s: f64,
     scene: &ShapeScene<'_>,
 ) -> Result<PathBuf, PlotError> {
-    let path = out_dir.join(WRINKLES_PNG);
     let title = format!("Where the fabric wrinkles (t = {t_s:.3} s)");
     let by_state = ShapeScene {
         colour_by: ColourBy::MembraneState,
         ..*scene
     };
-    shape_plot(&path, &title, &by_state)?;
-    Ok(path)
+    shape_file(out_dir.join(WRINKLES_PNG), &title, &by_state)
 }
 
 /// File name of a snapshot: `snapshot_<t>s.png`, t rounded to the millisecond with trailing
@@ -396,10 +398,8 @@ pub fn snapshot_plot(
     t_s: f64,
     scene: &ShapeScene<'_>,
 ) -> Result<PathBuf, PlotError> {
-    let path = out_dir.join(snapshot_file_name(t_s));
     let title = format!("Canopy shape at t = {t_s:.3} s");
-    shape_plot(&path, &title, scene)?;
-    Ok(path)
+    shape_file(out_dir.join(snapshot_file_name(t_s)), &title, scene)
 }
 
 /// One curve of a [`loglog_plot`]: legend label and `(x, y)` points (positive values).
