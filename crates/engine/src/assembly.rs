@@ -63,19 +63,33 @@ pub struct Assembler {
     val_chunks: Chunks,
     /// Chunks of the force vector (all DOFs).
     dof_chunks: Chunks,
+    /// The model is too small for the pool ([`SERIAL_BELOW`]): everything runs on the
+    /// calling thread.
+    pub serial: bool,
 }
+
+/// Models whose Jacobian has fewer stored entries than this are assembled on the calling
+/// thread: waking rayon's pool (a few tens of µs per assembly, measured) costs more than
+/// the second thread saves (docs/performance.md §Engine tuning).
+pub const SERIAL_BELOW: usize = 30_000;
 
 impl Assembler {
     /// Build the pattern from the model's forces (plus the diagonal), with scatter chunks
     /// for the threads of rayon's pool.
+    /// A model whose Jacobian has fewer than [`SERIAL_BELOW`] entries is assembled on the
+    /// calling thread.
     pub fn new(model: &Model) -> Self {
-        Self::with_chunks(model, plan::chunk_count(rayon::current_num_threads()))
+        Self::build(model, plan::chunk_count(rayon::current_num_threads()), true)
     }
 
     /// [`Assembler::new`] with the scatter cut into at most `n_chunks` chunks (results do
-    /// not depend on it).
+    /// not depend on it), in rayon's pool whatever the size.
+    #[cfg(test)]
     pub(crate) fn with_chunks(model: &Model, n_chunks: usize) -> Self {
-        let n_chunks = n_chunks.clamp(1, plan::MAX_CHUNKS);
+        Self::build(model, n_chunks, false)
+    }
+
+    fn build(model: &Model, n_chunks: usize, allow_serial: bool) -> Self {
         let n = model.n_dofs();
         let mut free_of = vec![NONE; n];
         let mut dof_of = Vec::new();
@@ -93,6 +107,12 @@ impl Assembler {
             (col_ptr[c] + s.binary_search(&r).expect("entry in pattern")) as u32
         };
         let diag: Vec<usize> = (0..n_free).map(|c| find(c, c) as usize).collect();
+        let serial = allow_serial && row_idx.len() < SERIAL_BELOW;
+        let n_chunks = if serial {
+            1
+        } else {
+            n_chunks.clamp(1, plan::MAX_CHUNKS)
+        };
         let mut maps = Vec::with_capacity(model.forces.len());
         let mut blocks = Vec::with_capacity(model.forces.len());
         let mut symmetric = true;
@@ -117,7 +137,9 @@ impl Assembler {
                 }
             }
             maps.push(map);
-            blocks.push(f.new_blocks());
+            let mut b = f.new_blocks();
+            b.serial = serial;
+            blocks.push(b);
         }
         let mut transpose = vec![0u32; row_idx.len()];
         for c in 0..n_free {
@@ -128,6 +150,7 @@ impl Assembler {
         let val_chunks = value_chunks(model, &col_ptr, &maps, n_chunks);
         let dof_chunks = force_chunks(model, n_chunks);
         Self {
+            serial,
             ordered,
             val_chunks,
             dof_chunks,
@@ -168,14 +191,21 @@ impl Assembler {
         let (vc, dc) = (&self.val_chunks, &self.dof_chunks);
         let (maps, forces) = (&self.maps, &model.forces[..]);
         let (dof_of, diag) = (&self.dof_of, &self.diag);
-        // One region of the pool for the whole assembly (every `par_*` inside runs on its
-        // workers without another wake-up).
-        rayon::scope(|_| {
-            forces
-                .par_iter()
-                .zip(blocks.par_iter_mut())
-                .for_each(|(f, b)| f.evaluate(input, b));
-            let blocks = &blocks[..];
+        let serial = self.serial;
+        let evaluate = |blocks: &mut [LocalBlocks]| {
+            if serial {
+                forces
+                    .iter()
+                    .zip(blocks)
+                    .for_each(|(f, b)| f.evaluate(input, b));
+            } else {
+                forces
+                    .par_iter()
+                    .zip(blocks.par_iter_mut())
+                    .for_each(|(f, b)| f.evaluate(input, b));
+            }
+        };
+        let scatter = |blocks: &[LocalBlocks], force: &mut [f64], values| {
             let mut scatter_f = || {
                 dc.run(force, |t, lo, out| {
                     plan::force_chunk(dc, t, lo, out, forces, blocks)
@@ -189,7 +219,23 @@ impl Assembler {
                     jacobian_chunk(vc, t, lo, out, (maps, blocks), (dof_of, diag), model, c)
                 })
             };
-            rayon::join(scatter_f, scatter_j);
+            if serial {
+                scatter_f();
+                scatter_j();
+            } else {
+                rayon::join(scatter_f, scatter_j);
+            }
+        };
+        if serial {
+            evaluate(blocks);
+            scatter(blocks, force, values);
+            return;
+        }
+        // One region of the pool for the whole assembly (every `par_*` inside runs on its
+        // workers without another wake-up).
+        rayon::scope(|_| {
+            evaluate(blocks);
+            scatter(blocks, force, values);
         });
     }
 }

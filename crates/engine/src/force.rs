@@ -79,6 +79,9 @@ pub struct LocalBlocks {
     pub dfdq: Vec<f64>,
     /// Local `∂f/∂v`, `n × k × k` (empty if not provided).
     pub dfdv: Vec<f64>,
+    /// Evaluate the blocks on the calling thread, without rayon: set by the assembler for
+    /// models too small to pay for waking the pool (docs/performance.md §Engine tuning).
+    pub serial: bool,
 }
 
 /// One stencil's mutable output.
@@ -110,6 +113,7 @@ impl LocalBlocks {
             } else {
                 Vec::new()
             },
+            serial: false,
         }
     }
 
@@ -131,6 +135,27 @@ impl LocalBlocks {
         let fv = &mut self.dfdv;
         let f = &mut self.f;
         if n == 0 {
+            return;
+        }
+        if self.serial {
+            for i in 0..n {
+                let q = if has_q {
+                    &mut fq[i * kk..(i + 1) * kk]
+                } else {
+                    &mut [][..]
+                };
+                let v = if has_v {
+                    &mut fv[i * kk..(i + 1) * kk]
+                } else {
+                    &mut [][..]
+                };
+                func(BlockMut {
+                    index: i,
+                    f: &mut f[i * k..(i + 1) * k],
+                    dfdq: q,
+                    dfdv: v,
+                });
+            }
             return;
         }
         // Tasks of about a quarter of the family per thread (the assembler evaluates the

@@ -42,8 +42,7 @@ fn serial_reference(
 
 /// A crumpled, moving Kevlar sheet (springs, hinges, gravity, pressure drag, corner forces)
 /// with triangle drag (non-symmetric ∂f/∂q and ∂f/∂v) and two clamped nodes.
-fn shell_model() -> (Model, Vec<f64>, Vec<f64>) {
-    let (nx, ny) = (23, 17);
+fn shell_model(nx: usize, ny: usize) -> (Model, Vec<f64>, Vec<f64>) {
     let (mut model, state) = kevlar_sheet(nx, ny, 4.0, 3.0, 20.0);
     let s = sheet(nx, ny, 4.0, 3.0, 0.0);
     model.add_force(TriangleDrag::new(&s.tris, 1.2, 0.1, &Fluid::air()));
@@ -63,7 +62,7 @@ fn shell_model() -> (Model, Vec<f64>, Vec<f64>) {
 
 #[test]
 fn chunked_scatter_is_bitwise_the_serial_order() {
-    let (model, q, v) = shell_model();
+    let (model, q, v) = shell_model(23, 17);
     let input = EvalInput {
         q: &q,
         v: &v,
@@ -97,4 +96,34 @@ fn chunked_scatter_is_bitwise_the_serial_order() {
             "force vector alone, {n} chunks"
         );
     }
+}
+
+#[test]
+fn a_small_model_is_assembled_serially_to_the_same_bits() {
+    let (model, q, v) = shell_model(9, 7);
+    let input = EvalInput {
+        q: &q,
+        v: &v,
+        t: 0.0,
+        jacobian: true,
+    };
+    let c = Coefficients {
+        c_m: 1e6,
+        c_q: 1.0,
+        c_v: 1e3,
+    };
+    let mut a = Assembler::new(&model);
+    assert!(a.nnz() < SERIAL_BELOW && a.serial, "{} entries", a.nnz());
+    assert!(a.blocks.iter().all(|b| b.serial));
+    let (f_ref, v_ref) =
+        serial_reference(&mut Assembler::with_chunks(&model, 3), &model, &input, c);
+    let mut force = vec![f64::NAN; model.n_dofs()];
+    let mut values = vec![f64::NAN; a.nnz()];
+    a.assemble(&model, &input, &mut force, Some((&mut values, c)));
+    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert!(bits(&force) == bits(&f_ref) && bits(&values) == bits(&v_ref));
+    // The large model of the test above stays in the pool.
+    let (big, _, _) = shell_model(23, 17);
+    let b = Assembler::new(&big);
+    assert!(b.nnz() >= SERIAL_BELOW && !b.serial, "{} entries", b.nnz());
 }

@@ -15,7 +15,6 @@
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
-use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, IntranodeLbltRef, LltRef,
     SymbolicCholesky, SymmetricOrdering,
@@ -23,6 +22,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::lu::{
     factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu,
 };
+use faer::sparse::linalg::{amd, SupernodalThreshold};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
@@ -85,6 +85,14 @@ pub fn amd_order(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Option<Vec<u
     .ok()?;
     Some(fwd)
 }
+
+/// When faer factorises supernodally rather than column by column: its default threshold
+/// (factor flops per factor entry above 40) leaves the small shell systems (a few hundred
+/// nodes, 3 DOFs each, hinge stencils coupling 4 nodes) simplicial, where the supernodal
+/// kernel factorises them 2.5× faster; half the threshold (20 flops per entry) switches
+/// those and keeps the banded rods simplicial, whose triangular solves the supernodes'
+/// padding would double (docs/performance.md §Engine tuning).
+const SUPERNODAL_THRESHOLD: SupernodalThreshold = SupernodalThreshold(0.5);
 
 /// Which factorisation solved the last system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -223,7 +231,10 @@ impl LinearSolver {
                 sym,
                 Side::Lower,
                 ordering,
-                CholeskySymbolicParams::default(),
+                CholeskySymbolicParams {
+                    supernodal_flop_ratio_threshold: SUPERNODAL_THRESHOLD,
+                    ..Default::default()
+                },
             )
             .map_err(|e| EngineError::Symbolic(sparse_error(e)))?;
             req = req
