@@ -54,7 +54,7 @@ use crate::scenario::{Bending, ModelKind, Scenario};
 use engine::loads::Gravity;
 use engine::{DofLayout, Model, State};
 
-pub use canopy::Geometry;
+pub use canopy::{Geometry, DEFAULT_WRINKLE_STRAIN};
 
 /// Why a scenario could not be turned into a model. Messages name the scenario key.
 #[derive(Debug, thiserror::Error)]

@@ -10,6 +10,7 @@
 
 mod cases;
 pub mod convergence;
+pub mod membrane_cases;
 pub mod midedge_cases;
 pub mod scordelis_lo;
 pub mod shell_cases;

@@ -1,7 +1,7 @@
 //! The registry of verification cases, and the engine-level ones (rods, drag, integrator):
 //! every set-up comes from [`engine::reference`], the same code the engine's tests run.
 //! Shell cases are in [`super::shell_cases`], whole-parachute cases in [`super::system`].
-use super::{midedge_cases, scordelis_lo, shell_cases, system, Case, Check};
+use super::{membrane_cases, midedge_cases, scordelis_lo, shell_cases, system, Case, Check};
 use engine::aero::Fluid;
 use engine::reference::cantilever::{
     elastica, end_moment, self_weight, tip_load, BISSHOPP_DRUCKER,
@@ -37,6 +37,32 @@ pub fn all() -> Vec<Case> {
         c("shell-cantilever-strip", true, shell_cases::strip_case),
         c("midedge-cylinder", true, midedge_cases::cylinder_case),
         c("midedge-plate", true, midedge_cases::plate_case),
+        c(
+            "patch-cst-uniform-stretch",
+            true,
+            membrane_cases::uniform_stretch_case,
+        ),
+        c(
+            "patch-cst-uniaxial-nu",
+            true,
+            membrane_cases::cst_uniaxial_case,
+        ),
+        c(
+            "patch-fabric-uniaxial-nu12",
+            true,
+            membrane_cases::fabric_nu12_case,
+        ),
+        c(
+            "patch-fabric-uniaxial-nu21",
+            true,
+            membrane_cases::fabric_nu21_case,
+        ),
+        c(
+            "patch-no-compression",
+            true,
+            membrane_cases::no_compression_case,
+        ),
+        c("patch-springs-uniaxial", true, membrane_cases::springs_case),
         c("scordelis-lo-springs", false, scordelis_lo::roof_case),
         c("scordelis-lo-cst", false, scordelis_lo::roof_cst_case),
         c("falling", true, falling_cases),

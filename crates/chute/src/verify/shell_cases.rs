@@ -149,6 +149,15 @@ pub fn solve_static(model: &mut Model, q: Vec<f64>, force_tol: f64) -> Result<St
         force_tol_abs: Some(force_tol),
         ..Default::default()
     };
+    solve_static_with(model, q, opts)
+}
+
+/// [`solve_static`] with the Newton options `opts`.
+pub fn solve_static_with(
+    model: &mut Model,
+    q: Vec<f64>,
+    opts: NewtonOptions,
+) -> Result<State, String> {
     let mut solver = StaticSolver::new(model, opts).map_err(|e| e.to_string())?;
     let mut state = State::at_rest(q);
     solver
@@ -277,11 +286,7 @@ pub fn cantilever_strip(ell: f64) -> Result<StripResult, String> {
         line_search: false,
         ..Default::default()
     };
-    let mut solver = StaticSolver::new(&model, opts).map_err(|e| e.to_string())?;
-    let mut state = State::at_rest(q);
-    solver
-        .solve(&mut model, &mut state, 1)
-        .map_err(|e| e.to_string())?;
+    let state = solve_static_with(&mut model, q, opts)?;
     let tip: Vec<f64> = m
         .positions
         .iter()

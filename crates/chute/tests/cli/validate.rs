@@ -1,6 +1,6 @@
 //! `chute validate` through the binary: the quick suite passes, its JSON has the documented
 //! fields, and a deliberately broken reference (the hidden test option `--break-reference`)
-//! makes the command exit non-zero.
+//! makes the command exit non-zero, for a cantilever case and for the membrane patch tests.
 use crate::common::chute_command as chute;
 
 #[test]
@@ -43,6 +43,12 @@ fn quick_suite_passes_and_json_has_the_documented_fields() {
         "shell-cantilever-strip",
         "midedge-cylinder",
         "midedge-plate",
+        "patch-cst-uniform-stretch",
+        "patch-cst-uniaxial-nu",
+        "patch-fabric-uniaxial-nu12",
+        "patch-fabric-uniaxial-nu21",
+        "patch-no-compression",
+        "patch-springs-uniaxial",
         "falling-sheet",
         "falling-strip",
         "wind-drift",
@@ -81,4 +87,32 @@ fn a_broken_reference_makes_the_command_fail() {
     assert!(stdout
         .lines()
         .any(|l| l.starts_with("cantilever-self-weight") && l.contains(" ok ")));
+}
+
+#[test]
+fn a_broken_membrane_patch_reference_fails_only_its_rows() {
+    // The patch tests are exact to ~1e-12, so a reference off by 1.5 (and 1 instead of 0 for
+    // the near-zero rows) must fail every row of the broken case and none of the others.
+    let out = chute()
+        .args(["validate", "--quick", "--json", "--case", "patch-"])
+        .args(["--break-reference", "patch-fabric-uniaxial-nu21"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let checks: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let checks = checks.as_array().unwrap();
+    let (mut broken, mut others) = (0, 0);
+    for c in checks {
+        let name = c["name"].as_str().unwrap();
+        assert!(name.starts_with("patch-"), "{c}");
+        if name.starts_with("patch-fabric-uniaxial-nu21") {
+            broken += 1;
+            assert_eq!(c["pass"], serde_json::Value::Bool(false), "{c}");
+        } else {
+            others += 1;
+            assert_eq!(c["pass"], serde_json::Value::Bool(true), "{c}");
+        }
+    }
+    assert_eq!(broken, 4, "{checks:?}");
+    assert!(others >= 20, "{others} other patch rows");
 }
