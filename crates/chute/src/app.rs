@@ -161,6 +161,7 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
                 .unwrap_or(engine::NewtonOptions::default().step_tol),
             exact_retry: s.time.newton_exact_retry,
             continuation: s.time.newton_continuation,
+            step_homotopy: s.time.newton_step_homotopy,
             // Modified Newton, Cholesky of ½(J + Jᵀ), divergence limit, adaptive predictor,
             // accuracy-based tolerance, exact retry (docs/performance.md, docs/engine.md).
             ..engine::NewtonOptions::recommended()

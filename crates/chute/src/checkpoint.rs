@@ -28,6 +28,9 @@
 //! counts (u64) and the 4 times (f64, s) in the order of `SolverCounters::counts` and
 //! `SolverCounters::seconds` (zeros when unknown). Versions 1 to 3 record no counters: a run
 //! resumed from one reports `"solver": null` with a warning, and so do its later checkpoints.
+//! 5 (the exact retry's step homotopy) has 20 counts: `homotopies` and
+//! `homotopies_converged` after `continuations_converged`; a version-4 file reads them as 0,
+//! which is exact (the build that wrote it had no homotopy stage).
 
 use std::io::{self, BufRead};
 use std::path::{Path, PathBuf};
@@ -40,7 +43,9 @@ use crate::output::write_atomic;
 pub const FILE_NAME: &str = "checkpoint.bin";
 const MAGIC: &[u8; 8] = b"CHUTECKP";
 /// Version of the binary layout; bump on any change.
-pub const FORMAT_VERSION: u32 = 4;
+pub const FORMAT_VERSION: u32 = 5;
+/// Positions in `SolverCounters::counts` of the homotopy counters (new in version 5).
+const HOMOTOPY_COUNTS: std::ops::Range<usize> = 15..17;
 /// The oldest version this build reads.
 const OLDEST_READABLE: u32 = 1;
 
@@ -184,16 +189,19 @@ impl Dec<'_> {
         let n = self.len(1)?;
         String::from_utf8(self.take(n)?.to_vec()).map_err(|e| e.to_string())
     }
-    /// The solver counters of version 4: the known flag, the counts, the times.
-    fn solver(&mut self) -> Result<Option<SolverCounters>, String> {
+    /// The solver counters of version 4 and later: the known flag, the counts, the times.
+    fn solver(&mut self, version: u32) -> Result<Option<SolverCounters>, String> {
         let known = match self.u64()? {
             0 => false,
             1 => true,
             k => return Err(format!("solver-counters flag {k}, not 0 or 1")),
         };
         let mut counts = [0; SolverCounters::COUNTS];
-        for c in &mut counts {
-            *c = self.u64()?;
+        for (i, c) in counts.iter_mut().enumerate() {
+            // Version 4 has no homotopy counters (0: the stage did not exist).
+            if version >= 5 || !HOMOTOPY_COUNTS.contains(&i) {
+                *c = self.u64()?;
+            }
         }
         let mut seconds = [0.0; SolverCounters::TIMES];
         for x in &mut seconds {
@@ -288,7 +296,11 @@ impl Checkpoint {
         };
         let every = if version >= 3 { d.f64()? } else { 0.0 };
         let checkpoint_every_s = (every > 0.0 && every.is_finite()).then_some(every);
-        let solver = if version >= 4 { d.solver()? } else { None };
+        let solver = if version >= 4 {
+            d.solver(version)?
+        } else {
+            None
+        };
         if d.at != body.len() {
             return Err(format!("{} unexpected trailing bytes", body.len() - d.at));
         }
@@ -442,7 +454,7 @@ mod tests {
         }
     }
 
-    /// Bytes of the version-4 solver counters at the end of the body.
+    /// Bytes of the solver counters (this version) at the end of the body.
     const SOLVER_BYTES: usize = 8 * (1 + SolverCounters::COUNTS + SolverCounters::TIMES);
 
     #[test]
@@ -478,6 +490,28 @@ mod tests {
         body[at..at + 8].copy_from_slice(&2u64.to_le_bytes());
         let e = Checkpoint::decode(&reseal(body, FORMAT_VERSION)).unwrap_err();
         assert!(e.contains("solver-counters flag 2"), "{e}");
+    }
+
+    /// A version-4 file (18 counts, no homotopy counters) reads with them as 0 and every
+    /// other counter in its place.
+    #[test]
+    fn reads_version_4() {
+        let c = sample();
+        let mut body = c.encode();
+        body.truncate(body.len() - 8);
+        // Drop the two homotopy counts from the counts (they follow the flag).
+        let counts_at = body.len() - SOLVER_BYTES + 8;
+        let (a, b) = (
+            counts_at + 8 * HOMOTOPY_COUNTS.start,
+            counts_at + 8 * HOMOTOPY_COUNTS.end,
+        );
+        body.drain(a..b);
+        let old = Checkpoint::decode(&reseal(body, 4)).unwrap();
+        let (mut want, got) = (c.solver.unwrap().counts(), old.solver.unwrap().counts());
+        want[HOMOTOPY_COUNTS].iter_mut().for_each(|x| *x = 0);
+        assert_eq!(got, want);
+        assert_eq!(old.solver.unwrap().seconds(), c.solver.unwrap().seconds());
+        assert_eq!((old.q, old.t), (c.q, c.t));
     }
 
     /// A version-3 file (before the solver counters) still reads, without counters.
@@ -520,9 +554,11 @@ mod tests {
         assert_eq!((old.rejected_error, old.rejected_newton), (0, 1));
         assert_eq!((old.q, old.dt, old.warnings), (c.q, c.dt, c.warnings));
         // A future version is refused with both numbers.
-        let e = Checkpoint::decode(&reseal(v4[..v4.len() - 8].to_vec(), 5)).unwrap_err();
+        let next = FORMAT_VERSION + 1;
+        let e = Checkpoint::decode(&reseal(v4[..v4.len() - 8].to_vec(), next)).unwrap_err();
         assert!(
-            e.contains("format version 5") && e.contains("1 to 4"),
+            e.contains(&format!("format version {next}"))
+                && e.contains(&format!("1 to {FORMAT_VERSION}")),
             "{e}"
         );
     }

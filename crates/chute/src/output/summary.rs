@@ -105,6 +105,10 @@ pub struct SolverCounters {
     pub continuations: u64,
     /// Of those, continuations that converged.
     pub continuations_converged: u64,
+    /// Retries that reached their step-size homotopy stage (continuation failed too).
+    pub homotopies: u64,
+    /// Of those, homotopies that converged (the step was taken whole instead of halved).
+    pub homotopies_converged: u64,
     /// Solves that converged on the accuracy-based test rather than the force tolerance.
     pub accuracy_accepts: u64,
     /// Local error estimates filtered through the step's factors (`time.error_filter`).
@@ -123,7 +127,7 @@ pub struct SolverCounters {
 
 impl SolverCounters {
     /// Number of counts ([`SolverCounters::counts`]).
-    pub const COUNTS: usize = 18;
+    pub const COUNTS: usize = 20;
     /// Number of times ([`SolverCounters::seconds`]).
     pub const TIMES: usize = 4;
 
@@ -150,6 +154,8 @@ impl SolverCounters {
             exact_retries_converged,
             continuations,
             continuations_converged,
+            homotopies,
+            homotopies_converged,
             accuracy_accepts,
             error_filters,
             error_filter_fallbacks,
@@ -170,6 +176,8 @@ impl SolverCounters {
             exact_retries_converged,
             continuations,
             continuations_converged,
+            homotopies,
+            homotopies_converged,
             accuracy_accepts,
             error_filters,
             error_filter_fallbacks,
@@ -198,6 +206,8 @@ impl SolverCounters {
             self.exact_retries_converged,
             self.continuations,
             self.continuations_converged,
+            self.homotopies,
+            self.homotopies_converged,
             self.accuracy_accepts,
             self.error_filters,
             self.error_filter_fallbacks,
@@ -228,9 +238,11 @@ impl SolverCounters {
             exact_retries_converged: c[12],
             continuations: c[13],
             continuations_converged: c[14],
-            accuracy_accepts: c[15],
-            error_filters: c[16],
-            error_filter_fallbacks: c[17],
+            homotopies: c[15],
+            homotopies_converged: c[16],
+            accuracy_accepts: c[17],
+            error_filters: c[18],
+            error_filter_fallbacks: c[19],
             assembly_s: s[0],
             merit_s: s[1],
             factor_s: s[2],

@@ -245,7 +245,7 @@ pub fn without_wall_times(mut j: serde_json::Value) -> serde_json::Value {
 }
 
 /// Every field of the `solver` object of `summary.json` (docs/outputs.md §solver).
-pub const SOLVER_FIELDS: [&str; 22] = [
+pub const SOLVER_FIELDS: [&str; 24] = [
     "evaluations",
     "jacobian_evaluations",
     "factorizations",
@@ -261,6 +261,8 @@ pub const SOLVER_FIELDS: [&str; 22] = [
     "exact_retries_converged",
     "continuations",
     "continuations_converged",
+    "homotopies",
+    "homotopies_converged",
     "accuracy_accepts",
     "error_filters",
     "error_filter_fallbacks",

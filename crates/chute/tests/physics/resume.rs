@@ -86,7 +86,7 @@ pub(crate) fn stop_and_resume(s: &Scenario, stop_at: f64, every: Option<f64>) {
     assert_eq!(a, b);
 }
 
-/// Bytes of the version-4 solver counters before the checksum (flag, counts, times).
+/// Bytes of the solver counters before the checksum (flag, counts, times).
 const SOLVER_BYTES: usize = 8 * (1 + SolverCounters::COUNTS + SolverCounters::TIMES);
 
 /// Rewrite `dir/checkpoint.bin` as the format-3 file an earlier chute wrote: the same bytes
@@ -94,7 +94,10 @@ const SOLVER_BYTES: usize = 8 * (1 + SolverCounters::COUNTS + SolverCounters::TI
 fn downgrade_to_version_3(dir: &Path) {
     let path = dir.join(chute::checkpoint::FILE_NAME);
     let bytes = std::fs::read(&path).unwrap();
-    assert_eq!(bytes[8..12], 4u32.to_le_bytes());
+    assert_eq!(
+        bytes[8..12],
+        chute::checkpoint::FORMAT_VERSION.to_le_bytes()
+    );
     let mut body = bytes[..bytes.len() - 8 - SOLVER_BYTES].to_vec();
     body[8..12].copy_from_slice(&3u32.to_le_bytes());
     let sum = body.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {

@@ -44,6 +44,9 @@ fn assert_consistent(s: &Summary) -> SolverCounters {
     assert!(c.evaluations >= c.iterations && c.jacobian_evaluations <= c.evaluations);
     assert!(c.exact_retries_converged <= c.exact_retries);
     assert!(c.continuations_converged <= c.continuations && c.continuations <= c.exact_retries);
+    // The homotopy runs after a failed continuation (the scenarios keep continuation on).
+    assert!(c.homotopies_converged <= c.homotopies);
+    assert!(c.homotopies <= c.continuations - c.continuations_converged);
     assert!(
         c.assembly_s > 0.0 && c.factor_s > 0.0 && c.solve_s > 0.0,
         "{c:?}"

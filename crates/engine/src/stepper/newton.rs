@@ -25,6 +25,8 @@ use std::time::Instant;
 
 mod continuation;
 mod filter;
+mod homotopy;
+mod retry;
 mod tolerance;
 use tolerance::Verdict;
 
@@ -84,6 +86,11 @@ pub(crate) struct NewtonCore {
     /// This stage of an exact retry factorises `J` by LU instead of correcting the symmetric
     /// approximation's updates by BiCGStab.
     retry_lu: bool,
+    /// The start of the exact retry's stages (all DOFs).
+    retry_start: Vec<f64>,
+    /// The step homotopy's sub-step `q̃` and last solution (all DOFs).
+    homotopy_q_tilde: Vec<f64>,
+    homotopy_done: Vec<f64>,
 }
 
 /// The target of one Newton solve.
@@ -144,6 +151,9 @@ impl NewtonCore {
             exact: None,
             continuing: false,
             retry_lu: false,
+            retry_start: vec![0.0; n],
+            homotopy_q_tilde: vec![0.0; n],
+            homotopy_done: vec![0.0; n],
             force: vec![0.0; n],
             residual: vec![0.0; assembler.n_free],
             delta: vec![0.0; assembler.n_free],
@@ -258,55 +268,7 @@ impl NewtonCore {
         !self.opts.reuse_jacobian && self.sym_values.is_empty() && self.opts.line_search
     }
 
-    /// Retry a failed solve with exact Newton from the constant-velocity guess `q̃` (the
-    /// failed path may have started from an extrapolation that was the problem). Stages, each
-    /// with twice the iteration budget: full steps (a stiff membrane's residual rises on the
-    /// first full step and then converges quadratically, where a line search on `‖R‖₂`
-    /// creeps) with the symmetric approximation's factors and every update corrected by
-    /// BiCGStab; where that fails, full steps with `J` factorised by LU (a correction that
-    /// does not converge is what may have failed); then LU with the line search; last
-    /// pseudo-transient continuation (`newton/continuation.rs`, four times the budget),
-    /// which converges to the same solution where Newton's iteration from `q̃` wanders off.
-    /// Without the approximation (symmetric `J`) the LU stage would repeat the first.
-    fn exact_retry(
-        &mut self,
-        model: &Model,
-        q: &mut [f64],
-        tg: &Target<'_>,
-    ) -> Result<StepReport, StepError> {
-        self.timings.exact_retries += 1;
-        let mut res = Err(StepError::NonFinite {
-            what: "exact retry",
-            dof: 0,
-        });
-        let approx = !self.sym_values.is_empty();
-        for (search, lu) in [(false, false), (false, true), (true, true)] {
-            if (search && !self.opts.line_search) || (lu && !search && !approx) {
-                continue;
-            }
-            q.copy_from_slice(tg.q_tilde);
-            self.exact = Some(search);
-            self.retry_lu = lu;
-            res = self.solve_from(model, q, tg, true);
-            self.exact = None;
-            if res.is_ok() {
-                self.timings.exact_retries_converged += 1;
-                return res;
-            }
-        }
-        if self.opts.continuation {
-            self.exact = Some(false);
-            self.retry_lu = true;
-            res = self.continuation(model, q, tg);
-            self.exact = None;
-            if res.is_ok() {
-                self.timings.exact_retries_converged += 1;
-            }
-        }
-        res
-    }
-
-    fn solve_from(
+    pub(super) fn solve_from(
         &mut self,
         model: &Model,
         q: &mut [f64],

@@ -76,6 +76,12 @@ pub struct NewtonOptions {
     /// converged state satisfies the same residual test, so it is the same solution). No
     /// effect without [`NewtonOptions::exact_retry`].
     pub continuation: bool,
+    /// The exact retry's very last stage: when continuation fails too, follow the step's
+    /// solution in the step size from half the step up to the full step (exact Newton at
+    /// each size; `stepper/newton/homotopy.rs`). Where that succeeds, the step is taken
+    /// whole instead of halved; the result meets the same residual test. No effect without
+    /// [`NewtonOptions::exact_retry`].
+    pub step_homotopy: bool,
 }
 
 impl NewtonOptions {
@@ -97,6 +103,7 @@ impl NewtonOptions {
             accuracy_floor: 1e-4,
             exact_retry: true,
             continuation: true,
+            step_homotopy: true,
             ..Self::default()
         }
     }
@@ -165,6 +172,7 @@ impl Default for NewtonOptions {
             accuracy_floor: 0.0,
             exact_retry: false,
             continuation: false,
+            step_homotopy: false,
         }
     }
 }
@@ -233,6 +241,10 @@ pub struct Timings {
     pub continuations: u64,
     /// Of those, continuations that converged.
     pub continuations_converged: u64,
+    /// Retries that reached their step-size homotopy stage.
+    pub homotopies: u64,
+    /// Of those, homotopies that converged (the step was taken whole).
+    pub homotopies_converged: u64,
     /// Solves that converged on the accuracy-based test (not on the force tolerance).
     pub accuracy_accepts: u64,
     /// Local error estimates filtered through the step's factors

@@ -70,6 +70,12 @@ section! {
         /// it is halved (written to the resolved scenario only when false)
         #[serde(skip_serializing_if = "Clone::clone")]
         newton_continuation: bool = true => key().default_doc("`true`"),
+        /// the exact retry's very last stage: when continuation fails too, follow the step's
+        /// solution in the step size from half the step to the whole step (exact Newton at
+        /// each size), so that the step is taken whole instead of halved where a solution
+        /// on that branch exists (written to the resolved scenario only when false)
+        #[serde(skip_serializing_if = "Clone::clone")]
+        newton_step_homotopy: bool = true => key().default_doc("`true`"),
         /// choose each step from its local error estimate instead of a fixed `dt_s` (written
         /// to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]
