@@ -31,6 +31,7 @@ use faer::sparse::linalg::LuError;
 use faer::sparse::FaerError;
 
 mod krylov;
+mod single;
 pub use krylov::KrylovReport;
 
 /// The engine's name for a faer failure.
@@ -128,6 +129,16 @@ pub struct LinearSolver {
     /// Preordered systems: the lower triangle handed to the numeric LLᵀ / LBLᵀ (faer reads
     /// an unpermuted matrix as it is, and its simplicial kernel wants one triangle only).
     lower: Option<Lower>,
+    /// Single-precision LLᵀ (values of the factor and of the matrix handed to it), when on
+    /// ([`LinearSolver::enable_single`]).
+    single: Option<(Vec<f32>, Vec<f32>)>,
+    /// The held LLᵀ factors are the single-precision ones.
+    single_held: bool,
+    /// New LLᵀ factorisations are made in single precision.
+    single_on: bool,
+    /// A single-precision LLᵀ broke down (not positive definite in single precision where
+    /// double may be): never tried again.
+    single_broke: bool,
 }
 
 /// The lower triangle of a pattern and a buffer for its values.
@@ -220,6 +231,10 @@ impl LinearSolver {
             last: Factorization::Lu,
             valid: false,
             lower: None,
+            single: None,
+            single_held: false,
+            single_on: false,
+            single_broke: false,
         };
         // SAFETY: `check_pattern` verified the CSC invariants faer requires.
         let sym = unsafe { SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx) };
@@ -332,41 +347,8 @@ impl LinearSolver {
             SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
         };
         let a = SparseColMatRef::new(sym, full);
-        if let (Some((chol, lvals)), Some(spd)) = (self.llt.as_mut(), spd) {
-            let a_spd = match self.lower.as_mut() {
-                Some(lo) => lo.matrix(n, spd),
-                None => SparseColMatRef::new(sym, spd),
-            };
-            let stack = MemStack::new(&mut self.mem);
-            let ok = chol
-                .factorize_numeric_llt::<f64>(
-                    lvals,
-                    a_spd,
-                    Side::Lower,
-                    LltRegularization::default(),
-                    self.par,
-                    stack,
-                    Default::default(),
-                )
-                .is_ok();
-            self.last = if ok {
-                Factorization::Llt
-            } else {
-                let (sub, fwd, inv) = &mut self.lblt;
-                let stack = MemStack::new(&mut self.mem);
-                chol.factorize_numeric_intranode_lblt::<f64>(
-                    lvals,
-                    sub,
-                    fwd,
-                    inv,
-                    a_spd,
-                    Side::Lower,
-                    self.par,
-                    stack,
-                    Default::default(),
-                );
-                Factorization::Lblt
-            };
+        if let (true, Some(spd)) = (self.llt.is_some(), spd) {
+            self.last = self.factor_symmetric(spd);
             self.valid = true;
             return Ok(self.last);
         }
@@ -383,6 +365,63 @@ impl LinearSolver {
         self.last = Factorization::Lu;
         self.valid = true;
         Ok(Factorization::Lu)
+    }
+
+    /// LLᵀ of the symmetric matrix whose lower triangle is in `spd` (single precision first
+    /// when on, [`LinearSolver::enable_single`]); LBLᵀ on the same structure if it is not
+    /// positive definite.
+    fn factor_symmetric(&mut self, spd: &[f64]) -> Factorization {
+        let n = self.n;
+        // SAFETY: the same valid pattern as in `new`.
+        let sym = unsafe {
+            SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
+        };
+        let (chol, lvals) = self.llt.as_mut().expect("LLT structure");
+        let a_spd = match self.lower.as_mut() {
+            Some(lo) => lo.matrix(n, spd),
+            None => SparseColMatRef::new(sym, spd),
+        };
+        let tried_single = self.single_on;
+        if let (true, Some(single)) = (self.single_on, self.single.as_mut()) {
+            let stack = MemStack::new(&mut self.mem);
+            if single::factor(chol, single, a_spd, self.par, stack) {
+                self.single_held = true;
+                return Factorization::Llt;
+            }
+        }
+        self.single_held = false;
+        let ok = chol
+            .factorize_numeric_llt::<f64>(
+                lvals,
+                a_spd,
+                Side::Lower,
+                LltRegularization::default(),
+                self.par,
+                MemStack::new(&mut self.mem),
+                Default::default(),
+            )
+            .is_ok();
+        if !ok {
+            let (sub, fwd, inv) = &mut self.lblt;
+            chol.factorize_numeric_intranode_lblt::<f64>(
+                lvals,
+                sub,
+                fwd,
+                inv,
+                a_spd,
+                Side::Lower,
+                self.par,
+                MemStack::new(&mut self.mem),
+                Default::default(),
+            );
+            return Factorization::Lblt;
+        }
+        if tried_single {
+            // Positive definite in double but not in single: a precision failure, for good.
+            self.single_broke = true;
+            self.single_on = false;
+        }
+        Factorization::Llt
     }
 
     /// Memory held by the solver (bytes): `(factor values, scratch)`.
@@ -423,7 +462,12 @@ impl LinearSolver {
         match self.last {
             Factorization::Llt | Factorization::Lblt => {
                 self.llt.as_ref().map_or(StackReq::EMPTY, |(c, _)| {
-                    c.solve_in_place_scratch::<f64>(ncols, par)
+                    let single = if self.single.is_some() {
+                        single::solve_scratch(c, self.n, par)
+                    } else {
+                        StackReq::EMPTY
+                    };
+                    c.solve_in_place_scratch::<f64>(ncols, par).or(single)
                 })
             }
             Factorization::Lu => self.lu_sym.as_ref().map_or(StackReq::EMPTY, |lu| {
@@ -436,6 +480,11 @@ impl LinearSolver {
     fn solve_with(&self, x: MatMut<'_, f64>, par: Par, stack: &mut MemStack) {
         let n = self.n;
         match self.last {
+            Factorization::Llt if self.single_held => {
+                let (chol, _) = self.llt.as_ref().expect("LLT factors");
+                let (l32, _) = self.single.as_ref().expect("single factors");
+                single::solve(chol, l32, x, par, stack);
+            }
             Factorization::Llt => {
                 let (chol, lvals) = self.llt.as_ref().expect("LLT factors");
                 LltRef::new(chol, lvals).solve_in_place_with_conj(Conj::No, x, par, stack);

@@ -24,6 +24,7 @@ use crate::stepper::start_policy::{StartPolicy, FACTOR_WORK};
 use std::time::Instant;
 
 mod continuation;
+mod direction;
 mod filter;
 mod homotopy;
 mod retry;
@@ -35,6 +36,14 @@ use tolerance::Verdict;
 /// quadratically (3–4 extra iterations from 1 N to 1e-9 N at worst); above it, the updates
 /// are corrected by preconditioned BiCGStab.
 const SKEW_LIMIT: f64 = 0.1;
+
+/// Largest relative error `‖A Δ + R‖∞ / ‖R‖∞` of a solve with fresh single-precision factors
+/// of `A` ([`NewtonOptions::single_precision`]): it acts as an inexact Newton update with
+/// this forcing term, far below the reuse contraction (0.5) and the symmetric
+/// approximation's limit ([`SKEW_LIMIT`]), so the iteration count does not change. Above it
+/// (an ill-conditioned `A`: a large `dt` against a stiff membrane) the solver factorises in
+/// double precision for the rest of the run.
+const SINGLE_LIMIT: f64 = 1e-3;
 
 /// Shared Newton machinery and all its preallocated buffers.
 pub(crate) struct NewtonCore {
@@ -88,6 +97,11 @@ pub(crate) struct NewtonCore {
     retry_lu: bool,
     /// The start of the exact retry's stages (all DOFs).
     retry_start: Vec<f64>,
+    /// `A Δ + R` of the single-precision check (free DOFs; empty when unused).
+    single_check: Vec<f64>,
+    /// Factorise in single precision ([`NewtonOptions::single_precision`], until a check
+    /// fails).
+    single_wanted: bool,
     /// The step homotopy's sub-step `q̃` and last solution (all DOFs).
     homotopy_q_tilde: Vec<f64>,
     homotopy_done: Vec<f64>,
@@ -111,12 +125,15 @@ impl NewtonCore {
         } else {
             LinearSolver::new
         };
-        let solver = new_solver(
+        let mut solver = new_solver(
             assembler.n_free,
             &assembler.col_ptr,
             &assembler.row_idx,
             assembler.symmetric || approx,
         )?;
+        if opts.single_precision {
+            solver.enable_single();
+        }
         let n = model.n_dofs();
         let force_tol_abs = opts
             .force_tol_abs
@@ -152,6 +169,15 @@ impl NewtonCore {
             continuing: false,
             retry_lu: false,
             retry_start: vec![0.0; n],
+            single_wanted: opts.single_precision,
+            single_check: vec![
+                0.0;
+                if opts.single_precision {
+                    assembler.n_free
+                } else {
+                    0
+                }
+            ],
             homotopy_q_tilde: vec![0.0; n],
             homotopy_done: vec![0.0; n],
             force: vec![0.0; n],
@@ -210,6 +236,11 @@ impl NewtonCore {
             norm2 += x * x;
         }
         norm2.sqrt()
+    }
+
+    /// Whether new factorisations are made in single precision.
+    pub fn single_precision(&self) -> bool {
+        self.single_wanted && self.solver.single_usable()
     }
 
     /// Whether the held factorisation may be used for this target.
@@ -332,6 +363,14 @@ impl NewtonCore {
     }
 
     fn factor(&mut self, tg: &Target<'_>, report: &mut StepReport) -> Result<(), StepError> {
+        self.factor_keyed((tg.c_m, tg.c_v), report)
+    }
+
+    /// Factorise the Newton matrix held in `values` for the coefficients `key` = `(c_m, c_v)`.
+    fn factor_keyed(&mut self, key: (f64, f64), report: &mut StepReport) -> Result<(), StepError> {
+        // The exact retry's stages stay in double: they are the robust path.
+        self.solver
+            .set_single(self.single_wanted && self.exact.is_none());
         let t0 = Instant::now();
         let approx = !self.sym_values.is_empty();
         let fac = if approx && self.exact.is_some() && self.retry_lu {
@@ -351,67 +390,10 @@ impl NewtonCore {
         self.timings.factorizations += 1;
         self.timings.lu_factorizations += u64::from(fac == Factorization::Lu);
         self.timings.lblt_factorizations += u64::from(fac == Factorization::Lblt);
-        self.factored_for = (tg.c_m, tg.c_v);
+        self.factored_for = key;
         report.used_cholesky = fac == Factorization::Llt;
         report.factorizations += 1;
         Ok(())
-    }
-
-    /// `Δ = −A⁻¹ R` with the held factors `A`.
-    fn linear_solve(&mut self) {
-        for (d, r) in self.delta.iter_mut().zip(&self.residual) {
-            *d = -r;
-        }
-        let t0 = Instant::now();
-        self.solver.solve(&mut self.delta);
-        self.timings.solve_s += t0.elapsed().as_secs_f64();
-    }
-
-    /// Refine `Δ = J_s⁻¹ (−R)` into the solution of `J Δ = −R` (to 1e-3 relative residual,
-    /// an inexact-Newton forcing term that keeps the Newton contraction ≤ ~1e-3) by BiCGStab
-    /// preconditioned with the held factors of `J_s` (`J` is in `values`: the matrix the
-    /// factors were computed from). Returns whether it converged.
-    fn krylov_correct(&mut self) -> bool {
-        for (b, r) in self.neg_residual.iter_mut().zip(&self.residual) {
-            *b = -r;
-        }
-        // The approximate update, restored by the caller if the correction fails.
-        self.delta_approx.copy_from_slice(&self.delta);
-        let t0 = Instant::now();
-        let rep = self.solver.solve_corrected(
-            &self.values,
-            &self.neg_residual,
-            &mut self.delta,
-            1e-3,
-            20,
-        );
-        self.timings.solve_s += t0.elapsed().as_secs_f64();
-        self.timings.krylov_iterations += rep.iterations as u64;
-        rep.converged && self.delta.iter().all(|d| d.is_finite())
-    }
-
-    /// `‖J Δ + R‖∞ / ‖R‖∞` for `Δ` from the symmetric approximation `J_s Δ = −R`: since
-    /// `J Δ + R = (J − J_s) Δ`, one product with the skew part (nnz flops) measures how far the
-    /// linearised residual is from zero, independently of the problem's nonlinearity. Exact
-    /// Newton has 0; a ratio above the reuse contraction means the approximation, not the
-    /// nonlinearity, would limit convergence.
-    fn skew_ratio(&mut self) -> f64 {
-        let a = &self.assembler;
-        let y = &mut self.skew_product;
-        y.iter_mut().for_each(|x| *x = 0.0);
-        for c in 0..a.n_free {
-            let dc = self.delta[c];
-            for k in a.col_ptr[c]..a.col_ptr[c + 1] {
-                y[a.row_idx[k]] += (self.values[k] - self.sym_values[k]) * dc;
-            }
-        }
-        let num = y.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let den = self.residual.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        if den > 0.0 {
-            num / den
-        } else {
-            0.0
-        }
     }
 
     /// Incremental potential `Φ(q) = ½ c_m Σ m (q − q̃)² + Σ E(q)` (J); its gradient is `R`.
@@ -445,48 +427,6 @@ impl NewtonCore {
         let norm = self.residual_at(model, &qt, tg, jac);
         self.q_trial = qt;
         norm
-    }
-
-    /// The Newton direction into `self.delta` (the held factors' solve, corrected by Krylov
-    /// where the symmetric approximation is too far from J) and its max norm; an error if it
-    /// is not finite.
-    fn direction(&mut self, fresh: bool, report: &mut StepReport) -> Result<f64, StepError> {
-        self.linear_solve();
-        if self.approx_held
-            && !self.corrected
-            && !self.krylov_off
-            && fresh
-            && self.skew_ratio() > SKEW_LIMIT
-        {
-            // The symmetric approximation is too far from J for this solve (drag strong
-            // against M/dt² + K): correct this and every later update of the solve.
-            self.corrected = true;
-            self.timings.approx_fallbacks += 1;
-        }
-        if self.approx_held && self.corrected && !self.krylov_correct() {
-            // BiCGStab did not converge (J_s⁻¹ J far from I: a wild iterate, or drag
-            // dominating M/dt² + K): keep the approximate update. If it does not contract, the
-            // Jacobian is refreshed or the step fails and the run loop shortens dt. No LU:
-            // its storage is several times the Cholesky factor's (gigabytes at 100k DOFs).
-            // Not retried in this solve: a failed correction costs 20 iterations.
-            self.timings.krylov_failures += 1;
-            self.delta.copy_from_slice(&self.delta_approx);
-            self.corrected = false;
-            self.krylov_off = true;
-        }
-        self.timings.iterations += 1;
-        report.iterations += 1;
-        let mut dmax = 0.0f64;
-        for (r, &d) in self.delta.iter().enumerate() {
-            if !d.is_finite() {
-                return Err(StepError::NonFinite {
-                    what: "Newton update",
-                    dof: self.assembler.dof_of[r],
-                });
-            }
-            dmax = dmax.max(d.abs());
-        }
-        Ok(dmax)
     }
 
     /// One Newton update with line search from `q`; returns `(α, ‖R‖₂ at the new q, ‖Δq‖∞)`.

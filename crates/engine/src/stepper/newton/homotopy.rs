@@ -91,10 +91,11 @@ impl NewtonCore {
                     report.residual = r.residual;
                     report.used_cholesky = r.used_cholesky;
                     done.copy_from_slice(q);
+                    ds = 2.0 * (s - s_done);
                     s_done = s;
-                    ds *= 2.0;
                 }
-                Err(_) => ds *= 0.5,
+                // Half the increment actually tried (it may have been cut at s = 1).
+                Err(_) => ds = 0.5 * (s - s_done),
             }
         }
         if s_done >= 1.0 {
