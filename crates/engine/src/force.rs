@@ -79,6 +79,11 @@ pub struct LocalBlocks {
     pub dfdq: Vec<f64>,
     /// Local `∂f/∂v`, `n × k × k` (empty if not provided).
     pub dfdv: Vec<f64>,
+    /// The force's own working memory, sized by its [`Force::new_blocks`] and never read by
+    /// the assembler: quantities shared by several stencils (mid-edge bending keeps each
+    /// edge's dihedral angle and derivatives here), so that an evaluation allocates nothing.
+    /// Empty for most forces.
+    pub scratch: Vec<f64>,
 }
 
 /// One stencil's mutable output.
@@ -110,6 +115,7 @@ impl LocalBlocks {
             } else {
                 Vec::new()
             },
+            scratch: Vec::new(),
         }
     }
 
@@ -133,16 +139,7 @@ impl LocalBlocks {
         if n == 0 {
             return;
         }
-        // Tasks of about a quarter of the family per thread (the assembler evaluates the
-        // families concurrently inside one region of the pool, so stealing balances them),
-        // but not below MIN_TASK stencils, nor above MIN_PAR: below that many stencils per
-        // task, the threads' bookkeeping costs more than the elements
-        // (docs/performance.md §Engine tuning).
-        const MIN_TASK: usize = 256;
-        const MIN_PAR: usize = 2048;
-        let min_len = n
-            .div_ceil(2 * rayon::current_num_threads())
-            .clamp(MIN_TASK, MIN_PAR);
+        let min_len = task_len(n);
         type Item<'a> = (usize, (&'a mut [f64], (&'a mut [f64], &'a mut [f64])));
         let body = |(i, (f, (q, v))): Item<'_>| {
             func(BlockMut {
@@ -178,6 +175,18 @@ impl LocalBlocks {
                 .for_each(|(i, f)| body((i, (f, (&mut [][..], &mut [][..]))))),
         }
     }
+}
+
+/// Items per rayon task when `n` items are visited in parallel: about a quarter of the
+/// family per thread (the assembler evaluates the families concurrently inside one region of
+/// the pool, so stealing balances them), but not below `MIN_TASK` items, nor above `MIN_PAR`:
+/// below that many stencils per task, the threads' bookkeeping costs more than the elements
+/// (docs/performance.md §Engine tuning).
+pub(crate) fn task_len(n: usize) -> usize {
+    const MIN_TASK: usize = 256;
+    const MIN_PAR: usize = 2048;
+    n.div_ceil(2 * rayon::current_num_threads())
+        .clamp(MIN_TASK, MIN_PAR)
 }
 
 /// A family of force elements. See the module docs for the contract.
