@@ -161,42 +161,56 @@ impl Blocks {
     /// `∇²_{km}|N|/l − (s_m ∇_k|N| êᵀ + s_k ê ∇_m|N|ᵀ)/l² + s_k s_m (|N|/l³)(3êêᵀ − I)`
     /// (`s_k` = [`side`]), so the `|N|` Hessian enters once, weighted by `Σ α_i/l_i`; its
     /// block is `−(e_m e_kᵀ − (e_k·e_m) I + ∇_k|N| ∇_m|N|ᵀ)/|N| ± [n̂]×` (`+` for
-    /// `m = k + 2`, `−` for `m = k + 1`, mod 3).
+    /// `m = k + 2`, `−` for `m = k + 1`, mod 3). With `g = ∇|N|` and `gl_i = ∇l_i` (on
+    /// `v_{i+1}, v_{i+2}` only) the rank-one terms are `−(c g + Σ_i c1_i gl_i) gᵀ` and
+    /// `−Σ_i (c1_i g − 3 c2_i gl_i) gl_iᵀ` (`c = Σ α_i/(l_i |N|)`, `c1 = α/l²`, `c2 = α|N|/l³`).
     fn add_altitudes(&mut self, edges: &[Edge; 3], alpha: &[f64; 3], a: &Area) {
         let wsum: f64 = (0..3).map(|i| alpha[i] / edges[i].len).sum();
         let (c, nh) = (wsum / a.nn, a.nh * wsum);
         let skew = [[0.0, -nh.z, nh.y], [nh.z, 0.0, -nh.x], [-nh.y, nh.x, 0.0]];
         for k in 0..3 {
             for m in 0..3 {
-                let dot = a.e[k].dot(&a.e[m]);
+                let dot = c * a.e[k].dot(&a.e[m]);
                 let sgn = [0.0, -1.0, 1.0][(m + 3 - k) % 3];
                 for r in 0..3 {
                     let row = &mut self.vv[3 * k + r][3 * m..3 * m + 3];
                     for (d, x) in row.iter_mut().enumerate() {
-                        let diag = if r == d { dot } else { 0.0 };
-                        *x += sgn * skew[r][d]
-                            - c * (a.e[m][r] * a.e[k][d] - diag + a.gn[k][r] * a.gn[m][d]);
+                        *x += sgn * skew[r][d] - c * a.e[m][r] * a.e[k][d];
                     }
+                    row[r] += dot;
                 }
             }
         }
-        let gn9: [f64; 9] = std::array::from_fn(|p| a.gn[p / 3][p % 3]);
+        let g: [f64; 9] = std::array::from_fn(|p| a.gn[p / 3][p % 3]);
+        let mut left = g.map(|x| c * x);
         for (i, e) in edges.iter().enumerate() {
             let l = e.len;
             let (c1, c2) = (alpha[i] / (l * l), alpha[i] * a.nn / (l * l * l));
+            // gl_i = −ê on v_{i+1} (node ka), +ê on v_{i+2} (node kb).
+            let (ka, kb) = ((i + 1) % 3, (i + 2) % 3);
+            for d in 0..3 {
+                left[3 * ka + d] -= c1 * e.e_hat[d];
+                left[3 * kb + d] += c1 * e.e_hat[d];
+            }
             let gl: [f64; 9] = std::array::from_fn(|p| side(i, p / 3) * e.e_hat[p % 3]);
             for p in 0..9 {
-                let (a1, a2) = (c1 * gn9[p] - 3.0 * c2 * gl[p], c1 * gl[p]);
-                for q in 0..9 {
-                    self.vv[p][q] -= a1 * gl[q] + a2 * gn9[q];
+                let a1 = c1 * g[p] - 3.0 * c2 * gl[p];
+                let row = &mut self.vv[p];
+                for d in 0..3 {
+                    row[3 * ka + d] += a1 * e.e_hat[d];
+                    row[3 * kb + d] -= a1 * e.e_hat[d];
                 }
             }
-            let (ka, kb) = ((i + 1) % 3, (i + 2) % 3);
             for (k, m) in [(ka, ka), (kb, kb), (ka, kb), (kb, ka)] {
                 let s = side(i, k) * side(i, m) * c2;
                 for d in 0..3 {
                     self.vv[3 * k + d][3 * m + d] -= s;
                 }
+            }
+        }
+        for (row, lp) in self.vv.iter_mut().zip(left) {
+            for (x, gq) in row.iter_mut().zip(g) {
+                *x -= lp * gq;
             }
         }
     }
