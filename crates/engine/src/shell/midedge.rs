@@ -35,8 +35,8 @@
 //! **Stencil** (21 DOFs): the face's vertices `v0, v1, v2`, the vertices `o0, o1, o2` across
 //! its edges (a boundary edge repeats `v_i` there; nothing depends on it), then `ψ0, ψ1, ψ2`.
 //!
-//! **Evaluation** in two passes: [`hinges`] computes every interior edge's `θ`, `∇θ` and
-//! (for a Jacobian only) `∇²θ` once, into the force's scratch; [`face`] then builds each
+//! **Evaluation** in two passes: `midedge/hinges.rs` computes every interior edge's `θ`, `∇θ` and
+//! (for a Jacobian only) `∇²θ` once, into the force's scratch; `midedge/face.rs` then builds each
 //! face's force and Jacobian from its own geometry and its three edges' results. (Each
 //! interior edge is shared by two faces, so a per-face computation would do every dihedral
 //! Hessian twice.)
