@@ -56,6 +56,13 @@ struct Frame {
 }
 
 impl Frame {
+    /// θ from the frame's vectors: the very operations of [`angle`], without recomputing them.
+    #[inline]
+    fn angle(&self) -> f64 {
+        let sin_part = self.na.cross(&self.nb).dot(&self.e) / self.len;
+        sin_part.atan2(self.na.dot(&self.nb))
+    }
+
     fn new(x: &[V3; 4]) -> Self {
         let e = x[1] - x[0];
         let a = x[2] - x[0];
@@ -91,7 +98,7 @@ pub fn angle_grad(x: &[V3; 4]) -> (f64, Grad12) {
     for k in 0..4 {
         g.fixed_rows_mut::<3>(3 * k).copy_from(&f.g[k]);
     }
-    (angle(x), g)
+    (f.angle(), g)
 }
 
 /// `d(n/|n|²)/dn = (I − 2 n̂ n̂ᵀ)/|n|²`.
@@ -165,5 +172,5 @@ pub fn angle_grad_hess_into(x: &[V3; 4], h: &mut [f64]) -> (f64, Grad12) {
     for k in 0..4 {
         g.fixed_rows_mut::<3>(3 * k).copy_from(&f.g[k]);
     }
-    (angle(x), g)
+    (f.angle(), g)
 }

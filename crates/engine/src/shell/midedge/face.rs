@@ -67,20 +67,25 @@ fn side(i: usize, k: usize) -> f64 {
 /// the boundary, where `β = ψ`).
 fn edge(el: &MidedgeData, psi: &[f64; 3], i: usize, a: &Area, theta: Option<&EdgeAngle>) -> Edge {
     let len = a.e[i].norm();
-    let e_hat = a.e[i] / len;
-    // ∇h = ∇|N|/l − |N| ∇l/l², ∇l = ∓ê at v_{i+1}, v_{i+2}.
+    let inv = 1.0 / len;
+    let e_hat = a.e[i] * inv;
+    // ∇h = ∇|N|/l − |N| ∇l/l², ∇l = ∓ê at v_{i+1}, v_{i+2} (`side`).
     let mut grad_h = [0.0; 9];
-    let w = a.nn / (len * len);
     for k in 0..3 {
-        let s = side(i, k);
         for d in 0..3 {
-            grad_h[3 * k + d] = a.gn[k][d] / len - s * w * e_hat[d];
+            grad_h[3 * k + d] = a.gn[k][d] * inv;
         }
+    }
+    let w = a.nn * inv * inv;
+    let (ka, kb) = ((i + 1) % 3, (i + 2) % 3);
+    for d in 0..3 {
+        grad_h[3 * ka + d] += w * e_hat[d];
+        grad_h[3 * kb + d] -= w * e_hat[d];
     }
     let mut grad_beta = [0.0; 9];
     let (beta, grad_wing) = match theta {
         Some(t) => {
-            for (r, k) in [(i + 1) % 3, (i + 2) % 3, i].into_iter().enumerate() {
+            for (r, k) in [ka, kb, i].into_iter().enumerate() {
                 let g = t.grad(r);
                 for d in 0..3 {
                     grad_beta[3 * k + d] = 0.5 * g[d];
@@ -95,7 +100,7 @@ fn edge(el: &MidedgeData, psi: &[f64; 3], i: usize, a: &Area, theta: Option<&Edg
     Edge {
         len,
         e_hat,
-        h: a.nn / len,
+        h: a.nn * inv,
         beta,
         grad_h,
         grad_beta,
@@ -142,7 +147,14 @@ impl Blocks {
             }
         }
         let g = edges.each_ref().map(|e| &e.grad_wing);
-        let vw = [0, 1, 2].map(|i| v[2 * i + 1].map(|vm| g[i].map(|gt| vm * gt)));
+        let mut vw = [[[0.0; 4]; 9]; 3];
+        for (i, vwi) in vw.iter_mut().enumerate() {
+            for (row, vm) in vwi.iter_mut().zip(v[2 * i + 1]) {
+                for (x, gt) in row.iter_mut().zip(g[i]) {
+                    *x = vm * gt;
+                }
+            }
+        }
         let mut ww = [[0.0; 12]; 12];
         for i in 0..3 {
             for j in 0..3 {
@@ -286,7 +298,9 @@ pub(super) fn evaluate(
 ) {
     let (x, psi) = read(q, st);
     let area = Area::new(&x);
-    let edges = [0, 1, 2].map(|i| edge(el, &psi, i, &area, theta[i].as_ref()));
+    // (An array literal, not `map`: `map` moves each 200-byte `Edge` through several copies.)
+    let edge_i = |i: usize| edge(el, &psi, i, &area, theta[i].as_ref());
+    let edges = [edge_i(0), edge_i(1), edge_i(2)];
     let sc = edges.each_ref().map(|e| e.beta.sin_cos());
     let coef = [0, 1, 2].map(|i| (2.0 * sc[i].0, 2.0 * edges[i].h * sc[i].1));
     let k = &el.stiffness;
