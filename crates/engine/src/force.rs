@@ -242,7 +242,8 @@ pub trait Force: Send + Sync {
             .checked_div(self.stencil_size())
             .unwrap_or(0)
     }
-    /// Fresh output buffers for this force.
+    /// Fresh output buffers for this force (with the [`LocalBlocks::scratch`] it uses, if
+    /// any).
     fn new_blocks(&self) -> LocalBlocks {
         LocalBlocks::new(self.stencil_size(), self.n_stencils(), self.jacobian_kind())
     }
