@@ -82,6 +82,11 @@ pub struct LocalBlocks {
     /// Evaluate the blocks on the calling thread, without rayon: set by the assembler for
     /// models too small to pay for waking the pool (docs/performance.md §Engine tuning).
     pub serial: bool,
+    /// The force's own working memory, sized by its [`Force::new_blocks`] and never read by
+    /// the assembler: quantities shared by several stencils (mid-edge bending keeps each
+    /// edge's dihedral angle and derivatives here), so that an evaluation allocates nothing.
+    /// Empty for most forces.
+    pub scratch: Vec<f64>,
 }
 
 /// One stencil's mutable output.
@@ -114,6 +119,7 @@ impl LocalBlocks {
                 Vec::new()
             },
             serial: false,
+            scratch: Vec::new(),
         }
     }
 
@@ -158,16 +164,7 @@ impl LocalBlocks {
             }
             return;
         }
-        // Tasks of about a quarter of the family per thread (the assembler evaluates the
-        // families concurrently inside one region of the pool, so stealing balances them),
-        // but not below MIN_TASK stencils, nor above MIN_PAR: below that many stencils per
-        // task, the threads' bookkeeping costs more than the elements
-        // (docs/performance.md §Engine tuning).
-        const MIN_TASK: usize = 256;
-        const MIN_PAR: usize = 2048;
-        let min_len = n
-            .div_ceil(2 * rayon::current_num_threads())
-            .clamp(MIN_TASK, MIN_PAR);
+        let min_len = task_len(n);
         type Item<'a> = (usize, (&'a mut [f64], (&'a mut [f64], &'a mut [f64])));
         let body = |(i, (f, (q, v))): Item<'_>| {
             func(BlockMut {
@@ -203,6 +200,18 @@ impl LocalBlocks {
                 .for_each(|(i, f)| body((i, (f, (&mut [][..], &mut [][..]))))),
         }
     }
+}
+
+/// Items per rayon task when `n` items are visited in parallel: about a quarter of the
+/// family per thread (the assembler evaluates the families concurrently inside one region of
+/// the pool, so stealing balances them), but not below `MIN_TASK` items, nor above `MIN_PAR`:
+/// below that many stencils per task, the threads' bookkeeping costs more than the elements
+/// (docs/performance.md §Engine tuning).
+pub(crate) fn task_len(n: usize) -> usize {
+    const MIN_TASK: usize = 256;
+    const MIN_PAR: usize = 2048;
+    n.div_ceil(2 * rayon::current_num_threads())
+        .clamp(MIN_TASK, MIN_PAR)
 }
 
 /// A family of force elements. See the module docs for the contract.
@@ -258,7 +267,8 @@ pub trait Force: Send + Sync {
             .checked_div(self.stencil_size())
             .unwrap_or(0)
     }
-    /// Fresh output buffers for this force.
+    /// Fresh output buffers for this force (with the [`LocalBlocks::scratch`] it uses, if
+    /// any).
     fn new_blocks(&self) -> LocalBlocks {
         LocalBlocks::new(self.stencil_size(), self.n_stencils(), self.jacobian_kind())
     }

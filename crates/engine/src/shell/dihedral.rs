@@ -24,7 +24,7 @@
 //! `d(u × v) = −[v]× du + [u]× dv`. It is symmetrised (it is symmetric analytically).
 
 use crate::vec3::{outer, skew, M3, V3};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{SMatrix, SMatrixViewMut, SVector};
 
 /// 12-vector: gradient with respect to `[x0, x1, x2, x3]`.
 pub type Grad12 = SVector<f64, 12>;
@@ -56,6 +56,13 @@ struct Frame {
 }
 
 impl Frame {
+    /// θ from the frame's vectors: the very operations of [`angle`], without recomputing them.
+    #[inline]
+    fn angle(&self) -> f64 {
+        let sin_part = self.na.cross(&self.nb).dot(&self.e) / self.len;
+        sin_part.atan2(self.na.dot(&self.nb))
+    }
+
     fn new(x: &[V3; 4]) -> Self {
         let e = x[1] - x[0];
         let a = x[2] - x[0];
@@ -91,7 +98,7 @@ pub fn angle_grad(x: &[V3; 4]) -> (f64, Grad12) {
     for k in 0..4 {
         g.fixed_rows_mut::<3>(3 * k).copy_from(&f.g[k]);
     }
-    (angle(x), g)
+    (f.angle(), g)
 }
 
 /// `d(n/|n|²)/dn = (I − 2 n̂ n̂ᵀ)/|n|²`.
@@ -105,12 +112,17 @@ fn inv_sq_jacobian(n: &V3) -> M3 {
 #[inline]
 pub fn angle_grad_hess(x: &[V3; 4]) -> (f64, Grad12, Hess12) {
     let mut h = Hess12::zeros();
-    let (theta, g) = angle_grad_hess_into(x, &mut h);
+    let (theta, g) = angle_grad_hess_into(x, h.as_mut_slice());
     (theta, g, h)
 }
 
-/// θ and its gradient, with the Hessian written into `h` (every entry; no temporaries).
-pub fn angle_grad_hess_into(x: &[V3; 4], h: &mut Hess12) -> (f64, Grad12) {
+/// θ and its gradient, with the Hessian written into `h` (the 144 entries of a [`Hess12`]
+/// in nalgebra's column-major order, every one written; no temporaries).
+///
+/// # Panics
+/// If `h` holds fewer than 144 entries.
+pub fn angle_grad_hess_into(x: &[V3; 4], h: &mut [f64]) -> (f64, Grad12) {
+    let mut h = SMatrixViewMut::<f64, 12, 12>::from_slice(h);
     let f = Frame::new(x);
     let (len, eh) = (f.len, f.e_hat);
     let z = M3::zeros();
@@ -160,5 +172,5 @@ pub fn angle_grad_hess_into(x: &[V3; 4], h: &mut Hess12) -> (f64, Grad12) {
     for k in 0..4 {
         g.fixed_rows_mut::<3>(3 * k).copy_from(&f.g[k]);
     }
-    (angle(x), g)
+    (f.angle(), g)
 }

@@ -266,7 +266,7 @@ impl TensionField {
     /// principal strain, uniaxial tension along them: Mansfield; Roddeman et al. 1987);
     /// for an orthotropic one the wrinkling angle is the nearby root of this scalar
     /// equation, found in 2–4 steps. `(cos θ, sin θ)` is rotated by `atan δ` for a Newton
-    /// step `δ` (rad), without trigonometry. `None` when it does not converge in
+    /// step `δ` (rad), without trigonometry (and without normalising it until the end). `None` when it does not converge in
     /// [`ANGLE_ITERATIONS`] or lands on an inadmissible root.
     fn wrinkle_newton(&self, eps: &Voigt) -> Option<(f64, f64, f64, f64)> {
         let half = 0.5 * (eps[0] - eps[1]);
@@ -296,10 +296,14 @@ impl TensionField {
             if !delta.is_finite() {
                 return None;
             }
-            let k = 1.0 / (1.0 + delta * delta).sqrt();
-            (c, s) = ((c - s * delta) * k, (s + c * delta) * k);
+            // `φ` and `dφ/dθ` are quartic forms in `(c, s)`, so `δ` does not depend on its
+            // length: it is normalised once, at the end, off the loop's latency chain.
+            (c, s) = (c - s * delta, s + c * delta);
             if delta.abs() < ANGLE_TOLERANCE {
-                return self.wrinkle_state(eps, c, s).map(|(_, state)| state);
+                let k = 1.0 / (c * c + s * s).sqrt();
+                return self
+                    .wrinkle_state(eps, c * k, s * k)
+                    .map(|(_, state)| state);
             }
         }
         None
