@@ -5,9 +5,10 @@
 //! The implicit-Euler equations of a step of size `s h` from the same state `(q_n, v_n)`,
 //! `R_s(q) = M (q − q_n − s h v_n)/(s h)² − F(q, (q − q_n)/(s h)) = 0`, have the solution
 //! `q = q_n` at `s = 0` and the step's solution at `s = 1`. Solving them for increasing `s`
-//! (first `s = ½`, the step a halving would take, then larger `s`, each solve starting from
-//! the last solution advanced at `v_n`, the increment doubled after a success and halved
-//! after a failure) follows the branch of solutions that starts at the current state to
+//! (first `s = ½`, the step a halving would take, then larger `s`, each solve — exact Newton
+//! with full steps — starting from the last solution advanced at `v_n`, the increment
+//! doubled after a success and halved after a failure, at most 8 solves)
+//! follows the branch of solutions that starts at the current state to
 //! `s = 1`. Where that branch folds before `s = 1` (a snap-through within the step), there is
 //! no implicit-Euler solution of the full step on it, and the stage fails: the caller then
 //! halves the step, which is what the physics asks for. The result is judged on `R` itself
@@ -21,8 +22,10 @@ use crate::stepper::options::StepReport;
 /// Smallest increment of `s` before the stage gives up (the branch folds, or Newton cannot
 /// follow it).
 const MIN_INCREMENT: f64 = 1.0 / 64.0;
-/// Most sub-solves of one homotopy.
-const MAX_SOLVES: usize = 16;
+/// Most sub-solves of one homotopy (each with the exact retry's budget of iterations): a
+/// branch that cannot be followed is given up at a few times the cost of the retry's other
+/// stages.
+const MAX_SOLVES: usize = 8;
 
 impl NewtonCore {
     /// Solve the step `tg` by continuation in the step size (module docs); `q` holds the
@@ -71,6 +74,9 @@ impl NewtonCore {
                 return last;
             }
             let s = (s_done + ds).min(1.0);
+            // Start: the last solution advanced at v_n over the added fraction of the step
+            // (a secant through the last two solutions was tried: it jumped to another
+            // solution of the step's equations on the test sheet).
             for (d, x) in qt.iter_mut().enumerate() {
                 *x = tg.q_n[d] + s * (tg.q_tilde[d] - tg.q_n[d]);
                 q[d] = done[d] + (s - s_done) * (tg.q_tilde[d] - tg.q_n[d]);
@@ -82,7 +88,12 @@ impl NewtonCore {
                 q_n: tg.q_n,
                 t: tg.t - (1.0 - s) * h,
             };
-            last = self.exact_stages(model, q, &sub);
+            // One stage per size (exact Newton with full steps, the symmetric approximation's
+            // updates corrected by BiCGStab): close starts are what the homotopy provides.
+            self.exact = Some(false);
+            self.retry_lu = false;
+            last = self.solve_from(model, q, &sub, true);
+            self.exact = None;
             match &last {
                 Ok(r) => {
                     report.iterations += r.iterations;

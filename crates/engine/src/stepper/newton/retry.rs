@@ -46,7 +46,7 @@ impl NewtonCore {
     /// by LU (a correction that does not converge is what may have failed); then LU with the
     /// line search. Without the approximation (symmetric `J`) the LU stage would repeat the
     /// first.
-    pub(super) fn exact_stages(
+    fn exact_stages(
         &mut self,
         model: &Model,
         q: &mut [f64],
