@@ -162,7 +162,6 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
             exact_retry: s.time.newton_exact_retry,
             continuation: s.time.newton_continuation,
             step_homotopy: s.time.newton_step_homotopy,
-            single_precision: s.time.newton_single_precision,
             // Modified Newton, Cholesky of ½(J + Jᵀ), divergence limit, adaptive predictor,
             // accuracy-based tolerance, exact retry (docs/performance.md, docs/engine.md).
             ..engine::NewtonOptions::recommended()

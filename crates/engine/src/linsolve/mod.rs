@@ -31,7 +31,6 @@ use faer::sparse::linalg::LuError;
 use faer::sparse::FaerError;
 
 mod krylov;
-mod single;
 pub use krylov::KrylovReport;
 
 /// The engine's name for a faer failure.
@@ -129,16 +128,6 @@ pub struct LinearSolver {
     /// Preordered systems: the lower triangle handed to the numeric LLᵀ / LBLᵀ (faer reads
     /// an unpermuted matrix as it is, and its simplicial kernel wants one triangle only).
     lower: Option<Lower>,
-    /// Single-precision LLᵀ (values of the factor and of the matrix handed to it), when on
-    /// ([`LinearSolver::enable_single`]).
-    single: Option<(Vec<f32>, Vec<f32>)>,
-    /// The held LLᵀ factors are the single-precision ones.
-    single_held: bool,
-    /// New LLᵀ factorisations are made in single precision.
-    single_on: bool,
-    /// A single-precision LLᵀ broke down (not positive definite in single precision where
-    /// double may be): never tried again.
-    single_broke: bool,
 }
 
 /// The lower triangle of a pattern and a buffer for its values.
@@ -231,10 +220,6 @@ impl LinearSolver {
             last: Factorization::Lu,
             valid: false,
             lower: None,
-            single: None,
-            single_held: false,
-            single_on: false,
-            single_broke: false,
         };
         // SAFETY: `check_pattern` verified the CSC invariants faer requires.
         let sym = unsafe { SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx) };
@@ -367,9 +352,8 @@ impl LinearSolver {
         Ok(Factorization::Lu)
     }
 
-    /// LLᵀ of the symmetric matrix whose lower triangle is in `spd` (single precision first
-    /// when on, [`LinearSolver::enable_single`]); LBLᵀ on the same structure if it is not
-    /// positive definite.
+    /// LLᵀ of the symmetric matrix whose lower triangle is in `spd`; LBLᵀ on the same
+    /// structure if it is not positive definite.
     fn factor_symmetric(&mut self, spd: &[f64]) -> Factorization {
         let n = self.n;
         // SAFETY: the same valid pattern as in `new`.
@@ -381,15 +365,6 @@ impl LinearSolver {
             Some(lo) => lo.matrix(n, spd),
             None => SparseColMatRef::new(sym, spd),
         };
-        let tried_single = self.single_on;
-        if let (true, Some(single)) = (self.single_on, self.single.as_mut()) {
-            let stack = MemStack::new(&mut self.mem);
-            if single::factor(chol, single, a_spd, self.par, stack) {
-                self.single_held = true;
-                return Factorization::Llt;
-            }
-        }
-        self.single_held = false;
         let ok = chol
             .factorize_numeric_llt::<f64>(
                 lvals,
@@ -415,11 +390,6 @@ impl LinearSolver {
                 Default::default(),
             );
             return Factorization::Lblt;
-        }
-        if tried_single {
-            // Positive definite in double but not in single: a precision failure, for good.
-            self.single_broke = true;
-            self.single_on = false;
         }
         Factorization::Llt
     }
@@ -462,12 +432,7 @@ impl LinearSolver {
         match self.last {
             Factorization::Llt | Factorization::Lblt => {
                 self.llt.as_ref().map_or(StackReq::EMPTY, |(c, _)| {
-                    let single = if self.single.is_some() {
-                        single::solve_scratch(c, self.n, par)
-                    } else {
-                        StackReq::EMPTY
-                    };
-                    c.solve_in_place_scratch::<f64>(ncols, par).or(single)
+                    c.solve_in_place_scratch::<f64>(ncols, par)
                 })
             }
             Factorization::Lu => self.lu_sym.as_ref().map_or(StackReq::EMPTY, |lu| {
@@ -480,11 +445,6 @@ impl LinearSolver {
     fn solve_with(&self, x: MatMut<'_, f64>, par: Par, stack: &mut MemStack) {
         let n = self.n;
         match self.last {
-            Factorization::Llt if self.single_held => {
-                let (chol, _) = self.llt.as_ref().expect("LLT factors");
-                let (l32, _) = self.single.as_ref().expect("single factors");
-                single::solve(chol, l32, x, par, stack);
-            }
             Factorization::Llt => {
                 let (chol, lvals) = self.llt.as_ref().expect("LLT factors");
                 LltRef::new(chol, lvals).solve_in_place_with_conj(Conj::No, x, par, stack);

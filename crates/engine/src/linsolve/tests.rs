@@ -161,35 +161,3 @@ fn preordered_system_solves_like_the_permuting_solver() {
         assert!(err <= 1e-10 * scale, "n {n}, shift {shift}: {err:e}");
     }
 }
-
-/// Single-precision LLᵀ solves an SPD system to about `cond × 6e-8`, and switching it off
-/// gives double-precision factors again; both with the permuting and the preordered solver.
-#[test]
-fn single_precision_factors_solve_to_single_accuracy() {
-    let mut rng = StdRng::seed_from_u64(5);
-    let n = 200;
-    let (cp, ri, vals) = system(n, 0.0, &mut rng);
-    let a = dense(n, &cp, &ri, &vals);
-    let x_true = DVector::from_fn(n, |i, _| (0.37 * i as f64).sin());
-    let b = &a * &x_true;
-    let err = |s: &mut LinearSolver| {
-        let mut x: Vec<f64> = b.iter().copied().collect();
-        s.solve(&mut x);
-        let r = &a * DVector::from_vec(x) - &b;
-        r.amax() / b.amax()
-    };
-    for new in [LinearSolver::new, LinearSolver::new_ordered] {
-        let mut s = new(n, &cp, &ri, true).unwrap();
-        s.enable_single();
-        assert_eq!(s.factor(&vals).unwrap(), Factorization::Llt);
-        assert!(s.single_held());
-        let e32 = err(&mut s);
-        // Diagonally dominant: cond ≲ 10, so single accuracy, not double.
-        assert!(e32 < 1e-5 && e32 > 1e-12, "single: {e32}");
-        s.set_single(false);
-        s.factor(&vals).unwrap();
-        assert!(!s.single_held());
-        let e64 = err(&mut s);
-        assert!(e64 < 1e-13, "double: {e64}");
-    }
-}

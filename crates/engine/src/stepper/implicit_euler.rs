@@ -150,13 +150,6 @@ impl ImplicitEuler {
         &self.core.timings
     }
 
-    /// Whether the Newton matrix is factorised in single precision
-    /// ([`crate::NewtonOptions::single_precision`]; false once a solve failed its accuracy
-    /// check and the run switched to double).
-    pub fn single_precision(&self) -> bool {
-        self.core.single_precision()
-    }
-
     /// Zero the accumulated [`Timings`] (e.g. after a benchmark's warm-up).
     pub fn reset_timings(&mut self) {
         self.core.timings = Timings::default();

@@ -37,14 +37,6 @@ use tolerance::Verdict;
 /// are corrected by preconditioned BiCGStab.
 const SKEW_LIMIT: f64 = 0.1;
 
-/// Largest relative error `‖A Δ + R‖∞ / ‖R‖∞` of a solve with fresh single-precision factors
-/// of `A` ([`NewtonOptions::single_precision`]): it acts as an inexact Newton update with
-/// this forcing term, far below the reuse contraction (0.5) and the symmetric
-/// approximation's limit ([`SKEW_LIMIT`]), so the iteration count does not change. Above it
-/// (an ill-conditioned `A`: a large `dt` against a stiff membrane) the solver factorises in
-/// double precision for the rest of the run.
-const SINGLE_LIMIT: f64 = 1e-3;
-
 /// Shared Newton machinery and all its preallocated buffers.
 pub(crate) struct NewtonCore {
     pub assembler: Assembler,
@@ -97,11 +89,6 @@ pub(crate) struct NewtonCore {
     retry_lu: bool,
     /// The start of the exact retry's stages (all DOFs).
     retry_start: Vec<f64>,
-    /// `A Δ + R` of the single-precision check (free DOFs; empty when unused).
-    single_check: Vec<f64>,
-    /// Factorise in single precision ([`NewtonOptions::single_precision`], until a check
-    /// fails).
-    single_wanted: bool,
     /// The step homotopy's sub-step `q̃` and last solution (all DOFs).
     homotopy_q_tilde: Vec<f64>,
     homotopy_done: Vec<f64>,
@@ -125,15 +112,12 @@ impl NewtonCore {
         } else {
             LinearSolver::new
         };
-        let mut solver = new_solver(
+        let solver = new_solver(
             assembler.n_free,
             &assembler.col_ptr,
             &assembler.row_idx,
             assembler.symmetric || approx,
         )?;
-        if opts.single_precision {
-            solver.enable_single();
-        }
         let n = model.n_dofs();
         let force_tol_abs = opts
             .force_tol_abs
@@ -169,15 +153,6 @@ impl NewtonCore {
             continuing: false,
             retry_lu: false,
             retry_start: vec![0.0; n],
-            single_wanted: opts.single_precision,
-            single_check: vec![
-                0.0;
-                if opts.single_precision {
-                    assembler.n_free
-                } else {
-                    0
-                }
-            ],
             homotopy_q_tilde: vec![0.0; n],
             homotopy_done: vec![0.0; n],
             force: vec![0.0; n],
@@ -236,11 +211,6 @@ impl NewtonCore {
             norm2 += x * x;
         }
         norm2.sqrt()
-    }
-
-    /// Whether new factorisations are made in single precision.
-    pub fn single_precision(&self) -> bool {
-        self.single_wanted && self.solver.single_usable()
     }
 
     /// Whether the held factorisation may be used for this target.
@@ -368,9 +338,6 @@ impl NewtonCore {
 
     /// Factorise the Newton matrix held in `values` for the coefficients `key` = `(c_m, c_v)`.
     fn factor_keyed(&mut self, key: (f64, f64), report: &mut StepReport) -> Result<(), StepError> {
-        // The exact retry's stages stay in double: they are the robust path.
-        self.solver
-            .set_single(self.single_wanted && self.exact.is_none());
         let t0 = Instant::now();
         let approx = !self.sym_values.is_empty();
         let fac = if approx && self.exact.is_some() && self.retry_lu {

@@ -82,12 +82,6 @@ pub struct NewtonOptions {
     /// whole instead of halved; the result meets the same residual test. No effect without
     /// [`NewtonOptions::exact_retry`].
     pub step_homotopy: bool,
-    /// Factorise the Newton matrix (LLᵀ) in single precision: about half the time of
-    /// factorisations and triangular solves. Residuals stay in double, so the accepted states
-    /// meet the same test; the first solve with each new single factorisation is checked
-    /// (`‖A Δ + R‖∞ ≤ 1e-3 ‖R‖∞`, one sparse product), and the first that fails it switches
-    /// the run to double precision (`linsolve::LinearSolver::enable_single`).
-    pub single_precision: bool,
 }
 
 impl NewtonOptions {
@@ -110,7 +104,6 @@ impl NewtonOptions {
             exact_retry: true,
             continuation: true,
             step_homotopy: true,
-            single_precision: false,
             ..Self::default()
         }
     }
@@ -180,7 +173,6 @@ impl Default for NewtonOptions {
             exact_retry: false,
             continuation: false,
             step_homotopy: false,
-            single_precision: false,
         }
     }
 }

@@ -11,4 +11,3 @@ mod newton_accuracy;
 mod newton_symmetric_approx;
 mod predictor;
 mod rod_history;
-mod single_precision;

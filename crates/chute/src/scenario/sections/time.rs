@@ -76,12 +76,6 @@ section! {
         /// on that branch exists (written to the resolved scenario only when false)
         #[serde(skip_serializing_if = "Clone::clone")]
         newton_step_homotopy: bool = true => key().default_doc("`true`"),
-        /// factorise the Newton matrix in single precision (residuals stay in double, so
-        /// the converged states meet the same tolerance; factorisations and triangular
-        /// solves take about half the time; a solve less accurate than 1e-3 switches the run
-        /// back to double) (written to the resolved scenario only when true)
-        #[serde(skip_serializing_if = "std::ops::Not::not")]
-        newton_single_precision: bool = false => key(),
         /// choose each step from its local error estimate instead of a fixed `dt_s` (written
         /// to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]

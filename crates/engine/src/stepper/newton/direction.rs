@@ -1,8 +1,8 @@
 //! The Newton direction: the triangular solves with the held factors, the Krylov correction
-//! of the symmetric approximation, and the checks of how far a solve is from the exact
-//! Newton update (the skew part of `J`, single-precision factors).
+//! of the symmetric approximation, and the check of how far its update is from the exact
+//! Newton update (the skew part of `J`).
 
-use super::{NewtonCore, SINGLE_LIMIT, SKEW_LIMIT};
+use super::{NewtonCore, SKEW_LIMIT};
 use crate::error::StepError;
 use crate::stepper::options::StepReport;
 use std::time::Instant;
@@ -65,32 +65,6 @@ impl NewtonCore {
         }
     }
 
-    /// `‖A Δ + R‖∞ / ‖R‖∞` of the update just solved with the held factors of `A` (`J_s`
-    /// with the symmetric approximation, else `J`): the linear solve's own relative error.
-    fn single_error(&mut self) -> f64 {
-        let a = &self.assembler;
-        let vals = if self.approx_held {
-            &self.sym_values
-        } else {
-            &self.values
-        };
-        let y = &mut self.single_check;
-        y.copy_from_slice(&self.residual);
-        for c in 0..a.n_free {
-            let dc = self.delta[c];
-            for k in a.col_ptr[c]..a.col_ptr[c + 1] {
-                y[a.row_idx[k]] += vals[k] * dc;
-            }
-        }
-        let num = y.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let den = self.residual.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        if den > 0.0 {
-            num / den
-        } else {
-            0.0
-        }
-    }
-
     /// The Newton direction into `self.delta` (the held factors' solve, corrected by Krylov
     /// where the symmetric approximation is too far from J) and its max norm; an error if it
     /// is not finite.
@@ -100,12 +74,6 @@ impl NewtonCore {
         report: &mut StepReport,
     ) -> Result<f64, StepError> {
         self.linear_solve();
-        if fresh && self.solver.single_held() && self.single_error() > SINGLE_LIMIT {
-            // Single precision is not accurate enough for this matrix: double from now on.
-            self.single_wanted = false;
-            self.factor_keyed(self.factored_for, report)?;
-            self.linear_solve();
-        }
         if self.approx_held
             && !self.corrected
             && !self.krylov_off
