@@ -60,20 +60,28 @@ fn shell_model(nx: usize, ny: usize) -> (Model, Vec<f64>, Vec<f64>) {
     (model, q, v)
 }
 
+/// Evaluation with the Jacobian at `(q, v)`, t = 0.
+fn jacobian_input<'a>(q: &'a [f64], v: &'a [f64]) -> EvalInput<'a> {
+    EvalInput {
+        q,
+        v,
+        t: 0.0,
+        jacobian: true,
+    }
+}
+
+/// Implicit-Euler-like coefficients (dt = 1 ms).
+const COEFFS: Coefficients = Coefficients {
+    c_m: 1e6,
+    c_q: 1.0,
+    c_v: 1e3,
+};
+
 #[test]
 fn chunked_scatter_is_bitwise_the_serial_order() {
     let (model, q, v) = shell_model(23, 17);
-    let input = EvalInput {
-        q: &q,
-        v: &v,
-        t: 0.0,
-        jacobian: true,
-    };
-    let c = Coefficients {
-        c_m: 1e6,
-        c_q: 1.0,
-        c_v: 1e3,
-    };
+    let input = jacobian_input(&q, &v);
+    let c = COEFFS;
     let (f_ref, v_ref) =
         serial_reference(&mut Assembler::with_chunks(&model, 1), &model, &input, c);
     assert!(v_ref.iter().any(|&x| x != 0.0) && f_ref.iter().all(|x| x.is_finite()));
@@ -101,17 +109,8 @@ fn chunked_scatter_is_bitwise_the_serial_order() {
 #[test]
 fn a_small_model_is_assembled_serially_to_the_same_bits() {
     let (model, q, v) = shell_model(9, 7);
-    let input = EvalInput {
-        q: &q,
-        v: &v,
-        t: 0.0,
-        jacobian: true,
-    };
-    let c = Coefficients {
-        c_m: 1e6,
-        c_q: 1.0,
-        c_v: 1e3,
-    };
+    let input = jacobian_input(&q, &v);
+    let c = COEFFS;
     let mut a = Assembler::new(&model);
     assert!(a.nnz() < SERIAL_BELOW && a.serial, "{} entries", a.nnz());
     assert!(a.blocks.iter().all(|b| b.serial));
