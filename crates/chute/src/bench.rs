@@ -363,6 +363,20 @@ pub struct CaseResult {
     /// Exact retries that converged.
     #[serde(default)]
     pub exact_retries_converged: u64,
+    /// Exact retries that reached their pseudo-transient continuation stage, and how many of
+    /// those converged.
+    #[serde(default)]
+    pub continuations: u64,
+    /// Continuations that converged.
+    #[serde(default)]
+    pub continuations_converged: u64,
+    /// Exact retries that reached their step-size homotopy stage, and how many of those
+    /// converged (the step taken whole instead of halved).
+    #[serde(default)]
+    pub homotopies: u64,
+    /// Homotopies that converged.
+    #[serde(default)]
+    pub homotopies_converged: u64,
 }
 
 /// Mass-weighted mean vertical velocity of the nodes (m/s).
@@ -547,5 +561,9 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
         vz_end_mps: mean_vz(&built.model, &built.state.v),
         exact_retries: tm.exact_retries,
         exact_retries_converged: tm.exact_retries_converged,
+        continuations: tm.continuations,
+        continuations_converged: tm.continuations_converged,
+        homotopies: tm.homotopies,
+        homotopies_converged: tm.homotopies_converged,
     })
 }

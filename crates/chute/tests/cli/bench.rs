@@ -48,6 +48,17 @@ fn bench_quick_json_has_documented_fields() {
         let shares = c.share_assembly + c.share_merit + c.share_factor + c.share_solve;
         assert!(shares > 0.0 && shares <= 1.0 + 1e-9, "{c:?}");
         assert!(c.peak_rss_mib > 0.0, "{c:?}");
+        // Each retry stage is reached only by retries the stage before did not converge.
+        assert!(c.exact_retries_converged <= c.exact_retries, "{c:?}");
+        assert!(c.continuations_converged <= c.continuations, "{c:?}");
+        assert!(c.homotopies_converged <= c.homotopies, "{c:?}");
+        assert!(
+            c.homotopies <= c.continuations - c.continuations_converged,
+            "{c:?}"
+        );
+    }
+    for key in ["exact_retries", "continuations", "homotopies_converged"] {
+        assert!(list[0].get(key).is_some(), "missing `{key}` in {}", list[0]);
     }
     let n6 = cases.iter().find(|c| c.name.contains("n6")).unwrap();
     // The peer's mesh: 188 nodes, 3 DOFs each plus one twist per rod edge (66 edges).
