@@ -53,7 +53,7 @@ struct Edge {
 
 /// `∂l_i/∂v_k = side · ê_i`: −1 at `v_{i+1}`, +1 at `v_{i+2}`, 0 at `v_i`.
 #[inline]
-fn side(i: usize, k: usize) -> f64 {
+pub(super) fn side(i: usize, k: usize) -> f64 {
     if k == (i + 1) % 3 {
         -1.0
     } else if k == (i + 2) % 3 {
@@ -287,6 +287,57 @@ impl Blocks {
     }
 }
 
+/// A face's curvature terms from its edges' altitudes `h_i` and angles `β_i`:
+/// `c_i = 2 h_i sin β_i`, its partials `(A_i, B_i) = (2 sin β_i, 2 h_i cos β_i)` with respect
+/// to `h_i` and `β_i`, and `r_i = Σ_j K_ij (c_j − c̄_j)` (the bending moment conjugate to
+/// `c_i`).
+pub(super) struct Curvature {
+    /// `(A_i, B_i)`.
+    pub coef: [(f64, f64); 3],
+    /// `r_i` (N·m).
+    pub r: [f64; 3],
+    /// `(h_i, cos β_i)`, for the weights.
+    h_cos: [(f64, f64); 3],
+}
+
+impl Curvature {
+    /// The terms of the face `el` with edges `(h_i, β_i)`.
+    pub(super) fn new(el: &MidedgeData, h_beta: [(f64, f64); 3]) -> Self {
+        let sc = h_beta.map(|(_, beta)| beta.sin_cos());
+        let coef = [0, 1, 2].map(|i| (2.0 * sc[i].0, 2.0 * h_beta[i].0 * sc[i].1));
+        let k = &el.stiffness;
+        let dc = [0, 1, 2].map(|i| h_beta[i].0 * coef[i].0 - el.rest[i]);
+        let r = [0, 1, 2].map(|i| k[i][0] * dc[0] + k[i][1] * dc[1] + k[i][2] * dc[2]);
+        let h_cos = [0, 1, 2].map(|i| (h_beta[i].0, sc[i].1));
+        Self { coef, r, h_cos }
+    }
+
+    /// `W` of the Hessian's `U W Uᵀ`, `U = [∇h₀, ∇β₀, ∇h₁, ∇β₁, ∇h₂, ∇β₂]`, for the
+    /// stiffness `k`: `K_ij (A_i, B_i) ⊗ (A_j, B_j)` plus each edge's second derivatives of
+    /// `c_i` in `(h_i, β_i)` weighted by `r_i`.
+    pub(super) fn weights(&self, k: &[[f64; 3]; 3]) -> [[f64; 6]; 6] {
+        let (coef, r) = (&self.coef, &self.r);
+        let mut w = [[0.0; 6]; 6];
+        for i in 0..3 {
+            let ci = [coef[i].0, coef[i].1];
+            for j in 0..3 {
+                let cj = [coef[j].0, coef[j].1];
+                for (p, cp) in ci.iter().enumerate() {
+                    for (q, cq) in cj.iter().enumerate() {
+                        w[2 * i + p][2 * j + q] = k[i][j] * cp * cq;
+                    }
+                }
+            }
+            // r_i (2 cos β (∇h ∇βᵀ + ∇β ∇hᵀ) − 2 h sin β ∇β ∇βᵀ).
+            let (h, cos) = self.h_cos[i];
+            w[2 * i][2 * i + 1] += r[i] * 2.0 * cos;
+            w[2 * i + 1][2 * i] += r[i] * 2.0 * cos;
+            w[2 * i + 1][2 * i + 1] -= r[i] * h * coef[i].0;
+        }
+        w
+    }
+}
+
 /// Force and (unless `b.dfdq` is empty) Jacobian of the face `el` on the DOFs `st` at `q`,
 /// `theta[i]` the view of edge `i`'s dihedral quantities (`None` on the boundary).
 pub(super) fn evaluate(
@@ -301,11 +352,8 @@ pub(super) fn evaluate(
     // (An array literal, not `map`: `map` moves each 200-byte `Edge` through several copies.)
     let edge_i = |i: usize| edge(el, &psi, i, &area, theta[i].as_ref());
     let edges = [edge_i(0), edge_i(1), edge_i(2)];
-    let sc = edges.each_ref().map(|e| e.beta.sin_cos());
-    let coef = [0, 1, 2].map(|i| (2.0 * sc[i].0, 2.0 * edges[i].h * sc[i].1));
-    let k = &el.stiffness;
-    let dc = [0, 1, 2].map(|i| edges[i].h * coef[i].0 - el.rest[i]);
-    let r = [0, 1, 2].map(|i| k[i][0] * dc[0] + k[i][1] * dc[1] + k[i][2] * dc[2]);
+    let c = Curvature::new(el, [0, 1, 2].map(|i| (edges[i].h, edges[i].beta)));
+    let (coef, r) = (c.coef, c.r);
     let f: &mut [f64; NS] = b.f.try_into().expect("a 21-DOF stencil");
     f[..9].fill(0.0);
     for (i, e) in edges.iter().enumerate() {
@@ -321,22 +369,7 @@ pub(super) fn evaluate(
     if b.dfdq.is_empty() {
         return;
     }
-    let mut w = [[0.0; 6]; 6];
-    for i in 0..3 {
-        let ci = [coef[i].0, coef[i].1];
-        for j in 0..3 {
-            let cj = [coef[j].0, coef[j].1];
-            for (p, cp) in ci.iter().enumerate() {
-                for (q, cq) in cj.iter().enumerate() {
-                    w[2 * i + p][2 * j + q] = k[i][j] * cp * cq;
-                }
-            }
-        }
-        // r_i (2 cos β (∇h ∇βᵀ + ∇β ∇hᵀ) − 2 h sin β ∇β ∇βᵀ).
-        w[2 * i][2 * i + 1] += r[i] * 2.0 * sc[i].1;
-        w[2 * i + 1][2 * i] += r[i] * 2.0 * sc[i].1;
-        w[2 * i + 1][2 * i + 1] -= r[i] * edges[i].h * coef[i].0;
-    }
+    let w = c.weights(&el.stiffness);
     let mut h = Blocks::low_rank(&edges, &w);
     let alpha = [0, 1, 2].map(|i| r[i] * coef[i].0);
     h.add_altitudes(&edges, &alpha, &area);

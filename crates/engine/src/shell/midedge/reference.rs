@@ -1,8 +1,11 @@
 //! The per-face kernel of mid-edge bending as it was before the per-edge pass (each
 //! interior edge's dihedral angle, gradient and Hessian computed in both of its faces),
-//! kept for the tests only: the force must reproduce it to round-off.
+//! kept for the tests only: the force must reproduce it to round-off. It shares with the
+//! force only the face's curvature terms ([`super::face::Curvature`]) and `side`; what it
+//! checks is the per-edge pass and the block assembly.
 
 use super::super::dihedral::{angle_grad, angle_grad_hess_into, Hess12};
+use super::face::{side, Curvature};
 use super::{hinge, read, MidedgeData, NS};
 use crate::force::{BlockMut, EvalInput};
 use crate::vec3::{outer, skew, M3, V3};
@@ -93,18 +96,6 @@ fn edge(
         beta,
         grad_h,
         grad_beta,
-    }
-}
-
-/// `∂l_i/∂v_k = side · ê_i`: −1 at `v_{i+1}`, +1 at `v_{i+2}`, 0 at `v_i`.
-#[inline]
-fn side(i: usize, k: usize) -> f64 {
-    if k == (i + 1) % 3 {
-        -1.0
-    } else if k == (i + 2) % 3 {
-        1.0
-    } else {
-        0.0
     }
 }
 
@@ -226,11 +217,8 @@ pub(super) fn evaluate(el: &MidedgeData, st: &[usize], input: &EvalInput<'_>, b:
         let slot = hts.next().filter(|_| want_hess);
         edge(el, &x, &psi, i, (area.0, &area.1), slot)
     });
-    let sc = edges.each_ref().map(|e| e.beta.sin_cos());
-    let coef = [0, 1, 2].map(|i| (2.0 * sc[i].0, 2.0 * edges[i].h * sc[i].1));
-    let k = &el.stiffness;
-    let dc = [0, 1, 2].map(|i| edges[i].h * coef[i].0 - el.rest[i]);
-    let r = [0, 1, 2].map(|i| k[i][0] * dc[0] + k[i][1] * dc[1] + k[i][2] * dc[2]);
+    let c = Curvature::new(el, [0, 1, 2].map(|i| (edges[i].h, edges[i].beta)));
+    let (coef, r) = (c.coef, c.r);
     b.f.iter_mut().for_each(|f| *f = 0.0);
     for (i, e) in edges.iter().enumerate() {
         let (a, bb) = (r[i] * coef[i].0, r[i] * coef[i].1);
@@ -244,22 +232,7 @@ pub(super) fn evaluate(el: &MidedgeData, st: &[usize], input: &EvalInput<'_>, b:
     if !want_hess {
         return;
     }
-    let mut w = [[0.0; 6]; 6];
-    for i in 0..3 {
-        let ci = [coef[i].0, coef[i].1];
-        for j in 0..3 {
-            let cj = [coef[j].0, coef[j].1];
-            for (p, cp) in ci.iter().enumerate() {
-                for (q, cq) in cj.iter().enumerate() {
-                    w[2 * i + p][2 * j + q] = k[i][j] * cp * cq;
-                }
-            }
-        }
-        // r_i (2 cos β (∇h ∇βᵀ + ∇β ∇hᵀ) − 2 h sin β ∇β ∇βᵀ).
-        w[2 * i][2 * i + 1] += r[i] * 2.0 * sc[i].1;
-        w[2 * i + 1][2 * i] += r[i] * 2.0 * sc[i].1;
-        w[2 * i + 1][2 * i + 1] -= r[i] * edges[i].h * coef[i].0;
-    }
+    let w = c.weights(&el.stiffness);
     let h: &mut [f64; NS * NS] = b.dfdq.try_into().expect("a 21 × 21 block");
     h.fill(0.0);
     sub_low_rank(h, &edges, &w);

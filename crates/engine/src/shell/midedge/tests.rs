@@ -7,26 +7,12 @@ use crate::conformance::Rng;
 use crate::force::{BlockMut, EvalInput, Force, JacobianKind, LocalBlocks};
 use crate::shell::TriMesh;
 
-/// An `n × n`-node grid of side 1 m, diagonals alternating, nodes moved by up to ±0.05 m,
+/// An `n × n`-node sheet of side 1 m (`reference::sheet`), nodes moved by up to ±0.05 m,
 /// and the mid-edge force on it (edge angles after the nodes).
 fn mesh(n: usize, rng: &mut Rng) -> (MidedgeBending, Vec<f64>, usize) {
-    let id = |i: usize, j: usize| j * n + i;
-    let mut faces = Vec::new();
-    for j in 0..n - 1 {
-        for i in 0..n - 1 {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (i + j) % 2 == 0 {
-                faces.extend([[a, b, c], [a, c, d]]);
-            } else {
-                faces.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
-    let h = 1.0 / (n - 1) as f64;
-    let q: Vec<f64> = (0..n * n)
-        .flat_map(|k| [(k % n) as f64 * h, (k / n) as f64 * h, 0.0])
-        .map(|x| x + rng.symmetric(0.05))
-        .collect();
+    let sheet = crate::reference::sheet::sheet(n, n, 1.0, 1.0, 0.0);
+    let faces = sheet.tris;
+    let q: Vec<f64> = sheet.q.iter().map(|x| x + rng.symmetric(0.05)).collect();
     let mesh = TriMesh::from_q(faces, &q, n * n).expect("valid mesh");
     let plate = PlateBending {
         youngs_modulus: 1e9,
