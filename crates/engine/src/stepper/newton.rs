@@ -87,8 +87,6 @@ pub(crate) struct NewtonCore {
     /// This stage of an exact retry factorises `J` by LU instead of correcting the symmetric
     /// approximation's updates by BiCGStab.
     retry_lu: bool,
-    /// The start of the exact retry's stages (all DOFs).
-    retry_start: Vec<f64>,
     /// The step homotopy's sub-step `q̃` and last solution (all DOFs).
     homotopy_q_tilde: Vec<f64>,
     homotopy_done: Vec<f64>,
@@ -152,7 +150,6 @@ impl NewtonCore {
             exact: None,
             continuing: false,
             retry_lu: false,
-            retry_start: vec![0.0; n],
             homotopy_q_tilde: vec![0.0; n],
             homotopy_done: vec![0.0; n],
             force: vec![0.0; n],
@@ -333,11 +330,6 @@ impl NewtonCore {
     }
 
     fn factor(&mut self, tg: &Target<'_>, report: &mut StepReport) -> Result<(), StepError> {
-        self.factor_keyed((tg.c_m, tg.c_v), report)
-    }
-
-    /// Factorise the Newton matrix held in `values` for the coefficients `key` = `(c_m, c_v)`.
-    fn factor_keyed(&mut self, key: (f64, f64), report: &mut StepReport) -> Result<(), StepError> {
         let t0 = Instant::now();
         let approx = !self.sym_values.is_empty();
         let fac = if approx && self.exact.is_some() && self.retry_lu {
@@ -357,7 +349,7 @@ impl NewtonCore {
         self.timings.factorizations += 1;
         self.timings.lu_factorizations += u64::from(fac == Factorization::Lu);
         self.timings.lblt_factorizations += u64::from(fac == Factorization::Lblt);
-        self.factored_for = key;
+        self.factored_for = (tg.c_m, tg.c_v);
         report.used_cholesky = fac == Factorization::Llt;
         report.factorizations += 1;
         Ok(())

@@ -90,10 +90,7 @@ impl NewtonCore {
             };
             // One stage per size (exact Newton with full steps, the symmetric approximation's
             // updates corrected by BiCGStab): close starts are what the homotopy provides.
-            self.exact = Some(false);
-            self.retry_lu = false;
-            last = self.solve_from(model, q, &sub, true);
-            self.exact = None;
+            last = self.solve_exact(model, q, &sub, false, false);
             match &last {
                 Ok(r) => {
                     report.iterations += r.iterations;

@@ -21,7 +21,6 @@ impl NewtonCore {
         tg: &Target<'_>,
     ) -> Result<StepReport, StepError> {
         self.timings.exact_retries += 1;
-        q.copy_from_slice(tg.q_tilde);
         let mut res = self.exact_stages(model, q, tg);
         if res.is_err() && self.opts.continuation {
             self.exact = Some(false);
@@ -38,14 +37,13 @@ impl NewtonCore {
         res
     }
 
-    /// Exact Newton from `q` (overwritten with the solution on success), in stages that each
-    /// start from the same `q` with twice the iteration budget: full steps (a stiff
-    /// membrane's residual rises on the first full step and then converges quadratically,
-    /// where a line search on `‖R‖₂` creeps) with the symmetric approximation's factors and
-    /// every update corrected by BiCGStab; where that fails, full steps with `J` factorised
-    /// by LU (a correction that does not converge is what may have failed); then LU with the
-    /// line search. Without the approximation (symmetric `J`) the LU stage would repeat the
-    /// first.
+    /// Exact Newton from `q̃` (`q` holds the solution on success), in stages that each start
+    /// from `q̃` with twice the iteration budget: full steps (a stiff membrane's residual rises
+    /// on the first full step and then converges quadratically, where a line search on
+    /// `‖R‖₂` creeps) with the symmetric approximation's factors and every update corrected
+    /// by BiCGStab; where that fails, full steps with `J` factorised by LU (a correction that
+    /// does not converge is what may have failed); then LU with the line search. Without the
+    /// approximation (symmetric `J`) the LU stage would repeat the first.
     fn exact_stages(
         &mut self,
         model: &Model,
@@ -57,22 +55,34 @@ impl NewtonCore {
             dof: 0,
         });
         let approx = !self.sym_values.is_empty();
-        let mut start = std::mem::take(&mut self.retry_start);
-        start.copy_from_slice(q);
         for (search, lu) in [(false, false), (false, true), (true, true)] {
             if (search && !self.opts.line_search) || (lu && !search && !approx) {
                 continue;
             }
-            q.copy_from_slice(&start);
-            self.exact = Some(search);
-            self.retry_lu = lu;
-            res = self.solve_from(model, q, tg, true);
-            self.exact = None;
+            q.copy_from_slice(tg.q_tilde);
+            res = self.solve_exact(model, q, tg, search, lu);
             if res.is_ok() {
                 break;
             }
         }
-        self.retry_start = start;
+        res
+    }
+
+    /// One exact-Newton solve from `q`: a fresh Jacobian every iteration, with the line
+    /// search or not, the symmetric approximation's updates corrected by BiCGStab or `J`
+    /// factorised by LU.
+    pub(super) fn solve_exact(
+        &mut self,
+        model: &Model,
+        q: &mut [f64],
+        tg: &Target<'_>,
+        search: bool,
+        lu: bool,
+    ) -> Result<StepReport, StepError> {
+        self.exact = Some(search);
+        self.retry_lu = lu;
+        let res = self.solve_from(model, q, tg, true);
+        self.exact = None;
         res
     }
 }
