@@ -123,6 +123,21 @@ impl Element for PressureDragLaw {
         let air = self.fluid.at((x[0].z + x[1].z + x[2].z) / 3.0);
         let stratified = !self.fluid.is_uniform();
         let n = nv / a;
+        if !jac {
+            // The residual path of modified Newton: the forces alone, none of the Jacobian's
+            // terms.
+            for i in 0..3 {
+                let s = n.dot(&(stencil_vec(v, st, i) - self.wind));
+                let phi = match &self.fabric {
+                    Some(fab) => a0 / 3.0 * self.pressure(s, &air, fab).0,
+                    None => 0.5 * air.density * self.cd * a0 / 3.0 * s.abs() * s,
+                };
+                for r in 0..3 {
+                    b.f[3 * i + r] = -phi * n[r];
+                }
+            }
+            return;
+        }
         let dn_dn = (M3::identity() - outer(&n, &n)) / a;
         let dn = area_vector_jacobians(&x);
         let nn = outer(&n, &n);
@@ -149,9 +164,6 @@ impl Element for PressureDragLaw {
             };
             for r in 0..3 {
                 b.f[3 * i + r] = f[r];
-            }
-            if !jac {
-                continue;
             }
             for r in 0..3 {
                 for c in 0..3 {
