@@ -1,7 +1,8 @@
 //! `chute bench --elements`: the cost of one element of each shell law (issue 17). Every
 //! membrane (edge springs, constant-strain triangles, the fabric law with and without
 //! compression) and bending law (hinges, mid-edge) of the `shell-1k` mesh is evaluated alone,
-//! force and Jacobian, at one fixed deformed configuration, on one thread (so the per-element
+//! force and Jacobian (and force only, what modified Newton's residuals cost), at one fixed
+//! deformed configuration, on one thread (so the per-element
 //! figures do not depend on which families are large enough for the parallel loop), in
 //! `ROUNDS` (3) rounds over all the laws (each law's time its fastest round), and reported per
 //! element and relative to the report's laws (springs, hinges).
@@ -25,6 +26,11 @@ pub struct ElementCost {
     pub ns_per_element: f64,
     /// Wall time of one evaluation of the whole family (µs).
     pub us_per_family: f64,
+    /// Wall time of one evaluation of the force alone (no Jacobian), per element (ns): what
+    /// each residual of modified Newton costs.
+    pub force_ns_per_element: f64,
+    /// `force_ns_per_element` over the report's law of the same kind.
+    pub ratio_force_per_element: f64,
     /// `ns_per_element` over the report's law of the same kind (springs or hinges).
     pub ratio_per_element: f64,
     /// `us_per_family` over the report's law of the same kind.
@@ -105,43 +111,30 @@ pub fn measure() -> Result<Vec<ElementCost>, AppError> {
         .build()
         .map_err(|e| AppError::RunFailed(format!("thread pool: {e}")))?;
     let subjects = subjects()?;
-    let mut best = vec![f64::INFINITY; subjects.len()];
+    // Fastest round of each law, with the Jacobian and force only.
+    let mut best = vec![[f64::INFINITY; 2]; subjects.len()];
     for _ in 0..ROUNDS {
         for (s, best) in subjects.iter().zip(best.iter_mut()) {
-            let f = &s.model.forces[s.force];
-            let v = vec![0.0; s.q.len()];
-            let input = engine::EvalInput {
-                q: &s.q,
-                v: &v,
-                t: 0.0,
-                jacobian: true,
-            };
-            let mut blocks = f.new_blocks();
-            let per_eval = pool.install(|| {
-                f.evaluate(&input, &mut blocks);
-                let (mut reps, t0) = (0u32, Instant::now());
-                while reps < 20 || t0.elapsed().as_secs_f64() < 0.1 {
-                    f.evaluate(&input, &mut blocks);
-                    reps += 1;
-                }
-                t0.elapsed().as_secs_f64() / f64::from(reps)
-            });
-            *best = best.min(per_eval);
+            for (b, jacobian) in best.iter_mut().zip([true, false]) {
+                *b = b.min(pool.install(|| time_one(s, jacobian)));
+            }
         }
     }
     let mut out: Vec<ElementCost> = subjects
         .iter()
         .zip(&best)
-        .map(|(s, &per_eval)| {
-            let n = s.model.forces[s.force].n_stencils();
+        .map(|(s, &[per_eval, per_force])| {
+            let n = s.model.forces[s.force].n_stencils() as f64;
             ElementCost {
                 law: s.law.into(),
                 kind: s.kind.into(),
-                elements: n,
-                ns_per_element: 1e9 * per_eval / n as f64,
+                elements: n as usize,
+                ns_per_element: 1e9 * per_eval / n,
                 us_per_family: 1e6 * per_eval,
                 ratio_per_element: 1.0,
                 ratio_per_family: 1.0,
+                force_ns_per_element: 1e9 * per_force / n,
+                ratio_force_per_element: 1.0,
             }
         })
         .collect();
@@ -153,26 +146,58 @@ pub fn measure() -> Result<Vec<ElementCost>, AppError> {
             .expect("the first law of each kind is the report's");
         out[i].ratio_per_element = out[i].ns_per_element / base.ns_per_element;
         out[i].ratio_per_family = out[i].us_per_family / base.us_per_family;
+        out[i].ratio_force_per_element = out[i].force_ns_per_element / base.force_ns_per_element;
     }
     Ok(out)
+}
+
+/// Seconds per evaluation of one law's family (with the Jacobian or force only): at least
+/// 20 evaluations and 0.1 s, after one warm-up.
+fn time_one(s: &Subject, jacobian: bool) -> f64 {
+    let f = &s.model.forces[s.force];
+    let v = vec![0.0; s.q.len()];
+    let input = engine::EvalInput {
+        q: &s.q,
+        v: &v,
+        t: 0.0,
+        jacobian,
+    };
+    let mut blocks = f.new_blocks();
+    f.evaluate(&input, &mut blocks);
+    let (mut reps, t0) = (0u32, Instant::now());
+    while reps < 20 || t0.elapsed().as_secs_f64() < 0.1 {
+        f.evaluate(&input, &mut blocks);
+        reps += 1;
+    }
+    t0.elapsed().as_secs_f64() / f64::from(reps)
 }
 
 /// The table `chute bench --elements` prints.
 pub fn table(costs: &[ElementCost]) -> String {
     let mut s = format!(
-        "{:<10} {:<9} {:>8} {:>10} {:>8} {:>10} {:>8}\n",
-        "law", "kind", "elements", "ns/elem", "×/elem", "µs/family", "×/family"
+        "{:<10} {:<9} {:>8} {:>10} {:>8} {:>10} {:>8} {:>12} {:>8}\n",
+        "law",
+        "kind",
+        "elements",
+        "ns/elem",
+        "×/elem",
+        "µs/family",
+        "×/family",
+        "force ns/el",
+        "×/elem"
     );
     for c in costs {
         s += &format!(
-            "{:<10} {:<9} {:>8} {:>10.1} {:>8.2} {:>10.1} {:>8.2}\n",
+            "{:<10} {:<9} {:>8} {:>10.1} {:>8.2} {:>10.1} {:>8.2} {:>12.1} {:>8.2}\n",
             c.law,
             c.kind,
             c.elements,
             c.ns_per_element,
             c.ratio_per_element,
             c.us_per_family,
-            c.ratio_per_family
+            c.ratio_per_family,
+            c.force_ns_per_element,
+            c.ratio_force_per_element
         );
     }
     s

@@ -128,6 +128,12 @@ fn bench_elements_times_every_shell_law() {
     );
     for c in &costs {
         assert!(c.elements > 0 && c.ns_per_element > 0.0, "{c:?}");
+        // The force alone is part of the work with the Jacobian: never dearer (a 20 %
+        // allowance for the timer's noise between two separately timed loops).
+        assert!(
+            c.force_ns_per_element > 0.0 && c.force_ns_per_element < 1.2 * c.ns_per_element,
+            "{c:?}"
+        );
         let base = if c.kind == "membrane" {
             "springs"
         } else {
@@ -135,6 +141,7 @@ fn bench_elements_times_every_shell_law() {
         };
         if c.law == base {
             assert_eq!(c.ratio_per_element, 1.0, "{c:?}");
+            assert_eq!(c.ratio_force_per_element, 1.0, "{c:?}");
         }
     }
 }
