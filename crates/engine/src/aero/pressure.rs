@@ -100,6 +100,22 @@ impl PressureDragLaw {
         let sg = if s < 0.0 { -1.0 } else { 1.0 };
         (sg * dp, dp_w, sg * dp_z)
     }
+
+    /// A node's share of the normal force per unit normal, `A₀/3 · φ` (N), with its
+    /// derivatives in `s` and `z̄`, for either law (impermeable: `φ = ½ρC_D |s| s`): the one
+    /// formula of the force-only and the Jacobian paths.
+    #[inline]
+    fn node_force(&self, s: f64, air: &LocalFluid, a0: f64) -> NodePressure {
+        let share = a0 / 3.0;
+        if let Some(fab) = &self.fabric {
+            let (phi, dphi, dz) = self.pressure(s, air, fab);
+            return (share * phi, share * dphi, share * dz);
+        }
+        // k = ½ρC_D A₀/3, evaluated as the impermeable law always was.
+        let k = 0.5 * air.density * self.cd * a0 / 3.0;
+        let phi = k * s.abs() * s;
+        (phi, 2.0 * k * s.abs(), phi * (air.density_gradient / air.density))
+    }
 }
 
 impl Element for PressureDragLaw {
@@ -128,10 +144,7 @@ impl Element for PressureDragLaw {
             // terms.
             for i in 0..3 {
                 let s = n.dot(&(stencil_vec(v, st, i) - self.wind));
-                let phi = match &self.fabric {
-                    Some(fab) => a0 / 3.0 * self.pressure(s, &air, fab).0,
-                    None => 0.5 * air.density * self.cd * a0 / 3.0 * s.abs() * s,
-                };
+                let (phi, _, _) = self.node_force(s, &air, a0);
                 for r in 0..3 {
                     b.f[3 * i + r] = -phi * n[r];
                 }
@@ -144,24 +157,12 @@ impl Element for PressureDragLaw {
         for i in 0..3 {
             let u = stencil_vec(v, st, i) - self.wind;
             let s = n.dot(&u);
-            let (f, dv, df_dnhat, dfz) = if let Some(fab) = &self.fabric {
-                let (phi, dphi, dz) = self.pressure(s, &air, fab);
-                let share = a0 / 3.0;
-                let df_dnhat = -share * (phi * M3::identity() + dphi * outer(&n, &u));
-                (
-                    -share * phi * n,
-                    -share * dphi * nn,
-                    df_dnhat,
-                    -share * dz * n,
-                )
-            } else {
-                // k = ½ρC_D A₀/3, evaluated as the impermeable law always was.
-                let k = 0.5 * air.density * self.cd * a0 / 3.0;
-                let f = -k * s.abs() * s * n;
-                let dv = -2.0 * k * s.abs() * nn;
-                let df_dnhat = -k * (s.abs() * s * M3::identity() + 2.0 * s.abs() * outer(&n, &u));
-                (f, dv, df_dnhat, f * (air.density_gradient / air.density))
-            };
+            // f = −φ n̂: ∂f/∂v = −φ_s n̂ n̂ᵀ, ∂f/∂n̂ = −(φ I + φ_s n̂ uᵀ), ∂f/∂z̄ = −φ_z n̂.
+            let (phi, dphi, dz) = self.node_force(s, &air, a0);
+            let f = -phi * n;
+            let dv = -dphi * nn;
+            let df_dnhat = -(phi * M3::identity() + dphi * outer(&n, &u));
+            let dfz = -dz * n;
             for r in 0..3 {
                 b.f[3 * i + r] = f[r];
             }
