@@ -124,16 +124,16 @@ pub fn measure() -> Result<Vec<ElementCost>, AppError> {
         .iter()
         .zip(&best)
         .map(|(s, &[per_eval, per_force])| {
-            let n = s.model.forces[s.force].n_stencils() as f64;
+            let n = s.model.forces[s.force].n_stencils();
             ElementCost {
                 law: s.law.into(),
                 kind: s.kind.into(),
-                elements: n as usize,
-                ns_per_element: 1e9 * per_eval / n,
+                elements: n,
+                ns_per_element: 1e9 * per_eval / n as f64,
                 us_per_family: 1e6 * per_eval,
                 ratio_per_element: 1.0,
                 ratio_per_family: 1.0,
-                force_ns_per_element: 1e9 * per_force / n,
+                force_ns_per_element: 1e9 * per_force / n as f64,
                 ratio_force_per_element: 1.0,
             }
         })

@@ -114,7 +114,11 @@ impl PressureDragLaw {
         // k = ½ρC_D A₀/3, evaluated as the impermeable law always was.
         let k = 0.5 * air.density * self.cd * a0 / 3.0;
         let phi = k * s.abs() * s;
-        (phi, 2.0 * k * s.abs(), phi * (air.density_gradient / air.density))
+        (
+            phi,
+            2.0 * k * s.abs(),
+            phi * (air.density_gradient / air.density),
+        )
     }
 }
 
