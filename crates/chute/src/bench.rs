@@ -110,6 +110,8 @@ pub enum PredictorChoice {
     Velocity,
     /// [`engine::Predictor::ConstantAcceleration`].
     Acceleration,
+    /// [`engine::Predictor::ConstantJerk`].
+    Jerk,
     /// [`engine::Predictor::Adaptive`].
     Adaptive,
 }
@@ -136,6 +138,7 @@ impl NewtonExperiment {
             n.predictor = match p {
                 PredictorChoice::Velocity => engine::Predictor::ConstantVelocity,
                 PredictorChoice::Acceleration => engine::Predictor::ConstantAcceleration,
+                PredictorChoice::Jerk => engine::Predictor::ConstantJerk,
                 PredictorChoice::Adaptive => engine::Predictor::Adaptive,
             };
         }
@@ -160,6 +163,7 @@ impl NewtonExperiment {
             let name = match p {
                 PredictorChoice::Velocity => "velocity",
                 PredictorChoice::Acceleration => "acceleration",
+                PredictorChoice::Jerk => "jerk",
                 PredictorChoice::Adaptive => "adaptive",
             };
             a.extend(["--predictor".into(), name.into()]);

@@ -7,7 +7,8 @@
 
 use super::error_control::raw_estimate;
 use super::newton::{NewtonCore, Target};
-use super::options::{NewtonOptions, Predictor, StepReport, Timings};
+use super::options::{NewtonOptions, StepReport, Timings};
+use super::predictor::PredictorState;
 use crate::error::{EngineError, StepError};
 use crate::model::{Model, State};
 
@@ -18,19 +19,8 @@ pub struct ImplicitEuler {
     q_new: Vec<f64>,
     /// `v_{n+1}` of the last solved step, held until it is committed (or discarded).
     v_new: Vec<f64>,
-    /// `v_{n−1}` and `dt_{n−1}` of the last committed step (for the extrapolating
-    /// predictor); `None` on the first step and after a sync point.
-    v_prev: Vec<f64>,
-    dt_prev: Option<f64>,
-    /// The start velocity of the last trial (it becomes `v_prev` if that trial is committed).
-    v_start: Vec<f64>,
-    /// The last trial: its end time, `dt` and the adaptive predictor's verdict. A trial is
-    /// known to be committed when the next one starts at its end time.
-    pending: Option<(f64, f64, bool)>,
-    /// `dt² a_n` of the current step (the extrapolating predictor's correction).
-    extrap: Vec<f64>,
-    /// [`Predictor::Adaptive`]: the extrapolating guess was the closer one last step.
-    accel_better: bool,
+    /// The history behind the first Newton iterate.
+    guess: PredictorState,
     /// The local error estimate of the last trial (every DOF; filtered when `filter`).
     err_est: Vec<f64>,
     /// Filter the estimate through the step's factors ([`ImplicitEuler::set_error_filter`]).
@@ -106,12 +96,7 @@ impl ImplicitEuler {
             q_tilde: vec![0.0; n],
             q_new: vec![0.0; n],
             v_new: vec![0.0; n],
-            v_prev: vec![0.0; n],
-            dt_prev: None,
-            v_start: vec![0.0; n],
-            pending: None,
-            extrap: vec![0.0; n],
-            accel_better: true,
+            guess: PredictorState::new(n),
             err_est: vec![0.0; n],
             filter: false,
         })
@@ -170,21 +155,7 @@ impl ImplicitEuler {
     pub fn invalidate_factorization(&mut self) {
         self.core.solver.invalidate();
         self.core.start.reset();
-        self.dt_prev = None;
-        self.pending = None;
-        self.accel_better = true;
-    }
-
-    /// Take over the predictor history of the last trial if it was committed (the state
-    /// now starts at its end time); a rejected trial leaves the history as it was.
-    fn settle_history(&mut self, state: &State) {
-        if let Some((t_end, dt, better)) = self.pending.take() {
-            if t_end == state.t {
-                std::mem::swap(&mut self.v_prev, &mut self.v_start);
-                self.dt_prev = Some(dt);
-                self.accel_better = better;
-            }
-        }
+        self.guess.reset();
     }
 
     /// Advance `state` by `dt` ([`ImplicitEuler::try_step`] then [`Trial::commit`]). On error
@@ -213,25 +184,15 @@ impl ImplicitEuler {
         dt: f64,
     ) -> Result<Trial<'_>, StepError> {
         let n = state.q.len();
-        self.settle_history(state);
         let predictor = self.core.opts.predictor;
-        let accel = match (predictor, self.dt_prev) {
-            (Predictor::ConstantVelocity, _) | (_, None) => 0.0,
-            (_, Some(h)) => dt * dt / h,
-        };
-        let use_accel = match predictor {
-            Predictor::ConstantVelocity => false,
-            Predictor::ConstantAcceleration => true,
-            Predictor::Adaptive => self.accel_better,
-        };
-        for d in 0..n {
-            let v = if model.fixed[d] { 0.0 } else { state.v[d] };
-            self.v_start[d] = v;
-            self.q_tilde[d] = state.q[d] + dt * v;
-            // dt² a_n with a_n = (v_n − v_{n−1}) / dt_{n−1}.
-            self.extrap[d] = accel * (v - self.v_prev[d]);
-            self.q_new[d] = self.q_tilde[d] + if use_accel { self.extrap[d] } else { 0.0 };
-        }
+        self.guess.guess(
+            predictor,
+            model,
+            state,
+            dt,
+            &mut self.q_tilde,
+            &mut self.q_new,
+        );
         let target = Target {
             c_m: 1.0 / (dt * dt),
             c_v: 1.0 / dt,
@@ -240,19 +201,8 @@ impl ImplicitEuler {
             t: state.t + dt,
         };
         let report = self.core.solve(model, &mut self.q_new, &target)?;
-        let mut better = self.accel_better;
-        if predictor == Predictor::Adaptive && accel != 0.0 {
-            // Which guess was closer to the solution (by 2× for extrapolation) decides the
-            // next step's guess.
-            let (mut e_cv, mut e_ca) = (0.0f64, 0.0f64);
-            for d in 0..n {
-                let r = self.q_new[d] - self.q_tilde[d];
-                e_cv = e_cv.max(r.abs());
-                e_ca = e_ca.max((r - self.extrap[d]).abs());
-            }
-            better = e_ca < 0.5 * e_cv;
-        }
-        self.pending = Some((state.t + dt, dt, better));
+        self.guess
+            .judge(predictor, &self.q_new, &self.q_tilde, state.t, dt);
         for d in 0..n {
             self.v_new[d] = if model.fixed[d] {
                 0.0

@@ -4,6 +4,7 @@ pub mod error_control;
 mod implicit_euler;
 mod newton;
 mod options;
+mod predictor;
 mod start_policy;
 mod statics;
 

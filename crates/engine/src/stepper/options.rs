@@ -141,12 +141,15 @@ pub enum Predictor {
     /// the whole `dt² a` to Newton. Falls back to constant velocity on the first step and
     /// after [`crate::ImplicitEuler::invalidate_factorization`].
     ConstantAcceleration,
-    /// Extrapolate (constant acceleration) while the extrapolated guess of the last step was
-    /// at least 2× closer (‖·‖∞) to its solution than the constant-velocity guess, else
-    /// constant velocity (measured at no cost once a step has converged; extrapolation
-    /// first). Extrapolation wins for smooth motion and loses for violent motion at large
-    /// `dt`; the 2× margin keeps it off where it only sometimes helps (docs/performance.md
-    /// §Engine tuning has the measurements).
+    /// `q⁰ = q_n + dt v_n + dt² a_pred`: the last two steps' mean accelerations extrapolated
+    /// linearly to the middle of the new step (`stepper/predictor.rs`), exact for motion of
+    /// constant jerk. Falls back to constant acceleration while only one step is known.
+    ConstantJerk,
+    /// The highest order (velocity, acceleration, jerk) whose guess of the last step was at
+    /// least 2× closer (‖·‖∞) to its solution than the order below it (measured at no cost
+    /// once a step has converged). Extrapolation wins for smooth motion and loses for
+    /// violent motion at large `dt`; the 2× margin keeps it off where it only sometimes
+    /// helps (docs/performance.md §Engine tuning has the measurements).
     Adaptive,
 }
 

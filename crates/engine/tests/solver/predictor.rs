@@ -36,13 +36,18 @@ fn run(predictor: Predictor) -> (Vec<f64>, u64) {
 fn predictors_reach_the_same_states_and_extrapolation_saves_iterations() {
     let (q_cv, it_cv) = run(Predictor::ConstantVelocity);
     let (q_ca, it_ca) = run(Predictor::ConstantAcceleration);
+    let (q_cj, it_cj) = run(Predictor::ConstantJerk);
     let (q_ad, it_ad) = run(Predictor::Adaptive);
-    eprintln!("iterations: velocity {it_cv}, acceleration {it_ca}, adaptive {it_ad}");
+    eprintln!("iterations: velocity {it_cv}, acceleration {it_ca}, jerk {it_cj}, adaptive {it_ad}");
     // Each step's root is unique near the previous state (M/dt² ≥ 1e4 N/m for the lightest
     // node, 0.042 kg, against stress-free springs); two solutions within the tolerance differ
     // by ≤ 2 · 1e3 TOL / (m/dt²) ≈ 2e-9 m per step (1e3 TOL: the step-size criterion), and
     // implicit Euler does not amplify such differences: ≤ 100 × 2e-9 m = 2e-7 m.
-    for (name, q) in [("acceleration", &q_ca), ("adaptive", &q_ad)] {
+    for (name, q) in [
+        ("acceleration", &q_ca),
+        ("jerk", &q_cj),
+        ("adaptive", &q_ad),
+    ] {
         let d = q
             .iter()
             .zip(&q_cv)
@@ -52,5 +57,9 @@ fn predictors_reach_the_same_states_and_extrapolation_saves_iterations() {
         assert!(d <= 2e-7, "{name}: states differ by {d} m");
     }
     assert!(it_ca < it_cv, "extrapolation saved no iterations");
+    assert!(
+        it_cj < it_ca,
+        "constant jerk saved no iterations over constant acceleration"
+    );
     assert!(it_ad < it_cv, "adaptive saved no iterations");
 }
