@@ -12,7 +12,7 @@ use super::options::Predictor;
 use crate::model::{Model, State};
 
 /// The extrapolation order of a guess.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Order {
     Velocity,
     Acceleration,
