@@ -199,11 +199,8 @@ pub fn dismech_hex(_quick: bool) -> CaseResult {
     let mut out = Vec::new();
     for (law, tol) in [("pressure", 0.10), ("report", 0.25)] {
         let o = format!("fluid.shell_drag=\"{law}\"");
-        let s = scenario(
-            HEX_N6,
-            "dismech-hex-n6.toml",
-            &[&o, TIGHT[0], TIGHT[1], TIGHT[2]],
-        )?;
+        let set: Vec<&str> = std::iter::once(o.as_str()).chain(TIGHT).collect();
+        let s = scenario(HEX_N6, "dismech-hex-n6.toml", &set)?;
         let (sum, _) = simulate(&s)?;
         out.push(Check::new(
             &format!("dismech-hex-n6-{law}"),

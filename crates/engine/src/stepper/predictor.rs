@@ -69,8 +69,8 @@ impl PredictorState {
         }
     }
 
-    /// Forget the history (a sync point: the next steps use constant velocity until two
-    /// steps are committed again).
+    /// Forget the history (a sync point): the next step uses constant velocity, the one after
+    /// it constant acceleration at most, and constant jerk only once two steps are committed.
     pub fn reset(&mut self) {
         self.h1 = None;
         self.h2 = None;
