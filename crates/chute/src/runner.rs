@@ -474,6 +474,9 @@ fn failure_message(b: &Built, e: &StepError, t: f64, dt: f64) -> String {
             format!("; worst at {}", describe_dof(b, *worst_dof))
         }
         StepError::NonFinite { dof, .. } => format!("; at {}", describe_dof(b, *dof)),
+        StepError::Homotopy { .. } => e.dof().map_or_else(String::new, |d| {
+            format!("; worst at {}", describe_dof(b, d))
+        }),
         StepError::Linear(_) => String::new(),
     };
     format!(

@@ -200,4 +200,31 @@ pub enum StepError {
     /// The sparse factorisation failed (singular Jacobian).
     #[error("linear solve failed: {0}")]
     Linear(SparseError),
+    /// The exact retry's step-size homotopy ([`crate::NewtonOptions::step_homotopy`]) could
+    /// not follow the solutions from the current state to the full step: it reached the
+    /// fraction `reached` of the step in `solves` sub-solves, the last of which ended with
+    /// `last` (a converged one when its budget of sub-solves ran out).
+    #[error("step homotopy reached {reached:.4} of the step in {solves} sub-solves; last sub-solve: {}", .last.as_ref().map_or_else(|| "converged".to_string(), |e| e.to_string()))]
+    Homotopy {
+        /// Fraction of the step reached (0 when no sub-step converged).
+        reached: f64,
+        /// Sub-solves spent.
+        solves: usize,
+        /// Why the last sub-solve failed, `None` when it converged.
+        last: Option<Box<StepError>>,
+    },
+}
+
+impl StepError {
+    /// The DOF the error points at, if any (for a homotopy, its last failed sub-solve's).
+    pub fn dof(&self) -> Option<usize> {
+        match self {
+            Self::NotConverged { worst_dof, .. } | Self::Diverged { worst_dof, .. } => {
+                Some(*worst_dof)
+            }
+            Self::NonFinite { dof, .. } => Some(*dof),
+            Self::Linear(_) => None,
+            Self::Homotopy { last, .. } => last.as_ref().and_then(|e| e.dof()),
+        }
+    }
 }

@@ -62,16 +62,11 @@ impl NewtonCore {
         done.copy_from_slice(tg.q_n);
         let (mut s_done, mut ds) = (0.0f64, 0.5f64);
         let mut report = StepReport::default();
-        let mut last = Err(StepError::NonFinite {
-            what: "step homotopy",
-            dof: 0,
-        });
+        let mut last: Option<Box<StepError>> = None;
+        let mut solves = 0;
         for _ in 0..MAX_SOLVES {
-            if s_done >= 1.0 {
+            if s_done >= 1.0 || ds < MIN_INCREMENT {
                 break;
-            }
-            if ds < MIN_INCREMENT {
-                return last;
             }
             let s = (s_done + ds).min(1.0);
             // Start: the last solution advanced at v_n over the added fraction of the step
@@ -90,9 +85,10 @@ impl NewtonCore {
             };
             // One stage per size (exact Newton with full steps, the symmetric approximation's
             // updates corrected by BiCGStab): close starts are what the homotopy provides.
-            last = self.solve_exact(model, q, &sub, false, false);
-            match &last {
+            solves += 1;
+            match self.solve_exact(model, q, &sub, false, false) {
                 Ok(r) => {
+                    last = None;
                     report.iterations += r.iterations;
                     report.factorizations += r.factorizations;
                     report.backtracks += r.backtracks;
@@ -103,16 +99,20 @@ impl NewtonCore {
                     s_done = s;
                 }
                 // Half the increment actually tried (it may have been cut at s = 1).
-                Err(_) => ds = 0.5 * (s - s_done),
+                Err(e) => {
+                    last = Some(Box::new(e));
+                    ds = 0.5 * (s - s_done);
+                }
             }
         }
         if s_done >= 1.0 {
             Ok(report)
         } else {
-            last.and(Err(StepError::NonFinite {
-                what: "step homotopy (sub-solve budget spent)",
-                dof: 0,
-            }))
+            Err(StepError::Homotopy {
+                reached: s_done,
+                solves,
+                last,
+            })
         }
     }
 }
@@ -165,5 +165,47 @@ mod tests {
             .zip(&q_strict)
             .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         assert!(diff < 1e-9, "homotopy and Newton differ by {diff} m");
+    }
+
+    /// With one iteration per sub-solve no size can be solved: the step fails as a
+    /// homotopy that fell short, saying how far it got and why its last sub-solve failed
+    /// (not as a non-finite value, which it is not), and pointing at that sub-solve's worst
+    /// DOF.
+    #[test]
+    fn a_homotopy_that_falls_short_says_how_far_it_got_and_why() {
+        let (model, state) = kevlar();
+        let opts = NewtonOptions {
+            max_iterations: 1,
+            continuation: false,
+            step_homotopy: true,
+            ..NewtonOptions::recommended().strict()
+        };
+        let mut stepper = crate::ImplicitEuler::new(&model, opts).unwrap();
+        let Err(err) = stepper.try_step(&model, &state, 1e-2) else {
+            panic!("one iteration per sub-solve took the step");
+        };
+        let StepError::Homotopy {
+            reached,
+            solves,
+            ref last,
+        } = err
+        else {
+            panic!("not a homotopy failure: {err}");
+        };
+        assert!(reached < 1.0 && (1..=MAX_SOLVES).contains(&solves), "{err}");
+        let last = last.as_deref().expect("the last sub-solve failed");
+        assert!(
+            matches!(
+                last,
+                StepError::NotConverged { .. } | StepError::Diverged { .. }
+            ),
+            "{last}"
+        );
+        assert_eq!(err.dof(), last.dof());
+        let text = err.to_string();
+        assert!(
+            text.starts_with("step homotopy reached") && !text.contains("non-finite"),
+            "{text}"
+        );
     }
 }
