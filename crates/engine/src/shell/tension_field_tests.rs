@@ -118,3 +118,38 @@ fn wrinkling_state_and_strains_are_those_of_tension_field_theory() {
         }
     }
 }
+
+/// The tangent `D = ∂σ/∂ε` against central differences of the stress at the default ε_r
+/// (1e-5) and 1e-4, on strains of 1e-6–1e-2: the scale of the regularisation itself,
+/// where the stiffness turns over within ~ε_r (the conformance tests check the element at
+/// ε_r = 1e-2, which finite differences on positions resolve). The difference step
+/// `1e-4 ε_r` leaves a truncation error ~(1e-4)² of `D` and a round-off error
+/// ~1e-16 σ/(1e-4 ε_r) ≤ 1e-7 k here: the bound is 1e-6 k (measured: ≤ 1.6e-9 k).
+#[test]
+fn tangent_matches_differences_of_the_stress_at_the_regularisation_scale() {
+    let mut rng = Rng::new(12);
+    for q in LAWS {
+        for eps_r in [1e-5, 1e-4] {
+            let tf = TensionField::new(q, eps_r);
+            let h = 1e-4 * eps_r;
+            for _ in 0..3000 {
+                let eps = strain(&mut rng, -6.0, -2.0);
+                let d = tf.relax_with_tangent(&eps).1;
+                for j in 0..3 {
+                    let (mut ep, mut em) = (eps, eps);
+                    ep[j] += h;
+                    em[j] -= h;
+                    let (sp, sm) = (tf.stress(&ep), tf.stress(&em));
+                    for i in 0..3 {
+                        let fd = (sp[i] - sm[i]) / (2.0 * h);
+                        assert!(
+                            (fd - d[i][j]).abs() <= 1e-6 * q[0][0],
+                            "ε_r {eps_r}, ε {eps:?}: D[{i}][{j}] {} vs {fd}",
+                            d[i][j]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
