@@ -470,14 +470,11 @@ fn failure_message(b: &Built, e: &StepError, t: f64, dt: f64) -> String {
                 describe_dof(b, *worst_dof)
             )
         }
-        StepError::Diverged { worst_dof, .. } => {
-            format!("; worst at {}", describe_dof(b, *worst_dof))
-        }
         StepError::NonFinite { dof, .. } => format!("; at {}", describe_dof(b, *dof)),
-        StepError::Homotopy { .. } => e.dof().map_or_else(String::new, |d| {
+        // Diverged, Homotopy (its last failed sub-solve's DOF), Linear (none).
+        _ => e.dof().map_or_else(String::new, |d| {
             format!("; worst at {}", describe_dof(b, d))
         }),
-        StepError::Linear(_) => String::new(),
     };
     format!(
         "step failed at t = {t:.6} s even with dt = {:.3e} s: {e}{at}",
