@@ -31,6 +31,7 @@ pub mod schema;
 pub mod sections;
 pub mod source;
 pub mod validate;
+pub mod wrinkle;
 
 #[cfg(test)]
 mod tests;

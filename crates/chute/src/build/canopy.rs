@@ -47,9 +47,7 @@ pub fn shell_material(s: &Scenario) -> ShellMaterial {
     }
 }
 
-/// Default `material.wrinkle_strain`: the regularised no-compression law carries a tension
-/// of about `ε_r E h` at zero strain (docs/shells.md §No compression).
-pub const DEFAULT_WRINKLE_STRAIN: f64 = 1e-5;
+pub use crate::scenario::wrinkle::DEFAULT_WRINKLE_STRAIN;
 
 /// The plate bending constants of the scenario's canopy (mid-edge bending).
 pub fn plate_bending(s: &Scenario) -> PlateBending {

@@ -1,6 +1,7 @@
 //! Plausibility warnings: values that are valid (a run can use them) but far outside any real
 //! parachute fabric or line, so most likely a unit slip (MPa for Pa, g/cm³ for kg/m³, mm for
-//! m). `chute check`, `run` and `resume` print them; nothing is refused.
+//! m), and a no-compression regularisation large enough to show in the canopy's shape
+//! (`scenario/wrinkle.rs`). `chute check`, `run` and `resume` print them; nothing is refused.
 
 use super::error::short;
 use super::{ModelKind, Scenario};
@@ -47,6 +48,15 @@ pub fn warnings(s: &Scenario) -> Vec<String> {
         ));
         values.push((density("lines.density_kg_m3"), s.lines.density_kg_m3));
     }
+    let regularisation = super::wrinkle::estimate(s)
+        .filter(|r| r.strain_error > super::wrinkle::WARN)
+        .map(|r| {
+            format!(
+                "material.wrinkle_strain = {}: {}",
+                short(r.strain),
+                r.explain(super::wrinkle::WARN)
+            )
+        });
     values
         .into_iter()
         .filter(|(b, x)| !(b.lo..=b.hi).contains(x))
@@ -63,6 +73,7 @@ pub fn warnings(s: &Scenario) -> Vec<String> {
                 b.examples
             )
         })
+        .chain(regularisation)
         .collect()
 }
 

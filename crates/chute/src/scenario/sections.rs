@@ -218,7 +218,8 @@ section! {
                 when("material.no_compression", "true"),
                 " (it regularises the no-compression law)"
             )
-            .default_doc("1e-5"),
+            .default_doc("1e-5")
+            .note("refused when its strain error ε_r²·k/(weight/perimeter) exceeds 0.1, warned of above 1e-3 (see below)"),
         /// Darcy permeability k of the fabric: air leaks through it, Δp = h (μ u_p/k + ρ C_F
         /// u_p²/√k) over the thickness h = `canopy.thickness_m` (docs/engineering.md)
         #[serde(skip_serializing_if = "Option::is_none")]

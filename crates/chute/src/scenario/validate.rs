@@ -280,6 +280,15 @@ fn fabric(c: &mut Checker, s: &Scenario) {
                 (e1 / e2).sqrt()
             ),
         );
+        return;
+    }
+    if let Some(r) = super::wrinkle::estimate(s).filter(|r| r.strain_error > super::wrinkle::REFUSE)
+    {
+        c.fail(
+            "material.wrinkle_strain",
+            r.strain,
+            r.explain(super::wrinkle::REFUSE),
+        );
     }
 }
 

@@ -150,3 +150,59 @@ fn check_rod(body: &str, key: &str, line: &str) {
     assert_eq!(e.key(), Some(key), "{e}");
     assert!(e.to_string().contains(line), "{e}");
 }
+
+/// The bench's Kevlar weave (`shell-1k-fabric`) on the default 6 m × 3 m canopy under 200 N.
+const KEVLAR: &str = "[shell]\nmembrane = \"fabric\"\n[material]\nwarp_modulus_pa = 55e9\n\
+                      weft_modulus_pa = 27.5e9\nshear_modulus_pa = 2.75e9\n\
+                      fabric_poisson_ratio = 0.3\nno_compression = true\n";
+
+#[test]
+fn regularisation_strain_error_is_eps_r_squared_k_over_the_load_tension() {
+    use chute::scenario::wrinkle::{estimate, DEFAULT_WRINKLE_STRAIN};
+    let s = load(KEVLAR).unwrap();
+    let r = estimate(&s).unwrap();
+    // Q₁₁ + Q₂₂ = h (E₁ + E₂)/(1 − ν₁₂² E₂/E₁); σ_L = 200 N / 18 m.
+    let k_ref = 0.5 * 0.002 * (55e9 + 27.5e9) / (1.0 - 0.09 * 0.5);
+    let sigma = 200.0 / 18.0;
+    assert!((r.k_ref - k_ref).abs() < 1e-12 * k_ref, "{r:?}");
+    assert!((r.load_tension - sigma).abs() < 1e-12 * sigma, "{r:?}");
+    let eps = DEFAULT_WRINKLE_STRAIN;
+    let want = eps * eps * k_ref / sigma;
+    assert!((r.strain_error - want).abs() < 1e-12 * want, "{r:?}");
+    // The largest ε_r within a limit gives back that limit.
+    let at = r.strain_for(0.1);
+    assert!((at * at * k_ref / sigma - 0.1).abs() < 1e-12, "{at}");
+    // A circle's perimeter is 2πR; no estimate without no compression or for a mesh file.
+    let circle = load(&format!(
+        "[canopy]\nshape = \"circle\"\nradius_m = 1.5\n{KEVLAR}"
+    ))
+    .unwrap();
+    let c = estimate(&circle).unwrap();
+    assert!((c.load_tension - 200.0 / (3.0 * std::f64::consts::PI)).abs() < 1e-12);
+    let elastic = load(&KEVLAR.replace("no_compression = true\n", "")).unwrap();
+    assert_eq!(estimate(&elastic), None);
+}
+
+/// Measured (docs/shells.md §No compression): on this canopy ε_r = 1e-5 flies, 3e-5, 1e-4 and
+/// 1e-3 fail within 0.25 s. The default passes silently, 1e-4 is warned of, 1e-3 (a strain
+/// error of ~8) refused naming the key and its line.
+#[test]
+fn a_regularisation_that_would_shape_the_canopy_is_warned_of_or_refused() {
+    use chute::scenario::plausibility::warnings;
+    let quiet = load(KEVLAR).unwrap();
+    assert!(warnings(&quiet).is_empty(), "{:?}", warnings(&quiet));
+    let warned = load(&format!("{KEVLAR}wrinkle_strain = 1e-4\n")).unwrap();
+    let w = warnings(&warned);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].starts_with("material.wrinkle_strain = 0.0001") && w[0].contains("≤ 1.13e-5"),
+        "{w:?}"
+    );
+    let e = err(&format!("{KEVLAR}wrinkle_strain = 1e-3\n"));
+    assert_eq!(e.key(), Some("material.wrinkle_strain"), "{e}");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("t.toml:12") && msg.contains("≤ 1.13e-4"),
+        "{msg}"
+    );
+}

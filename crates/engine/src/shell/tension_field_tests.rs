@@ -153,3 +153,55 @@ fn tangent_matches_differences_of_the_stress_at_the_regularisation_scale() {
         }
     }
 }
+
+/// The regularised law inverted in closed form: stationarity `σ = μ P⁻¹` makes the strain at a
+/// stress `σ ≻ 0` exactly `ε = Q⁻¹σ − μ σ⁻¹` (Voigt). So a relaxation of that strain must give
+/// back `σ`, and the regularisation leaves the strain short of the elastic `Q⁻¹σ` by
+/// `ε_r² k_ref / σᵢ` along each principal stress `σᵢ`: the strain error the scenario's check
+/// of `material.wrinkle_strain` estimates (docs/shells.md §No compression).
+#[test]
+fn strain_at_a_given_stress_is_short_of_the_elastic_one_by_mu_over_the_stress() {
+    let mut rng = Rng::new(17);
+    for q in LAWS {
+        for eps_r in [1e-5, 1e-4, 1e-3] {
+            let tf = TensionField::new(q, eps_r);
+            let k_ref = 0.5 * (q[0][0] + q[1][1]);
+            for _ in 0..500 {
+                // Principal stresses from 1e-4 to 1e2 times the pre-tension ε_r k_ref.
+                let s = [0, 1].map(|_| eps_r * k_ref * 10f64.powf(rng.uniform(-4.0, 2.0)));
+                let (sn, c) = rng.uniform(0.0, std::f64::consts::PI).sin_cos();
+                let sigma = [
+                    s[0] * c * c + s[1] * sn * sn,
+                    s[0] * sn * sn + s[1] * c * c,
+                    (s[0] - s[1]) * c * sn,
+                ];
+                // μ σ⁻¹ as a Voigt strain (P₁₁, P₂₂, 2P₁₂).
+                let det = sigma[0] * sigma[1] - sigma[2] * sigma[2];
+                let p = [
+                    tf.mu * sigma[1] / det,
+                    tf.mu * sigma[0] / det,
+                    -2.0 * tf.mu * sigma[2] / det,
+                ];
+                let elastic = mul(&tf.compliance, &sigma);
+                let eps = [0, 1, 2].map(|k| elastic[k] - p[k]);
+                let r = tf.relax(&eps);
+                for k in 0..3 {
+                    let scale = s[0].max(s[1]);
+                    assert!(
+                        (r.stress[k] - sigma[k]).abs() <= 1e-8 * scale,
+                        "ε_r {eps_r}, σ {sigma:?}: relaxed {:?}",
+                        r.stress
+                    );
+                }
+                // Along each principal stress the strain is short by ε_r² k_ref / σᵢ.
+                for (i, (a, b)) in [(c, sn), (-sn, c)].into_iter().enumerate() {
+                    // n·E n of a Voigt strain (E₁₁, E₂₂, 2E₁₂).
+                    let m = [a * a, b * b, a * b];
+                    let short = dot(&m, &elastic) - dot(&m, &eps);
+                    let want = eps_r * eps_r * k_ref / s[i];
+                    assert!((short - want).abs() <= 1e-9 * want, "{short} vs {want}");
+                }
+            }
+        }
+    }
+}
