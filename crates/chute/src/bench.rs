@@ -381,6 +381,10 @@ pub struct CaseResult {
     /// Homotopies that converged.
     #[serde(default)]
     pub homotopies_converged: u64,
+    /// Failed solves not retried because failed solves already outweighed successful ones
+    /// (the retry ledger, docs/engine.md §Exact retry).
+    #[serde(default)]
+    pub exact_retries_skipped: u64,
 }
 
 /// Mass-weighted mean vertical velocity of the nodes (m/s).
@@ -569,5 +573,6 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
         continuations_converged: tm.continuations_converged,
         homotopies: tm.homotopies,
         homotopies_converged: tm.homotopies_converged,
+        exact_retries_skipped: tm.exact_retries_skipped,
     })
 }

@@ -30,7 +30,9 @@
 //! resumed from one reports `"solver": null` with a warning, and so do its later checkpoints.
 //! 5 (the exact retry's step homotopy) has 20 counts: `homotopies` and
 //! `homotopies_converged` after `continuations_converged`; a version-4 file reads them as 0,
-//! which is exact (the build that wrote it had no homotopy stage).
+//! which is exact (the build that wrote it had no homotopy stage). 6 (the exact retry's
+//! ledger) has 21 counts: `exact_retries_skipped` last; versions 4 and 5 read it as 0, which
+//! is exact (their builds never skipped a retry).
 
 use std::io::{self, BufRead};
 use std::path::{Path, PathBuf};
@@ -43,9 +45,12 @@ use crate::output::write_atomic;
 pub const FILE_NAME: &str = "checkpoint.bin";
 const MAGIC: &[u8; 8] = b"CHUTECKP";
 /// Version of the binary layout; bump on any change.
-pub const FORMAT_VERSION: u32 = 5;
+pub const FORMAT_VERSION: u32 = 6;
 /// Positions in `SolverCounters::counts` of the homotopy counters (new in version 5).
 const HOMOTOPY_COUNTS: std::ops::Range<usize> = 15..17;
+/// Position in `SolverCounters::counts` of `exact_retries_skipped` (new in version 6, the
+/// last count).
+const SKIPPED_COUNT: usize = 20;
 /// The oldest version this build reads.
 const OLDEST_READABLE: u32 = 1;
 
@@ -198,8 +203,11 @@ impl Dec<'_> {
         };
         let mut counts = [0; SolverCounters::COUNTS];
         for (i, c) in counts.iter_mut().enumerate() {
-            // Version 4 has no homotopy counters (0: the stage did not exist).
-            if version >= 5 || !HOMOTOPY_COUNTS.contains(&i) {
+            // Version 4 has no homotopy counters (0: the stage did not exist), versions 4 and
+            // 5 no skipped retries (0: the ledger did not exist).
+            let absent = (version < 5 && HOMOTOPY_COUNTS.contains(&i))
+                || (version < 6 && i == SKIPPED_COUNT);
+            if !absent {
                 *c = self.u64()?;
             }
         }
@@ -492,26 +500,28 @@ mod tests {
         assert!(e.contains("solver-counters flag 2"), "{e}");
     }
 
-    /// A version-4 file (18 counts, no homotopy counters) reads with them as 0 and every
-    /// other counter in its place.
+    /// A version-4 file (18 counts: no homotopy counters, no skipped retries) and a version-5
+    /// file (20 counts: no skipped retries) read with the missing counts as 0 and every other
+    /// counter in its place.
     #[test]
-    fn reads_version_4() {
+    fn reads_versions_4_and_5() {
         let c = sample();
-        let mut body = c.encode();
-        body.truncate(body.len() - 8);
-        // Drop the two homotopy counts from the counts (they follow the flag).
-        let counts_at = body.len() - SOLVER_BYTES + 8;
-        let (a, b) = (
-            counts_at + 8 * HOMOTOPY_COUNTS.start,
-            counts_at + 8 * HOMOTOPY_COUNTS.end,
-        );
-        body.drain(a..b);
-        let old = Checkpoint::decode(&reseal(body, 4)).unwrap();
-        let (mut want, got) = (c.solver.unwrap().counts(), old.solver.unwrap().counts());
-        want[HOMOTOPY_COUNTS].iter_mut().for_each(|x| *x = 0);
-        assert_eq!(got, want);
-        assert_eq!(old.solver.unwrap().seconds(), c.solver.unwrap().seconds());
-        assert_eq!((old.q, old.t), (c.q, c.t));
+        let v4: Vec<usize> = HOMOTOPY_COUNTS.chain([SKIPPED_COUNT]).collect();
+        for (version, absent) in [(4, v4), (5, vec![SKIPPED_COUNT])] {
+            let mut body = c.encode();
+            body.truncate(body.len() - 8);
+            // Drop the absent counts (the counts follow the flag), last first.
+            let counts_at = body.len() - SOLVER_BYTES + 8;
+            for &i in absent.iter().rev() {
+                body.drain(counts_at + 8 * i..counts_at + 8 * (i + 1));
+            }
+            let old = Checkpoint::decode(&reseal(body, version)).unwrap();
+            let (mut want, got) = (c.solver.unwrap().counts(), old.solver.unwrap().counts());
+            absent.iter().for_each(|&i| want[i] = 0);
+            assert_eq!(got, want, "version {version}");
+            assert_eq!(old.solver.unwrap().seconds(), c.solver.unwrap().seconds());
+            assert_eq!((&old.q, old.t), (&c.q, c.t));
+        }
     }
 
     /// A version-3 file (before the solver counters) still reads, without counters.

@@ -115,6 +115,10 @@ pub struct SolverCounters {
     pub error_filters: u64,
     /// Estimates left unfiltered (no factors for the step's own dt, or not finite).
     pub error_filter_fallbacks: u64,
+    /// Failed solves not retried: failed solves had already cost more factorisations than
+    /// successful ones since the last sync point (the retry ledger, docs/engine.md §Exact
+    /// retry). Counted since checkpoint format 6 (0 when resumed from an older one).
+    pub exact_retries_skipped: u64,
     /// Wall time of element evaluation and assembly (s).
     pub assembly_s: f64,
     /// Wall time of the line search's energy evaluations (s).
@@ -127,7 +131,7 @@ pub struct SolverCounters {
 
 impl SolverCounters {
     /// Number of counts ([`SolverCounters::counts`]).
-    pub const COUNTS: usize = 20;
+    pub const COUNTS: usize = 21;
     /// Number of times ([`SolverCounters::seconds`]).
     pub const TIMES: usize = 4;
 
@@ -159,6 +163,7 @@ impl SolverCounters {
             accuracy_accepts,
             error_filters,
             error_filter_fallbacks,
+            exact_retries_skipped,
         } = *t;
         Self {
             evaluations,
@@ -181,6 +186,7 @@ impl SolverCounters {
             accuracy_accepts,
             error_filters,
             error_filter_fallbacks,
+            exact_retries_skipped,
             assembly_s,
             merit_s,
             factor_s,
@@ -211,6 +217,7 @@ impl SolverCounters {
             self.accuracy_accepts,
             self.error_filters,
             self.error_filter_fallbacks,
+            self.exact_retries_skipped,
         ]
     }
 
@@ -243,6 +250,7 @@ impl SolverCounters {
             accuracy_accepts: c[17],
             error_filters: c[18],
             error_filter_fallbacks: c[19],
+            exact_retries_skipped: c[20],
             assembly_s: s[0],
             merit_s: s[1],
             factor_s: s[2],

@@ -245,7 +245,7 @@ pub fn without_wall_times(mut j: serde_json::Value) -> serde_json::Value {
 }
 
 /// Every field of the `solver` object of `summary.json` (docs/outputs.md §solver).
-pub const SOLVER_FIELDS: [&str; 24] = [
+pub const SOLVER_FIELDS: [&str; 25] = [
     "evaluations",
     "jacobian_evaluations",
     "factorizations",
@@ -266,6 +266,7 @@ pub const SOLVER_FIELDS: [&str; 24] = [
     "accuracy_accepts",
     "error_filters",
     "error_filter_fallbacks",
+    "exact_retries_skipped",
     "assembly_s",
     "merit_s",
     "factor_s",

@@ -150,11 +150,12 @@ impl ImplicitEuler {
     /// With modified Newton (`reuse_jacobian`) the bits of a step depend on which Jacobian is
     /// held; a stepper built afresh (e.g. on resume from a checkpoint) holds none. Calling this
     /// at the same deterministic points in every run makes those runs bit-identical from there.
-    /// The predictor's history and the stale/fresh start policy's measurements are dropped
-    /// too, for the same reason.
+    /// The predictor's history, the stale/fresh start policy's measurements and the exact
+    /// retry's ledger are dropped too, for the same reason.
     pub fn invalidate_factorization(&mut self) {
         self.core.solver.invalidate();
         self.core.start.reset();
+        self.core.ledger.reset();
         self.guess.reset();
     }
 

@@ -5,6 +5,7 @@ mod implicit_euler;
 mod newton;
 mod options;
 mod predictor;
+mod retry_ledger;
 mod start_policy;
 mod statics;
 

@@ -20,6 +20,7 @@ use crate::force::EvalInput;
 use crate::linsolve::{Factorization, LinearSolver};
 use crate::model::Model;
 use crate::stepper::options::{NewtonOptions, StepReport, Timings};
+use crate::stepper::retry_ledger::RetryLedger;
 use crate::stepper::start_policy::{StartPolicy, FACTOR_WORK};
 use std::time::Instant;
 
@@ -72,6 +73,8 @@ pub(crate) struct NewtonCore {
     krylov_off: bool,
     /// Stale or fresh start of the next solve (modified Newton).
     pub start: StartPolicy,
+    /// Factorisations of failed and successful solves: whether a failure may be retried.
+    pub ledger: RetryLedger,
     /// `−R` for the Krylov correction (empty when the approximation is unused).
     neg_residual: Vec<f64>,
     /// The approximate update `J_s⁻¹ (−R)`, kept in case the Krylov correction fails.
@@ -170,6 +173,7 @@ impl NewtonCore {
             corrected: false,
             krylov_off: false,
             start: StartPolicy::default(),
+            ledger: RetryLedger::default(),
         })
     }
 
@@ -249,13 +253,18 @@ impl NewtonCore {
         let retry = self.opts.exact_retry && !self.is_exact_path();
         let mut res = self.solve_from(model, q, tg, fresh);
         if retry && res.is_err() {
-            res = self.exact_retry(model, q, tg);
+            if self.ledger.allows_retry() {
+                res = self.exact_retry(model, q, tg);
+            } else {
+                self.timings.exact_retries_skipped += 1;
+            }
         }
+        let facts = self.timings.factorizations - f0;
+        self.ledger.record(res.is_ok(), facts);
         // Recorded after the retry: a stale start that fails is charged the retry it caused.
         if choice {
             let evals = (self.timings.evaluations - e0) as f64;
-            let facts = (self.timings.factorizations - f0) as f64;
-            self.start.record(fresh, evals + FACTOR_WORK * facts);
+            self.start.record(fresh, evals + FACTOR_WORK * facts as f64);
         }
         res
     }

@@ -240,6 +240,10 @@ pub struct Timings {
     pub exact_retries: u64,
     /// Of those, retries that converged.
     pub exact_retries_converged: u64,
+    /// Failed solves not retried because failures had already cost more factorisations
+    /// than the successful solves since the last sync point (the retry ledger,
+    /// `stepper/retry_ledger.rs`).
+    pub exact_retries_skipped: u64,
     /// Retries that reached their pseudo-transient continuation stage.
     pub continuations: u64,
     /// Of those, continuations that converged.

@@ -83,3 +83,34 @@ fn the_exact_retry_converges_without_lu_where_the_correction_converges() {
     let (_, t) = failures(exact, 1e-2, 5, sheet());
     assert_eq!(t.lu_factorizations, t.factorizations, "{t:?}");
 }
+
+/// The retry ledger (`stepper/retry_ledger.rs`): a failed solve is retried only while the
+/// factorisations of failed solves do not exceed those of successful ones. With one Newton
+/// iteration allowed and a round-off tolerance, no solve of the Kevlar sheet can converge,
+/// so every retry fails: the first failure is retried (nothing has been wasted yet), the
+/// next is not (failures now outweigh the zero successes), and dropping the held factors at
+/// a sync point clears the ledger, so the one after is retried again.
+#[test]
+fn failed_retries_stop_once_they_outweigh_the_solves_that_succeeded() {
+    let o = NewtonOptions {
+        reference_acceleration: G,
+        max_iterations: 1,
+        force_tol_abs: Some(1e-12),
+        accuracy_fraction: 0.0,
+        continuation: false,
+        step_homotopy: false,
+        ..NewtonOptions::recommended()
+    };
+    let (mut model, mut state) = kevlar(7, 4, 6.0, 3.0, 50.0);
+    let mut st = ImplicitEuler::new(&model, o).unwrap();
+    let mut counts = Vec::new();
+    for sync in [false, false, true] {
+        if sync {
+            st.invalidate_factorization();
+        }
+        assert!(st.step(&mut model, &mut state, 1e-2).is_err());
+        let t = st.timings();
+        counts.push((t.exact_retries, t.exact_retries_skipped));
+    }
+    assert_eq!(counts, [(1, 0), (1, 1), (2, 1)], "{:?}", st.timings());
+}
