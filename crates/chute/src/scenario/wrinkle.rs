@@ -8,8 +8,8 @@
 //! `σ_L = W / perimeter` (the weight carried across the canopy's edge; an order-of-magnitude
 //! scale: it is higher near the load sites and lower in the crown) the error is
 //! `δε ≈ ε_r² k_ref / σ_L`. Measured on the bench's Kevlar weave (`shell-1k-fabric`, 6 m × 3 m,
-//! 200 N, k_ref ≈ 8.3e7 N/m, σ_L ≈ 11 N/m; docs/shells.md §No compression): ε_r = 1e-5
-//! (δε ≈ 7e-4) flies, 3e-5 (7e-3), 1e-4 (0.07) and 1e-3 (7) fail within 0.25 s — the fabric
+//! 200 N, k_ref ≈ 8.6e7 N/m, σ_L ≈ 11 N/m; docs/shells.md §No compression): ε_r = 1e-5
+//! (δε ≈ 8e-4) flies, 3e-5 (7e-3), 1e-4 (0.08) and 1e-3 (7.8) fail within 0.25 s — the fabric
 //! let go of the pre-tension `ε_r k_ref` contracts freely (no compression resists it): with
 //! 1e-3 its nodes move inward at a median 17 m/s after 16 ms, until folds pass through each
 //! other and Newton fails at every step size.
