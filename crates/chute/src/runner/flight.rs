@@ -330,10 +330,17 @@ fn wasted_work(c: &SolverCounters, accepted_iterations: u64, halvings: u64) -> O
     if halvings == 0 || (wasted as f64) <= WASTED_WORK_WARN * c.iterations as f64 {
         return None;
     }
+    // Retries that did not save their halvings: say which key halves at once.
+    let hint = if c.exact_retries > c.exact_retries_converged {
+        "; exact retries failed too, and `time.newton_exact_retry = false` halves such steps \
+         at once (docs/engine.md §Exact retry)"
+    } else {
+        ""
+    };
     Some(format!(
         "{:.0} % of the {} Newton iterations went into attempts that were not accepted \
          ({halvings} halved steps, {} exact retries, {} LU factorisations): the run crossed a \
-         region where the step is hard to solve (docs/outputs.md §solver)",
+         region where the step is hard to solve (docs/outputs.md §solver){hint}",
         100.0 * wasted as f64 / c.iterations as f64,
         c.iterations,
         c.exact_retries,
@@ -374,6 +381,17 @@ mod tests {
         let w = wasted_work(&counters(1000), 400, 2).expect("60 % wasted");
         assert!(w.starts_with("60 % of the 1000 Newton iterations"), "{w}");
         assert!(w.contains("2 halved steps, 7 exact retries, 3 LU"), "{w}");
+        // No retry converged (the counters' 0 of 7): the key that halves at once is named.
+        assert!(
+            w.ends_with("halves such steps at once (docs/engine.md §Exact retry)"),
+            "{w}"
+        );
+        let all_converged = SolverCounters {
+            exact_retries_converged: 7,
+            ..counters(1000)
+        };
+        let w = wasted_work(&all_converged, 400, 2).expect("60 % wasted");
+        assert!(!w.contains("newton_exact_retry"), "{w}");
         // Exactly half, or no halving, or every iteration accepted: quiet.
         assert_eq!(wasted_work(&counters(1000), 500, 2), None);
         assert_eq!(wasted_work(&counters(1000), 400, 0), None);
