@@ -86,15 +86,18 @@ pub fn install_shell(
 /// checked that they are present and positive definite).
 pub fn fabric(s: &Scenario) -> Result<Orthotropic, BuildError> {
     let m = &s.material;
-    let need = |v: Option<f64>, key: &'static str| {
-        v.ok_or_else(|| BuildError::key(key, "required with shell.membrane = \"fabric\""))
-    };
-    Ok(Orthotropic {
-        warp_modulus: need(m.warp_modulus_pa, "material.warp_modulus_pa")?,
-        weft_modulus: need(m.weft_modulus_pa, "material.weft_modulus_pa")?,
-        shear_modulus: need(m.shear_modulus_pa, "material.shear_modulus_pa")?,
-        poisson_ratio: need(m.fabric_poisson_ratio, "material.fabric_poisson_ratio")?,
-        thickness: s.canopy.thickness_m,
+    let keys = [
+        (m.warp_modulus_pa, "material.warp_modulus_pa"),
+        (m.weft_modulus_pa, "material.weft_modulus_pa"),
+        (m.shear_modulus_pa, "material.shear_modulus_pa"),
+        (m.fabric_poisson_ratio, "material.fabric_poisson_ratio"),
+    ];
+    s.fabric_law().ok_or_else(|| {
+        let key = keys
+            .iter()
+            .find(|(v, _)| v.is_none())
+            .map_or("", |(_, k)| k);
+        BuildError::key(key, "required with shell.membrane = \"fabric\"")
     })
 }
 

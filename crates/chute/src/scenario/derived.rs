@@ -31,4 +31,29 @@ impl Scenario {
             (Sites::Named(SiteSet::Corners), _) => Some(4),
         }
     }
+
+    /// The rest outline's perimeter (m), when it is known without the mesh (not for
+    /// `canopy.shape = "mesh"`).
+    pub fn canopy_perimeter(&self) -> Option<f64> {
+        let c = &self.canopy;
+        match c.shape {
+            CanopyShape::Rectangle => Some(2.0 * (c.span_m + c.width_m)),
+            CanopyShape::Hexagon => Some(6.0 * c.radius_m),
+            CanopyShape::Circle => Some(2.0 * std::f64::consts::PI * c.radius_m),
+            CanopyShape::Mesh => None,
+        }
+    }
+
+    /// The orthotropic fabric law of the `material.warp_…`, `weft_…`, `shear_…` and
+    /// `fabric_poisson_ratio` keys on `canopy.thickness_m`, when all four are set.
+    pub fn fabric_law(&self) -> Option<engine::shell::Orthotropic> {
+        let m = &self.material;
+        Some(engine::shell::Orthotropic {
+            warp_modulus: m.warp_modulus_pa?,
+            weft_modulus: m.weft_modulus_pa?,
+            shear_modulus: m.shear_modulus_pa?,
+            poisson_ratio: m.fabric_poisson_ratio?,
+            thickness: self.canopy.thickness_m,
+        })
+    }
 }

@@ -14,8 +14,9 @@
 //! 1e-3 its nodes move inward at a median 17 m/s after 16 ms, until folds pass through each
 //! other and Newton fails at every step size.
 
+use super::derived::sig4 as short;
 use super::Scenario;
-use super::{CanopyShape, Membrane, ModelKind};
+use super::{Membrane, ModelKind};
 
 /// Default `material.wrinkle_strain`: the regularised no-compression law carries a tension
 /// of about `ε_r E h` at zero strain (docs/shells.md §No compression).
@@ -57,49 +58,28 @@ impl Regularisation {
             short(self.strain_error),
             short(self.load_tension),
             short(self.k_ref),
-            short(limit),
+            super::error::short(limit),
             short(self.strain * self.k_ref),
             short(self.strain_for(limit)),
         )
     }
 }
 
-/// Three significant digits.
-fn short(x: f64) -> String {
-    format!("{x:.2e}")
-        .parse::<f64>()
-        .map(super::error::short)
-        .unwrap_or_else(|_| x.to_string())
-}
-
 /// The estimate for a shell canopy with a no-compression fabric and a known outline (`None`
 /// otherwise: other membranes have no regularisation; a mesh file's perimeter is not known
 /// before it is read, and such canopies are not checked).
 pub fn estimate(s: &Scenario) -> Option<Regularisation> {
-    let m = &s.material;
     if s.model.kind != ModelKind::Shell
         || s.shell.membrane != Some(Membrane::Fabric)
-        || m.no_compression != Some(true)
+        || s.material.no_compression != Some(true)
     {
         return None;
     }
-    let c = &s.canopy;
-    let perimeter = match c.shape {
-        CanopyShape::Rectangle => 2.0 * (c.span_m + c.width_m),
-        CanopyShape::Hexagon => 6.0 * c.radius_m,
-        CanopyShape::Circle => 2.0 * std::f64::consts::PI * c.radius_m,
-        CanopyShape::Mesh => return None,
-    };
-    let law = engine::shell::Orthotropic {
-        warp_modulus: m.warp_modulus_pa?,
-        weft_modulus: m.weft_modulus_pa?,
-        shear_modulus: m.shear_modulus_pa?,
-        poisson_ratio: m.fabric_poisson_ratio?,
-        thickness: c.thickness_m,
-    };
+    let perimeter = s.canopy_perimeter()?;
+    let law = s.fabric_law()?;
     let q = law.stiffness();
     let k_ref = 0.5 * (q[0][0] + q[1][1]);
-    let strain = m.wrinkle_strain.unwrap_or(DEFAULT_WRINKLE_STRAIN);
+    let strain = s.material.wrinkle_strain.unwrap_or(DEFAULT_WRINKLE_STRAIN);
     let load_tension = s.load.weight_n / perimeter;
     let strain_error = strain * strain * k_ref / load_tension;
     (strain_error.is_finite() && k_ref > 0.0).then_some(Regularisation {

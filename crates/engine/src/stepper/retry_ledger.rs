@@ -5,14 +5,14 @@
 //! cases, the Kevlar case and the bench ladder take every step whole with it). One that fails
 //! is pure waste — the caller halves anyway — and through its continuation and step homotopy
 //! it can cost hundreds of factorisations: on the fabric canopy's opening
-//! (`scenarios/round-fabric.toml` with the retry on) failed retries of ~450 factorisations
+//! (`scenarios/round-fabric.toml` with the retry on, at dt 2 ms) failed retries of ~450 factorisations
 //! each, repeated at every halving of the same step, made the run 33× slower than halving
 //! straight away (docs/engineering.md §Fabric canopy). The ledger bounds that waste: a solve
 //! whose modified-Newton path fails is retried only while the factorisations spent in failed
 //! solves so far do not exceed those of the solves that succeeded; otherwise the failure
 //! goes straight to the caller. Runs whose retries never fail (every case of item 3) are
-//! unchanged bit for bit. Counted in work units of the start policy (factorisations only:
-//! they are what a retry spends).
+//! unchanged bit for bit. Work is counted in factorisations, which is what a retry spends
+//! (the start policy's unit also weighs residual evaluations).
 //!
 //! The ledger is cleared with the held factors at the run's sync points
 //! ([`crate::ImplicitEuler::invalidate_factorization`]), so that a resumed run decides like
