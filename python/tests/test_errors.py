@@ -67,14 +67,13 @@ def test_a_non_empty_output_directory_needs_force(tmp_path):
 def test_a_failed_run_raises_run_error_with_the_partial_result():
     # One Newton iteration cannot meet the strict tolerance from rest with a 50 ms step, nor
     # with any of its halvings down to dt/1024: the run stops at t = 0. (The default
-    # accuracy-based tolerance and the exact retry of issue 16 would take these steps, so the
-    # failure path is reached with both off.)
+    # accuracy-based tolerance would take these steps, so the failure path is reached with it
+    # off.)
     set = {
         **ROD_SET,
         "time.dt_s": 0.05,
         "time.newton_max_iterations": 1,
         "time.newton_strict": True,
-        "time.newton_exact_retry": False,
     }
     with pytest.raises(chute.RunError) as e:
         chute.run(ROD, set=set)

@@ -159,11 +159,10 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
                 .time
                 .newton_step_tolerance_m
                 .unwrap_or(engine::NewtonOptions::default().step_tol),
-            exact_retry: s.time.newton_exact_retry,
-            continuation: s.time.newton_continuation,
-            step_homotopy: s.time.newton_step_homotopy,
-            // Modified Newton, Cholesky of ½(J + Jᵀ), divergence limit, adaptive predictor,
-            // accuracy-based tolerance, exact retry (docs/performance.md, docs/engine.md).
+            continuation: s.time.newton_rescue_stages,
+            step_homotopy: s.time.newton_rescue_stages,
+            // The held stage, chord iterations, the divergence limit, the adaptive predictor
+            // and the accuracy-based tolerance (docs/engine.md §The step solver).
             ..engine::NewtonOptions::recommended()
         }
         // The accuracy-based test replaces the default tolerance only: a scenario that sets

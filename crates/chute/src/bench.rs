@@ -75,32 +75,38 @@ pub struct BenchArgs {
     /// quick A/B iterations).
     #[arg(long, hide = true, value_name = "N")]
     pub steps: Option<usize>,
+    /// Advance to this time (s), then print the solver's unit costs there and stop.
+    #[arg(long, hide = true, value_name = "T")]
+    pub units: Option<f64>,
     /// Newton experiment knobs.
     #[command(flatten)]
     pub newton: NewtonExperiment,
 }
 
-/// Changes to the run's Newton settings, for A/B experiments (hidden flags of `chute bench`).
+/// Changes to the run's solver settings, for A/B experiments (hidden flags of `chute bench`).
 #[derive(Debug, Clone, Default, PartialEq, clap::Args)]
 pub struct NewtonExperiment {
-    /// A fresh Jacobian at every iteration (no modified Newton).
+    /// Plain Newton: no held stage, a fresh Jacobian at every iteration.
     #[arg(long, hide = true)]
     pub no_reuse: bool,
-    /// Exact LU of J instead of Cholesky of its symmetric part.
+    /// No held stage (factors are still kept within a step by modified Newton).
     #[arg(long, hide = true)]
-    pub no_symmetric: bool,
-    /// No line search.
+    pub no_held: bool,
+    /// No line search in the Newton stage.
     #[arg(long, hide = true)]
     pub no_line_search: bool,
-    /// Contraction factor up to which a reused factorisation is kept.
+    /// Contraction factor up to which the Newton stage keeps its factors.
     #[arg(long, hide = true, value_name = "C")]
     pub contraction: Option<f64>,
+    /// Anderson depth of the held stage (0: the chord iteration).
+    #[arg(long, hide = true, value_name = "M")]
+    pub anderson: Option<usize>,
+    /// Iterations of the held stage.
+    #[arg(long, hide = true, value_name = "N")]
+    pub held_iterations: Option<usize>,
     /// The predictor of the first Newton iterate.
     #[arg(long, hide = true, value_enum)]
     pub predictor: Option<PredictorChoice>,
-    /// No exact-Newton retry of a failed solve (a failure halves the step at once).
-    #[arg(long, hide = true)]
-    pub no_retry: bool,
 }
 
 /// `--predictor`.
@@ -120,19 +126,23 @@ impl NewtonExperiment {
     /// Apply the knobs to the run's settings.
     pub fn apply(&self, n: &mut engine::NewtonOptions) {
         if self.no_reuse {
-            n.reuse_jacobian = false;
+            n.hold_factors = false;
+            n.reuse_contraction = 0.0;
         }
-        if self.no_symmetric {
-            n.symmetric_approx = false;
+        if self.no_held {
+            n.hold_factors = false;
         }
         if self.no_line_search {
             n.line_search = false;
         }
-        if self.no_retry {
-            n.exact_retry = false;
-        }
         if let Some(c) = self.contraction {
             n.reuse_contraction = c;
+        }
+        if let Some(m) = self.anderson {
+            n.anderson_depth = m;
+        }
+        if let Some(k) = self.held_iterations {
+            n.held_iterations = k;
         }
         if let Some(p) = self.predictor {
             n.predictor = match p {
@@ -148,26 +158,36 @@ impl NewtonExperiment {
     fn args(&self) -> Vec<String> {
         let mut a: Vec<String> = [
             (self.no_reuse, "--no-reuse"),
-            (self.no_symmetric, "--no-symmetric"),
+            (self.no_held, "--no-held"),
             (self.no_line_search, "--no-line-search"),
-            (self.no_retry, "--no-retry"),
         ]
         .iter()
         .filter(|(on, _)| *on)
         .map(|(_, flag)| flag.to_string())
         .collect();
-        if let Some(c) = self.contraction {
-            a.extend(["--contraction".into(), c.to_string()]);
-        }
-        if let Some(p) = self.predictor {
-            let name = match p {
-                PredictorChoice::Velocity => "velocity",
-                PredictorChoice::Acceleration => "acceleration",
-                PredictorChoice::Jerk => "jerk",
-                PredictorChoice::Adaptive => "adaptive",
-            };
-            a.extend(["--predictor".into(), name.into()]);
-        }
+        let mut opt = |flag: &str, v: Option<String>| {
+            if let Some(v) = v {
+                a.extend([flag.to_string(), v]);
+            }
+        };
+        opt("--contraction", self.contraction.map(|c| c.to_string()));
+        opt("--anderson", self.anderson.map(|c| c.to_string()));
+        opt(
+            "--held-iterations",
+            self.held_iterations.map(|c| c.to_string()),
+        );
+        opt(
+            "--predictor",
+            self.predictor.map(|p| {
+                match p {
+                    PredictorChoice::Velocity => "velocity",
+                    PredictorChoice::Acceleration => "acceleration",
+                    PredictorChoice::Jerk => "jerk",
+                    PredictorChoice::Adaptive => "adaptive",
+                }
+                .to_string()
+            }),
+        );
         a
     }
 }
@@ -279,6 +299,7 @@ pub fn ladder(quick: bool, tiny: bool) -> Vec<Case> {
     v.push(flight::cross());
     if !quick {
         v.extend([
+            case("main-job", "main", &[], 0, 2500),
             flight::flight(),
             case("rod-10k", "rod", &["canopy.nodes=10000"], 20, 50),
             case(
@@ -336,18 +357,10 @@ pub struct CaseResult {
     pub evaluations_per_step: f64,
     /// Share in element evaluation + scatter.
     pub share_assembly: f64,
-    /// Share in line-search energy evaluations.
-    pub share_merit: f64,
     /// Share in numeric factorisation.
     pub share_factor: f64,
     /// Share in triangular solves.
     pub share_solve: f64,
-    /// Whether every factorisation was Cholesky LLᵀ.
-    pub cholesky: bool,
-    /// Factorisations by LU (exact non-symmetric J: the symmetric approximation's fallback).
-    pub lu_factorizations: u64,
-    /// Factorisations by LBLᵀ (symmetric matrix not positive definite).
-    pub lblt_factorizations: u64,
     /// Steps of the timed run whose Newton solve failed and that were retried with half the
     /// step, as in a run (their cost is included in `ms_per_step`, which stays per step of
     /// the nominal `dt`).
@@ -360,31 +373,9 @@ pub struct CaseResult {
     /// the terminal velocity once the flight is long enough (`flight-1k`).
     #[serde(default)]
     pub vz_end_mps: f64,
-    /// Failed solves retried with exact Newton before any halving (`exact_retries` of
-    /// [`engine::Timings`]), and how many of those converged.
-    #[serde(default)]
-    pub exact_retries: u64,
-    /// Exact retries that converged.
-    #[serde(default)]
-    pub exact_retries_converged: u64,
-    /// Exact retries that reached their pseudo-transient continuation stage, and how many of
-    /// those converged.
-    #[serde(default)]
-    pub continuations: u64,
-    /// Continuations that converged.
-    #[serde(default)]
-    pub continuations_converged: u64,
-    /// Exact retries that reached their step-size homotopy stage, and how many of those
-    /// converged (the step taken whole instead of halved).
-    #[serde(default)]
-    pub homotopies: u64,
-    /// Homotopies that converged.
-    #[serde(default)]
-    pub homotopies_converged: u64,
-    /// Failed solves not retried because failed solves already outweighed successful ones
-    /// (the retry ledger, docs/engine.md §Exact retry).
-    #[serde(default)]
-    pub exact_retries_skipped: u64,
+    /// What the step solver did over the timed steps (stage runs, factorisations,
+    /// evaluations, Krylov iterations …; docs/outputs.md §solver).
+    pub counters: engine::Counters,
 }
 
 /// Mass-weighted mean vertical velocity of the nodes (m/s).
@@ -480,6 +471,7 @@ fn scenario_of(c: &Case, set: &[String]) -> Result<Scenario, AppError> {
     let (text, path, model): (_, _, &[&str]) = match c.base {
         "rod" => (ROD, ROD_PATH, &[]),
         "shell" => (SHELL, SHELL_PATH, &REPORT_SHELL_MODEL),
+        "main" => (SHELL, SHELL_PATH, &[]),
         _ => (HEX, HEX_PATH, &[]),
     };
     let mut overrides: Vec<String> = model.iter().map(|s| s.to_string()).collect();
@@ -527,17 +519,24 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
         run(&mut built, &mut stepper, c.warmup - 1)?;
     }
     if args.mem {
-        eprintln!("after warm-up: {}\n{:?}", rss_mib(), stepper.timings());
+        eprintln!("after warm-up: {}\n{:?}", rss_mib(), stepper.counters());
+    }
+    if let Some(t) = args.units {
+        driver
+            .advance_to(&mut stepper, &mut built, t)
+            .map_err(|e| AppError::RunFailed(format!("{e}")))?;
+        let u = stepper.unit_costs(&built.model, &built.state, dt, 10);
+        eprintln!("{u:#?}");
     }
     let failures_before = driver.newton_failures();
-    stepper.reset_timings();
+    stepper.reset_counters();
     let t0 = Instant::now();
     let t_end = built.state.t + c.steps as f64 * dt;
     driver
         .advance_to(&mut stepper, &mut built, t_end)
         .map_err(|e| AppError::RunFailed(format!("{}: t = {}: {e}", c.name, built.state.t)))?;
     let wall = t0.elapsed().as_secs_f64();
-    let tm = *stepper.timings();
+    let tm = *stepper.counters();
     if args.mem {
         eprintln!("timed: {tm:?}");
     }
@@ -557,22 +556,12 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
         factorizations_per_step: tm.factorizations as f64 / n,
         evaluations_per_step: tm.evaluations as f64 / n,
         share_assembly: share(tm.assembly_s),
-        share_merit: share(tm.merit_s),
         share_factor: share(tm.factor_s),
         share_solve: share(tm.solve_s),
-        cholesky: tm.factorizations > 0 && tm.lu_factorizations == 0 && tm.lblt_factorizations == 0,
-        lu_factorizations: tm.lu_factorizations,
-        lblt_factorizations: tm.lblt_factorizations,
         halvings: (driver.newton_failures() - failures_before) as usize,
         peak_rss_mib: peak_rss_mib(),
         t_end_s: built.state.t,
         vz_end_mps: mean_vz(&built.model, &built.state.v),
-        exact_retries: tm.exact_retries,
-        exact_retries_converged: tm.exact_retries_converged,
-        continuations: tm.continuations,
-        continuations_converged: tm.continuations_converged,
-        homotopies: tm.homotopies,
-        homotopies_converged: tm.homotopies_converged,
-        exact_retries_skipped: tm.exact_retries_skipped,
+        counters: tm,
     })
 }

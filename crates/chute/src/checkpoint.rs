@@ -32,7 +32,10 @@
 //! `homotopies_converged` after `continuations_converged`; a version-4 file reads them as 0,
 //! which is exact (the build that wrote it had no homotopy stage). 6 (the exact retry's
 //! ledger) has 21 counts: `exact_retries_skipped` last; versions 4 and 5 read it as 0, which
-//! is exact (their builds never skipped a retry).
+//! is exact (their builds never skipped a retry). 7 (the step solver's ladder of stages, with
+//! other counters) stores the flag and then the counters ([`engine::Counters`]) as one JSON
+//! string, which names every field; the counters of versions 4 to 6 belong to the earlier
+//! solver and are read as unknown.
 
 use std::io::{self, BufRead};
 use std::path::{Path, PathBuf};
@@ -45,12 +48,10 @@ use crate::output::write_atomic;
 pub const FILE_NAME: &str = "checkpoint.bin";
 const MAGIC: &[u8; 8] = b"CHUTECKP";
 /// Version of the binary layout; bump on any change.
-pub const FORMAT_VERSION: u32 = 6;
-/// Positions in `SolverCounters::counts` of the homotopy counters (new in version 5).
-const HOMOTOPY_COUNTS: std::ops::Range<usize> = 15..17;
-/// Position in `SolverCounters::counts` of `exact_retries_skipped` (new in version 6, the
-/// last count).
-const SKIPPED_COUNT: usize = 20;
+pub const FORMAT_VERSION: u32 = 7;
+/// Counts and times of the earlier solver's counters in versions 4, 5 and 6 (skipped).
+const OLD_COUNTS: [usize; 3] = [18, 20, 21];
+const OLD_TIMES: usize = 4;
 /// The oldest version this build reads.
 const OLDEST_READABLE: u32 = 1;
 
@@ -194,28 +195,23 @@ impl Dec<'_> {
         let n = self.len(1)?;
         String::from_utf8(self.take(n)?.to_vec()).map_err(|e| e.to_string())
     }
-    /// The solver counters of version 4 and later: the known flag, the counts, the times.
+    /// The solver counters: the known flag, then (version 7) their JSON, or (versions 4 to
+    /// 6, the earlier solver's) counts and times that are skipped.
     fn solver(&mut self, version: u32) -> Result<Option<SolverCounters>, String> {
         let known = match self.u64()? {
             0 => false,
             1 => true,
             k => return Err(format!("solver-counters flag {k}, not 0 or 1")),
         };
-        let mut counts = [0; SolverCounters::COUNTS];
-        for (i, c) in counts.iter_mut().enumerate() {
-            // Version 4 has no homotopy counters (0: the stage did not exist), versions 4 and
-            // 5 no skipped retries (0: the ledger did not exist).
-            let absent = (version < 5 && HOMOTOPY_COUNTS.contains(&i))
-                || (version < 6 && i == SKIPPED_COUNT);
-            if !absent {
-                *c = self.u64()?;
+        if version < 7 {
+            for _ in 0..OLD_COUNTS[version as usize - 4] + OLD_TIMES {
+                self.u64()?;
             }
+            return Ok(None);
         }
-        let mut seconds = [0.0; SolverCounters::TIMES];
-        for x in &mut seconds {
-            *x = self.f64()?;
-        }
-        Ok(known.then(|| SolverCounters::from_parts(counts, seconds)))
+        let json = self.str()?;
+        let counters = serde_json::from_str(&json).map_err(|e| format!("solver counters: {e}"))?;
+        Ok(known.then_some(counters))
     }
 }
 
@@ -250,8 +246,7 @@ impl Checkpoint {
         e.f64(self.checkpoint_every_s.unwrap_or(0.0));
         e.u64(u64::from(self.solver.is_some()));
         let solver = self.solver.unwrap_or_default();
-        solver.counts().iter().for_each(|&c| e.u64(c));
-        solver.seconds().iter().for_each(|&x| e.f64(x));
+        e.str(&serde_json::to_string(&solver).expect("counters serialise"));
         let sum = fnv1a(&e.0);
         e.u64(sum);
         e.0
@@ -455,15 +450,25 @@ mod tests {
                 "other".into(),
             ],
             checkpoint_every_s: Some(0.25),
-            solver: Some(SolverCounters::from_parts(
-                std::array::from_fn(|i| 3 * i as u64 + 1),
-                [0.5, 0.125, 2.0, 1e-3],
-            )),
+            solver: Some(SolverCounters {
+                iterations: 7,
+                factorizations: 3,
+                factor_s: 0.125,
+                held: engine::StageCounts {
+                    runs: 5,
+                    converged: 4,
+                },
+                ..SolverCounters::default()
+            }),
         }
     }
 
-    /// Bytes of the solver counters (this version) at the end of the body.
-    const SOLVER_BYTES: usize = 8 * (1 + SolverCounters::COUNTS + SolverCounters::TIMES);
+    /// Bytes of `c`'s solver counters (this version: flag, length, JSON) at the end of the
+    /// body.
+    fn solver_bytes(c: &Checkpoint) -> usize {
+        let json = serde_json::to_string(&c.solver.unwrap_or_default()).unwrap();
+        16 + json.len()
+    }
 
     #[test]
     fn round_trips_bit_for_bit() {
@@ -494,33 +499,26 @@ mod tests {
     fn refuses_a_bad_solver_counters_flag() {
         let mut body = sample().encode();
         body.truncate(body.len() - 8);
-        let at = body.len() - SOLVER_BYTES;
+        let at = body.len() - solver_bytes(&sample());
         body[at..at + 8].copy_from_slice(&2u64.to_le_bytes());
         let e = Checkpoint::decode(&reseal(body, FORMAT_VERSION)).unwrap_err();
         assert!(e.contains("solver-counters flag 2"), "{e}");
     }
 
-    /// A version-4 file (18 counts: no homotopy counters, no skipped retries) and a version-5
-    /// file (20 counts: no skipped retries) read with the missing counts as 0 and every other
-    /// counter in its place.
+    /// Files of versions 4 to 6 (the earlier solver's 18, 20 or 21 counts and 4 times) read
+    /// with their counters unknown and every other field in its place.
     #[test]
-    fn reads_versions_4_and_5() {
+    fn reads_versions_4_to_6_without_their_counters() {
         let c = sample();
-        let v4: Vec<usize> = HOMOTOPY_COUNTS.chain([SKIPPED_COUNT]).collect();
-        for (version, absent) in [(4, v4), (5, vec![SKIPPED_COUNT])] {
-            let mut body = c.encode();
-            body.truncate(body.len() - 8);
-            // Drop the absent counts (the counts follow the flag), last first.
-            let counts_at = body.len() - SOLVER_BYTES + 8;
-            for &i in absent.iter().rev() {
-                body.drain(counts_at + 8 * i..counts_at + 8 * (i + 1));
-            }
-            let old = Checkpoint::decode(&reseal(body, version)).unwrap();
-            let (mut want, got) = (c.solver.unwrap().counts(), old.solver.unwrap().counts());
-            absent.iter().for_each(|&i| want[i] = 0);
-            assert_eq!(got, want, "version {version}");
-            assert_eq!(old.solver.unwrap().seconds(), c.solver.unwrap().seconds());
-            assert_eq!((&old.q, old.t), (&c.q, c.t));
+        let body = c.encode();
+        let head = &body[..body.len() - 8 - solver_bytes(&c)];
+        for (version, counts) in [(4u32, 18usize), (5, 20), (6, 21)] {
+            let mut old = head.to_vec();
+            old.extend_from_slice(&1u64.to_le_bytes());
+            old.extend(std::iter::repeat_n(0u8, 8 * (counts + OLD_TIMES)));
+            let old = Checkpoint::decode(&reseal(old, version)).unwrap();
+            assert_eq!(old.solver, None, "version {version}");
+            assert_eq!((&old.q, old.t, &old.warnings), (&c.q, c.t, &c.warnings));
         }
     }
 
@@ -529,7 +527,7 @@ mod tests {
     fn reads_version_3() {
         let c = sample();
         let v4 = c.encode();
-        let old = reseal(v4[..v4.len() - 8 - SOLVER_BYTES].to_vec(), 3);
+        let old = reseal(v4[..v4.len() - 8 - solver_bytes(&c)].to_vec(), 3);
         let old = Checkpoint::decode(&old).unwrap();
         assert_eq!(old.solver, None);
         assert_eq!(old.checkpoint_every_s, c.checkpoint_every_s);
@@ -542,7 +540,7 @@ mod tests {
         let c = sample();
         let v4 = c.encode();
         // The version-3 layout (its checksum's 8 bytes left as they were).
-        let v3 = [&v4[..v4.len() - 8 - SOLVER_BYTES], &v4[v4.len() - 8..]].concat();
+        let v3 = [&v4[..v4.len() - 8 - solver_bytes(&c)], &v4[v4.len() - 8..]].concat();
         let old = Checkpoint::decode(&reseal(v3[..v3.len() - 8 - 8].to_vec(), 2)).unwrap();
         assert_eq!(old.checkpoint_every_s, None);
         assert_eq!(
@@ -557,7 +555,7 @@ mod tests {
         let c = sample();
         let v4 = c.encode();
         // The version-3 layout (its checksum's 8 bytes left as they were).
-        let v3 = [&v4[..v4.len() - 8 - SOLVER_BYTES], &v4[v4.len() - 8..]].concat();
+        let v3 = [&v4[..v4.len() - 8 - solver_bytes(&c)], &v4[v4.len() - 8..]].concat();
         // Version 1 = version 3 without the 32 trailing bytes of the newer fields.
         let old = Checkpoint::decode(&reseal(v3[..v3.len() - 8 - 32].to_vec(), 1)).unwrap();
         assert_eq!((old.dt_cap, old.checkpoint_every_s), (f64::INFINITY, None));

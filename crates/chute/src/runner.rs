@@ -40,7 +40,8 @@ mod persist;
 mod recovery;
 mod session;
 pub use advance::{new_stepper, Driver};
-pub use dt_policy::{GROW_AFTER, SYNC_STEPS};
+pub use dt_policy::SYNC_STEPS;
+pub use engine::stepper::step_size::GROW_AFTER;
 pub use flight::WASTED_WORK_WARN;
 use flight::{Attempt, End, Flight};
 pub use session::{Session, StepInfo, Stopped};
@@ -207,7 +208,7 @@ pub fn simulate_with(
         .map(|s| next_multiple(s, built.state.t));
     run.flight.start_watches(built);
     // The start (fresh or resumed) is a sync point: the stepper holds no factorisation.
-    let mut last_sync = run.checkpoint(built, ctl, &wall, stepper.timings(), true);
+    let mut last_sync = run.checkpoint(built, ctl, &wall, stepper.counters(), true);
     let mut stop_reason = None;
     while built.state.t < cfg.duration_s - tol {
         if ctl.stop.load(Ordering::Relaxed) {
@@ -218,8 +219,7 @@ pub fn simulate_with(
             run.save(&last_sync, out_dir)?;
             break;
         }
-        let plan = run.flight.plan(built, cfg);
-        let iterations = match run.flight.attempt(&mut stepper, built, &plan) {
+        let iterations = match run.flight.attempt(&mut stepper, built, cfg) {
             Attempt::Accepted(iterations, sample) => {
                 run.record(built, cfg, out_dir, &sample)?;
                 if run.flight.landing.is_some() {
@@ -229,14 +229,11 @@ pub fn simulate_with(
                 iterations
             }
             Attempt::Rejected => continue,
-            Attempt::Failed(e) => {
-                if let Some(reason) = run.flight.reject(built, &e, plan.h) {
-                    stop_reason = Some(reason);
-                    let good = run.checkpoint(built, ctl, &wall, stepper.timings(), false);
-                    run.save(&good, out_dir)?;
-                    break;
-                }
-                continue;
+            Attempt::Failed(reason) => {
+                stop_reason = Some(reason);
+                let good = run.checkpoint(built, ctl, &wall, stepper.counters(), false);
+                run.save(&good, out_dir)?;
+                break;
             }
         };
         if let Some(t) = ctl.sim_time {
@@ -249,7 +246,7 @@ pub fn simulate_with(
             continue;
         }
         stepper.invalidate_factorization();
-        last_sync = run.checkpoint(built, ctl, &wall, stepper.timings(), true);
+        last_sync = run.checkpoint(built, ctl, &wall, stepper.counters(), true);
         if let (Some(k), Some(every)) = (next_ckpt, ctl.checkpoint_every_s) {
             if built.state.t >= k as f64 * every - tol {
                 run.save(&last_sync, out_dir)?;
@@ -260,7 +257,7 @@ pub fn simulate_with(
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
-    let end = run.end(stop_reason, &wall, stepper.timings());
+    let end = run.end(stop_reason, &wall, stepper.counters());
     run.finish(built, cfg, out_dir, end)
 }
 
@@ -369,14 +366,14 @@ impl Run {
     }
 
     /// How the run ended: stopped early for `stop_reason` (or not), after `wall` and, in the
-    /// stepper, `timings` since the start or resume.
-    fn end(&self, stop_reason: Option<String>, wall: &Instant, timings: &engine::Timings) -> End {
+    /// stepper, `counters` since the start or resume.
+    fn end(&self, stop_reason: Option<String>, wall: &Instant, counters: &engine::Counters) -> End {
         End {
             ended: true,
             complete: stop_reason.is_none() || self.flight.landing.is_some(),
             stop_reason,
             wall_time_s: self.wall_before_s + wall.elapsed().as_secs_f64(),
-            timings: *timings,
+            counters: *counters,
         }
     }
 

@@ -76,7 +76,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!(
         "Newton iterations: {} in {} steps",
-        stepper.timings().iterations,
+        stepper.counters().iterations,
         2000
     );
     Ok(())

@@ -120,6 +120,14 @@ pub enum InvalidModel {
         /// Largest step (s).
         h_max: f64,
     },
+    /// Step sizes out of range.
+    #[error("step sizes need 0 < min_dt ≤ dt, both finite, got dt = {dt} s, min_dt = {min_dt} s")]
+    StepSizing {
+        /// Nominal or first step (s).
+        dt: f64,
+        /// Smallest step (s).
+        min_dt: f64,
+    },
 }
 
 impl From<InvalidModel> for EngineError {

@@ -70,8 +70,8 @@ pub use error::{EngineError, HistoryError, InvalidModel, SparseError, StepError}
 pub use force::{EvalInput, Force, JacobianKind, LocalBlocks};
 pub use model::{ForceId, Model, State};
 pub use stepper::{
-    ErrorController, ErrorNorm, ImplicitEuler, NewtonOptions, Predictor, StaticSolver, StepReport,
-    Timings, Trial,
+    Attempt, Counters, ErrorController, ErrorNorm, ImplicitEuler, NewtonOptions, Predictor, Stage,
+    StageCounts, StaticSolver, StepReport, StepSizes, StepSizing, Trial,
 };
 
 /// The types most programs need: `use engine::prelude::*;`.

@@ -32,7 +32,7 @@ pub fn peak_rss_mib() -> f64 {
 
 pub(super) fn header() -> String {
     format!(
-        "{:<16} {:>6} {:>7} {:>9} {:>9} {:>6} {:>8} {:>6} {:>5} {:>5} {:>5} {:>5} {:>8}",
+        "{:<16} {:>6} {:>7} {:>9} {:>9} {:>6} {:>8} {:>6} {:>6} {:>5} {:>5} {:>5} {:>8}",
         "case",
         "nodes",
         "DOFs",
@@ -41,8 +41,8 @@ pub(super) fn header() -> String {
         "it/st",
         "ms/it",
         "fac/st",
+        "ev/st",
         "asm%",
-        "Φ%",
         "fac%",
         "sol%",
         "RSS MiB"
@@ -51,7 +51,7 @@ pub(super) fn header() -> String {
 
 pub(super) fn row(r: &CaseResult) -> String {
     format!(
-        "{:<16} {:>6} {:>7} {:>9} {:>9.3} {:>6.2} {:>8.3} {:>6.2} {:>5.1} {:>5.1} {:>5.1} {:>5.1} {:>8.1}",
+        "{:<16} {:>6} {:>7} {:>9} {:>9.3} {:>6.2} {:>8.3} {:>6.2} {:>6.2} {:>5.1} {:>5.1} {:>5.1} {:>8.1}",
         r.name,
         r.nodes,
         r.dofs,
@@ -60,8 +60,8 @@ pub(super) fn row(r: &CaseResult) -> String {
         r.newton_per_step,
         r.ms_per_newton,
         r.factorizations_per_step,
+        r.evaluations_per_step,
         100.0 * r.share_assembly,
-        100.0 * r.share_merit,
         100.0 * r.share_factor,
         100.0 * r.share_solve,
         r.peak_rss_mib

@@ -1,10 +1,12 @@
-//! One step under the run loop's step-size policy, without outputs: solve, judge the local
-//! error, commit. The run loop records and writes around it; [`Driver`] repeats it to a
-//! given time, which is how `chute bench` steps, so both recover from failed solves alike.
+//! One step under the run's step-size policy, without outputs: the engine's
+//! [`ImplicitEuler::attempt`] (solve by the ladder of stages, judge the local error, commit,
+//! or halve after a failed solve) with the run's statistics. The run loop records and writes
+//! around it; [`Driver`] repeats it to a given time, which is how `chute bench` steps, so
+//! both recover from failed solves alike.
 
-use engine::{ImplicitEuler, Model, State, StepError};
+use engine::{Attempt, ImplicitEuler, Model, State, StepError, StepReport};
 
-use super::dt_policy::{DtPolicy, Plan, Verdict};
+use super::dt_policy::DtPolicy;
 use super::RunConfig;
 use crate::build::Built;
 
@@ -18,40 +20,40 @@ pub fn new_stepper(model: &Model, cfg: &RunConfig) -> Result<ImplicitEuler, engi
 
 /// What one attempt at a step did.
 pub(super) enum Outcome {
-    /// Accepted and committed: Newton iterations, and the local error norm (≤ 1 unless the
-    /// step was already the smallest allowed; 0 for a fixed step).
-    Accepted { iterations: usize, err: f64 },
+    /// Accepted and committed: its size, what the solve did, and the local error norm (≤ 1
+    /// unless the step was already the smallest allowed; 0 for a fixed step).
+    Accepted {
+        h: f64,
+        report: StepReport,
+        err: f64,
+    },
     /// Rejected for its local error; the policy holds the smaller retry step.
     Rejected,
-    /// Newton failed (state unchanged); the caller asks the policy to halve.
+    /// The solve of a step of size `h` failed (state unchanged) and the step was halved.
+    Halved(StepError, f64),
+    /// The solve failed at the smallest step allowed: the run must stop.
     Failed(StepError),
 }
 
-/// Attempt the step `plan` from `state`; on acceptance `state` is the new state, ending
-/// exactly on the planned event, and the policy has recorded the step.
+/// Attempt the next step from `state`, ending at or before `event` (s); on acceptance
+/// `state` is the new state (exactly on the event where the step was planned to end there)
+/// and the step is in the policy's statistics.
 pub(super) fn attempt(
     dt: &mut DtPolicy,
     stepper: &mut ImplicitEuler,
     model: &mut Model,
     state: &mut State,
-    plan: &Plan,
+    event: f64,
 ) -> Outcome {
-    let trial = match stepper.try_step(model, state, plan.h) {
-        Ok(trial) => trial,
-        Err(e) => return Outcome::Failed(e),
-    };
-    let (next, err) = match dt.judge(model, trial.local_error(), plan) {
-        Verdict::Accept { next, err } => (next, err),
-        Verdict::Reject => return Outcome::Rejected,
-    };
-    let iterations = trial.report().iterations;
-    trial.commit(model, state);
-    if let Some(t) = plan.lands_at {
-        // Exactly on the event (the sum t + h may be an ulp off).
-        state.t = t;
+    match stepper.attempt(&mut dt.sizes, model, state, event) {
+        Attempt::Accepted { h, report, err } => {
+            dt.used.record(h);
+            Outcome::Accepted { h, report, err }
+        }
+        Attempt::Rejected { .. } => Outcome::Rejected,
+        Attempt::Halved { h, error } => Outcome::Halved(error, h),
+        Attempt::Failed { error, .. } => Outcome::Failed(error),
     }
-    dt.accepted(plan.h, next);
-    Outcome::Accepted { iterations, err }
 }
 
 /// Advances a built model with the run loop's step-size policy and nothing else (no
@@ -71,15 +73,15 @@ impl Driver {
         })
     }
 
-    /// Print every attempt and its Newton residual history on stderr.
+    /// Print every attempt, the stage that solved it and its residual history on stderr.
     pub fn with_trace(mut self, trace: bool) -> Self {
         self.trace = trace;
         self
     }
 
-    /// Step `b` until time `t_end` (s): a failed Newton solve halves the step, which grows
-    /// back after accepted steps, as in a run. The error is that of the solve that failed
-    /// at the smallest step allowed.
+    /// Step `b` until time `t_end` (s): a failed solve halves the step, which grows back
+    /// after accepted steps, as in a run. The error is that of the solve that failed at the
+    /// smallest step allowed.
     pub fn advance_to(
         &mut self,
         stepper: &mut ImplicitEuler,
@@ -87,28 +89,34 @@ impl Driver {
         t_end: f64,
     ) -> Result<(), StepError> {
         while b.state.t < t_end - self.dt.time_tol {
-            let plan = self.dt.plan(b.state.t, t_end);
-            let outcome = attempt(&mut self.dt, stepper, &mut b.model, &mut b.state, &plan);
+            let t = b.state.t;
+            let outcome = attempt(&mut self.dt, stepper, &mut b.model, &mut b.state, t_end);
             if self.trace {
                 let what = match &outcome {
-                    Outcome::Accepted { iterations, .. } => format!("ok, {iterations} it"),
+                    Outcome::Accepted { h, report, .. } => format!(
+                        "h={h:.3e} ok by {:?}, {} it, {} factorisations",
+                        report.stage, report.iterations, report.factorizations
+                    ),
                     Outcome::Rejected => "rejected (local error)".into(),
+                    Outcome::Halved(e, h) => format!("h={h:.3e} failed, halved: {e}"),
                     Outcome::Failed(e) => format!("failed: {e}"),
                 };
+                let c = stepper.counters();
                 let hist = stepper.residual_history();
-                eprintln!("t={:.5} h={:.3e} {what} {hist:?}", b.state.t, plan.h);
+                eprintln!(
+                    "t={t:.5} {what} F{} E{} {hist:?}",
+                    c.factorizations, c.evaluations
+                );
             }
             if let Outcome::Failed(e) = outcome {
-                if !self.dt.newton_failed(plan.h) {
-                    return Err(e);
-                }
+                return Err(e);
             }
         }
         Ok(())
     }
 
-    /// Steps whose Newton solve failed so far (each was retried with half the step).
+    /// Steps whose solve failed so far (each was retried with half the step).
     pub fn newton_failures(&self) -> u64 {
-        self.dt.rejected_newton
+        self.dt.sizes.state.rejected_newton
     }
 }

@@ -10,7 +10,7 @@
 use engine::{ImplicitEuler, StepError};
 
 use super::advance::{self, Outcome};
-use super::dt_policy::{DtPolicy, Plan};
+use super::dt_policy::DtPolicy;
 use super::observe::Observer;
 use super::{failure_message, recovery, RunConfig, RunError};
 use crate::build::Built;
@@ -55,7 +55,7 @@ pub(super) struct Flight {
 }
 
 /// The warning of a summary without solver counters.
-pub(super) const SOLVER_UNKNOWN: &str = "solver counters not reported (\"solver\": null): the run was resumed from a checkpoint written before they were recorded (checkpoint format < 4), so the solves before it are unknown";
+pub(super) const SOLVER_UNKNOWN: &str = "solver counters not reported (\"solver\": null): the run was resumed from a checkpoint without counters of this step solver (checkpoint format < 7), so the solves before it are unknown";
 
 /// What one attempt at a step did.
 pub(super) enum Attempt {
@@ -63,8 +63,9 @@ pub(super) enum Attempt {
     Accepted(usize, Sample),
     /// Rejected for its local error; retry with the policy's smaller step.
     Rejected,
-    /// Newton failed (state unchanged).
-    Failed(StepError),
+    /// The solve failed at the smallest step allowed: the run stops for this reason (state
+    /// unchanged).
+    Failed(String),
 }
 
 /// The outputs due at the current time (the flight has moved past them).
@@ -129,40 +130,39 @@ impl Flight {
             .fold(cfg.duration_s, f64::min)
     }
 
-    /// The step plan from the current state.
-    pub fn plan(&self, built: &Built, cfg: &RunConfig) -> Plan {
-        let t = built.state.t;
-        self.dt.plan(t, self.next_event(t, cfg))
-    }
-
-    /// Solve the step `plan` from `built.state`, judge its local error, and commit and book
-    /// it (counters, sample, ground) or leave the state unchanged.
+    /// Attempt the next step from `built.state` (ending on the next event), judge its local
+    /// error, and commit and book it (counters, sample, ground) or leave the state unchanged.
     pub fn attempt(
         &mut self,
         stepper: &mut ImplicitEuler,
         built: &mut Built,
-        plan: &Plan,
+        cfg: &RunConfig,
     ) -> Attempt {
+        let event = self.next_event(built.state.t, cfg);
         let b = &mut *built;
-        let (iterations, err) =
-            match advance::attempt(&mut self.dt, stepper, &mut b.model, &mut b.state, plan) {
-                Outcome::Accepted { iterations, err } => (iterations, err),
+        let (h, iterations, err) =
+            match advance::attempt(&mut self.dt, stepper, &mut b.model, &mut b.state, event) {
+                Outcome::Accepted { h, report, err } => (h, report.iterations, err),
                 Outcome::Rejected => return Attempt::Rejected,
-                Outcome::Failed(e) => return Attempt::Failed(e),
+                Outcome::Halved(e, h) => {
+                    self.halved(built, &e, h);
+                    return Attempt::Rejected;
+                }
+                Outcome::Failed(e) => {
+                    let t = built.state.t;
+                    return Attempt::Failed(failure_message(built, &e, t, self.dt.sizes.state.h));
+                }
             };
         let t = built.state.t;
         if err > 1.0 && self.warnings.len() < MAX_STEP_WARNINGS {
             // Accepted only because the step is already the smallest allowed.
             self.warnings.push(format!(
-                "local error {err:.3} × the tolerance accepted at t = {t:.6} s: dt = {:.3e} s is the smallest step allowed",
-                plan.h
+                "local error {err:.3} × the tolerance accepted at t = {t:.6} s: dt = {h:.3e} s is the smallest step allowed"
             ));
         }
         self.steps += 1;
         self.newton_total += iterations as u64;
-        let s = self
-            .obs
-            .sample(built, &built.state, iterations as u32, plan.h);
+        let s = self.obs.sample(built, &built.state, iterations as u32, h);
         self.dec.push(&s);
         if let Some(g) = &mut self.ground {
             self.landing = g.observe(self.obs.ground_body(built, t));
@@ -174,20 +174,15 @@ impl Flight {
         Attempt::Accepted(iterations, s)
     }
 
-    /// Halve the step after a failed Newton solve of a step of size `h`; the stop reason
-    /// when it falls below the smallest step.
-    pub fn reject(&mut self, built: &Built, e: &StepError, h: f64) -> Option<String> {
+    /// The warning of a step of size `h` whose solve failed and was halved.
+    fn halved(&mut self, built: &Built, e: &StepError, h: f64) {
         let t = built.state.t;
-        if !self.dt.newton_failed(h) {
-            return Some(failure_message(built, e, t, self.dt.h));
-        }
         if self.warnings.len() < MAX_STEP_WARNINGS {
             self.warnings.push(format!(
-                "step rejected at t = {t:.6} s ({e}); dt halved to {:.3e} s",
-                self.dt.h
+                "step rejected at t = {t:.6} s ({e}); dt {h:.3e} s halved to {:.3e} s",
+                self.dt.sizes.state.h
             ));
         }
-        None
     }
 
     /// The frame and snapshots due at time `t`, moving past them.
@@ -282,16 +277,15 @@ impl Flight {
         }
     }
 
-    /// The solver counters of the whole run so far, the stepper's `timings` (since the
+    /// The solver counters of the whole run so far, the stepper's `counters` (since the
     /// flight's start or resume) included; `None` when the part before a resume is unknown.
-    pub fn solver(&self, timings: &engine::Timings) -> Option<SolverCounters> {
-        let now = SolverCounters::from_timings(timings);
-        self.solver_before.map(|before| before.plus(&now))
+    pub fn solver(&self, counters: &SolverCounters) -> Option<SolverCounters> {
+        self.solver_before.map(|before| before.plus(counters))
     }
 
     /// The run record of the summary: how it ended and what it cost.
     pub fn info(&self, built: &Built, cfg: &RunConfig, end: End) -> RunInfo {
-        let solver = self.solver(&end.timings);
+        let solver = self.solver(&end.counters);
         let mut warnings = if end.ended {
             self.final_warnings(built.state.t)
         } else {
@@ -299,7 +293,11 @@ impl Flight {
         };
         match &solver {
             None => warnings.push(SOLVER_UNKNOWN.to_string()),
-            Some(c) => warnings.extend(wasted_work(c, self.newton_total, self.dt.rejected_newton)),
+            Some(c) => warnings.extend(wasted_work(
+                c,
+                self.newton_total,
+                self.dt.sizes.state.rejected_newton,
+            )),
         }
         RunInfo {
             scenario_name: cfg.name.clone(),
@@ -321,30 +319,24 @@ impl Flight {
 /// that also halved steps warns.
 pub const WASTED_WORK_WARN: f64 = 0.5;
 
-/// A warning when most Newton iterations went into attempts that did not give the accepted
-/// steps (failed solves, their exact retries, and the halvings after them): the run then
-/// spends its time crossing a region where the step is hard to solve, whatever its progress
-/// bar says (docs/outputs.md §solver).
+/// A warning when most iterations went into attempts that did not give the accepted steps
+/// (failed solves, and the halvings after them): the run then spends its time crossing a
+/// region where the step is hard to solve, whatever its progress bar says (docs/outputs.md
+/// §solver).
 fn wasted_work(c: &SolverCounters, accepted_iterations: u64, halvings: u64) -> Option<String> {
     let wasted = c.iterations.saturating_sub(accepted_iterations);
     if halvings == 0 || (wasted as f64) <= WASTED_WORK_WARN * c.iterations as f64 {
         return None;
     }
-    // Retries that did not save their halvings: say which key halves at once.
-    let hint = if c.exact_retries > c.exact_retries_converged {
-        "; exact retries failed too, and `time.newton_exact_retry = false` halves such steps \
-         at once (docs/engine.md §Exact retry)"
-    } else {
-        ""
-    };
+    let failed = |s: engine::StageCounts| s.runs - s.converged;
     Some(format!(
-        "{:.0} % of the {} Newton iterations went into attempts that were not accepted \
-         ({halvings} halved steps, {} exact retries, {} LU factorisations): the run crossed a \
-         region where the step is hard to solve (docs/outputs.md §solver){hint}",
+        "{:.0} % of the {} iterations went into attempts that were not accepted \
+         ({halvings} halved steps; {} failed continuation and {} failed homotopy stages): the \
+         run crossed a region where the step is hard to solve (docs/outputs.md §solver)",
         100.0 * wasted as f64 / c.iterations as f64,
         c.iterations,
-        c.exact_retries,
-        c.lu_factorizations,
+        failed(c.continuation),
+        failed(c.homotopy),
     ))
 }
 
@@ -359,7 +351,7 @@ pub(super) struct End {
     /// Wall time spent (s).
     pub wall_time_s: f64,
     /// The stepper's counters since the flight started or resumed.
-    pub timings: engine::Timings,
+    pub counters: SolverCounters,
 }
 
 #[cfg(test)]
@@ -369,8 +361,10 @@ mod tests {
     fn counters(iterations: u64) -> SolverCounters {
         SolverCounters {
             iterations,
-            exact_retries: 7,
-            lu_factorizations: 3,
+            continuation: engine::StageCounts {
+                runs: 7,
+                converged: 4,
+            },
             ..SolverCounters::default()
         }
     }
@@ -379,19 +373,11 @@ mod tests {
     fn wasted_work_warns_only_past_half_the_iterations_with_halvings() {
         // 600 of 1,000 iterations not accepted, 2 halvings: warned, with the counts.
         let w = wasted_work(&counters(1000), 400, 2).expect("60 % wasted");
-        assert!(w.starts_with("60 % of the 1000 Newton iterations"), "{w}");
-        assert!(w.contains("2 halved steps, 7 exact retries, 3 LU"), "{w}");
-        // No retry converged (the counters' 0 of 7): the key that halves at once is named.
+        assert!(w.starts_with("60 % of the 1000 iterations"), "{w}");
         assert!(
-            w.ends_with("halves such steps at once (docs/engine.md §Exact retry)"),
+            w.contains("2 halved steps; 3 failed continuation and 0 failed homotopy"),
             "{w}"
         );
-        let all_converged = SolverCounters {
-            exact_retries_converged: 7,
-            ..counters(1000)
-        };
-        let w = wasted_work(&all_converged, 400, 2).expect("60 % wasted");
-        assert!(!w.contains("newton_exact_retry"), "{w}");
         // Exactly half, or no halving, or every iteration accepted: quiet.
         assert_eq!(wasted_work(&counters(1000), 500, 2), None);
         assert_eq!(wasted_work(&counters(1000), 400, 0), None);

@@ -39,11 +39,13 @@ impl Run {
         };
         let f = &mut run.flight;
         rows.iter().for_each(|s| f.dec.push(s));
-        f.dt.h = c.dt;
-        f.dt.streak = c.streak;
-        f.dt.cap = c.dt_cap;
-        f.dt.rejected_error = c.rejected_error;
-        f.dt.rejected_newton = c.rejected_newton;
+        f.dt.sizes.state = engine::stepper::SizeState {
+            h: c.dt,
+            cap: c.dt_cap,
+            streak: c.streak,
+            rejected_error: c.rejected_error,
+            rejected_newton: c.rejected_newton,
+        };
         f.dt.used = DtStats::from_rows(&rows);
         f.steps = c.steps;
         f.newton_total = c.newton_iterations;
@@ -56,14 +58,14 @@ impl Run {
         Ok(run)
     }
 
-    /// The checkpoint of the current state; `timings` are the stepper's since the start or
+    /// The checkpoint of the current state; `counters` are the stepper's since the start or
     /// resume.
     pub(super) fn checkpoint(
         &self,
         built: &Built,
         ctl: &RunControl<'_>,
         wall: &Instant,
-        timings: &engine::Timings,
+        counters: &engine::Counters,
         synced: bool,
     ) -> Checkpoint {
         let f = &self.flight;
@@ -74,11 +76,11 @@ impl Run {
             q: built.state.q.clone(),
             v: built.state.v.clone(),
             histories: built.model.forces.iter().map(|f| f.history()).collect(),
-            dt: f.dt.h,
-            streak: f.dt.streak,
-            dt_cap: f.dt.cap,
-            rejected_error: f.dt.rejected_error,
-            rejected_newton: f.dt.rejected_newton,
+            dt: f.dt.sizes.state.h,
+            streak: f.dt.sizes.state.streak,
+            dt_cap: f.dt.sizes.state.cap,
+            rejected_error: f.dt.sizes.state.rejected_error,
+            rejected_newton: f.dt.sizes.state.rejected_newton,
             steps: f.steps,
             newton_iterations: f.newton_total,
             wall_time_s: self.wall_before_s + wall.elapsed().as_secs_f64(),
@@ -89,7 +91,7 @@ impl Run {
             next_sync: f.next_sync,
             warnings: f.warnings.clone(),
             checkpoint_every_s: ctl.checkpoint_every_s,
-            solver: f.solver(timings),
+            solver: f.solver(counters),
         }
     }
 

@@ -92,28 +92,25 @@ impl Session {
             if self.finished() {
                 return Ok(None);
             }
-            let plan = self.flight.plan(&self.built, &self.cfg);
             match self
                 .flight
-                .attempt(&mut self.stepper, &mut self.built, &plan)
+                .attempt(&mut self.stepper, &mut self.built, &self.cfg)
             {
-                Attempt::Accepted(iterations, _) => {
+                Attempt::Accepted(iterations, sample) => {
                     let t = self.built.state.t;
                     self.flight.take_due(t, &self.cfg);
                     if self.flight.passed_sync(t) {
                         self.stepper.invalidate_factorization();
                     }
                     return Ok(Some(StepInfo {
-                        h: plan.h,
+                        h: sample.dt_s,
                         iterations,
                     }));
                 }
                 Attempt::Rejected => continue,
-                Attempt::Failed(e) => {
-                    if let Some(reason) = self.flight.reject(&self.built, &e, plan.h) {
-                        self.stop_reason = Some(reason.clone());
-                        return Err(Stopped(reason));
-                    }
+                Attempt::Failed(reason) => {
+                    self.stop_reason = Some(reason.clone());
+                    return Err(Stopped(reason));
                 }
             }
         }
@@ -172,7 +169,7 @@ impl Session {
             complete: self.stop_reason.is_none() && self.finished(),
             stop_reason: self.stop_reason().map(str::to_string),
             wall_time_s: self.wall.as_secs_f64(),
-            timings: *self.stepper.timings(),
+            counters: *self.stepper.counters(),
         };
         let info = self.flight.info(&self.built, &self.cfg, end);
         self.flight.summary(&self.built, &self.cfg, info).0

@@ -73,6 +73,16 @@ pub enum ScenarioError {
         /// The closest known key, when one is close.
         suggestion: Option<String>,
     },
+    /// A key that earlier versions of chute read and this one no longer does.
+    #[error("`{key}` ({origin}) is no longer a scenario key: {why}; remove it")]
+    RetiredKey {
+        /// Dotted key path.
+        key: String,
+        /// Where it was written.
+        origin: Origin,
+        /// What replaced it.
+        why: &'static str,
+    },
     /// A required key is absent.
     #[error("missing required key `{key}`: {reason}")]
     Missing {
@@ -181,6 +191,7 @@ impl ScenarioError {
     pub fn key(&self) -> Option<&str> {
         match self {
             ScenarioError::UnknownKey { key, .. }
+            | ScenarioError::RetiredKey { key, .. }
             | ScenarioError::Missing { key, .. }
             | ScenarioError::WrongType { key, .. }
             | ScenarioError::BadChoice { key, .. }

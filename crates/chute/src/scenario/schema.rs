@@ -321,7 +321,32 @@ pub fn unknown(path: &str, prov: &Provenance) -> ScenarioError {
     unknown_in(SECTIONS, path, prov)
 }
 
+/// Keys of earlier versions that are no longer read, and why (a scenario that still sets one
+/// is refused with this reason rather than a "did you mean").
+const RETIRED: [(&str, &str); 3] = [
+    (
+        "time.newton_exact_retry",
+        "every step goes through the step solver's ladder of stages (docs/engine.md §The step \
+         solver); `time.newton_rescue_stages = false` halves a failed step at once",
+    ),
+    (
+        "time.newton_continuation",
+        "it is one of the rescue stages, switched together by `time.newton_rescue_stages`",
+    ),
+    (
+        "time.newton_step_homotopy",
+        "it is one of the rescue stages, switched together by `time.newton_rescue_stages`",
+    ),
+];
+
 fn unknown_in(sections: &[Section], path: &str, prov: &Provenance) -> ScenarioError {
+    if let Some((_, why)) = RETIRED.iter().find(|(k, _)| *k == path) {
+        return ScenarioError::RetiredKey {
+            key: path.to_string(),
+            origin: prov.origin(path),
+            why,
+        };
+    }
     ScenarioError::UnknownKey {
         key: path.to_string(),
         origin: prov.origin(path),

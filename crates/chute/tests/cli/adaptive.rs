@@ -110,8 +110,11 @@ fn adaptive_newton_failures_halve_the_step_and_are_counted() {
     built.model.add_force(trig);
     let tmp = tempfile::tempdir().unwrap();
     let mut cfg = chute::app::run_config(&s, false);
-    // Each failure must reach the run loop (the exact retry would re-evaluate the NaN).
-    cfg.newton.exact_retry = false;
+    // Each failure must reach the run loop: one stage, which meets the NaN at its first
+    // evaluation (later stages would evaluate again and use up the trigger's NaNs).
+    cfg.newton.hold_factors = false;
+    cfg.newton.continuation = false;
+    cfg.newton.step_homotopy = false;
     let r = chute::runner::simulate(&mut built, &cfg, tmp.path(), &AtomicBool::new(false)).unwrap();
     assert!(r.complete, "{:?}", r.stop_reason);
     assert_eq!(r.summary.stepping.rejected_steps_newton, 3);

@@ -45,20 +45,33 @@ fn bench_quick_json_has_documented_fields() {
         // Each step needs at least one Newton iteration (the predictor never solves a
         // loaded, accelerating canopy to 1e-9 relative precision).
         assert!(c.newton_per_step >= 1.0, "{c:?}");
-        let shares = c.share_assembly + c.share_merit + c.share_factor + c.share_solve;
+        let shares = c.share_assembly + c.share_factor + c.share_solve;
         assert!(shares > 0.0 && shares <= 1.0 + 1e-9, "{c:?}");
         assert!(c.peak_rss_mib > 0.0, "{c:?}");
-        // Each retry stage is reached only by retries the stage before did not converge.
-        assert!(c.exact_retries_converged <= c.exact_retries, "{c:?}");
-        assert!(c.continuations_converged <= c.continuations, "{c:?}");
-        assert!(c.homotopies_converged <= c.homotopies, "{c:?}");
+        // Each stage of the ladder is reached only by solves the stage before did not
+        // converge, and every solve ends in exactly one converged stage or a failure.
+        let k = &c.counters;
+        for st in [k.held, k.newton, k.continuation, k.homotopy] {
+            assert!(st.converged <= st.runs, "{c:?}");
+        }
         assert!(
-            c.homotopies <= c.continuations - c.continuations_converged,
+            k.continuation.runs <= k.newton.runs - k.newton.converged,
             "{c:?}"
         );
+        assert!(
+            k.homotopy.runs <= k.continuation.runs - k.continuation.converged,
+            "{c:?}"
+        );
+        let converged =
+            k.held.converged + k.newton.converged + k.continuation.converged + k.homotopy.converged;
+        assert_eq!(converged + c.halvings as u64, k.solves, "{c:?}");
     }
-    for key in ["exact_retries", "continuations", "homotopies_converged"] {
-        assert!(list[0].get(key).is_some(), "missing `{key}` in {}", list[0]);
+    for key in ["held", "newton", "continuation", "homotopy"] {
+        assert!(
+            list[0]["counters"].get(key).is_some(),
+            "missing `counters.{key}` in {}",
+            list[0]
+        );
     }
     let n6 = cases.iter().find(|c| c.name.contains("n6")).unwrap();
     // The peer's mesh: 188 nodes, 3 DOFs each plus one twist per rod edge (66 edges).
@@ -85,10 +98,11 @@ fn bench_options_reach_the_cases() {
     // steps, which fail and are retried with half the step, as a run would.
     let rod = |r: &[CaseResult]| r.iter().find(|c| c.name == "rod-100").cloned().unwrap();
     assert_eq!(rod(&default).halvings, 0, "{default:?}");
-    // (Strict tolerance and no exact retry: the retry's doubled budget or the accuracy
-    // test could rescue them.) `--no-retry` reaches them too.
+    // (Strict tolerance and no rescue stages: their budgets or the accuracy test could
+    // take those steps.)
     let capped = rod(&tiny_bench(&[
-        "--no-retry",
+        "--set",
+        "time.newton_rescue_stages=false",
         "--set",
         "time.newton_strict=true",
         "--set",

@@ -2,15 +2,14 @@
 //!
 //! The symbolic analysis (fill-reducing ordering, elimination tree, supernodes) is done once
 //! per pattern; each Newton iteration only refactorises numerically into preallocated
-//! storage. When every force reports a symmetric Jacobian, a supernodal LLᵀ (Cholesky) is
-//! tried first; if the matrix is not positive definite (e.g. a buckling rod or a compressed
+//! storage. Only symmetric matrices are factorised: a supernodal LLᵀ (Cholesky) is tried
+//! first; if the matrix is not positive definite (e.g. a buckling rod or a compressed
 //! membrane with a large time step) the same symbolic structure is factorised as LBLᵀ
-//! (Bunch–Kaufman pivoting within supernodes), which needs no more memory. LU with partial
-//! pivoting is only used for non-symmetric matrices when the caller asks for the exact path;
-//! its symbolic analysis and storage are created on first use (at 100k DOFs they are
-//! gigabytes, so they are not reserved up front). A non-symmetric matrix can instead be
-//! solved with the factors of its symmetric part as preconditioner
-//! ([`LinearSolver::solve_corrected`], module [`krylov`]).
+//! (Bunch–Kaufman pivoting within supernodes), which needs no more memory. A non-symmetric
+//! system is solved with the factors of its symmetric part as preconditioner
+//! ([`LinearSolver::solve_corrected`], module [`krylov`]): LU would need its own symbolic
+//! structure, several times the Cholesky factor's storage and about 8× its time on the
+//! bundled shells (docs/performance.md).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -19,15 +18,11 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, IntranodeLbltRef, LltRef,
     SymbolicCholesky, SymmetricOrdering,
 };
-use faer::sparse::linalg::lu::{
-    factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu,
-};
 use faer::sparse::linalg::{amd, SupernodalThreshold};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-use crate::error::{EngineError, SparseError, StepError};
-use faer::sparse::linalg::LuError;
+use crate::error::{EngineError, SparseError};
 use faer::sparse::FaerError;
 
 mod krylov;
@@ -99,8 +94,6 @@ const SUPERNODAL_THRESHOLD: SupernodalThreshold = SupernodalThreshold(0.5);
 pub enum Factorization {
     /// Supernodal Cholesky LLᵀ (symmetric positive definite).
     Llt,
-    /// Supernodal LU with partial pivoting.
-    Lu,
     /// Symmetric indefinite LBLᵀ (Bunch–Kaufman within supernodes) on the LLᵀ structure.
     Lblt,
 }
@@ -110,13 +103,11 @@ pub struct LinearSolver {
     n: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    llt: Option<(SymbolicCholesky<usize>, Vec<f64>)>,
+    llt: (SymbolicCholesky<usize>, Vec<f64>),
     /// LBLᵀ extras: sub-diagonal of B and the pivoting permutation (forward, inverse).
     lblt: (Vec<f64>, Vec<usize>, Vec<usize>),
-    lu_sym: Option<SymbolicLu<usize>>,
-    lu_num: NumericLu<usize, f64>,
     mem: MemBuffer,
-    /// Scratch needed by the LLᵀ / LBLᵀ paths (LU's is added when LU is first needed).
+    /// Scratch needed by the LLᵀ / LBLᵀ paths.
     req: StackReq,
     /// Workspace of the Krylov-corrected solve (allocated on its first use).
     krylov_mem: Option<MemBuffer>,
@@ -174,15 +165,10 @@ impl Lower {
 }
 
 impl LinearSolver {
-    /// Analyse the pattern (CSC, sorted rows, no duplicates; checked, an invalid pattern is
-    /// [`SparseError::InvalidPattern`]). `symmetric` enables LLᵀ.
-    pub fn new(
-        n: usize,
-        col_ptr: &[usize],
-        row_idx: &[usize],
-        symmetric: bool,
-    ) -> Result<Self, EngineError> {
-        Self::with_ordering(n, col_ptr, row_idx, symmetric, SymmetricOrdering::Amd)
+    /// Analyse the symmetric pattern (CSC, sorted rows, no duplicates, both triangles;
+    /// checked, an invalid pattern is [`SparseError::InvalidPattern`]) with AMD ordering.
+    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<Self, EngineError> {
+        Self::with_ordering(n, col_ptr, row_idx, SymmetricOrdering::Amd)
     }
 
     /// [`LinearSolver::new`] for a system already numbered in its fill-reducing order
@@ -191,68 +177,57 @@ impl LinearSolver {
         n: usize,
         col_ptr: &[usize],
         row_idx: &[usize],
-        symmetric: bool,
     ) -> Result<Self, EngineError> {
-        Self::with_ordering(n, col_ptr, row_idx, symmetric, SymmetricOrdering::Identity)
+        Self::with_ordering(n, col_ptr, row_idx, SymmetricOrdering::Identity)
     }
 
     fn with_ordering(
         n: usize,
         col_ptr: &[usize],
         row_idx: &[usize],
-        symmetric: bool,
         ordering: SymmetricOrdering<'_, usize>,
     ) -> Result<Self, EngineError> {
         check_pattern(n, col_ptr, row_idx).map_err(EngineError::Symbolic)?;
+        // faer's parallel sparse LLᵀ was measured slower than one thread on the bundled
+        // shells (21 ms against 11 ms at 7,203 DOFs, docs/performance.md): only very large
+        // systems use the pool.
         let par = if n > 20_000 { Par::rayon(0) } else { Par::Seq };
-        let mut s = Self {
+        // SAFETY: `check_pattern` verified the CSC invariants faer requires.
+        let sym = unsafe { SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx) };
+        // AMD (done by the caller with `new_ordered`). A nested dissection by BFS level
+        // structures was tried (docs/performance.md): 20 % more fill and 9 % slower
+        // factorisations than AMD at 16k–33k nodes.
+        let chol = factorize_symbolic_cholesky(
+            sym,
+            Side::Lower,
+            ordering,
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SUPERNODAL_THRESHOLD,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| EngineError::Symbolic(sparse_error(e)))?;
+        let req = chol
+            .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+            .or(chol.factorize_numeric_intranode_lblt_scratch::<f64>(par, Default::default()))
+            .or(chol.solve_in_place_scratch::<f64>(1, par));
+        let vals = vec![0.0; chol.len_val()];
+        let lower = matches!(ordering, SymmetricOrdering::Identity)
+            .then(|| Lower::new(n, col_ptr, row_idx));
+        Ok(Self {
             n,
             col_ptr: col_ptr.to_vec(),
             row_idx: row_idx.to_vec(),
-            llt: None,
-            lblt: (Vec::new(), Vec::new(), Vec::new()),
-            lu_sym: None,
-            lu_num: NumericLu::new(),
-            mem: MemBuffer::new(StackReq::EMPTY),
+            llt: (chol, vals),
+            lblt: (vec![0.0; n], vec![0; n], vec![0; n]),
+            mem: MemBuffer::new(req),
+            req,
             krylov_mem: None,
-            req: StackReq::EMPTY,
             par,
-            last: Factorization::Lu,
+            last: Factorization::Llt,
             valid: false,
-            lower: None,
-        };
-        // SAFETY: `check_pattern` verified the CSC invariants faer requires.
-        let sym = unsafe { SymbolicSparseColMatRef::new_unchecked(n, n, col_ptr, None, row_idx) };
-        let mut req = StackReq::EMPTY;
-        if symmetric {
-            // AMD (done by the caller with `new_ordered`). A nested dissection by BFS level structures was tried (docs/performance.md):
-            // 20 % more fill and 9 % slower factorisations than AMD at 16k–33k nodes.
-            let chol = factorize_symbolic_cholesky(
-                sym,
-                Side::Lower,
-                ordering,
-                CholeskySymbolicParams {
-                    supernodal_flop_ratio_threshold: SUPERNODAL_THRESHOLD,
-                    ..Default::default()
-                },
-            )
-            .map_err(|e| EngineError::Symbolic(sparse_error(e)))?;
-            req = req
-                .or(chol.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
-                .or(chol.factorize_numeric_intranode_lblt_scratch::<f64>(par, Default::default()))
-                .or(chol.solve_in_place_scratch::<f64>(1, par));
-            let vals = vec![0.0; chol.len_val()];
-            s.llt = Some((chol, vals));
-            s.lblt = (vec![0.0; n], vec![0; n], vec![0; n]);
-            if matches!(ordering, SymmetricOrdering::Identity) {
-                s.lower = Some(Lower::new(n, col_ptr, row_idx));
-            }
-        } else {
-            s.ensure_lu()?;
-        }
-        s.req = req;
-        s.mem = MemBuffer::new(req.or(s.lu_scratch()));
-        Ok(s)
+            lower,
+        })
     }
 
     /// The pattern given to [`LinearSolver::new`], as a faer view.
@@ -269,98 +244,22 @@ impl LinearSolver {
         }
     }
 
-    /// Analyse the LU structure if not done yet (allocates once).
-    fn ensure_lu(&mut self) -> Result<(), EngineError> {
-        if self.lu_sym.is_some() {
-            return Ok(());
-        }
-        let sym = self.pattern();
-        let lu = factorize_symbolic_lu(sym, LuSymbolicParams::default())
-            .map_err(|e| EngineError::Symbolic(sparse_error(e)))?;
-        self.lu_sym = Some(lu);
-        Ok(())
-    }
-
-    fn lu_scratch(&self) -> StackReq {
-        self.lu_sym.as_ref().map_or(StackReq::EMPTY, |lu| {
-            lu.factorize_numeric_lu_scratch::<f64>(self.par, Default::default())
-                .or(lu.solve_in_place_scratch::<f64>(1, self.par))
-        })
-    }
-
-    /// Factorise `A` (values in the pattern given to [`LinearSolver::new`]). On success the
-    /// factors are kept for any number of [`LinearSolver::solve`] calls.
-    pub fn factor(&mut self, values: &[f64]) -> Result<Factorization, StepError> {
-        self.factor_with(values, values)
-    }
-
-    /// Factorise with LLᵀ of the symmetric matrix whose lower triangle is in `spd` when the
-    /// solver was built with `symmetric`, else (or if that matrix is not positive definite)
-    /// with LU of `full`. `spd` = `full` is the exact path; `spd` = `½ (A + Aᵀ)` makes LLᵀ
-    /// an approximation of a non-symmetric `A` (for modified Newton).
-    pub fn factor_with(&mut self, spd: &[f64], full: &[f64]) -> Result<Factorization, StepError> {
-        self.factor_impl(Some(spd), full)
-    }
-
-    /// Factorise the (non-symmetric) `full` by LU, whatever the solver was built for: the
-    /// exact path of a retry (its symbolic structure is created on first use).
-    pub fn factor_lu(&mut self, full: &[f64]) -> Result<Factorization, StepError> {
-        self.factor_impl(None, full)
-    }
-
-    fn factor_impl(
-        &mut self,
-        spd: Option<&[f64]>,
-        full: &[f64],
-    ) -> Result<Factorization, StepError> {
+    /// Factorise the symmetric matrix with values `spd` (in the pattern given to
+    /// [`LinearSolver::new`]; only its lower triangle is read): LLᵀ, or LBLᵀ on the same
+    /// structure if it is not positive definite. The factors are kept for any number of
+    /// [`LinearSolver::solve`] calls.
+    pub fn factor(&mut self, spd: &[f64]) -> Factorization {
         let n = self.n;
-        self.valid = false;
+        self.valid = true;
         if n == 0 {
-            self.valid = true;
-            return Ok(self.last);
-        }
-        if (self.llt.is_none() || spd.is_none()) && self.lu_sym.is_none() {
-            self.ensure_lu().map_err(|e| match e {
-                EngineError::Symbolic(s) => StepError::Linear(s),
-                _ => unreachable!("ensure_lu only fails in the symbolic analysis"),
-            })?;
-            self.mem = MemBuffer::new(self.req.or(self.lu_scratch()));
+            return self.last;
         }
         // SAFETY: the same valid pattern as in `new` (borrowed field by field: the factors
         // and the workspace are borrowed mutably below).
         let sym = unsafe {
             SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
         };
-        let a = SparseColMatRef::new(sym, full);
-        if let (true, Some(spd)) = (self.llt.is_some(), spd) {
-            self.last = self.factor_symmetric(spd);
-            self.valid = true;
-            return Ok(self.last);
-        }
-        let stack = MemStack::new(&mut self.mem);
-        let lu_sym = self.lu_sym.as_ref().expect("LU analysed above");
-        lu_sym
-            .factorize_numeric_lu::<f64>(&mut self.lu_num, a, self.par, stack, Default::default())
-            .map_err(|e| {
-                StepError::Linear(match e {
-                    LuError::SymbolicSingular { index } => SparseError::Singular { step: index },
-                    LuError::Generic(g) => sparse_error(g),
-                })
-            })?;
-        self.last = Factorization::Lu;
-        self.valid = true;
-        Ok(Factorization::Lu)
-    }
-
-    /// LLᵀ of the symmetric matrix whose lower triangle is in `spd`; LBLᵀ on the same
-    /// structure if it is not positive definite.
-    fn factor_symmetric(&mut self, spd: &[f64]) -> Factorization {
-        let n = self.n;
-        // SAFETY: the same valid pattern as in `new`.
-        let sym = unsafe {
-            SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
-        };
-        let (chol, lvals) = self.llt.as_mut().expect("LLT structure");
+        let (chol, lvals) = &mut self.llt;
         let a_spd = match self.lower.as_mut() {
             Some(lo) => lo.matrix(n, spd),
             None => SparseColMatRef::new(sym, spd),
@@ -376,7 +275,9 @@ impl LinearSolver {
                 Default::default(),
             )
             .is_ok();
-        if !ok {
+        self.last = if ok {
+            Factorization::Llt
+        } else {
             let (sub, fwd, inv) = &mut self.lblt;
             chol.factorize_numeric_intranode_lblt::<f64>(
                 lvals,
@@ -389,21 +290,19 @@ impl LinearSolver {
                 MemStack::new(&mut self.mem),
                 Default::default(),
             );
-            return Factorization::Lblt;
-        }
-        Factorization::Llt
+            Factorization::Lblt
+        };
+        self.last
     }
 
     /// Memory held by the solver (bytes): `(factor values, scratch)`.
     pub fn memory_bytes(&self) -> (usize, usize) {
-        let l = self.llt.as_ref().map_or(0, |(_, v)| v.len() * 8);
-        let scratch = self.req.unaligned_bytes_required();
-        (l, scratch)
+        (self.llt.1.len() * 8, self.req.unaligned_bytes_required())
     }
 
-    /// Whether factors from a successful [`LinearSolver::factor`] are held.
-    pub fn has_factors(&self) -> bool {
-        self.valid
+    /// Stored entries of the factor.
+    pub fn factor_entries(&self) -> usize {
+        self.llt.1.len()
     }
 
     /// Forget the factors (e.g. after `dt` changed).
@@ -429,40 +328,20 @@ impl LinearSolver {
 
     /// Workspace of [`LinearSolver::solve_with`] for `ncols` right-hand sides.
     fn solve_scratch(&self, ncols: usize, par: Par) -> StackReq {
-        match self.last {
-            Factorization::Llt | Factorization::Lblt => {
-                self.llt.as_ref().map_or(StackReq::EMPTY, |(c, _)| {
-                    c.solve_in_place_scratch::<f64>(ncols, par)
-                })
-            }
-            Factorization::Lu => self.lu_sym.as_ref().map_or(StackReq::EMPTY, |lu| {
-                lu.solve_in_place_scratch::<f64>(ncols, par)
-            }),
-        }
+        self.llt.0.solve_in_place_scratch::<f64>(ncols, par)
     }
 
     /// Solve in place with the held factors and the given workspace.
     fn solve_with(&self, x: MatMut<'_, f64>, par: Par, stack: &mut MemStack) {
-        let n = self.n;
+        let (chol, lvals) = &self.llt;
         match self.last {
             Factorization::Llt => {
-                let (chol, lvals) = self.llt.as_ref().expect("LLT factors");
                 LltRef::new(chol, lvals).solve_in_place_with_conj(Conj::No, x, par, stack);
             }
             Factorization::Lblt => {
-                let (chol, lvals) = self.llt.as_ref().expect("LBLT factors");
                 let (sub, fwd, inv) = &self.lblt;
-                let perm = PermRef::new_checked(fwd, inv, n);
+                let perm = PermRef::new_checked(fwd, inv, self.n);
                 IntranodeLbltRef::new(chol, lvals, sub, perm).solve_in_place_with_conj(
-                    Conj::No,
-                    x,
-                    par,
-                    stack,
-                );
-            }
-            Factorization::Lu => {
-                let lu_sym = self.lu_sym.as_ref().expect("LU analysed before factor");
-                LuRef::new_unchecked(lu_sym, &self.lu_num).solve_in_place_with_conj(
                     Conj::No,
                     x,
                     par,

@@ -157,7 +157,9 @@ pub fn kevlar_sheet_report_drag(
     })
 }
 
-fn kevlar_sheet_with(
+/// [`kevlar_sheet`] with the drag force `drag` makes from the sheet (e.g. none: an empty
+/// `DofForces`).
+pub fn kevlar_sheet_with(
     nx: usize,
     ny: usize,
     lx: f64,

@@ -62,9 +62,8 @@
 //! error is `O(h) ∝ √tol` — a 4× tighter tolerance halves it (tested against the tanh fall
 //! in `tests/solver/error_control.rs`).
 
-use super::implicit_euler::ImplicitEuler;
-use crate::error::{EngineError, InvalidModel, StepError};
-use crate::model::{Model, State};
+use crate::error::{EngineError, InvalidModel};
+use crate::model::Model;
 
 /// Safety factor on the proposed step: aim at `err ≈ 0.81`, not 1, so that the next step is
 /// rarely rejected.
@@ -223,60 +222,6 @@ impl ErrorController {
         let next_h = grown.max(MAX_SHRINK * h);
         Decision::Accept {
             next_h: next_h.clamp(self.h_min, self.h_max),
-        }
-    }
-}
-
-/// One accepted step of [`advance`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Advance {
-    /// Size of the accepted step (s).
-    pub h: f64,
-    /// Proposed size of the next step (s).
-    pub next_h: f64,
-    /// Error norm of the accepted step.
-    pub err: f64,
-    /// Attempts rejected for their error before this one.
-    pub rejected: u32,
-    /// Newton iterations of all attempts.
-    pub iterations: usize,
-}
-
-/// Advance `state` by one error-controlled step, trying `h` first: solve, estimate (filtered
-/// when [`ImplicitEuler::set_error_filter`] is on), and
-/// either commit or retry with the controller's smaller step (the rejected attempt changed
-/// nothing: see [`ImplicitEuler::try_step`]). Ends after at most
-/// `log(h/h_min)/log(1/0.9) + 1` attempts. A failed Newton solve is returned as is, for the
-/// caller's own policy (the state is unchanged then too).
-pub fn advance(
-    stepper: &mut ImplicitEuler,
-    model: &mut Model,
-    state: &mut State,
-    ctrl: &ErrorController,
-    h: f64,
-) -> Result<Advance, StepError> {
-    let mut h = h.clamp(ctrl.h_min, ctrl.h_max);
-    let mut rejected = 0;
-    let mut iterations = 0;
-    loop {
-        let trial = stepper.try_step(model, state, h)?;
-        iterations += trial.report().iterations;
-        let err = error_norm(model, trial.local_error(), ctrl.tol_m, ctrl.norm);
-        match ctrl.propose(h, err) {
-            Decision::Accept { next_h } => {
-                trial.commit(model, state);
-                return Ok(Advance {
-                    h,
-                    next_h,
-                    err,
-                    rejected,
-                    iterations,
-                });
-            }
-            Decision::Reject { retry_h } => {
-                rejected += 1;
-                h = retry_h;
-            }
         }
     }
 }

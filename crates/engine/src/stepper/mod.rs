@@ -1,17 +1,28 @@
-//! Time stepping and static equilibrium, both built on one Newton–Raphson core, and the
-//! local-error control of adaptive time steps.
+//! Time stepping and static equilibrium.
+//!
+//! A step is solved by a ladder of stages (`controller.rs`, `stage/`) sharing one workspace
+//! (`workspace.rs`), one held factorisation (`linearization.rs`) and one convergence test
+//! (`convergence.rs`); its size comes from `step_size.rs`, with the local-error control of
+//! `error_control.rs` for adaptive steps.
+mod anderson;
+mod controller;
+mod convergence;
 pub mod error_control;
 mod implicit_euler;
-mod newton;
+mod linearization;
 mod options;
 mod predictor;
 mod retry_ledger;
-mod start_policy;
+mod stage;
 mod statics;
+pub mod step_size;
+mod unit_costs;
+mod workspace;
 
-pub use error_control::{
-    advance, error_norm, local_error_norm, Advance, Decision, ErrorController, ErrorNorm,
-};
-pub use implicit_euler::{ImplicitEuler, Trial};
-pub use options::{NewtonOptions, Predictor, StepReport, Timings};
+pub use controller::{Attempt, ImplicitEuler};
+pub use error_control::{error_norm, local_error_norm, Decision, ErrorController, ErrorNorm};
+pub use implicit_euler::Trial;
+pub use options::{Counters, NewtonOptions, Predictor, Stage, StageCounts, StepReport};
 pub use statics::StaticSolver;
+pub use step_size::{Plan, SizeState, StepSizes, StepSizing};
+pub use unit_costs::UnitCosts;

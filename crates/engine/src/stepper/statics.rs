@@ -1,16 +1,23 @@
-//! Static equilibrium `F(q) = 0` by Newton–Raphson with load stepping: external loads
-//! (forces that honour [`crate::Force::set_load_scale`]) are ramped from `1/n` to 1 in `n`
-//! increments, each solved from the previous equilibrium. Elements with history (DER
-//! reference frames) are committed after every increment, like a quasi-static time step.
+//! Static equilibrium `F(q) = 0` by the Newton stage (`stage/newton.rs`) with load stepping:
+//! external loads (forces that honour [`crate::Force::set_load_scale`]) are ramped from `1/n`
+//! to 1 in `n` increments, each solved from the previous equilibrium. Elements with history
+//! (DER reference frames) are committed after every increment, like a quasi-static step.
 
-use super::newton::{NewtonCore, Target};
+use super::convergence::Convergence;
+use super::linearization::Linearization;
 use super::options::{NewtonOptions, StepReport};
+use super::stage::{newton, Ctx, Mixing};
+use super::workspace::{Target, Workspace};
 use crate::error::{EngineError, StepError};
 use crate::model::{Model, State};
 
 /// Static solver for one model.
 pub struct StaticSolver {
-    core: NewtonCore,
+    opts: NewtonOptions,
+    ws: Workspace,
+    lin: Linearization,
+    conv: Convergence,
+    mix: Mixing,
     zeros: Vec<f64>,
 }
 
@@ -18,15 +25,20 @@ impl StaticSolver {
     /// Analyse the model's pattern. Masses are not needed.
     pub fn new(model: &Model, opts: NewtonOptions) -> Result<Self, EngineError> {
         model.validate(false)?;
+        let ws = Workspace::new(model, opts.max_iterations + 1);
         Ok(Self {
-            core: NewtonCore::new(model, opts)?,
+            lin: Linearization::new(&ws)?,
+            conv: Convergence::new(&opts, model.total_mass()),
+            mix: Mixing::new(opts.anderson_depth, &ws.mass, model.n_dofs()),
             zeros: vec![0.0; model.n_dofs()],
+            ws,
+            opts,
         })
     }
 
     /// `‖R‖∞` (N) of every Newton iterate of the last load increment, the start first.
     pub fn residual_history(&self) -> &[f64] {
-        &self.core.history
+        &self.ws.history
     }
 
     /// Solve for equilibrium in `load_steps` increments, starting from `state.q`. Returns the
@@ -45,14 +57,24 @@ impl StaticSolver {
             for f in model.forces.iter_mut() {
                 f.set_load_scale(s);
             }
-            let target = Target {
+            let tg = Target {
                 c_m: 0.0,
                 c_v: 0.0,
                 q_tilde: &self.zeros,
                 q_n: &self.zeros,
                 t: state.t,
             };
-            reports.push(self.core.solve(model, &mut q, &target)?);
+            self.ws.history.clear();
+            self.ws.counters.solves += 1;
+            let mut cx = Ctx {
+                model,
+                ws: &mut self.ws,
+                lin: &mut self.lin,
+                mix: &mut self.mix,
+                conv: &self.conv,
+                opts: &self.opts,
+            };
+            reports.push(newton::run(&mut cx, &tg, &mut q, self.opts.max_iterations)?);
             state.q.copy_from_slice(&q);
             for f in model.forces.iter_mut() {
                 f.commit(&state.q);

@@ -86,7 +86,7 @@ fn a_step_without_factors_for_its_own_dt_uses_the_raw_estimate() {
     raw_estimate(&model, &state.v, trial.v(), 2e-2, &mut raw);
     assert_eq!(trial.local_error(), &raw[..]);
     assert!(raw[2] < 0.0);
-    let t = stepper.timings();
+    let t = stepper.counters();
     assert_eq!((t.error_filters, t.error_filter_fallbacks), (1, 1));
 }
 
@@ -96,5 +96,5 @@ fn the_filter_is_off_unless_asked_for() {
     let mut stepper = ImplicitEuler::new(&model, NewtonOptions::default()).unwrap();
     let trial = stepper.try_step(&model, &state, 1e-2).unwrap();
     assert!(!trial.error_filtered());
-    assert_eq!(stepper.timings().error_filter_fallbacks, 0);
+    assert_eq!(stepper.counters().error_filter_fallbacks, 0);
 }

@@ -61,7 +61,7 @@ fn check(loose: NewtonOptions, dt: f64, steps: usize) -> u64 {
         // The comparison has teeth: the local error is far above round-off.
         assert!(e > 1e-6, "step {step}: e = {e}");
     }
-    fast.timings().accuracy_accepts
+    fast.counters().accuracy_accepts
 }
 
 #[test]
@@ -97,6 +97,6 @@ fn strict_options_never_use_the_accuracy_test() {
     for _ in 0..10 {
         st.step(&mut m, &mut s, 1e-3).unwrap();
     }
-    assert_eq!(st.timings().accuracy_accepts, 0);
-    assert!(st.timings().iterations > 0);
+    assert_eq!(st.counters().accuracy_accepts, 0);
+    assert!(st.counters().iterations > 0);
 }

@@ -20,8 +20,8 @@ fn run(predictor: Predictor) -> (Vec<f64>, u64) {
     let opts = NewtonOptions {
         force_tol_abs: Some(TOL),
         force_tol_rel: 0.0,
-        reuse_jacobian: true,
-        symmetric_approx: true,
+        hold_factors: true,
+        reuse_contraction: 0.3,
         predictor,
         ..Default::default()
     };
@@ -29,7 +29,7 @@ fn run(predictor: Predictor) -> (Vec<f64>, u64) {
     for _ in 0..STEPS {
         st.step(&mut model, &mut state, DT).unwrap();
     }
-    (state.q, st.timings().iterations)
+    (state.q, st.counters().iterations)
 }
 
 #[test]

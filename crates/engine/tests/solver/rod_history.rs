@@ -6,7 +6,8 @@ use engine::{ImplicitEuler, NewtonOptions};
 
 fn opts() -> NewtonOptions {
     NewtonOptions {
-        reuse_jacobian: true,
+        hold_factors: true,
+        reuse_contraction: 0.3,
         ..Default::default()
     }
 }

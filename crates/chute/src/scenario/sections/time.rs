@@ -61,21 +61,11 @@ section! {
         /// for references and tests (written to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]
         newton_strict: bool = false => key(),
-        /// retry a step whose modified-Newton solve failed with exact Newton before the step is
-        /// halved (written to the resolved scenario only when false)
+        /// after a failed Newton stage, try the continuation and homotopy stages before the step
+        /// is halved (false: halve at once; the retry ledger already bounds what they cost;
+        /// written to the resolved scenario only when false)
         #[serde(skip_serializing_if = "Clone::clone")]
-        newton_exact_retry: bool = true => key().default_doc("`true`"),
-        /// the exact retry's last stage: when exact Newton fails with full steps and with the
-        /// line search, solve the step by pseudo-transient continuation (same solution) before
-        /// it is halved (written to the resolved scenario only when false)
-        #[serde(skip_serializing_if = "Clone::clone")]
-        newton_continuation: bool = true => key().default_doc("`true`"),
-        /// the exact retry's very last stage: when continuation fails too, follow the step's
-        /// solution in the step size from half the step to the whole step (exact Newton at
-        /// each size), so that the step is taken whole instead of halved where a solution
-        /// on that branch exists (written to the resolved scenario only when false)
-        #[serde(skip_serializing_if = "Clone::clone")]
-        newton_step_homotopy: bool = true => key().default_doc("`true`"),
+        newton_rescue_stages: bool = true => key().default_doc("`true`"),
         /// choose each step from its local error estimate instead of a fixed `dt_s` (written
         /// to the resolved scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]

@@ -1,0 +1,200 @@
+//! The linearisation the stages solve with: which matrix is factorised, when it was, and how
+//! its factors turn a residual into an update.
+//!
+//! **What is factorised.** The symmetric part `J_s = ½ (J + Jᵀ)` of the step's Jacobian (it
+//! is `J` itself unless drag makes `J` non-symmetric), optionally with an added inertia
+//! `σ c_m M` (the continuation stage), by Cholesky LLᵀ, or LBLᵀ on the same structure
+//! where it is indefinite. Never LU: on the bundled shells an LU costs about 8 LLᵀ and needs
+//! its own structure several times the Cholesky factor's size (docs/performance.md).
+//!
+//! **Updates.** The *chord* update `Δ = −J_s⁻¹ R` needs only the held factors (the held
+//! stage, and modified-Newton iterations). The *Newton* update solves `J Δ = −R` with the
+//! Jacobian the factors were computed from: since `J Δ + R = (J − J_s) Δ` for the chord
+//! update, one product with the skew part measures how far it is from Newton's. Where that
+//! relative linearised residual exceeds the forcing term `η` the stage asks for, the update is
+//! corrected by BiCGStab to `η`, preconditioned with the held factors (`linsolve/krylov.rs`),
+//! which converges in a few iterations because `J_s⁻¹ J = I + J_s⁻¹ (J − J_s)` is a small
+//! perturbation of the identity. An inexact Newton iteration with `η_k ∝ ‖R_k‖` converges
+//! quadratically like the exact one (Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19(2),
+//! 1982).
+//!
+//! **Keys.** The factors are valid for one `(c_m, c_v, σ)`: a step of another size, or a
+//! shifted matrix, needs new ones. Whether held factors from earlier steps are still good
+//! enough is not known in advance; the stages measure it by the contraction they achieve.
+
+use std::time::Instant;
+
+use super::workspace::{Target, Workspace};
+use crate::error::EngineError;
+use crate::linsolve::{Factorization, LinearSolver};
+
+/// Most BiCGStab iterations of one correction (each: two products with `J`, two pairs of
+/// triangular solves).
+const KRYLOV_MAX: usize = 20;
+
+/// The held factorisation and what it was computed for.
+pub(crate) struct Linearization {
+    solver: LinearSolver,
+    /// `J_s` (+ `σ c_m M`) in the pattern's values (empty when `J` is symmetric).
+    sym: Vec<f64>,
+    /// `(J − J_s) Δ` (free DOFs; empty when `J` is symmetric).
+    skew_product: Vec<f64>,
+    /// `−R` for the Krylov correction, and the chord update kept in case it fails.
+    rhs: Vec<f64>,
+    chord: Vec<f64>,
+    /// `(c_m, c_v, σ)` of the held factors.
+    key: Option<(f64, f64, f64)>,
+    /// The held factors are of the Jacobian now in the workspace's values (a Newton update
+    /// can be corrected against it).
+    current: bool,
+    /// `μ` of the added inertia `μ c_m M` already in the workspace's values (since the last
+    /// evaluation with a Jacobian).
+    values_shift: f64,
+}
+
+impl Linearization {
+    /// The symbolic analysis of the workspace's pattern (done once).
+    pub fn new(ws: &Workspace) -> Result<Self, EngineError> {
+        let a = &ws.asm;
+        let solver = if a.ordered {
+            LinearSolver::new_ordered(a.n_free, &a.col_ptr, &a.row_idx)?
+        } else {
+            LinearSolver::new(a.n_free, &a.col_ptr, &a.row_idx)?
+        };
+        let skew = !a.symmetric;
+        let buf = |on: bool, n: usize| if on { vec![0.0; n] } else { Vec::new() };
+        Ok(Self {
+            solver,
+            sym: buf(skew, a.nnz()),
+            skew_product: buf(skew, a.n_free),
+            rhs: buf(skew, a.n_free),
+            chord: buf(skew, a.n_free),
+            key: None,
+            current: false,
+            values_shift: 0.0,
+        })
+    }
+
+    /// Whether the held factors are of the unshifted Newton matrix of `tg`'s step size.
+    pub fn held_for(&self, tg: &Target<'_>) -> bool {
+        self.key == Some((tg.c_m, tg.c_v, 0.0))
+    }
+
+    /// Forget the held factors.
+    pub fn invalidate(&mut self) {
+        self.key = None;
+        self.current = false;
+        self.solver.invalidate();
+    }
+
+    /// The Jacobian in the workspace's values changed (a new evaluation with a Jacobian): the
+    /// held factors are no longer of it, and it carries no added inertia.
+    pub fn jacobian_changed(&mut self) {
+        self.current = false;
+        self.values_shift = 0.0;
+    }
+
+    /// Factorise `J_s + σ c_m M` from the Jacobian in `ws.values`, which is shifted in place
+    /// to `J + σ c_m M` (so that a Newton update solves the shifted system; a later call with
+    /// another `σ` on the same Jacobian adds only the difference).
+    pub fn refresh(&mut self, ws: &mut Workspace, tg: &Target<'_>, shift: f64) -> Factorization {
+        let extra = shift - self.values_shift;
+        if extra != 0.0 {
+            let a = &ws.asm;
+            for (r, &k) in a.diag.iter().enumerate() {
+                ws.values[k] += extra * tg.c_m * ws.mass[r];
+            }
+            self.values_shift = shift;
+        }
+        let t0 = Instant::now();
+        let fac = if self.sym.is_empty() {
+            self.solver.factor(&ws.values)
+        } else {
+            ws.asm.symmetric_part(&ws.values, &mut self.sym);
+            self.solver.factor(&self.sym)
+        };
+        let c = &mut ws.counters;
+        c.factor_s += t0.elapsed().as_secs_f64();
+        c.factorizations += 1;
+        c.indefinite_factorizations += u64::from(fac == Factorization::Lblt);
+        self.key = Some((tg.c_m, tg.c_v, shift));
+        self.current = true;
+        fac
+    }
+
+    /// `x ← A⁻¹ x` with the held factors `A`.
+    pub fn apply(&mut self, ws: &mut Workspace, x: &mut [f64]) {
+        let t0 = Instant::now();
+        self.solver.solve(x);
+        ws.counters.solve_s += t0.elapsed().as_secs_f64();
+    }
+
+    /// The chord update `Δ = −A⁻¹ R` into `ws.delta`.
+    pub fn chord(&mut self, ws: &mut Workspace) {
+        let mut delta = std::mem::take(&mut ws.delta);
+        for (d, r) in delta.iter_mut().zip(&ws.residual) {
+            *d = -r;
+        }
+        self.apply(ws, &mut delta);
+        ws.delta = delta;
+        ws.counters.iterations += 1;
+    }
+
+    /// The Newton update `J Δ = −R` into `ws.delta` to the relative linearised residual
+    /// `eta` (the forcing term): the chord update, corrected by BiCGStab where the skew part
+    /// of `J` makes it too far from Newton's (module docs). Only the chord update when the
+    /// factors are not of the Jacobian in `ws.values`.
+    pub fn newton(&mut self, ws: &mut Workspace, eta: f64) {
+        self.chord(ws);
+        if self.sym.is_empty() || !self.current || self.skew_ratio(ws) <= eta {
+            return;
+        }
+        for (b, r) in self.rhs.iter_mut().zip(&ws.residual) {
+            *b = -r;
+        }
+        self.chord.copy_from_slice(&ws.delta);
+        let t0 = Instant::now();
+        let rep =
+            self.solver
+                .solve_corrected(&ws.values, &self.rhs, &mut ws.delta, eta, KRYLOV_MAX);
+        let c = &mut ws.counters;
+        c.solve_s += t0.elapsed().as_secs_f64();
+        c.krylov_iterations += rep.iterations as u64;
+        if !(rep.converged && ws.delta.iter().all(|d| d.is_finite())) {
+            // A correction that does not converge (drag dominating M/h² + K, or a wild
+            // iterate) keeps the chord update; the stage's contraction test decides.
+            c.krylov_failures += 1;
+            ws.delta.copy_from_slice(&self.chord);
+        }
+    }
+
+    /// `‖(J − J_s) Δ‖∞ / ‖R‖∞` for the chord update in `ws.delta` (module docs).
+    fn skew_ratio(&mut self, ws: &Workspace) -> f64 {
+        let a = &ws.asm;
+        let y = &mut self.skew_product;
+        y.iter_mut().for_each(|x| *x = 0.0);
+        for c in 0..a.n_free {
+            let dc = ws.delta[c];
+            for k in a.col_ptr[c]..a.col_ptr[c + 1] {
+                y[a.row_idx[k]] += (ws.values[k] - self.sym[k]) * dc;
+            }
+        }
+        let num = y.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let den = ws.residual.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if den > 0.0 {
+            num / den
+        } else {
+            0.0
+        }
+    }
+
+    /// Memory of the factors and their scratch (bytes).
+    pub fn memory_bytes(&self) -> (usize, usize) {
+        self.solver.memory_bytes()
+    }
+
+    /// The solver itself (unit-cost measurements).
+    pub fn solver_mut(&mut self) -> &mut LinearSolver {
+        &mut self.solver
+    }
+}

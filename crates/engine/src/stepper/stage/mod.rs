@@ -1,0 +1,79 @@
+//! The stages of the step solver's ladder (`stepper/controller.rs`), each one strategy for
+//! solving `R(q) = 0` with one `run` entry point, cheapest first:
+//!
+//! 1. [`held`]: iterations with the factors held from earlier steps, Anderson-mixed; no
+//!    Jacobian, no factorisation. Gives up after a few iterations that do not contract.
+//! 2. [`newton`]: Newton with fresh Jacobians (kept while they contract), the Krylov-corrected
+//!    update of `linearization.rs` and a Galerkin line search.
+//! 3. [`continuation`]: pseudo-transient continuation from `q̃` (an added inertia that
+//!    shrinks as the residual falls).
+//! 4. [`homotopy`]: the step's solution followed in the step size from half the step up.
+//!
+//! Every stage judges its iterates with the same [`Convergence`] test, so whichever
+//! converges, the result is the implicit-Euler solution of the step to the same tolerance.
+
+pub(crate) mod continuation;
+pub(crate) mod held;
+pub(crate) mod homotopy;
+pub(crate) mod newton;
+
+use super::anderson::Anderson;
+use super::convergence::Convergence;
+use super::linearization::Linearization;
+use super::options::NewtonOptions;
+use super::workspace::Workspace;
+use crate::model::Model;
+
+/// What a stage works with: the model, the buffers, the held factors, the Anderson mixing of
+/// chord iterations, the convergence test and the options.
+pub(crate) struct Ctx<'a> {
+    pub model: &'a Model,
+    pub ws: &'a mut Workspace,
+    pub lin: &'a mut Linearization,
+    pub mix: &'a mut Mixing,
+    pub conv: &'a Convergence,
+    pub opts: &'a NewtonOptions,
+}
+
+/// Chord iterations `q ← q + Δ` (the update in the workspace), Anderson-mixed over the free
+/// DOFs (`stepper/anderson.rs`); no allocation after construction.
+pub(crate) struct Mixing {
+    anderson: Anderson,
+    x: Vec<f64>,
+    f: Vec<f64>,
+    /// The iterate before the last chord update (all DOFs), for [`Mixing::undo`].
+    q_prev: Vec<f64>,
+}
+
+impl Mixing {
+    /// Mixing of `depth` for a model of `n` DOFs whose free DOFs have these masses (the
+    /// norm's weights).
+    pub fn new(depth: usize, mass: &[f64], n: usize) -> Self {
+        Self {
+            anderson: Anderson::new(depth, mass),
+            x: vec![0.0; mass.len()],
+            f: vec![0.0; mass.len()],
+            q_prev: vec![0.0; n],
+        }
+    }
+
+    /// Start mixing from iterate `q` (new factors: the fixed-point map changed).
+    pub fn reset(&mut self, ws: &Workspace, q: &[f64]) {
+        self.anderson.reset();
+        ws.gather(q, &mut self.x);
+    }
+
+    /// Move `q` by the chord update in `ws.delta`, mixed with the earlier ones.
+    pub fn step(&mut self, ws: &Workspace, q: &mut [f64]) {
+        self.q_prev.copy_from_slice(q);
+        self.f.copy_from_slice(&ws.delta);
+        self.anderson.mix(&mut self.x, &self.f);
+        ws.scatter(&self.x, q);
+    }
+
+    /// Put `q` back where it was before the last [`Mixing::step`] (its residual must be
+    /// evaluated again).
+    pub fn undo(&self, q: &mut [f64]) {
+        q.copy_from_slice(&self.q_prev);
+    }
+}
