@@ -474,6 +474,18 @@ fn run_case(
         eprintln!("case {}: {why}; re-running", case.name);
     }
     std::fs::create_dir_all(&dir).map_err(|e| AppError::io(&dir, e))?;
+    // Held from before its marker is removed until after the new one is written: another
+    // process running this case (a re-queued array task) is left alone.
+    let _lock = match crate::output::lock::RunLock::acquire(&dir) {
+        Ok(lock) => lock,
+        Err(e @ crate::output::lock::LockError::Busy { .. }) => {
+            if opts.verbose {
+                eprintln!("case {}: not run: {e}", case.name);
+            }
+            return Ok(CaseStatus::Failed(format!("not run: {e}")));
+        }
+        Err(e) => return Err(e.into()),
+    };
     // The marker goes first, so that a run stopped from here on is never taken as complete;
     // the runner (force) then clears everything else the earlier run wrote.
     match std::fs::remove_file(&done) {
@@ -486,6 +498,7 @@ fn run_case(
         progress: false,
         checkpoint_every_s: None,
         resume: None,
+        viewer: false,
     };
     let started = std::time::Instant::now();
     let status = match runner(scenario, &run_opts) {
@@ -535,4 +548,30 @@ fn split_override(s: &str) -> Option<[String; 2]> {
         .and_then(|x| x.strip_suffix('"'))
         .unwrap_or(v);
     Some([k.trim().to_string(), v.to_string()])
+}
+
+/// After `chute resume` of a study case's directory `dir`: its `done.json` (when it has one)
+/// says how the resumed run ended, and its wall time grows by `wall_s`. A resume refused as
+/// bad input changed nothing and leaves the marker as it was.
+pub fn mark_resumed(
+    dir: &Path,
+    result: &Result<RunOutcome, AppError>,
+    wall_s: f64,
+) -> Result<(), AppError> {
+    let done = dir.join(DONE_FILE);
+    let Some(mut marker) = read_json(&done) else {
+        return Ok(());
+    };
+    let (word, message) = match result {
+        Ok(o) if o.complete => ("complete", None),
+        Ok(o) => ("incomplete", o.message.clone()),
+        Err(e @ AppError::RunFailed(_)) => ("incomplete", Some(e.to_string())),
+        Err(e @ AppError::Io { .. }) => ("failed", Some(e.to_string())),
+        Err(_) => return Ok(()),
+    };
+    marker["status"] = word.into();
+    marker["message"] = message.into();
+    let wall = marker["wall_time_s"].as_f64().unwrap_or(0.0) + wall_s;
+    marker["wall_time_s"] = wall.into();
+    write_atomic(&done, format!("{marker:#}\n").as_bytes())
 }
