@@ -500,6 +500,17 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
         out.join("study.csv").display(),
         out.join("study.md").display()
     );
+    // A table that lacks a case, or holds one that did not finish, is not the study's
+    // result: it is written (to see what is there) but the command fails.
+    let unfinished = table.unfinished();
+    if !unfinished.is_empty() {
+        let complete = table.rows.iter().filter(|r| r.complete).count();
+        return Err(AppError::RunFailed(format!(
+            "the study is not complete ({complete} of {} case(s) complete):\n  {}",
+            table.rows.len(),
+            unfinished.join("\n  ")
+        )));
+    }
     Ok(())
 }
 

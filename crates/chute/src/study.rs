@@ -2,6 +2,7 @@
 //! cases in parallel, each into `OUT/<case>/` with a `done.json` marker, then one table
 //! (`study.csv`, `study.md`) with a row per case. See `docs/cli.md` §study.
 
+mod expected;
 pub mod inputs;
 mod table;
 
@@ -16,7 +17,7 @@ use crate::scenario::source::line_col;
 use crate::scenario::Scenario;
 pub use inputs::InputsState;
 use table::read_json;
-pub use table::{collect, gather, write_atomic, write_table, Row, Table};
+pub use table::{collect, gather, write_atomic, write_table, CaseState, Row, Table};
 
 /// The summary metrics that become table columns, after the case name and its overrides.
 pub const METRIC_COLUMNS: &[&str] = &[
@@ -285,6 +286,11 @@ impl Shard {
     /// The shard of a SLURM array task: `SLURM_ARRAY_TASK_ID − SLURM_ARRAY_TASK_MIN` (MIN
     /// defaults to 0) of `SLURM_ARRAY_TASK_COUNT`; `None` outside an array job. `var` reads
     /// an environment variable (a parameter so tests need not touch the environment).
+    ///
+    /// Only an array of consecutive ids makes every shard run: one with a step
+    /// (`--array=1-5:2`: ids 1, 3, 5, `SLURM_ARRAY_TASK_STEP` = 2) or a list with gaps
+    /// (`--array=0,2,5`: MAX − MIN + 1 ≠ COUNT) would leave shards unrun, so it is refused in
+    /// every task, naming the array.
     pub fn from_slurm(var: impl Fn(&str) -> Option<String>) -> Option<Result<Shard, AppError>> {
         let id = var("SLURM_ARRAY_TASK_ID")?;
         let count = var("SLURM_ARRAY_TASK_COUNT")?;
@@ -296,12 +302,23 @@ impl Shard {
                 ))
             })
         };
+        let optional = |name: &str| var(name).map(|v| parse(name, &v)).transpose();
         Some((|| {
             let (id, count, min) = (
                 parse("SLURM_ARRAY_TASK_ID", &id)?,
                 parse("SLURM_ARRAY_TASK_COUNT", &count)?,
                 parse("SLURM_ARRAY_TASK_MIN", &min)?,
             );
+            let step = optional("SLURM_ARRAY_TASK_STEP")?.unwrap_or(1);
+            let max = optional("SLURM_ARRAY_TASK_MAX")?;
+            let gaps = max.is_some_and(|max| max.checked_sub(min).map(|d| d + 1) != Some(count));
+            if step != 1 || gaps {
+                return Err(input(format!(
+                    "this SLURM array's task ids are not consecutive (min {min}, max {}, step {step}, {count} tasks), so some of its {count} shards would never run; use an array without a step or gaps (`--array=0-{}`), or pass --shard I/N",
+                    max.map_or("?".to_string(), |m| m.to_string()),
+                    count.saturating_sub(1)
+                )));
+            }
             let index = id
                 .checked_sub(min)
                 .ok_or_else(|| input("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN"))?;
@@ -521,12 +538,7 @@ fn run_case(
         "message": message,
         "wall_time_s": started.elapsed().as_secs_f64(),
         "inputs": digest,
-        "recipe": {
-            "study_file": study.file,
-            "base": study.base,
-            "set": opts.set,
-            "case_set": case.set,
-        },
+        "recipe": expected::recipe(study, &opts.set, case),
     });
     write_atomic(&done, format!("{marker:#}\n").as_bytes())?;
     if opts.verbose {
@@ -539,7 +551,7 @@ fn run_case(
     Ok(status)
 }
 
-fn split_override(s: &str) -> Option<[String; 2]> {
+pub(crate) fn split_override(s: &str) -> Option<[String; 2]> {
     let (k, v) = s.split_once('=')?;
     let v = v.trim();
     // Show strings unquoted in the table.

@@ -382,3 +382,40 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("the run failed: "), "{}", stderr(&o));
 }
+
+#[test]
+fn collect_of_some_shards_names_the_missing_case_and_fails() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    for (out, shard) in [("a", "0/3"), ("b", "1/3")] {
+        let o = chute(
+            tmp.path(),
+            &[
+                "study",
+                &study,
+                "--out",
+                out,
+                "--shard",
+                shard,
+                "--set",
+                "time.duration_s=0.02",
+            ],
+        );
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    let o = chute(tmp.path(), &["collect", "a", "b", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("2 of 3 case(s) complete") && err.contains("case `2000N` is missing"),
+        "{err}"
+    );
+    // The table is still written, with the missing case's row.
+    let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
+    assert!(
+        table
+            .lines()
+            .any(|l| l.starts_with("2000N,") && l.contains(",missing,false,")),
+        "{table}"
+    );
+}
