@@ -23,6 +23,7 @@ pub mod derived;
 pub mod docs;
 pub mod error;
 pub mod keys;
+pub mod limits;
 pub mod overrides;
 mod parse;
 pub mod plausibility;
