@@ -420,6 +420,7 @@ fn fabric_lines(s: &Scenario, b: &crate::build::Built) -> Vec<(String, String)> 
 /// The ground must lie below where the landing body (the payload, or the lowest canopy node)
 /// starts; only the builder knows that height.
 fn check_ground(s: &Scenario, b: &crate::build::Built) -> Result<(), AppError> {
+    use crate::scenario::derived::sig4;
     let Some(g) = s.atmosphere.ground_altitude_m else {
         return Ok(());
     };
@@ -441,8 +442,12 @@ fn check_ground(s: &Scenario, b: &crate::build::Built) -> Result<(), AppError> {
         return Err(crate::build::BuildError::key(
             "atmosphere.ground_altitude_m",
             format!(
-                "{g} m is not below {what}, which starts at {start} m (atmosphere.altitude_m {} m {:+} m)",
-                s.atmosphere.altitude_m, z0
+                "the ground at {} m is not below {what}, which starts at {} m ({} m below atmosphere.altitude_m = {} m); set the ground below {} m, or raise atmosphere.altitude_m",
+                sig4(g),
+                sig4(start),
+                sig4(-z0),
+                sig4(s.atmosphere.altitude_m),
+                sig4(start)
             ),
         )
         .into());

@@ -503,12 +503,14 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
     // A table that lacks a case, or holds one that did not finish, is not the study's
     // result: it is written (to see what is there) but the command fails.
     let unfinished = table.unfinished();
+    for line in &unfinished {
+        eprintln!("warning: {line}");
+    }
     if !unfinished.is_empty() {
         let complete = table.rows.iter().filter(|r| r.complete).count();
         return Err(AppError::RunFailed(format!(
-            "the study is not complete ({complete} of {} case(s) complete):\n  {}",
-            table.rows.len(),
-            unfinished.join("\n  ")
+            "the study is not complete: {complete} of {} case(s) complete (each other one is named above, and has its status in the table)",
+            table.rows.len()
         )));
     }
     Ok(())

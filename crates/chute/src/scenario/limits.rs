@@ -21,20 +21,20 @@ pub const MAX_SHELL_TRIANGLES: f64 = 2.0e6;
 /// Most nodes the suspension lines may have together.
 pub const MAX_LINE_NODES: f64 = 1.0e6;
 
-/// One input of a derived quantity: its key, its value and a typical value, so that the key
-/// blamed is the one furthest from the usual.
+/// One input of a derived quantity: its key, its value and how far that is from a typical
+/// one (value / typical), so that the key blamed is the one furthest from the usual.
 #[derive(Clone, Copy)]
 struct Input {
     key: &'static str,
     value: f64,
-    typical: f64,
+    ratio: f64,
 }
 
 fn input(key: &'static str, value: f64, typical: f64) -> Input {
     Input {
         key,
         value,
-        typical,
+        ratio: value / typical,
     }
 }
 
@@ -84,7 +84,7 @@ fn blame(c: &mut Checker, inputs: &[Input], reason: String) {
         set
     };
     let far = |i: &Input| {
-        let r = (i.value / i.typical).abs();
+        let r = i.ratio.abs();
         if r.is_finite() && r > 0.0 {
             r.ln().abs()
         } else {
@@ -165,9 +165,9 @@ fn derived(s: &Scenario) -> Vec<Derived> {
     });
     out.push(stiffness(s));
     if let (DragLaw::Quadratic, Some((a, area_keys))) = (s.fluid.drag, area(s)) {
-        let rho = air_density(s);
+        let (rho, air) = air_density(s);
         let mut drag_keys = area_keys.clone();
-        drag_keys.push(input("fluid.density_kg_m3", rho, 1.225));
+        drag_keys.push(air);
         drag_keys.push(input(
             "fluid.drag_coefficient",
             s.fluid.drag_coefficient,
@@ -180,7 +180,7 @@ fn derived(s: &Scenario) -> Vec<Derived> {
             inputs: drag_keys,
         });
         keys.extend(area_keys);
-        keys.push(input("fluid.density_kg_m3", rho, 1.225));
+        keys.push(air);
         keys.push(input(
             "fluid.drag_coefficient",
             s.fluid.drag_coefficient,
@@ -263,12 +263,24 @@ pub fn mach_warning(s: &Scenario) -> Option<String> {
     ))
 }
 
-/// The air density at the start (kg/m³).
-fn air_density(s: &Scenario) -> f64 {
+/// The air density at the start (kg/m³) and the input it comes from: the constant density,
+/// or the altitude of the standard atmosphere (as far from the usual as its density).
+fn air_density(s: &Scenario) -> (f64, Input) {
+    const SEA_LEVEL: f64 = 1.225;
     match s.atmosphere.model {
-        super::AtmosphereModel::Constant => s.fluid.density_kg_m3,
+        super::AtmosphereModel::Constant => {
+            let rho = s.fluid.density_kg_m3;
+            (rho, input("fluid.density_kg_m3", rho, SEA_LEVEL))
+        }
         super::AtmosphereModel::Isa1976 => {
-            engine::aero::atmosphere::isa1976(s.atmosphere.altitude_m).density_kg_m3
+            let h = s.atmosphere.altitude_m;
+            let rho = engine::aero::atmosphere::isa1976(h).density_kg_m3;
+            let air = Input {
+                key: "atmosphere.altitude_m",
+                value: h,
+                ratio: rho / SEA_LEVEL,
+            };
+            (rho, air)
         }
     }
 }

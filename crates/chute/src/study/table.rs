@@ -71,6 +71,18 @@ impl CaseState {
         }
     }
 
+    /// What happened to it, as a verb phrase after its name.
+    fn phrase(&self) -> &'static str {
+        match self {
+            CaseState::Complete => "is complete",
+            CaseState::Incomplete(_) => "stopped early",
+            CaseState::Failed(_) => "failed",
+            CaseState::Running => "is still running",
+            CaseState::Missing(_) => "is missing",
+            CaseState::Unreadable(_) => "cannot be read",
+        }
+    }
+
     /// Why the case is not complete (`None` when it is).
     pub fn why(&self) -> Option<String> {
         match self {
@@ -408,7 +420,7 @@ impl Table {
             .iter()
             .filter_map(|r| {
                 let why = r.state.why()?;
-                Some(format!("case `{}` is {}: {why}", r.case, r.state.word()))
+                Some(format!("case `{}` {}: {why}", r.case, r.state.phrase()))
             })
             .chain(self.unknown_cases.iter().cloned())
             .collect()

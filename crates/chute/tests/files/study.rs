@@ -516,7 +516,7 @@ fn collect_lists_every_missing_failed_and_unreadable_case() {
     let lines = t.unfinished();
     assert!(
         lines.iter().any(
-            |l| l.starts_with("case `200N` is unreadable: cannot read `")
+            |l| l.starts_with("case `200N` cannot be read: cannot read `")
                 && l.contains("200N/done.json")
         ),
         "{lines:?}"
