@@ -248,8 +248,12 @@ pub fn run_watched(
         Some(from) => {
             let c = resume::load_checkpoint(from, dir, &scenario_toml)?;
             crate::output::run_files::remove_temporaries(dir).map_err(|e| AppError::io(dir, e))?;
-            let recorded = RunRecord::read(dir).map_err(AppError::Input)?;
-            (Some(c), recorded.unwrap_or(fresh_record(s, opts)?))
+            // A run of a chute before run.json gets one now (its inputs as they are).
+            let record = match RunRecord::read(dir).map_err(AppError::Input)? {
+                Some(r) => r,
+                None => fresh_record(s, opts)?,
+            };
+            (Some(c), record)
         }
         None => {
             check_fresh_dir(dir, opts.force)?;

@@ -102,10 +102,12 @@ impl Run {
 }
 
 /// Remove whatever an earlier run left in `out_dir` besides what this run has started
-/// (its record, resolved scenario, time series and frames), so that nothing in the directory
-/// can be mistaken for this run's output (the registry: [`crate::output::run_files`]).
+/// (its record, resolved scenario, time series, frames and their collection), so that
+/// nothing in the directory can be mistaken for this run's output (the registry:
+/// [`crate::output::run_files`]).
 pub(super) fn remove_stale_outputs(out_dir: &Path) -> Result<(), RunError> {
     use crate::output::run_files::{self, RESOLVED_SCENARIO, RUN_RECORD, TIMESERIES};
-    run_files::clear_top_except(out_dir, &[RESOLVED_SCENARIO, RUN_RECORD, TIMESERIES])
-        .map_err(io_err(out_dir))
+    use crate::output::vtk::PVD_NAME;
+    let started = [RESOLVED_SCENARIO, RUN_RECORD, TIMESERIES, PVD_NAME];
+    run_files::clear_top_except(out_dir, &started).map_err(io_err(out_dir))
 }

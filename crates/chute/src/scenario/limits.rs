@@ -111,12 +111,10 @@ fn area(s: &Scenario) -> Option<(f64, Vec<Input>)> {
     Some((a, keys))
 }
 
-/// The quantities of `s` that must be finite and bounded.
-fn derived(s: &Scenario) -> Vec<Derived> {
-    let mut out = Vec::new();
-    let g = input("fluid.gravity_mps2", s.fluid.gravity_mps2, 9.81);
-    let mut masses = Vec::new();
-    let mut mass = 0.0;
+/// The masses of `s` (canopy, lines) as quantities, their sum (kg) and the keys they come
+/// from.
+fn masses(s: &Scenario) -> (Vec<Derived>, f64, Vec<Input>) {
+    let (mut out, mut total, mut inputs) = (Vec::new(), 0.0, Vec::new());
     if let Some((a, mut keys)) = area(s) {
         keys.push(input("canopy.thickness_m", s.canopy.thickness_m, 1e-3));
         keys.push(input(
@@ -131,8 +129,8 @@ fn derived(s: &Scenario) -> Vec<Derived> {
             value: m,
             inputs: keys.clone(),
         });
-        mass += m;
-        masses.extend(keys);
+        total += m;
+        inputs.extend(keys);
     }
     if let (LoadMode::Payload, Some(n)) = (s.load.mode, s.site_count()) {
         let l = &s.lines;
@@ -148,14 +146,22 @@ fn derived(s: &Scenario) -> Vec<Derived> {
             value: m,
             inputs: keys.clone(),
         });
-        mass += m;
-        masses.extend(keys);
+        total += m;
+        inputs.extend(keys);
     }
+    (out, total, inputs)
+}
+
+/// The quantities of `s` that must be finite and bounded.
+fn derived(s: &Scenario) -> Vec<Derived> {
+    let (mut out, mass, mass_keys) = masses(s);
+    out.push(stiffness(s));
     if s.load.mode == LoadMode::NodeMassScale {
         return out;
     }
+    let g = input("fluid.gravity_mps2", s.fluid.gravity_mps2, 9.81);
     let mut keys = vec![input("load.weight_n", s.load.weight_n, 200.0), g];
-    keys.extend(masses);
+    keys.extend(mass_keys);
     let weight = s.load.weight_n + mass * s.fluid.gravity_mps2;
     out.push(Derived {
         name: "total weight",
@@ -163,16 +169,11 @@ fn derived(s: &Scenario) -> Vec<Derived> {
         value: weight,
         inputs: keys.clone(),
     });
-    out.push(stiffness(s));
     if let (DragLaw::Quadratic, Some((a, area_keys))) = (s.fluid.drag, area(s)) {
         let (rho, air) = air_density(s);
+        let cd = input("fluid.drag_coefficient", s.fluid.drag_coefficient, 1.0);
         let mut drag_keys = area_keys.clone();
-        drag_keys.push(air);
-        drag_keys.push(input(
-            "fluid.drag_coefficient",
-            s.fluid.drag_coefficient,
-            1.0,
-        ));
+        drag_keys.extend([air, cd]);
         out.push(Derived {
             name: "flat canopy's drag at 1 m/s ½ ρ C_D A",
             unit: "N",
@@ -180,12 +181,7 @@ fn derived(s: &Scenario) -> Vec<Derived> {
             inputs: drag_keys,
         });
         keys.extend(area_keys);
-        keys.push(air);
-        keys.push(input(
-            "fluid.drag_coefficient",
-            s.fluid.drag_coefficient,
-            1.0,
-        ));
+        keys.extend([air, cd]);
         out.push(Derived {
             name: TERMINAL_SPEED,
             unit: "m/s",

@@ -358,8 +358,12 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
         quoted.join(" ")
     );
     let o = in_small_tmpfs(tmp.path(), &script);
-    let code = std::fs::read_to_string(tmp.path().join("out/code"))
-        .unwrap_or_else(|_| panic!("{}", String::from_utf8_lossy(&o.stderr)));
+    let code = std::fs::read_to_string(tmp.path().join("out/code")).unwrap_or_else(|_| {
+        panic!(
+            "the run in a 1 MiB tmpfs did not happen (this test needs root for a private mount namespace; CHUTE_NO_TMPFS=1 skips it): {}",
+            String::from_utf8_lossy(&o.stderr)
+        )
+    });
     assert_eq!(
         code.trim(),
         "1",
