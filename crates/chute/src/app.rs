@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use crate::output::record::{InputFile, RunRecord, Status};
 use crate::scenario::{Scenario, ScenarioError};
-pub use out_dir::{check_fresh_dir, not_a_run_dir, prepare_out_dir, Prepared};
+pub use out_dir::{check_fresh_dir, ensure_dir, not_a_run_dir, prepare_out_dir, Prepared};
 pub use resume::{resolved_value, scenario_difference, unresumable, Difference, DURATION_KEY};
 
 /// How to run one scenario.

@@ -416,7 +416,7 @@ pub fn run_study_with(
         })
         .collect::<Result<Vec<_>, AppError>>()?;
     table::refuse_run_dir(&opts.out_dir)?;
-    std::fs::create_dir_all(&opts.out_dir).map_err(|e| AppError::io(&opts.out_dir, e))?;
+    app::ensure_dir(&opts.out_dir)?;
     let jobs = opts
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))

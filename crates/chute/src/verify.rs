@@ -172,7 +172,7 @@ pub struct ValidateArgs {
 pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
     refuse_empty_selection(args)?;
     if let Some(dir) = &args.out {
-        std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
+        crate::app::ensure_dir(dir)?;
     }
     let checks = run_suite(args);
     if let Some(dir) = &args.out {

@@ -43,14 +43,8 @@ impl Prepared {
 /// it has files, an earlier chute run that `allow_existing` (`--force`, a resume) lets this
 /// one replace.
 pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<Prepared, AppError> {
-    refuse_non_directory(dir)?;
     let created = !dir.exists();
-    std::fs::create_dir_all(dir).map_err(|e| {
-        AppError::Input(format!(
-            "cannot create output directory `{}`: {e}",
-            dir.display()
-        ))
-    })?;
+    ensure_dir(dir)?;
     let lock = match RunLock::acquire(dir) {
         Ok(l) => l,
         Err(e) => {
@@ -68,6 +62,19 @@ pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<Prepared, App
             Err(e)
         }
     }
+}
+
+/// Create `dir` (and its parents) for a command's outputs (`run`, `study`, `converge`,
+/// `collect --out`, `validate --out`): a path that is, or lies under, a file, or that cannot be
+/// created, is bad input (exit 2) saying so.
+pub fn ensure_dir(dir: &Path) -> Result<(), AppError> {
+    refuse_non_directory(dir)?;
+    std::fs::create_dir_all(dir).map_err(|e| {
+        AppError::Input(format!(
+            "cannot create output directory `{}`: {e}",
+            dir.display()
+        ))
+    })
 }
 
 /// `dir`, or the first of its ancestors that exists, must be a directory: `--out file` or

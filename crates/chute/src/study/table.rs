@@ -360,7 +360,7 @@ pub(crate) fn refuse_run_dir(dir: &Path) -> Result<(), AppError> {
 /// Write `study.csv` and `study.md` into `out` (refused when `out` is a run directory).
 pub fn write_table(table: &Table, out: &Path) -> Result<(), AppError> {
     refuse_run_dir(out)?;
-    std::fs::create_dir_all(out).map_err(|e| AppError::io(out, e))?;
+    crate::app::ensure_dir(out)?;
     write_atomic(&out.join("study.csv"), table.to_csv()?.as_bytes())?;
     write_atomic(&out.join("study.md"), table.to_markdown().as_bytes())
 }

@@ -418,3 +418,37 @@ fn usage_errors_exit_2_and_help_exits_0() {
         assert!(stdout(&o).contains(sub), "{sub}");
     }
 }
+
+#[test]
+fn every_out_naming_a_file_is_bad_input_saying_not_a_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("afile"), "").unwrap();
+    std::fs::create_dir(dir.path().join("empty")).unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let rod = repo()
+        .join("scenarios/report-rod-200n.toml")
+        .display()
+        .to_string();
+    let short = "time.duration_s=0.01";
+    let cases: [&[&str]; 5] = [
+        &["study", &study, "--out", "afile", "--set", short],
+        &["study", &study, "--out", "afile/sub", "--set", short],
+        &[
+            "converge",
+            &rod,
+            "--vary",
+            "canopy.nodes=11,21,41",
+            "--out",
+            "afile",
+        ],
+        &[
+            "validate", "--quick", "--case", "elastica", "--out", "afile",
+        ],
+        &["view", "afile"],
+    ];
+    for args in cases {
+        let o = chute(dir.path(), args);
+        assert_error(&o, 2, &["not a directory"]);
+        assert!(!stderr(&o).contains("os error"), "{args:?}: {}", stderr(&o));
+    }
+}
