@@ -39,6 +39,14 @@ pub enum LockError {
         /// Who holds it, as its lock file describes it.
         holder: String,
     },
+    /// The file system refused the lock itself.
+    #[error("cannot lock run directory `{}`: {source} (chute needs a file system with advisory file locks, as local disks and NFS have)", dir.display())]
+    Unsupported {
+        /// The directory.
+        dir: PathBuf,
+        /// The operating system's error.
+        source: io::Error,
+    },
     /// The lock or the reserve cannot be written.
     #[error("output directory `{}` is not writable: {source}", dir.display())]
     Unwritable {
@@ -142,7 +150,12 @@ fn lock_file(dir: &Path) -> Result<File, LockError> {
                     holder: read_holder(&mut file),
                 })
             }
-            Err(std::fs::TryLockError::Error(e)) => return Err(unwritable(e)),
+            Err(std::fs::TryLockError::Error(source)) => {
+                return Err(LockError::Unsupported {
+                    dir: dir.to_path_buf(),
+                    source,
+                })
+            }
         }
         if names_same_file(&file, &path) {
             return Ok(file);
