@@ -40,13 +40,15 @@ fn run(
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<(bool, Option<String>)> {
     let s = Scenario::load(&path, &set).map_err(|e| convert::app_err(e.into()))?;
-    chute::cli::prepare_out_dir(&out, force).map_err(convert::app_err)?;
+    // Held until the viewer is written: one process writes a run directory at a time.
+    let prepared = app::prepare_out_dir(&out, force).map_err(convert::app_err)?;
     let opts = RunOptions {
         out_dir: out.clone(),
         force,
         progress: false,
         checkpoint_every_s: None,
         resume: None,
+        viewer,
     };
     let stop = AtomicBool::new(false);
     let sim_time = AtomicU64::new(0f64.to_bits());
@@ -74,6 +76,7 @@ fn run(
             )?;
         }
     }
+    prepared.release();
     let o = outcome.map_err(convert::app_err)?;
     Ok((o.complete, o.message))
 }

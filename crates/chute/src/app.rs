@@ -2,9 +2,15 @@
 //! The other commands live in their own modules: [`crate::verify`] (`chute validate`), [`crate::bench`],
 //! [`crate::study`].
 
+mod out_dir;
+mod resume;
+
 use std::path::PathBuf;
 
+use crate::output::record::{InputFile, RunRecord, Status};
 use crate::scenario::{Scenario, ScenarioError};
+pub use out_dir::{check_fresh_dir, ensure_dir, not_a_run_dir, prepare_out_dir, Prepared};
+pub use resume::{resolved_value, scenario_difference, unresumable, Difference, DURATION_KEY};
 
 /// How to run one scenario.
 #[derive(Debug, Clone, PartialEq)]
@@ -19,6 +25,9 @@ pub struct RunOptions {
     pub checkpoint_every_s: Option<f64>,
     /// Resume from the checkpoint in this run directory.
     pub resume: Option<PathBuf>,
+    /// Whether the command writes `viewer.html` after the run; recorded in `run.json` so
+    /// that `chute resume` does as the run did.
+    pub viewer: bool,
 }
 
 /// What a run produced.
@@ -189,15 +198,18 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
 
 /// Build the model, simulate, and write the output directory (which must exist).
 ///
-/// With `opts.resume` the run continues from `checkpoint.bin` in that directory (which must
-/// be `opts.out_dir`); the scenario must resolve to the one the checkpoint was written with,
-/// except for `time.duration_s`, which may only grow (a run may be extended). With
-/// `opts.force` an earlier run in the directory is cleared first
-/// ([`crate::output::run_files::clear`]), once the model is known to be valid, so a run that
-/// cannot start leaves the earlier one intact and one that starts never mixes with it. With
-/// `opts.checkpoint_every_s` a checkpoint is written periodically. The process-wide
-/// [`crate::runner::STOP`] flag (set by the Ctrl-C / SIGTERM handler of the binary) stops the
-/// run gracefully.
+/// The directory is held for the run ([`crate::output::lock`]) unless this process holds it
+/// already. With `opts.resume` the run continues from `checkpoint.bin` in that directory
+/// (which must be `opts.out_dir`); the scenario must resolve to the one the checkpoint was
+/// written with, except for `time.duration_s`, which may only grow (a run may be extended),
+/// and every input file must have the bytes recorded in `run.json`. A fresh run needs an
+/// empty directory, or `opts.force` over an earlier run, whose files are cleared
+/// ([`crate::output::run_files::clear`]) once the model is known to be valid, so a run that
+/// cannot start leaves the earlier one intact and one that starts never mixes with it. The
+/// run's record (`run.json`) says `running` until the run ends, then how it ended, also
+/// after an I/O failure. With `opts.checkpoint_every_s` a checkpoint is written
+/// periodically. The process-wide [`crate::runner::STOP`] flag (set by the Ctrl-C / SIGTERM
+/// handler of the binary) stops the run gracefully.
 pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunOutcome, AppError> {
     let watch = Watch {
         stop: &crate::runner::STOP,
@@ -223,21 +235,36 @@ pub fn run_watched(
     opts: &RunOptions,
     watch: Watch<'_>,
 ) -> Result<RunOutcome, AppError> {
-    use crate::output::run_files;
+    let dir = &opts.out_dir;
+    let _held = out_dir::hold(dir)?;
+    if opts.resume.is_some() {
+        resume::check_inputs(dir, s)?;
+    }
     let mut built = crate::build::build(s)?;
     check_ground(s, &built)?;
     let scenario_toml = s.to_toml();
-    let resume = match &opts.resume {
-        Some(dir) => Some(load_checkpoint(dir, &opts.out_dir, &scenario_toml)?),
-        None => None,
-    };
-    if opts.force && resume.is_none() {
-        if !dir_is_empty(&opts.out_dir) && !run_files::is_run_dir(&opts.out_dir) {
-            return Err(not_a_run_dir(&opts.out_dir));
+    let (resume, record) = match &opts.resume {
+        Some(from) => {
+            let c = resume::load_checkpoint(from, dir, &scenario_toml)?;
+            crate::output::run_files::remove_temporaries(dir).map_err(|e| AppError::io(dir, e))?;
+            // A run of a chute before run.json gets one now (its inputs as they are).
+            let record = match RunRecord::read(dir).map_err(AppError::Input)? {
+                Some(r) => r,
+                None => fresh_record(s, opts)?,
+            };
+            (Some(c), record)
         }
-        run_files::clear(&opts.out_dir).map_err(|e| AppError::io(&opts.out_dir, e))?;
-    }
-    let resolved = opts.out_dir.join(run_files::RESOLVED_SCENARIO);
+        None => {
+            check_fresh_dir(dir, opts.force)?;
+            let record = fresh_record(s, opts)?;
+            crate::output::run_files::clear(dir).map_err(|e| AppError::io(dir, e))?;
+            (None, record)
+        }
+    };
+    let running = record.with_status(Status::Running, None);
+    let path = dir.join(crate::output::run_files::RUN_RECORD);
+    running.write(dir).map_err(|e| AppError::io(&path, e))?;
+    let resolved = dir.join(crate::output::run_files::RESOLVED_SCENARIO);
     crate::output::atomic::write_atomic(&resolved, scenario_toml.as_bytes())
         .map_err(|e| AppError::io(&resolved, e))?;
     let cfg = run_config(s, opts.progress);
@@ -248,13 +275,21 @@ pub fn run_watched(
         scenario_toml,
         sim_time: watch.sim_time,
     };
-    let r = crate::runner::simulate_with(&mut built, &cfg, &opts.out_dir, &ctl).map_err(
-        |e| match e {
-            crate::runner::RunError::Io { path, source } => AppError::Io { path, source },
-            crate::runner::RunError::Checkpoint(m) => AppError::Input(format!("checkpoint: {m}")),
-            e => AppError::RunFailed(e.to_string()),
-        },
-    )?;
+    let result = crate::runner::simulate_with(&mut built, &cfg, dir, &ctl);
+    // Room for the record (and a study's marker) even when the file system filled up.
+    crate::output::lock::free_reserve(dir);
+    let ended = match &result {
+        Ok(r) if r.complete => record.with_status(Status::Complete, None),
+        Ok(r) => record.with_status(Status::Incomplete, r.stop_reason.clone()),
+        Err(e) => record.with_status(Status::Failed, Some(e.to_string())),
+    };
+    let recorded = ended.write(dir).map_err(|e| AppError::io(&path, e));
+    let r = result.map_err(|e| match e {
+        crate::runner::RunError::Io { path, source } => AppError::Io { path, source },
+        crate::runner::RunError::Checkpoint(m) => AppError::Input(format!("checkpoint: {m}")),
+        e => AppError::RunFailed(e.to_string()),
+    })?;
+    recorded?;
     let summary = serde_json::from_str(&r.summary.to_json())
         .map_err(|e| AppError::RunFailed(format!("summary: {e}")))?;
     // Landing is how a run with a ground ends: complete, nothing to warn about.
@@ -263,6 +298,30 @@ pub fn run_watched(
         summary,
         complete: r.complete,
         message,
+    })
+}
+
+/// The record of a run starting now: every input file by digest, and its options.
+fn fresh_record(s: &Scenario, opts: &RunOptions) -> Result<RunRecord, AppError> {
+    let inputs = s
+        .input_files()
+        .into_iter()
+        .map(|(key, path)| {
+            let digest = crate::study::inputs::file_digest(&path).map_err(|e| {
+                AppError::Input(format!("{key}: cannot read `{}`: {e}", path.display()))
+            })?;
+            Ok(InputFile {
+                key: key.to_string(),
+                path,
+                digest,
+            })
+        })
+        .collect::<Result<Vec<_>, AppError>>()?;
+    Ok(RunRecord {
+        status: Status::Running,
+        reason: None,
+        inputs,
+        viewer: opts.viewer,
     })
 }
 
@@ -364,6 +423,7 @@ fn fabric_lines(s: &Scenario, b: &crate::build::Built) -> Vec<(String, String)> 
 /// The ground must lie below where the landing body (the payload, or the lowest canopy node)
 /// starts; only the builder knows that height.
 fn check_ground(s: &Scenario, b: &crate::build::Built) -> Result<(), AppError> {
+    use crate::scenario::derived::sig4;
     let Some(g) = s.atmosphere.ground_altitude_m else {
         return Ok(());
     };
@@ -385,139 +445,15 @@ fn check_ground(s: &Scenario, b: &crate::build::Built) -> Result<(), AppError> {
         return Err(crate::build::BuildError::key(
             "atmosphere.ground_altitude_m",
             format!(
-                "{g} m is not below {what}, which starts at {start} m (atmosphere.altitude_m {} m {:+} m)",
-                s.atmosphere.altitude_m, z0
+                "the ground at {} m is not below {what}, which starts at {} m ({} m below atmosphere.altitude_m = {} m); set the ground below {} m, or raise atmosphere.altitude_m",
+                sig4(g),
+                sig4(start),
+                sig4(-z0),
+                sig4(s.atmosphere.altitude_m),
+                sig4(start)
             ),
         )
         .into());
     }
     Ok(())
-}
-
-/// Whether `dir` has no entries (or does not exist).
-fn dir_is_empty(dir: &std::path::Path) -> bool {
-    std::fs::read_dir(dir).map_or(true, |mut it| it.next().is_none())
-}
-
-/// `--force` is refused on a non-empty directory chute did not write: it would delete or
-/// mix with someone else's files.
-pub fn not_a_run_dir(dir: &std::path::Path) -> AppError {
-    AppError::Input(format!(
-        "output directory `{}` is not empty and is not a chute run directory (it has no {}); --force only replaces an earlier chute run: choose another --out DIR",
-        dir.display(),
-        crate::output::run_files::RESOLVED_SCENARIO
-    ))
-}
-
-/// Read the checkpoint of run directory `dir` and check it belongs to this scenario.
-fn load_checkpoint(
-    dir: &std::path::Path,
-    out_dir: &std::path::Path,
-    scenario_toml: &str,
-) -> Result<crate::checkpoint::Checkpoint, AppError> {
-    let same_dir = match (dir.canonicalize(), out_dir.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    };
-    if !same_dir {
-        return Err(AppError::Input(format!(
-            "resuming `{}` continues that run in place; the output directory `{}` must be the same directory",
-            dir.display(),
-            out_dir.display()
-        )));
-    }
-    let c = crate::checkpoint::Checkpoint::read(dir)
-        .map_err(|e| AppError::Input(format!("cannot resume from `{}`: {e}", dir.display())))?;
-    let cannot = |why: String| AppError::Input(format!("cannot resume `{}`: {why}", dir.display()));
-    if let Some(d) = scenario_difference(&c.scenario_toml, scenario_toml) {
-        return Err(cannot(format!(
-            "`{}` = {} (checkpoint) vs {} (now); only time.duration_s may change",
-            d.key, d.was, d.now
-        )));
-    }
-    let (was, now) = (
-        resolved_value(&c.scenario_toml, DURATION_KEY).and_then(|v| v.parse::<f64>().ok()),
-        resolved_value(scenario_toml, DURATION_KEY).and_then(|v| v.parse::<f64>().ok()),
-    );
-    if let (Some(was), Some(now)) = (was, now) {
-        if now < was {
-            return Err(cannot(format!(
-                "time.duration_s = {now} s is shorter than the recorded run's {was} s (checkpoint at t = {} s); a resumed run can only be extended",
-                crate::scenario::derived::sig4(c.t)
-            )));
-        }
-    }
-    Ok(c)
-}
-
-/// The one key a resumed run may change.
-pub const DURATION_KEY: &str = "time.duration_s";
-
-/// A key whose value differs between two resolved scenarios.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Difference {
-    /// The dotted key (`load.weight_n`).
-    pub key: String,
-    /// Its value in the first text (`<absent>` when it has none).
-    pub was: String,
-    /// Its value in the second.
-    pub now: String,
-}
-
-/// The `key = value` lines of a resolved scenario as (dotted key, value text), tracking the
-/// `[section]` and `[[section]]` headers (entries of arrays of tables numbered from 0).
-fn resolved_entries(text: &str) -> Vec<(String, String)> {
-    let mut section = String::new();
-    let mut counts: std::collections::BTreeMap<String, usize> = Default::default();
-    let mut out = Vec::new();
-    for line in text.lines().map(str::trim) {
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        if let Some(name) = line.strip_prefix("[[").and_then(|l| l.strip_suffix("]]")) {
-            let n = counts.entry(name.to_string()).or_default();
-            section = format!("{name}[{n}]");
-            *n += 1;
-        } else if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
-            section = name.to_string();
-        } else if let Some((k, v)) = line.split_once('=') {
-            let k = k.trim();
-            let key = if section.is_empty() {
-                k.to_string()
-            } else {
-                format!("{section}.{k}")
-            };
-            out.push((key, v.trim().to_string()));
-        }
-    }
-    out
-}
-
-/// The value text of `key` in a resolved scenario.
-pub fn resolved_value(text: &str, key: &str) -> Option<String> {
-    resolved_entries(text)
-        .into_iter()
-        .find_map(|(k, v)| (k == key).then_some(v))
-}
-
-/// The first key (in the checkpoint's order, then keys only `now` has) whose value differs
-/// between two resolved scenarios, ignoring `time.duration_s` (a resumed run may be
-/// extended).
-pub fn scenario_difference(was: &str, now: &str) -> Option<Difference> {
-    let keep = |(k, _): &(String, String)| k != DURATION_KEY;
-    let a: Vec<_> = resolved_entries(was).into_iter().filter(keep).collect();
-    let b: Vec<_> = resolved_entries(now).into_iter().filter(keep).collect();
-    let find = |list: &[(String, String)], key: &str| {
-        list.iter()
-            .find(|(k, _)| k == key)
-            .map_or_else(|| "<absent>".to_string(), |(_, v)| v.clone())
-    };
-    a.iter()
-        .chain(&b)
-        .map(|(k, _)| Difference {
-            key: k.clone(),
-            was: find(&a, k),
-            now: find(&b, k),
-        })
-        .find(|d| d.was != d.now)
 }

@@ -249,55 +249,6 @@ fn print_plausibility(s: &Scenario) {
     }
 }
 
-/// Whether a directory exists and has anything in it.
-fn non_empty_dir(dir: &Path) -> bool {
-    std::fs::read_dir(dir).is_ok_and(|mut it| it.next().is_some())
-}
-
-/// Make sure `dir` can take a run's outputs: refuse to overwrite an earlier run unless
-/// `allow_existing` (`--force`, or a resume), and even then a non-empty directory that is not
-/// a chute run directory; create it, and prove it writable. Returns whether it was created
-/// here.
-pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<bool, AppError> {
-    if dir.exists() && !dir.is_dir() {
-        return Err(AppError::Input(format!(
-            "output path `{}` exists and is not a directory",
-            dir.display()
-        )));
-    }
-    if non_empty_dir(dir) && !allow_existing {
-        return Err(AppError::Input(format!(
-            "output directory `{}` already exists and is not empty; pass --force to overwrite it, or --out DIR to choose another",
-            dir.display()
-        )));
-    }
-    let created = !dir.exists();
-    std::fs::create_dir_all(dir).map_err(|e| {
-        AppError::Input(format!(
-            "cannot create output directory `{}`: {e}",
-            dir.display()
-        ))
-    })?;
-    // A probe with some real bytes, synced: creating an empty file can succeed on a full
-    // file system, writing data cannot.
-    let probe = || -> std::io::Result<()> {
-        use std::io::Write;
-        let mut f = tempfile::NamedTempFile::new_in(dir)?;
-        f.write_all(&[0u8; 64 * 1024])?;
-        f.as_file().sync_all()
-    };
-    probe().map_err(|e| {
-        AppError::Input(format!(
-            "output directory `{}` is not writable: {e}",
-            dir.display()
-        ))
-    })?;
-    if non_empty_dir(dir) && !crate::output::run_files::is_run_dir(dir) {
-        return Err(app::not_a_run_dir(dir));
-    }
-    Ok(created)
-}
-
 /// Route Ctrl-C / SIGTERM / SIGHUP to [`crate::runner::STOP`]: runs stop at their next step
 /// with a checkpoint and valid partial outputs. A second signal exits at once (status 130).
 fn install_stop_handler() {
@@ -339,69 +290,75 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
         .out
         .clone()
         .unwrap_or_else(|| Path::new("runs").join(&s.name));
-    let created = prepare_out_dir(&out, a.force)?;
+    let prepared = app::prepare_out_dir(&out, a.force)?;
     let opts = RunOptions {
         out_dir: out.clone(),
         force: a.force,
         progress: !a.quiet && std::io::stderr().is_terminal(),
         checkpoint_every_s,
         resume: None,
+        viewer: !a.no_viewer,
     };
     let report = Report {
-        no_viewer: a.no_viewer,
         json: a.json,
         quiet: a.quiet,
     };
-    run_and_report(&s, &opts, created, &report)
+    let result = run_and_report(&s, &opts, &report);
+    prepared.release();
+    result.map(drop)
 }
 
 /// How `run` and `resume` report a finished run.
 struct Report {
-    no_viewer: bool,
     json: bool,
     quiet: bool,
 }
 
-/// Run, write the viewer, print the summary; an incomplete run is an error saying how to
-/// continue it.
+/// Run, write the viewer (unless `opts.viewer` is off), print the summary; an incomplete
+/// run is an error saying what to do next. The outcome is returned for a resumed study case.
 fn run_and_report(
     s: &Scenario,
     opts: &RunOptions,
-    created: bool,
     r: &Report,
-) -> Result<(), AppError> {
+) -> Result<app::RunOutcome, AppError> {
     let out = &opts.out_dir;
     print_plausibility(s);
     install_stop_handler();
-    let outcome = match app::run(s, opts) {
-        Ok(o) => o,
-        Err(e) => {
-            // Leave no empty directory behind that would block the next attempt.
-            if created && !non_empty_dir(out) {
-                let _ = std::fs::remove_dir(out);
-            }
-            return Err(e);
-        }
-    };
-    if !r.no_viewer {
+    let outcome = app::run(s, opts)?;
+    if opts.viewer {
         if let Err(e) = crate::output::viewer::write_viewer(out) {
             eprintln!("warning: viewer.html not written: {e}");
         }
     }
+    let summary_path = out.join(crate::output::run_files::SUMMARY);
     crate::output::console::print_run_report(out, &outcome.summary, r.json, r.quiet)
-        .map_err(|e| AppError::io(out.join("summary.json"), e))?;
-    match (outcome.complete, outcome.message) {
-        (true, Some(m)) => {
-            eprintln!("warning: {m}");
-            Ok(())
+        .map_err(|e| AppError::io(summary_path, e))?;
+    match (outcome.complete, &outcome.message) {
+        (true, Some(m)) => eprintln!("warning: {m}"),
+        (true, None) => {}
+        (false, m) => {
+            return Err(AppError::RunFailed(format!(
+                "stopped before time.duration_s: {}; partial outputs are in `{}`; {}",
+                m.as_deref().unwrap_or("no reason given"),
+                out.display(),
+                next_step(out)
+            )))
         }
-        (true, None) => Ok(()),
-        (false, m) => Err(AppError::RunFailed(format!(
-            "stopped before time.duration_s: {}; partial outputs and a checkpoint are in `{}` (continue with `chute resume {}`)",
-            m.unwrap_or_else(|| "no reason given".into()),
-            out.display(),
-            out.display()
-        ))),
+    }
+    Ok(outcome)
+}
+
+/// What to do after a run in `dir` stopped early: resume it when its checkpoint is a sync
+/// point (a signal); a failed step's checkpoint holds the last good state, from which a
+/// resume fails the same way.
+fn next_step(dir: &Path) -> String {
+    match crate::checkpoint::Checkpoint::read(dir) {
+        Ok(c) if c.synced => format!("continue with `chute resume {}`", dir.display()),
+        Ok(c) => format!(
+            "its checkpoint holds the last good state (t = {} s) for inspection; resuming would repeat the failure: change the scenario (e.g. a smaller time.dt_s, or time.adaptive = true) and run it again",
+            crate::scenario::derived::sig4(c.t)
+        ),
+        Err(_) => "it has no checkpoint to resume from: run it again".into(),
     }
 }
 
@@ -422,33 +379,38 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
             )));
         }
     }
-    let c = crate::checkpoint::Checkpoint::read(dir).map_err(|e| {
-        let complete =
-            dir.join("summary.json").is_file() && !dir.join(crate::checkpoint::FILE_NAME).exists();
-        let hint = if complete {
-            " (a run keeps a checkpoint after it ends only when written with --checkpoint-every S)"
-        } else {
-            ""
-        };
-        AppError::Input(format!("cannot resume `{}`: {e}{hint}", dir.display()))
-    })?;
+    let lock = crate::output::lock::RunLock::acquire(dir)?;
+    let c = crate::checkpoint::Checkpoint::read(dir).map_err(|e| app::unresumable(dir, &e))?;
     // The recorded scenario is the checkpoint's own copy; errors point at the directory's.
     let source = dir.join(crate::output::run_files::RESOLVED_SCENARIO);
     let s = Scenario::from_str_with_name(&c.scenario_toml, &source.display().to_string(), &a.set)?;
     let checkpoint_every_s = checkpoint_interval(a.checkpoint_every.or(c.checkpoint_every_s))?;
+    let recorded = crate::output::record::RunRecord::read(dir).map_err(AppError::Input)?;
+    if recorded.is_none() {
+        eprintln!(
+            "warning: `{}` has no run.json (an older chute wrote it): its input files cannot be checked against the run's",
+            dir.display()
+        );
+    }
     let opts = RunOptions {
         out_dir: dir.clone(),
         force: false,
         progress: !a.quiet && std::io::stderr().is_terminal(),
         checkpoint_every_s,
         resume: Some(dir.clone()),
+        viewer: !a.no_viewer && recorded.is_none_or(|r| r.viewer),
     };
     let report = Report {
-        no_viewer: a.no_viewer,
         json: a.json,
         quiet: a.quiet,
     };
-    run_and_report(&s, &opts, false, &report)
+    let started = std::time::Instant::now();
+    let result = run_and_report(&s, &opts, &report);
+    // A study case says how it ended in its marker too.
+    let marked = study::mark_resumed(dir, &result, started.elapsed().as_secs_f64());
+    drop(lock);
+    result?;
+    marked
 }
 
 fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
@@ -459,6 +421,11 @@ fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
             a.run_dir.display()
         )));
     }
+    let unfinished = crate::output::record::DirState::of(&a.run_dir)
+        .ok()
+        .and_then(|s| s.unfinished());
+    // `view` writes into the directory: it waits its turn like any writer.
+    let _lock = crate::output::lock::RunLock::acquire(&a.run_dir)?;
     let r = crate::output::viewer::write_viewer(&a.run_dir).map_err(|e| match e {
         RunDirError::Io { path, source } => AppError::Io { path, source },
         e @ RunDirError::Format { .. } => AppError::Input(e.to_string()),
@@ -471,6 +438,12 @@ fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
         r.frames_total,
         r.triangles
     );
+    if let Some(why) = unfinished {
+        eprintln!(
+            "note: `{}` holds an unfinished run: {why}",
+            a.run_dir.display()
+        );
+    }
     Ok(())
 }
 
@@ -527,6 +500,19 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
         out.join("study.csv").display(),
         out.join("study.md").display()
     );
+    // A table that lacks a case, or holds one that did not finish, is not the study's
+    // result: it is written (to see what is there) but the command fails.
+    let unfinished = table.unfinished();
+    for line in &unfinished {
+        eprintln!("warning: {line}");
+    }
+    if !unfinished.is_empty() {
+        let complete = table.rows.iter().filter(|r| r.complete).count();
+        return Err(AppError::RunFailed(format!(
+            "the study is not complete: {complete} of {} case(s) complete (each other one is named above, and has its status in the table)",
+            table.rows.len()
+        )));
+    }
     Ok(())
 }
 

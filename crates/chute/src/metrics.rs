@@ -167,6 +167,10 @@ pub enum MetricsError {
     /// A parameter that must be positive is not.
     #[error("parameter {0} must be positive and finite")]
     BadParameter(&'static str),
+    /// The series ends at the time it starts (a run that stopped at its first step): no
+    /// quantity was measured, and none is reported as if it had been (not 0, but null).
+    #[error("no time elapsed (the series ends at its start, t = {0} s): nothing was measured")]
+    NoTimeElapsed(f64),
 }
 
 /// Window samples: time and the averaged quantities (vz, drag_z, vx, vy).
@@ -438,6 +442,9 @@ fn validate(s: &Series<'_>, p: &Params) -> Result<(), MetricsError> {
         if i > 0 && s.t_s[i] < s.t_s[i - 1] {
             return Err(MetricsError::NonMonotonicTime(i));
         }
+    }
+    if s.t_s[n - 1] <= s.t_s[0] {
+        return Err(MetricsError::NoTimeElapsed(s.t_s[0]));
     }
     let positive = |x: f64| x.is_finite() && x > 0.0;
     for (name, x) in [

@@ -8,7 +8,9 @@
 pub mod atomic;
 pub mod console;
 pub mod control_files;
+pub mod lock;
 pub mod plots;
+pub mod record;
 pub mod run_dir;
 pub mod run_files;
 pub mod scene3d;

@@ -23,6 +23,7 @@ pub mod derived;
 pub mod docs;
 pub mod error;
 pub mod keys;
+pub mod limits;
 pub mod overrides;
 mod parse;
 pub mod plausibility;
@@ -36,7 +37,7 @@ pub mod wrinkle;
 #[cfg(test)]
 mod tests;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
@@ -185,6 +186,18 @@ impl Scenario {
         let body =
             toml::to_string(self).unwrap_or_else(|e| format!("# serialisation failed: {e}\n"));
         format!("# Fully resolved chute scenario: every default filled in.\n{body}")
+    }
+
+    /// Every file the scenario reads besides itself, with the key that names it: what a run
+    /// records by digest, so that a resume or a study never continues with other contents
+    /// under the same name (docs/reliability.md §5). A key that names a file but is not used
+    /// (a `mesh_file` with another `canopy.shape`) is not an input.
+    pub fn input_files(&self) -> Vec<(&'static str, PathBuf)> {
+        let mut files = Vec::new();
+        if let (CanopyShape::Mesh, Some(p)) = (self.canopy.shape, &self.canopy.mesh_file) {
+            files.push(("canopy.mesh_file", p.clone()));
+        }
+        files
     }
 
     /// Canopy planform area (m²) of the flat canopy, or `None` for an imported mesh (known

@@ -2,6 +2,7 @@
 //! cases in parallel, each into `OUT/<case>/` with a `done.json` marker, then one table
 //! (`study.csv`, `study.md`) with a row per case. See `docs/cli.md` §study.
 
+mod expected;
 pub mod inputs;
 mod table;
 
@@ -16,7 +17,7 @@ use crate::scenario::source::line_col;
 use crate::scenario::Scenario;
 pub use inputs::InputsState;
 use table::read_json;
-pub use table::{collect, gather, write_atomic, write_table, Row, Table};
+pub use table::{collect, gather, write_atomic, write_table, CaseState, Row, Table};
 
 /// The summary metrics that become table columns, after the case name and its overrides.
 pub const METRIC_COLUMNS: &[&str] = &[
@@ -285,6 +286,11 @@ impl Shard {
     /// The shard of a SLURM array task: `SLURM_ARRAY_TASK_ID − SLURM_ARRAY_TASK_MIN` (MIN
     /// defaults to 0) of `SLURM_ARRAY_TASK_COUNT`; `None` outside an array job. `var` reads
     /// an environment variable (a parameter so tests need not touch the environment).
+    ///
+    /// Only an array of consecutive ids makes every shard run: one with a step
+    /// (`--array=1-5:2`: ids 1, 3, 5, `SLURM_ARRAY_TASK_STEP` = 2) or a list with gaps
+    /// (`--array=0,2,5`: MAX − MIN + 1 ≠ COUNT) would leave shards unrun, so it is refused in
+    /// every task, naming the array.
     pub fn from_slurm(var: impl Fn(&str) -> Option<String>) -> Option<Result<Shard, AppError>> {
         let id = var("SLURM_ARRAY_TASK_ID")?;
         let count = var("SLURM_ARRAY_TASK_COUNT")?;
@@ -296,12 +302,23 @@ impl Shard {
                 ))
             })
         };
+        let optional = |name: &str| var(name).map(|v| parse(name, &v)).transpose();
         Some((|| {
             let (id, count, min) = (
                 parse("SLURM_ARRAY_TASK_ID", &id)?,
                 parse("SLURM_ARRAY_TASK_COUNT", &count)?,
                 parse("SLURM_ARRAY_TASK_MIN", &min)?,
             );
+            let step = optional("SLURM_ARRAY_TASK_STEP")?.unwrap_or(1);
+            let max = optional("SLURM_ARRAY_TASK_MAX")?;
+            let gaps = max.is_some_and(|max| max.checked_sub(min).map(|d| d + 1) != Some(count));
+            if step != 1 || gaps {
+                return Err(input(format!(
+                    "this SLURM array's task ids are not consecutive (min {min}, max {}, step {step}, {count} tasks), so some of its {count} shards would never run; use an array without a step or gaps (`--array=0-{}`), or pass --shard I/N",
+                    max.map_or("?".to_string(), |m| m.to_string()),
+                    count.saturating_sub(1)
+                )));
+            }
             let index = id
                 .checked_sub(min)
                 .ok_or_else(|| input("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN"))?;
@@ -399,7 +416,7 @@ pub fn run_study_with(
         })
         .collect::<Result<Vec<_>, AppError>>()?;
     table::refuse_run_dir(&opts.out_dir)?;
-    std::fs::create_dir_all(&opts.out_dir).map_err(|e| AppError::io(&opts.out_dir, e))?;
+    app::ensure_dir(&opts.out_dir)?;
     let jobs = opts
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
@@ -474,6 +491,18 @@ fn run_case(
         eprintln!("case {}: {why}; re-running", case.name);
     }
     std::fs::create_dir_all(&dir).map_err(|e| AppError::io(&dir, e))?;
+    // Held from before its marker is removed until after the new one is written: another
+    // process running this case (a re-queued array task) is left alone.
+    let _lock = match crate::output::lock::RunLock::acquire(&dir) {
+        Ok(lock) => lock,
+        Err(e @ crate::output::lock::LockError::Busy { .. }) => {
+            if opts.verbose {
+                eprintln!("case {}: not run: {e}", case.name);
+            }
+            return Ok(CaseStatus::Failed(format!("not run: {e}")));
+        }
+        Err(e) => return Err(e.into()),
+    };
     // The marker goes first, so that a run stopped from here on is never taken as complete;
     // the runner (force) then clears everything else the earlier run wrote.
     match std::fs::remove_file(&done) {
@@ -486,6 +515,7 @@ fn run_case(
         progress: false,
         checkpoint_every_s: None,
         resume: None,
+        viewer: false,
     };
     let started = std::time::Instant::now();
     let status = match runner(scenario, &run_opts) {
@@ -508,12 +538,7 @@ fn run_case(
         "message": message,
         "wall_time_s": started.elapsed().as_secs_f64(),
         "inputs": digest,
-        "recipe": {
-            "study_file": study.file,
-            "base": study.base,
-            "set": opts.set,
-            "case_set": case.set,
-        },
+        "recipe": expected::recipe(study, &opts.set, case),
     });
     write_atomic(&done, format!("{marker:#}\n").as_bytes())?;
     if opts.verbose {
@@ -526,7 +551,7 @@ fn run_case(
     Ok(status)
 }
 
-fn split_override(s: &str) -> Option<[String; 2]> {
+pub(crate) fn split_override(s: &str) -> Option<[String; 2]> {
     let (k, v) = s.split_once('=')?;
     let v = v.trim();
     // Show strings unquoted in the table.
@@ -535,4 +560,30 @@ fn split_override(s: &str) -> Option<[String; 2]> {
         .and_then(|x| x.strip_suffix('"'))
         .unwrap_or(v);
     Some([k.trim().to_string(), v.to_string()])
+}
+
+/// After `chute resume` of a study case's directory `dir`: its `done.json` (when it has one)
+/// says how the resumed run ended, and its wall time grows by `wall_s`. A resume refused as
+/// bad input changed nothing and leaves the marker as it was.
+pub fn mark_resumed(
+    dir: &Path,
+    result: &Result<RunOutcome, AppError>,
+    wall_s: f64,
+) -> Result<(), AppError> {
+    let done = dir.join(DONE_FILE);
+    let Some(mut marker) = read_json(&done) else {
+        return Ok(());
+    };
+    let (word, message) = match result {
+        Ok(o) if o.complete => ("complete", None),
+        Ok(o) => ("incomplete", o.message.clone()),
+        Err(e @ AppError::RunFailed(_)) => ("incomplete", Some(e.to_string())),
+        Err(e @ AppError::Io { .. }) => ("failed", Some(e.to_string())),
+        Err(_) => return Ok(()),
+    };
+    marker["status"] = word.into();
+    marker["message"] = message.into();
+    let wall = marker["wall_time_s"].as_f64().unwrap_or(0.0) + wall_s;
+    marker["wall_time_s"] = wall.into();
+    write_atomic(&done, format!("{marker:#}\n").as_bytes())
 }

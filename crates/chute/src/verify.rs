@@ -170,8 +170,9 @@ pub struct ValidateArgs {
 /// Run the verification suite, print the table (or JSON) on stdout and write the report
 /// and convergence studies when `out` is given; `Err(ValidationFailed)` when any check fails.
 pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
+    refuse_empty_selection(args)?;
     if let Some(dir) = &args.out {
-        std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
+        crate::app::ensure_dir(dir)?;
     }
     let checks = run_suite(args);
     if let Some(dir) = &args.out {
@@ -190,6 +191,26 @@ pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
         0 => Ok(()),
         failed => Err(AppError::ValidationFailed { failed }),
     }
+}
+
+/// A `--case TEXT` that selects no case is a mistake (bad input), not "0 passed".
+fn refuse_empty_selection(args: &ValidateArgs) -> Result<(), AppError> {
+    let Some(text) = &args.case else {
+        return Ok(());
+    };
+    let available: Vec<&str> = cases::all()
+        .into_iter()
+        .filter(|c| !args.quick || c.quick)
+        .map(|c| c.name)
+        .collect();
+    if available.iter().any(|n| n.contains(text.as_str())) {
+        return Ok(());
+    }
+    let quick = if args.quick { " with --quick" } else { "" };
+    Err(AppError::Input(format!(
+        "--case `{text}` matches no verification case{quick}; the cases are: {}",
+        available.join(", ")
+    )))
 }
 
 /// Run the suite; returns the checks (caller prints and sets the exit code).

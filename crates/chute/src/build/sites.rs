@@ -26,7 +26,12 @@ pub fn resolve(s: &Scenario, geo: &Geometry) -> Result<Vec<usize>, BuildError> {
             })
     };
     let mut out = match &s.load.sites {
-        Sites::Points(pts) => pts.iter().map(|p| nearest(p[0], p[1])).collect(),
+        Sites::Points(pts) => {
+            if s.canopy.shape == CanopyShape::Mesh {
+                inside_mesh(geo, pts)?;
+            }
+            pts.iter().map(|p| nearest(p[0], p[1])).collect()
+        }
         Sites::Named(set) => match (s.model.kind, set) {
             (ModelKind::Rod, SiteSet::Ends) => {
                 let chain = geo.rod_chain.as_ref().expect("rod canopy");
@@ -54,6 +59,36 @@ pub fn resolve(s: &Scenario, geo: &Geometry) -> Result<Vec<usize>, BuildError> {
         return Err(BuildError::key("load.sites", "no load site resolved"));
     }
     Ok(out)
+}
+
+/// Every `[x, y]` site must lie on the imported canopy seen from above (on the top view of
+/// one of its triangles), as sites of a generated outline must lie inside it: a site off the
+/// canopy is a mistake, not a request for the nearest node.
+fn inside_mesh(geo: &Geometry, pts: &[[f64; 2]]) -> Result<(), BuildError> {
+    let pos = &geo.mesh.positions;
+    let (lo, hi) = super::canopy::extent(&geo.mesh, &geo.canopy_nodes);
+    let eps = 1e-9 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1.0);
+    let on = |x: f64, y: f64, t: &[usize; 3]| {
+        let [a, b, c] = t.map(|i| [pos[i][0], pos[i][1]]);
+        let cross =
+            |p: [f64; 2], q: [f64; 2]| (q[0] - p[0]) * (y - p[1]) - (q[1] - p[1]) * (x - p[0]);
+        let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        let scale = area.abs().sqrt().max(eps);
+        let d = [cross(a, b), cross(b, c), cross(c, a)].map(|v| v * area.signum() / scale);
+        d.iter().all(|&v| v >= -eps)
+    };
+    for (i, p) in pts.iter().enumerate() {
+        if !geo.mesh.faces.iter().any(|t| on(p[0], p[1], t)) {
+            return Err(BuildError::key(
+                "load.sites",
+                format!(
+                    "site {} [{}, {}] m is not on the imported canopy seen from above (its nodes span x ∈ [{}, {}] m, y ∈ [{}, {}] m): give points on the canopy",
+                    i + 1, p[0], p[1], lo[0], hi[0], lo[1], hi[1]
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// `rim_site_count` rim nodes at equally spaced polar angles, the first on +x.

@@ -162,8 +162,7 @@ pub fn circle(radius: f64, target_edge: f64) -> CanopyMesh {
 pub fn circle_with_rim_sites(radius: f64, target_edge: f64, rim_sites: usize) -> CanopyMesh {
     check("radius", radius);
     check("target edge", target_edge);
-    let q = rim_sites.max(1) / gcd(rim_sites.max(1), 6);
-    let n = q * ((radius / target_edge / q as f64).round().max(1.0) as usize);
+    let n = circle_rings(radius, target_edge, rim_sites);
     concentric(n, |k, s, i| {
         // Node j and node 6k − j of a ring get exactly opposite y (mirror about y = 0).
         let j = s * k + i;
@@ -176,6 +175,15 @@ pub fn circle_with_rim_sites(radius: f64, target_edge: f64, rim_sites: usize) ->
         let r = radius * k as f64 / n as f64;
         [r * a.cos(), sign * r * a.sin()]
     })
+}
+
+/// The ring count of [`circle_with_rim_sites`] (it has `6 n²` triangles): the scenario
+/// checks it before anything is built.
+pub fn circle_rings(radius: f64, target_edge: f64, rim_sites: usize) -> usize {
+    let q = rim_sites.max(1) / gcd(rim_sites.max(1), 6);
+    let per_q = (radius / target_edge / q as f64).round().max(1.0);
+    // Saturating: an absurd ratio is refused by the caller, not wrapped around.
+    q.saturating_mul(per_q.min(usize::MAX as f64) as usize)
 }
 
 fn gcd(a: usize, b: usize) -> usize {

@@ -62,9 +62,23 @@ impl RawMesh {
                 ))
             }
         };
+        let mut seen: BTreeMap<[usize; 3], usize> = BTreeMap::new();
         for (f, &line) in self.faces.iter().zip(&self.face_lines) {
             f.iter().try_for_each(|&i| range(i, line))?;
             self.check_triangle(*f, line)?;
+            let mut key = *f;
+            key.sort_unstable();
+            if let Some(first) = seen.insert(key, line) {
+                return Err(self.line_error(
+                    line,
+                    format!(
+                        "duplicate triangle {} {} {}: line {first} has the same three nodes; remove one of them",
+                        f[0] + 1,
+                        f[1] + 1,
+                        f[2] + 1
+                    ),
+                ));
+            }
         }
         for (r, &line) in self.rods.iter().zip(&self.rod_lines) {
             r.iter().try_for_each(|&i| range(i, line))?;
@@ -197,7 +211,7 @@ impl RawMesh {
         // Engine messages use 0-based indices; restate the edge 1-based for the file.
         let message = match &e {
             MeshError::NonManifoldEdge { edge, count, .. } => format!(
-                "edge {}–{} is shared by {count} triangles (at most 2 allowed)",
+                "non-manifold triangle: with it, edge {}–{} is shared by {count} triangles, and a surface has at most 2 on an edge",
                 edge[0] + 1,
                 edge[1] + 1
             ),

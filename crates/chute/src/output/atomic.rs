@@ -45,3 +45,33 @@ fn sync_dir(dir: &Path) {
         let _ = d.sync_all();
     }
 }
+
+/// Append `bytes`, whole rows, to `file` (opened for appending), whose length is `*len`.
+///
+/// A write that fails part-way (a full file system) has put part of a row at the end; the
+/// file is then cut back to `*len` (which needs no space), so a streamed CSV only ever ends
+/// in a whole row, whatever happens. On success `*len` grows by the bytes written.
+pub fn append_whole(file: &mut fs::File, len: &mut u64, bytes: &[u8]) -> io::Result<()> {
+    match file.write_all(bytes).and_then(|()| file.flush()) {
+        Ok(()) => {
+            *len += bytes.len() as u64;
+            Ok(())
+        }
+        Err(e) => {
+            let _ = file.set_len(*len);
+            Err(e)
+        }
+    }
+}
+
+/// Open `path`, which holds `rows` whole rows written by chute, for [`append_whole`]: with
+/// its length, after cutting off a partial last row a killed writer may have left.
+pub fn open_rows(path: &Path) -> io::Result<(fs::File, u64)> {
+    let text = fs::read(path)?;
+    let whole = text.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let file = fs::OpenOptions::new().append(true).open(path)?;
+    if whole < text.len() {
+        file.set_len(whole as u64)?;
+    }
+    Ok((file, whole as u64))
+}

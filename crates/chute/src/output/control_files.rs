@@ -5,8 +5,8 @@
 //! Both files are streamed in whole rows and flushed at each frame; resuming cuts them back
 //! to the rows at or before the checkpoint's time, so a resumed run's files equal the
 //! uninterrupted run's.
-use std::fs::{File, OpenOptions};
-use std::io::{self, Write};
+use std::fs::File;
+use std::io;
 use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
@@ -26,17 +26,22 @@ const TRACK_HEADER: &str = "t_s,x_m,y_m,z_m";
 struct Rows {
     path: PathBuf,
     file: File,
+    /// Bytes of whole rows in the file.
+    len: u64,
 }
 
 impl Rows {
-    /// Create `dir/name` with `header`, or, resuming at `t_resume`, keep its rows up to then.
+    /// Create `dir/name` with `header`, or, resuming at `t_resume`, keep its whole rows up to
+    /// then.
     fn open(dir: &Path, name: &str, header: &str, t_resume: Option<f64>) -> io::Result<Self> {
         let path = dir.join(name);
         match t_resume {
             None => std::fs::write(&path, format!("{header}\n"))?,
             Some(t) => {
                 let text = std::fs::read_to_string(&path).unwrap_or_default();
-                let keep: Vec<&str> = text
+                // Only rows with their newline were written whole.
+                let whole = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
+                let keep: Vec<&str> = whole
                     .lines()
                     .skip(1)
                     .filter(|l| {
@@ -46,16 +51,15 @@ impl Rows {
                     .collect();
                 let mut out = format!("{header}\n");
                 keep.iter().for_each(|l| out.extend([*l, "\n"]));
-                std::fs::write(&path, out)?;
+                super::write_atomic(&path, out.as_bytes())?;
             }
         }
-        let file = OpenOptions::new().append(true).open(&path)?;
-        Ok(Self { path, file })
+        let (file, len) = super::atomic::open_rows(&path)?;
+        Ok(Self { path, file, len })
     }
 
     fn write(&mut self, rows: &str) -> io::Result<()> {
-        self.file.write_all(rows.as_bytes())?;
-        self.file.flush()
+        super::atomic::append_whole(&mut self.file, &mut self.len, rows.as_bytes())
     }
 }
 

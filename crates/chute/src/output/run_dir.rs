@@ -201,7 +201,14 @@ pub fn read_series(dir: &Path, max_points: usize) -> Result<Option<Series>, RunD
         return Ok(None);
     }
     let bad = |m: String| format_err(&path, m);
-    let mut reader = csv::Reader::from_path(&path).map_err(|e| bad(e.to_string()))?;
+    let text = std::fs::read(&path).map_err(|source| RunDirError::Io {
+        path: path.clone(),
+        source,
+    })?;
+    // A row is written when its newline is: a run still writing (or one that was killed)
+    // may show part of its next row, which is not data yet.
+    let whole = &text[..text.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1)];
+    let mut reader = csv::Reader::from_reader(whole);
     let headers = reader.headers().map_err(|e| bad(e.to_string()))?.clone();
     let col = |name: &str| {
         headers

@@ -1,6 +1,8 @@
-//! The files a run writes, by name: how a chute run directory is recognised, and how an
-//! earlier run is cleared for `--force` so that a directory never holds parts of two runs
-//! while files chute did not write are left alone (docs/outputs.md §Output directory).
+//! The one registry of the files a run writes into its directory: how a chute run directory
+//! is recognised, how an earlier run is cleared (for `--force`, a study's re-run, or a
+//! fresh start over a directory chute wrote) so that a directory never holds parts of two
+//! runs, and what docs/outputs.md §Output directory lists (a test compares the two). Files
+//! chute did not write are left alone.
 
 use std::io;
 use std::path::Path;
@@ -9,70 +11,215 @@ use super::vtk::{FRAMES_DIR, PVD_NAME};
 
 /// The resolved scenario: written first by every run, so it marks a chute run directory.
 pub const RESOLVED_SCENARIO: &str = "scenario.resolved.toml";
+/// The run's record: its status, input files by digest and the options a resume keeps
+/// ([`super::record`]).
+pub const RUN_RECORD: &str = "run.json";
+/// The summary of a run that ended.
+pub const SUMMARY: &str = "summary.json";
+/// The streamed time series.
+pub const TIMESERIES: &str = "timeseries.csv";
+/// A study case's marker (docs/cli.md §study).
+pub const DONE: &str = "done.json";
+/// The advisory lock held by the process writing the directory ([`super::lock`]).
+pub const LOCK: &str = ".chute.lock";
+/// Space set aside while a run writes, freed so that its record can still be written when
+/// the file system fills up ([`super::lock`]).
+pub const RESERVE: &str = ".chute.reserve";
 
-/// Files of fixed name a run (or a study case) writes at the top of its directory.
-const FIXED: [&str; 10] = [
-    RESOLVED_SCENARIO,
-    "summary.json",
-    "timeseries.csv",
-    PVD_NAME,
-    "velocity.png",
-    "height.png",
-    "shape.png",
-    super::viewer::VIEWER_HTML,
-    crate::checkpoint::FILE_NAME,
-    "done.json",
+/// What a registered file is to the code that clears a directory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// An output or record of one run: cleared before another run writes the directory.
+    Run,
+    /// Belongs to the process holding the directory, not to a run: never cleared by it.
+    Holder,
+}
+
+/// One entry of the registry: how its name looks and what it is.
+#[derive(Debug, Clone, Copy)]
+pub struct RunFile {
+    /// The name as docs/outputs.md writes it (`snapshot_<t>s.png`, `frames/frame_NNNNNN.vtu`).
+    pub shown: &'static str,
+    /// Matches a name at the top of the directory, or (`in_frames`) inside `frames/`.
+    pattern: Pattern,
+    /// Inside `frames/` rather than at the top.
+    pub in_frames: bool,
+    /// What clearing does with it.
+    pub role: Role,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Pattern {
+    Exact(&'static str),
+    /// `prefix`, one or more characters of `middle`, `suffix`.
+    Numbered {
+        prefix: &'static str,
+        suffix: &'static str,
+        digits_only: bool,
+    },
+}
+
+const fn exact(name: &'static str) -> RunFile {
+    RunFile {
+        shown: name,
+        pattern: Pattern::Exact(name),
+        in_frames: false,
+        role: Role::Run,
+    }
+}
+
+/// Every file a run (or a study case, or the process writing it) puts into its directory.
+pub const RUN_FILES: &[RunFile] = &[
+    exact(RESOLVED_SCENARIO),
+    exact(RUN_RECORD),
+    exact(TIMESERIES),
+    exact(SUMMARY),
+    exact(PVD_NAME),
+    RunFile {
+        shown: "frames/frame_NNNNNN.vtu",
+        pattern: Pattern::Numbered {
+            prefix: "frame_",
+            suffix: ".vtu",
+            digits_only: true,
+        },
+        in_frames: true,
+        role: Role::Run,
+    },
+    exact(super::plots::VELOCITY_PNG),
+    exact(super::plots::HEIGHT_PNG),
+    exact(super::plots::SHAPE_PNG),
+    RunFile {
+        shown: "snapshot_<t>s.png",
+        pattern: Pattern::Numbered {
+            prefix: "snapshot_",
+            suffix: "s.png",
+            digits_only: false,
+        },
+        in_frames: false,
+        role: Role::Run,
+    },
+    exact(super::plots::WRINKLES_PNG),
+    exact(super::viewer::VIEWER_HTML),
+    exact(super::control_files::LINES_CSV),
+    exact(super::control_files::TRACK_CSV),
+    exact(super::control_files::TRACK_PNG),
+    exact(crate::checkpoint::FILE_NAME),
+    exact(DONE),
+    RunFile {
+        role: Role::Holder,
+        ..exact(LOCK)
+    },
+    RunFile {
+        role: Role::Holder,
+        ..exact(RESERVE)
+    },
 ];
 
+impl RunFile {
+    fn matches(&self, name: &str) -> bool {
+        match self.pattern {
+            Pattern::Exact(n) => n == name,
+            Pattern::Numbered {
+                prefix,
+                suffix,
+                digits_only,
+            } => name
+                .strip_prefix(prefix)
+                .and_then(|n| n.strip_suffix(suffix))
+                .is_some_and(|m| {
+                    !m.is_empty() && (!digits_only || m.bytes().all(|b| b.is_ascii_digit()))
+                }),
+        }
+    }
+}
+
 /// A temporary of an atomic write (`.<name>.XXXXXX.tmp`, `.<name>.<pid>.tmp.png`), left
-/// behind only by a crash.
-fn is_temporary(name: &str) -> bool {
+/// behind only by a process that was killed while writing.
+pub fn is_temporary(name: &str) -> bool {
     name.starts_with('.') && (name.ends_with(".tmp") || name.ends_with(".tmp.png"))
 }
 
-/// Whether `name`, an entry at the top of a run directory, is a file chute writes there.
+/// The registry entry of `name`, an entry at the top of a run directory.
+fn top_entry(name: &str) -> Option<&'static RunFile> {
+    RUN_FILES.iter().find(|f| !f.in_frames && f.matches(name))
+}
+
+/// Whether `name`, an entry at the top of a run directory, is a file chute writes there
+/// (temporaries included).
 pub fn is_run_file(name: &str) -> bool {
-    FIXED.contains(&name)
-        || (name.starts_with("snapshot_") && name.ends_with("s.png"))
-        || is_temporary(name)
+    top_entry(name).is_some() || is_temporary(name)
 }
 
-/// Whether `name`, an entry of `frames/`, is a frame chute writes.
+/// Whether `name`, an entry of `frames/`, is a frame chute writes (or its temporary).
 fn is_frame_file(name: &str) -> bool {
-    let index = name
-        .strip_prefix("frame_")
-        .and_then(|n| n.strip_suffix(".vtu"));
-    index.is_some_and(|i| !i.is_empty() && i.bytes().all(|b| b.is_ascii_digit()))
-        || is_temporary(name)
+    RUN_FILES.iter().any(|f| f.in_frames && f.matches(name)) || is_temporary(name)
 }
 
-/// Whether `dir` holds a chute run (its resolved scenario).
+/// Whether `name` belongs to the process holding the directory rather than to a run.
+pub fn is_holder_file(name: &str) -> bool {
+    top_entry(name).is_some_and(|f| f.role == Role::Holder)
+}
+
+/// Whether `dir` holds a chute run (its resolved scenario or its record).
 pub fn is_run_dir(dir: &Path) -> bool {
-    dir.join(RESOLVED_SCENARIO).is_file()
+    dir.join(RESOLVED_SCENARIO).is_file() || dir.join(RUN_RECORD).is_file()
+}
+
+/// Whether `dir` has nothing in it but the files of the process holding it (or does not
+/// exist).
+pub fn is_empty(dir: &Path) -> bool {
+    std::fs::read_dir(dir).map_or(true, |it| {
+        it.filter_map(Result::ok)
+            .all(|e| e.file_name().to_str().is_some_and(is_holder_file))
+    })
 }
 
 /// Remove every file an earlier run wrote into `dir` (and `frames/` once it is empty);
-/// anything else is kept.
+/// anything else, and the holder's lock and reserve, is kept.
 pub fn clear(dir: &Path) -> io::Result<()> {
+    clear_where(dir, |n| is_run_file(n) && !is_holder_file(n), is_frame_file)
+}
+
+/// Remove the run files at the top of `dir` except `keep` (and the holder's): what a run
+/// that has just created `keep` clears of an earlier one (frames are the frame writer's).
+pub fn clear_top_except(dir: &Path, keep: &[&str]) -> io::Result<()> {
+    remove_matching(dir, |n| {
+        is_run_file(n) && !is_holder_file(n) && !keep.contains(&n)
+    })
+}
+
+/// Remove the temporaries a killed writer left in `dir` and `frames/` (a resume's first
+/// step: nothing else of the run is touched).
+pub fn remove_temporaries(dir: &Path) -> io::Result<()> {
+    clear_where(dir, is_temporary, is_temporary)
+}
+
+/// Remove the files at the top of `dir` whose names satisfy `top` and those of `frames/`
+/// that satisfy `frame`, then `frames/` itself when that left it empty.
+fn clear_where(
+    dir: &Path,
+    top: impl Fn(&str) -> bool,
+    frame: impl Fn(&str) -> bool,
+) -> io::Result<()> {
+    remove_matching(dir, top)?;
+    let frames = dir.join(FRAMES_DIR);
+    if frames.is_dir() {
+        remove_matching(&frames, frame)?;
+        // Kept when it holds something chute did not write.
+        let _ = std::fs::remove_dir(&frames);
+    }
+    Ok(())
+}
+
+/// Remove the plain files of `dir` whose names satisfy `gone`.
+fn remove_matching(dir: &Path, gone: impl Fn(&str) -> bool) -> io::Result<()> {
     for entry in std::fs::read_dir(dir)? {
         let entry = entry?;
         let name = entry.file_name();
         let Some(name) = name.to_str() else { continue };
-        if entry.file_type()?.is_file() && is_run_file(name) {
+        if entry.file_type()?.is_file() && gone(name) {
             remove(&entry.path())?;
         }
-    }
-    let frames = dir.join(FRAMES_DIR);
-    if frames.is_dir() {
-        for entry in std::fs::read_dir(&frames)? {
-            let entry = entry?;
-            let name = entry.file_name();
-            if entry.file_type()?.is_file() && name.to_str().is_some_and(is_frame_file) {
-                remove(&entry.path())?;
-            }
-        }
-        // Kept when it holds something chute did not write.
-        let _ = std::fs::remove_dir(&frames);
     }
     Ok(())
 }
@@ -92,9 +239,15 @@ mod tests {
     fn names_of_run_files() {
         for n in [
             "summary.json",
+            "run.json",
+            "lines.csv",
+            "track.csv",
+            "track.png",
+            "wrinkles.png",
             "snapshot_2.5s.png",
             ".summary.json.a1B2c3.tmp",
             ".velocity.png.77.tmp.png",
+            ".chute.lock",
         ] {
             assert!(is_run_file(n), "{n}");
         }
@@ -103,5 +256,7 @@ mod tests {
         }
         assert!(is_frame_file("frame_000012.vtu"));
         assert!(!is_frame_file("frame_.vtu") && !is_frame_file("mine.vtu"));
+        assert!(is_holder_file(LOCK) && is_holder_file(RESERVE));
+        assert!(!is_holder_file(SUMMARY));
     }
 }

@@ -144,6 +144,8 @@ pub fn canopy_means(
 /// flushes on a best-effort basis.
 pub struct TimeSeriesWriter {
     file: File,
+    /// Bytes of whole rows in the file.
+    len: u64,
     buf: Vec<u8>,
     rows: u64,
 }
@@ -151,22 +153,17 @@ pub struct TimeSeriesWriter {
 impl TimeSeriesWriter {
     /// Create (truncate) `path` and write the header line immediately.
     pub fn create(path: &Path) -> io::Result<Self> {
-        let mut file = File::create(path)?;
-        file.write_all(HEADER.as_bytes())?;
-        file.write_all(b"\n")?;
-        Ok(Self {
-            file,
-            buf: Vec::with_capacity(FLUSH_THRESHOLD_BYTES + 1024),
-            rows: 0,
-        })
+        std::fs::write(path, format!("{HEADER}\n"))?;
+        Self::append_to(path, 0)
     }
 
     /// Continue an existing file that already holds the header and `rows` data rows (and
     /// nothing after them: see `checkpoint::truncate_timeseries`), appending from its end.
     pub fn append_to(path: &Path, rows: u64) -> io::Result<Self> {
-        let file = std::fs::OpenOptions::new().append(true).open(path)?;
+        let (file, len) = super::atomic::open_rows(path)?;
         Ok(Self {
             file,
+            len,
             buf: Vec::with_capacity(FLUSH_THRESHOLD_BYTES + 1024),
             rows,
         })
@@ -182,13 +179,14 @@ impl TimeSeriesWriter {
         Ok(())
     }
 
-    /// Write all buffered rows to the file (one `write_all` of whole rows).
+    /// Write all buffered rows to the file (one write of whole rows; one that fails is
+    /// taken back, so the file still ends in a whole row: [`super::atomic::append_whole`]).
     pub fn flush(&mut self) -> io::Result<()> {
         if !self.buf.is_empty() {
-            self.file.write_all(&self.buf)?;
+            super::atomic::append_whole(&mut self.file, &mut self.len, &self.buf)?;
             self.buf.clear();
         }
-        self.file.flush()
+        Ok(())
     }
 
     /// Flush and fsync; call once at the end of a run.

@@ -103,28 +103,13 @@ impl Run {
     }
 }
 
-/// Remove an earlier run's checkpoint, plots and summary (with `--force`), so that nothing in
-/// the directory can be mistaken for this run's output.
+/// Remove whatever an earlier run left in `out_dir` besides what this run has started
+/// (its record, resolved scenario, time series, frames and their collection), so that
+/// nothing in the directory can be mistaken for this run's output (the registry:
+/// [`crate::output::run_files`]).
 pub(super) fn remove_stale_outputs(out_dir: &Path) -> Result<(), RunError> {
-    let fixed = [
-        checkpoint::FILE_NAME,
-        "summary.json",
-        "velocity.png",
-        "height.png",
-        "shape.png",
-        crate::output::viewer::VIEWER_HTML,
-        crate::output::control_files::TRACK_PNG,
-    ];
-    let snapshots = std::fs::read_dir(out_dir)
-        .map_err(io_err(out_dir))?
-        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
-        .filter(|n| n.starts_with("snapshot_") && n.ends_with(".png"));
-    for name in fixed.iter().map(|s| s.to_string()).chain(snapshots) {
-        let stale = out_dir.join(&name);
-        match std::fs::remove_file(&stale) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io_err(&stale)(e)),
-            _ => {}
-        }
-    }
-    Ok(())
+    use crate::output::run_files::{self, RESOLVED_SCENARIO, RUN_RECORD, TIMESERIES};
+    use crate::output::vtk::PVD_NAME;
+    let started = [RESOLVED_SCENARIO, RUN_RECORD, TIMESERIES, PVD_NAME];
+    run_files::clear_top_except(out_dir, &started).map_err(io_err(out_dir))
 }

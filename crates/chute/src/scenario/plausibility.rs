@@ -74,6 +74,7 @@ pub fn warnings(s: &Scenario) -> Vec<String> {
             )
         })
         .chain(regularisation)
+        .chain(super::limits::mach_warning(s))
         .collect()
 }
 

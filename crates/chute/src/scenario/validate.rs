@@ -10,7 +10,7 @@ use super::source::Provenance;
 use super::{AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, Sites};
 
 /// Upper bounds that keep a typo (an extra zero or three) from exhausting memory or time.
-const MAX_SHELL_TRIANGLES: f64 = 2.0e6;
+use super::limits::MAX_SHELL_TRIANGLES;
 const MAX_STEPS: f64 = 1.0e8;
 const MAX_SITES: usize = 10_000;
 
@@ -103,6 +103,7 @@ pub fn validate(s: &Scenario, prov: &Provenance) -> Result<(), ScenarioError> {
     atmosphere(&mut c, s);
     time_and_output(&mut c, s);
     super::control::check(&mut c, s);
+    super::limits::check(&mut c, s);
     c.first()
 }
 

@@ -16,7 +16,7 @@ use std::path::PathBuf;
 
 use super::{Case, Study};
 use crate::app::AppError;
-use crate::scenario::{CanopyShape, Scenario};
+use crate::scenario::Scenario;
 
 /// The name of the digest, written before it (`fnv1a64:0123456789abcdef`).
 pub const ALGORITHM: &str = "fnv1a64";
@@ -53,14 +53,30 @@ pub fn digest(s: &Scenario) -> Result<String, AppError> {
     let mut h = Fnv1a64::new();
     h.bytes(STREAM_VERSION);
     let mut text = s.clone();
-    let mesh = text.canopy.mesh_file.take();
+    // Files are identified by their contents, not by where they are.
+    text.canopy.mesh_file = None;
     h.part("scenario", text.to_toml().as_bytes());
-    if let (CanopyShape::Mesh, Some(path)) = (s.canopy.shape, mesh) {
+    for (key, path) in s.input_files() {
         let bytes = std::fs::read(&path).map_err(|e| AppError::io(&path, e))?;
         let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase());
-        h.part("mesh-extension", ext.unwrap_or_default().as_bytes());
-        h.part("mesh", &bytes);
+        // The mesh's tags predate other input files; they keep old records current.
+        let tag = match key {
+            "canopy.mesh_file" => "mesh",
+            other => other,
+        };
+        h.part(
+            &format!("{tag}-extension"),
+            ext.unwrap_or_default().as_bytes(),
+        );
+        h.part(tag, &bytes);
     }
+    Ok(format!("{ALGORITHM}:{:016x}", h.0))
+}
+
+/// The digest of one file's bytes, as `fnv1a64:<16 hex digits>`.
+pub fn file_digest(path: &std::path::Path) -> std::io::Result<String> {
+    let mut h = Fnv1a64::new();
+    h.bytes(&std::fs::read(path)?);
     Ok(format!("{ALGORITHM}:{:016x}", h.0))
 }
 

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use super::inputs::{Checker, InputsState};
 use super::{Study, DONE_FILE, METRIC_COLUMNS};
 use crate::app::AppError;
-use crate::output::run_files::RESOLVED_SCENARIO;
+use crate::output::run_files::{RESOLVED_SCENARIO, SUMMARY};
 use crate::scenario::derived::sig4;
 
 pub(crate) fn read_json(path: &Path) -> Option<serde_json::Value> {
@@ -34,8 +34,66 @@ pub struct Row {
     pub metrics: BTreeMap<String, String>,
     /// `done.json` says complete and `summary.json` exists.
     pub complete: bool,
+    /// Where the case is: complete, or why not.
+    pub state: CaseState,
     /// Whether the recorded inputs are what the case's study would run now.
     pub inputs: InputsState,
+}
+
+/// Where a case of a study is, as its directory shows.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CaseState {
+    /// Ran to the end (`done.json` complete, `summary.json` present).
+    Complete,
+    /// Stopped early; why.
+    Incomplete(String),
+    /// Could not run, or could not write its outputs; why.
+    Failed(String),
+    /// A process is running it now.
+    Running,
+    /// Its directory has no finished run: not run yet (or by a shard whose directory was not
+    /// given), or its process was killed; what the directory shows.
+    Missing(String),
+    /// A file of it cannot be read; the file and the error.
+    Unreadable(String),
+}
+
+impl CaseState {
+    /// The `status` cell.
+    pub fn word(&self) -> &'static str {
+        match self {
+            CaseState::Complete => "complete",
+            CaseState::Incomplete(_) => "incomplete",
+            CaseState::Failed(_) => "failed",
+            CaseState::Running => "running",
+            CaseState::Missing(_) => "missing",
+            CaseState::Unreadable(_) => "unreadable",
+        }
+    }
+
+    /// What happened to it, as a verb phrase after its name.
+    fn phrase(&self) -> &'static str {
+        match self {
+            CaseState::Complete => "is complete",
+            CaseState::Incomplete(_) => "stopped early",
+            CaseState::Failed(_) => "failed",
+            CaseState::Running => "is still running",
+            CaseState::Missing(_) => "is missing",
+            CaseState::Unreadable(_) => "cannot be read",
+        }
+    }
+
+    /// Why the case is not complete (`None` when it is).
+    pub fn why(&self) -> Option<String> {
+        match self {
+            CaseState::Complete => None,
+            CaseState::Running => Some("a process is running it now".into()),
+            CaseState::Incomplete(m)
+            | CaseState::Failed(m)
+            | CaseState::Missing(m)
+            | CaseState::Unreadable(m) => Some(m.clone()),
+        }
+    }
 }
 
 /// The study table: the override columns (in order of first appearance) and the rows.
@@ -47,6 +105,8 @@ pub struct Table {
     pub rows: Vec<Row>,
     /// Warnings about the table as a whole (rows run under different study-wide overrides).
     pub notes: Vec<String>,
+    /// Why the table may lack cases it cannot name (a study whose case list is unknown).
+    pub unknown_cases: Vec<String>,
 }
 
 fn metric_text(v: Option<&serde_json::Value>) -> String {
@@ -58,10 +118,90 @@ fn metric_text(v: Option<&serde_json::Value>) -> String {
     }
 }
 
-/// A row and the study file and study-wide overrides it was run under (as text).
-fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, String)> {
-    let done = read_json(&case_dir.join(DONE_FILE))?;
-    let summary = read_json(&case_dir.join("summary.json"));
+/// The JSON of `path`: `Ok(None)` when there is no such file, an error naming it when it
+/// cannot be read or parsed.
+fn read_json_strict(path: &Path) -> Result<Option<serde_json::Value>, String> {
+    match std::fs::read_to_string(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(format!("cannot read `{}`: {e}", path.display())),
+        Ok(text) => serde_json::from_str(&text)
+            .map(Some)
+            .map_err(|e| format!("cannot read `{}`: not valid JSON: {e}", path.display())),
+    }
+}
+
+/// A row of a case directory whose `done.json` is absent or unreadable, `None` when the
+/// directory holds no case at all.
+fn unfinished_row(case_dir: &Path, done: Result<Option<serde_json::Value>, String>) -> Option<Row> {
+    use crate::output::record::DirState;
+    let case = case_dir.file_name()?.to_string_lossy().into_owned();
+    let state = match done {
+        Err(why) => CaseState::Unreadable(why),
+        Ok(_) => match DirState::of(case_dir) {
+            Ok(DirState::Running) => CaseState::Running,
+            Ok(DirState::Unrecorded) if !crate::output::run_files::is_run_dir(case_dir) => {
+                return None
+            }
+            Ok(s) => CaseState::Missing(format!(
+                "`{}` has no {DONE_FILE}: {}",
+                case_dir.display(),
+                s.unfinished()
+                    .unwrap_or_else(|| "its run ended without its study recording it".into())
+            )),
+            Err(why) => CaseState::Unreadable(why),
+        },
+    };
+    Some(Row {
+        index: usize::MAX,
+        case,
+        overrides: BTreeMap::new(),
+        metrics: BTreeMap::new(),
+        complete: false,
+        state,
+        inputs: InputsState::Unknown("its run was not recorded as finished".into()),
+    })
+}
+
+/// The state `done` records, checked against the summary it needs.
+fn recorded_state(
+    done: &serde_json::Value,
+    summary: &Result<Option<serde_json::Value>, String>,
+) -> CaseState {
+    let message = || {
+        done["message"]
+            .as_str()
+            .unwrap_or("no reason recorded")
+            .to_string()
+    };
+    match (done["status"].as_str(), summary) {
+        (_, Err(why)) => CaseState::Unreadable(why.clone()),
+        (Some("complete"), Ok(Some(_))) => CaseState::Complete,
+        (Some("complete"), Ok(None)) => {
+            CaseState::Unreadable("its done.json says complete but it has no summary.json".into())
+        }
+        (Some("incomplete"), _) => CaseState::Incomplete(message()),
+        (Some("failed"), _) => CaseState::Failed(message()),
+        (other, _) => CaseState::Unreadable(format!(
+            "its done.json has no known status ({})",
+            other.unwrap_or("none")
+        )),
+    }
+}
+
+/// A row and the `recipe` of its `done.json` (null for a case without a readable one).
+fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, serde_json::Value)> {
+    let done = match read_json_strict(&case_dir.join(DONE_FILE)) {
+        Ok(Some(d)) if d.is_object() => d,
+        Ok(Some(_)) => {
+            let why = format!(
+                "`{}` is not a case record",
+                case_dir.join(DONE_FILE).display()
+            );
+            return unfinished_row(case_dir, Err(why)).map(|r| (r, serde_json::Value::Null));
+        }
+        other => return unfinished_row(case_dir, other).map(|r| (r, serde_json::Value::Null)),
+    };
+    let summary = read_json_strict(&case_dir.join(SUMMARY));
     let case = done["case"].as_str().map(str::to_string).or_else(|| {
         case_dir
             .file_name()
@@ -75,38 +215,32 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, String)> {
                 .collect()
         })
         .unwrap_or_default();
+    let values = summary.as_ref().ok().and_then(Option::as_ref);
     let metrics = METRIC_COLUMNS
         .iter()
-        .map(|k| {
-            (
-                k.to_string(),
-                metric_text(summary.as_ref().and_then(|s| s.get(*k))),
-            )
-        })
+        .map(|k| (k.to_string(), metric_text(values.and_then(|s| s.get(*k)))))
         .collect();
-    let recipe = &done["recipe"];
-    let recipe = format!(
-        "study file {}, --set {}",
-        recipe["study_file"].as_str().unwrap_or("(none)"),
-        recipe["set"]
-    );
+    let state = recorded_state(&done, &summary);
     let row = Row {
         index: done["index"].as_u64().map_or(usize::MAX, |i| i as usize),
         case,
         overrides,
         metrics,
-        complete: done["status"] == "complete" && summary.is_some(),
+        complete: state == CaseState::Complete,
+        state,
         inputs: checker.state(&done),
     };
-    Some((row, recipe))
+    Some((row, done["recipe"].clone()))
 }
 
-/// Gather every finished case (`<dir>/<case>/done.json`) of the given study output
-/// directories (e.g. one per shard) and compare each case's recorded inputs with what its
-/// study would run now: the study and study-wide overrides of `invocation` when given
-/// (`chute study`), else those recorded with the case (`chute collect`, which then also
-/// notes cases recorded under different study-wide overrides). A case found twice keeps its
-/// last occurrence.
+/// Gather every case of the given study output directories (e.g. one per shard): a row per
+/// case directory, then a `missing` row for every case of the study that none of them holds
+/// (the study's full list: `invocation`'s for `chute study`, else the one recorded in the
+/// cases' `done.json`, [`super::expected`]). Each finished case's recorded inputs are
+/// compared with what its study would run now: under the study and study-wide overrides of
+/// `invocation` when given, else those recorded with the case (and the table then notes
+/// cases recorded under different study-wide overrides). A case found twice keeps its last
+/// complete occurrence, or its last one.
 pub fn gather(
     dirs: &[PathBuf],
     invocation: Option<(&Study, &[String])>,
@@ -116,17 +250,51 @@ pub fn gather(
         Some((st, set)) => Checker::for_invocation(st, set),
         None => Checker::default(),
     };
-    let mut recipes: BTreeMap<String, String> = BTreeMap::new();
+    let mut recipes: BTreeMap<String, serde_json::Value> = BTreeMap::new();
     for dir in dirs {
         let entries = std::fs::read_dir(dir).map_err(|e| AppError::io(dir, e))?;
         let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
         paths.sort();
         for p in paths.into_iter().filter(|p| p.is_dir()) {
-            if let Some((row, recipe)) = read_row(&p, &mut checker) {
-                recipes.insert(row.case.clone(), recipe);
-                by_name.insert(row.case.clone(), row);
+            let Some((row, recipe)) = read_row(&p, &mut checker) else {
+                continue;
+            };
+            if by_name
+                .get(&row.case)
+                .is_some_and(|r| r.complete && !row.complete)
+            {
+                continue;
             }
+            recipes.insert(row.case.clone(), recipe);
+            by_name.insert(row.case.clone(), row);
         }
+    }
+    let list = super::expected::cases(invocation.map(|(st, _)| st), recipes.values());
+    for (index, case, set) in list.cases {
+        if let Some(row) = by_name.get_mut(&case) {
+            row.index = row.index.min(index);
+            continue;
+        }
+        let overrides = set
+            .iter()
+            .filter_map(|s| super::split_override(s).map(|[k, v]| (k, v)))
+            .collect();
+        let why = match dirs {
+            [one] => format!("`{}` has no directory for it", one.join(&case).display()),
+            _ => "none of the directories given has it".into(),
+        };
+        by_name.insert(
+            case.clone(),
+            Row {
+                index,
+                case,
+                overrides,
+                metrics: BTreeMap::new(),
+                complete: false,
+                state: CaseState::Missing(format!("not run: {why}")),
+                inputs: InputsState::Unknown("it has not run".into()),
+            },
+        );
     }
     let mut rows: Vec<Row> = by_name.into_values().collect();
     rows.sort_by(|a, b| (a.index, &a.case).cmp(&(b.index, &b.case)));
@@ -138,28 +306,39 @@ pub fn gather(
             }
         }
     }
-    let mut notes = Vec::new();
-    let mut groups: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
-    for r in &rows {
-        groups
-            .entry(recipes[&r.case].as_str())
-            .or_default()
-            .push(&r.case);
-    }
-    if groups.len() > 1 {
-        let parts: Vec<String> = groups
-            .iter()
-            .map(|(recipe, cases)| format!("{} with {recipe}", cases.join(", ")))
-            .collect();
-        notes.push(format!(
-            "the table mixes cases run under different studies or study-wide --set overrides: {}",
-            parts.join("; ")
-        ));
-    }
+    let notes = mixed_recipes(&rows, &recipes).into_iter().collect();
     Ok(Table {
         override_keys,
         rows,
         notes,
+        unknown_cases: list.unknown,
+    })
+}
+
+/// A note when the cases were recorded under different studies or study-wide overrides
+/// (cases named in the order of `rows`).
+fn mixed_recipes(rows: &[Row], recipes: &BTreeMap<String, serde_json::Value>) -> Option<String> {
+    let mut groups: BTreeMap<String, Vec<&str>> = BTreeMap::new();
+    for r in rows {
+        let (case, Some(recipe)) = (&r.case, recipes.get(&r.case).filter(|r| !r.is_null())) else {
+            continue;
+        };
+        let text = format!(
+            "study file {}, --set {}",
+            recipe["study_file"].as_str().unwrap_or("(none)"),
+            recipe["set"]
+        );
+        groups.entry(text).or_default().push(case);
+    }
+    (groups.len() > 1).then(|| {
+        let parts: Vec<String> = groups
+            .iter()
+            .map(|(recipe, cases)| format!("{} with {recipe}", cases.join(", ")))
+            .collect();
+        format!(
+            "the table mixes cases run under different studies or study-wide --set overrides: {}",
+            parts.join("; ")
+        )
     })
 }
 
@@ -181,7 +360,7 @@ pub(crate) fn refuse_run_dir(dir: &Path) -> Result<(), AppError> {
 /// Write `study.csv` and `study.md` into `out` (refused when `out` is a run directory).
 pub fn write_table(table: &Table, out: &Path) -> Result<(), AppError> {
     refuse_run_dir(out)?;
-    std::fs::create_dir_all(out).map_err(|e| AppError::io(out, e))?;
+    crate::app::ensure_dir(out)?;
     write_atomic(&out.join("study.csv"), table.to_csv()?.as_bytes())?;
     write_atomic(&out.join("study.md"), table.to_markdown().as_bytes())
 }
@@ -205,11 +384,12 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
 }
 
 impl Table {
-    /// Column headers: case, override keys, metrics, complete, inputs.
+    /// Column headers: case, override keys, metrics, status, complete, inputs.
     pub fn headers(&self) -> Vec<String> {
         let mut h = vec!["case".to_string()];
         h.extend(self.override_keys.iter().cloned());
         h.extend(METRIC_COLUMNS.iter().map(|s| s.to_string()));
+        h.push("status".into());
         h.push("complete".into());
         h.push("inputs".into());
         h
@@ -233,6 +413,19 @@ impl Table {
         rows.chain(self.notes.iter().cloned()).collect()
     }
 
+    /// One line per case that is not complete (missing, running, failed, incomplete, or
+    /// with a file that cannot be read), naming it and saying why.
+    pub fn unfinished(&self) -> Vec<String> {
+        self.rows
+            .iter()
+            .filter_map(|r| {
+                let why = r.state.why()?;
+                Some(format!("case `{}` {}: {why}", r.case, r.state.phrase()))
+            })
+            .chain(self.unknown_cases.iter().cloned())
+            .collect()
+    }
+
     fn cells(&self, r: &Row, fmt: impl Fn(&str) -> String) -> Vec<String> {
         let mut c = vec![r.case.clone()];
         c.extend(
@@ -245,6 +438,7 @@ impl Table {
                 .iter()
                 .map(|k| fmt(r.metrics.get(*k).map_or("", |s| s.as_str()))),
         );
+        c.push(r.state.word().to_string());
         c.push(r.complete.to_string());
         c.push(r.inputs.word().to_string());
         c

@@ -17,6 +17,7 @@ fn opts(dir: &Path) -> RunOptions {
         progress: false,
         checkpoint_every_s: None,
         resume: None,
+        viewer: false,
     }
 }
 

@@ -141,13 +141,13 @@ fn bench_elements_times_every_shell_law() {
         ["springs", "cst", "fabric", "fabric-nc", "hinge", "midedge"]
     );
     for c in &costs {
-        assert!(c.elements > 0 && c.ns_per_element > 0.0, "{c:?}");
-        // The force alone is part of the work with the Jacobian: never dearer (a 20 %
-        // allowance for the timer's noise between two separately timed loops).
-        assert!(
-            c.force_ns_per_element > 0.0 && c.force_ns_per_element < 1.2 * c.ns_per_element,
-            "{c:?}"
-        );
+        // Only what is deterministic: counts and times that were measured (finite and
+        // positive). How the two paths compare in speed depends on the machine's load; it
+        // is measured by `chute bench --elements` and reported in docs/performance.md.
+        assert!(c.elements > 0, "{c:?}");
+        for ns in [c.ns_per_element, c.force_ns_per_element] {
+            assert!(ns.is_finite() && ns > 0.0, "{c:?}");
+        }
         let base = if c.kind == "membrane" {
             "springs"
         } else {

@@ -245,7 +245,10 @@ fn run_refuses_to_overwrite_and_checks_writability() {
             (
                 &["run", "s.toml", "--out", "afile/sub"],
                 2,
-                &["cannot create output directory"],
+                &[
+                    "cannot create output directory",
+                    "`afile` is not a directory",
+                ],
             ),
             (
                 &["run", "s.toml", "--checkpoint-every", "0"],
@@ -344,9 +347,17 @@ fn study_runs_cases_and_reports_failures_with_exit_3() {
         2,
         &["cannot read study file `none.toml`"],
     );
-    // Collect re-tabulates existing directories.
+    // Collect re-tabulates existing directories; a failed case fails it, named with why,
+    // and the table is still written.
     let o = chute(dir.path(), &["collect", "o", "slurm", "--out", "merged"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_error(
+        &o,
+        3,
+        &[
+            "the study is not complete: 2 of 3 case(s) complete",
+            "case `weight_n-30` failed: lines.length_m",
+        ],
+    );
     assert!(dir.path().join("merged/study.md").exists());
     assert_error(
         &chute(dir.path(), &["collect", "missing"]),
@@ -359,14 +370,38 @@ fn study_runs_cases_and_reports_failures_with_exit_3() {
 fn validate_parses() {
     // `chute bench` is implemented; tests/bench_cli.rs covers it.
     let dir = tempfile::tempdir().unwrap();
-    // A filter that selects no case: the flags parse, the JSON list is empty, status 0
-    // (the suite itself is exercised by tests/validate_cli.rs).
+    // A filter that selects no case is a mistake, not "0 passed, 0 failed": status 2, the
+    // cases listed (the suite itself is exercised by tests/cli/validate.rs).
     let o = chute(
         dir.path(),
         &["validate", "--quick", "--json", "--case", "no-such-case"],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert_eq!(stdout(&o).trim(), "[]");
+    assert_error(
+        &o,
+        2,
+        &["--case `no-such-case` matches no verification case with --quick; the cases are: "],
+    );
+    assert_eq!(stdout(&o).trim(), "");
+}
+
+#[test]
+fn a_ground_above_the_payload_is_a_sentence_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let round = repo().join("scenarios/round-parachute.toml");
+    let o = chute(
+        dir.path(),
+        &[
+            "check",
+            &round.display().to_string(),
+            "--set",
+            "atmosphere.ground_altitude_m=-1",
+        ],
+    );
+    assert_error(
+        &o,
+        2,
+        &["error: atmosphere.ground_altitude_m: the ground at -1.000 m is not below the payload, which starts at -2.598 m (2.598 m below atmosphere.altitude_m = 0 m); set the ground below -2.598 m, or raise atmosphere.altitude_m"],
+    );
 }
 
 #[test]
@@ -381,5 +416,39 @@ fn usage_errors_exit_2_and_help_exits_0() {
     assert_eq!(o.status.code(), Some(0));
     for sub in ["run", "check", "study", "collect", "validate", "bench"] {
         assert!(stdout(&o).contains(sub), "{sub}");
+    }
+}
+
+#[test]
+fn every_out_naming_a_file_is_bad_input_saying_not_a_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("afile"), "").unwrap();
+    std::fs::create_dir(dir.path().join("empty")).unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let rod = repo()
+        .join("scenarios/report-rod-200n.toml")
+        .display()
+        .to_string();
+    let short = "time.duration_s=0.01";
+    let cases: [&[&str]; 5] = [
+        &["study", &study, "--out", "afile", "--set", short],
+        &["study", &study, "--out", "afile/sub", "--set", short],
+        &[
+            "converge",
+            &rod,
+            "--vary",
+            "canopy.nodes=11,21,41",
+            "--out",
+            "afile",
+        ],
+        &[
+            "validate", "--quick", "--case", "elastica", "--out", "afile",
+        ],
+        &["view", "afile"],
+    ];
+    for args in cases {
+        let o = chute(dir.path(), args);
+        assert_error(&o, 2, &["not a directory"]);
+        assert!(!stderr(&o).contains("os error"), "{args:?}: {}", stderr(&o));
     }
 }

@@ -9,6 +9,7 @@ mod bench;
 mod converge;
 mod errors;
 mod inputs;
+mod integrity;
 mod recovery;
 mod reliability;
 mod resume;

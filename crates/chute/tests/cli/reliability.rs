@@ -63,10 +63,12 @@ fn a_failing_run_exits_3_with_reason_and_valid_partial_outputs() {
         "step failed at t = ",
         "residual",
         "worst at node",
-        "chute resume f",
+        "resuming would repeat the failure",
     ] {
         assert!(err.contains(want), "want `{want}` in {err}");
     }
+    // A failed step's checkpoint is the last good state, not a point to continue from.
+    assert!(!err.contains("chute resume"), "{err}");
     let dir = tmp.path().join("f");
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
@@ -205,7 +207,12 @@ fn resume_without_a_checkpoint_is_an_input_error() {
     // No --checkpoint-every: a completed run keeps no checkpoint.
     let o = chute(tmp.path(), &["resume", "r"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    for want in ["checkpoint.bin", "--checkpoint-every"] {
+    // It says what to do instead: run again, longer.
+    for want in [
+        "kept no checkpoint",
+        "--checkpoint-every",
+        "chute run r/scenario.resolved.toml --out r --force --set time.duration_s=T",
+    ] {
         assert!(stderr(&o).contains(want), "{}", stderr(&o));
     }
 }

@@ -15,6 +15,7 @@ mod outputs;
 mod permissions;
 mod plots;
 mod plots_3d;
+mod run_files;
 mod study;
 mod study_inputs;
 mod viewer;

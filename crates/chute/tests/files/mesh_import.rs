@@ -139,7 +139,11 @@ fn malformed_dismech_files_name_file_and_line() {
         ),
         (
             format!("{HEAD}0 -1 0\n0 0 1\n*Triangles\n1 2 3\n2 1 4\n1 2 5\n"),
-            "m.txt:10: edge 1–2 is shared by 3 triangles",
+            "m.txt:10: non-manifold triangle: with it, edge 1–2 is shared by 3 triangles",
+        ),
+        (
+            format!("{HEAD}1 1 0\n*Triangles\n1 2 3\n2 4 3\n3 1 2\n"),
+            "m.txt:9: duplicate triangle 3 1 2: line 7 has the same three nodes",
         ),
         (
             format!("{HEAD}*Edges\n1 1\n"),

@@ -109,20 +109,21 @@ fn list_study_runs_every_case_and_tabulates() {
             "reached_terminal",
             "max_extended_height_m",
             "force_balance_error",
+            "status",
             "complete",
             "inputs"
         ]
     );
     assert_eq!(
         rows[1],
-        ["20N", "20", "", "-0.2", "1.5", "true", "0.25", "0.001", "true", "current"]
+        ["20N", "20", "", "-0.2", "1.5", "true", "0.25", "0.001", "complete", "true", "current"]
     );
     assert_eq!(rows[3][..3], ["2000N", "2000", "center"]);
     assert_eq!(rows[3][3], "-20.0");
     let md = std::fs::read_to_string(out.join("study.md")).unwrap();
     assert!(
         md.contains(
-            "| 2000N | 2000 | center | -20.00 | 1.500 | true | 0.2500 | 0.001000 | true | current |"
+            "| 2000N | 2000 | center | -20.00 | 1.500 | true | 0.2500 | 0.001000 | complete | true | current |"
         ),
         "{md}"
     );
@@ -289,7 +290,11 @@ fn sharding_splits_cases_and_collect_merges_them() {
         ["sites-ends_weight_n-20", "sites-center_weight_n-20"],
         "indices 0 and 2"
     );
-    assert_eq!(csv(&out).len(), 3);
+    // The other shard's cases are listed as missing, not left out.
+    let rows = csv(&out);
+    let status = rows[0].iter().position(|h| h == "status").unwrap();
+    let states: Vec<&str> = rows[1..].iter().map(|r| r[status].as_str()).collect();
+    assert_eq!(states, ["complete", "missing", "complete", "missing"]);
     let s1 = StudyOptions {
         shard: Some(Shard::parse("1/2").unwrap()),
         ..opts(&out)
@@ -365,6 +370,40 @@ fn shard_specs_and_slurm_variables() {
     assert!(Shard::from_slurm(vars("5", "4", None)).unwrap().is_err());
     assert!(Shard::from_slurm(vars("x", "4", None)).unwrap().is_err());
     assert!(Shard::from_slurm(|_| None).is_none());
+    // Arrays whose ids are not consecutive would leave shards unrun: refused in every task.
+    let array = |id: &'static str, min: &'static str, max: &'static str, step: &'static str| {
+        move |k: &str| {
+            let v = match k {
+                "SLURM_ARRAY_TASK_ID" => id,
+                "SLURM_ARRAY_TASK_COUNT" => "3",
+                "SLURM_ARRAY_TASK_MIN" => min,
+                "SLURM_ARRAY_TASK_MAX" => max,
+                "SLURM_ARRAY_TASK_STEP" => step,
+                _ => return None,
+            };
+            Some(v.to_string())
+        }
+    };
+    // `--array=1-5:2` (ids 1, 3, 5) and `--array=0,2,5`.
+    for (id, min, max, step) in [
+        ("1", "1", "5", "2"),
+        ("3", "1", "5", "2"),
+        ("0", "0", "5", "1"),
+        ("2", "0", "5", "1"),
+    ] {
+        let e = Shard::from_slurm(array(id, min, max, step))
+            .unwrap()
+            .unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("not consecutive"), "{e}");
+    }
+    // `--array=1-3` with every variable SLURM sets.
+    assert_eq!(
+        Shard::from_slurm(array("3", "1", "3", "1"))
+            .unwrap()
+            .unwrap(),
+        Shard { index: 2, count: 3 }
+    );
     let s = Shard { index: 1, count: 3 };
     assert_eq!(
         (0..7).filter(|i| s.contains(*i)).collect::<Vec<_>>(),
@@ -432,4 +471,64 @@ fn bundled_studies_parse_and_their_cases_validate() {
         .map(|c| st.scenario(c, &[]).unwrap().load.weight_n)
         .collect();
     assert_eq!(w, [20.0, 200.0, 2000.0]);
+}
+
+#[test]
+fn collect_lists_every_missing_failed_and_unreadable_case() {
+    let (dir, st) = setup(LIST);
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    // Shards 0/3 and 1/3 only: case 2000N (index 2) never ran.
+    for (out, index) in [(&a, 0), (&b, 1)] {
+        let o = StudyOptions {
+            shard: Some(Shard { index, count: 3 }),
+            ..opts(out)
+        };
+        study::run_study_with(&st, &o, &fake).unwrap();
+    }
+    let merged = dir.path().join("merged");
+    let t = study::collect(&[a.clone(), b.clone()], &merged).unwrap();
+    let states: Vec<(&str, &str)> = t
+        .rows
+        .iter()
+        .map(|r| (r.case.as_str(), r.state.word()))
+        .collect();
+    assert_eq!(
+        states,
+        [
+            ("20N", "complete"),
+            ("200N", "complete"),
+            ("2000N", "missing")
+        ]
+    );
+    let missing = t.unfinished();
+    assert_eq!(missing.len(), 1, "{missing:?}");
+    assert!(
+        missing[0].starts_with("case `2000N` is missing: not run"),
+        "{missing:?}"
+    );
+    // The missing row keeps its overrides and has no numbers.
+    let r = &t.rows[2];
+    assert_eq!(r.overrides["load.weight_n"], "2000");
+    assert!(r.metrics.values().all(String::is_empty) && !r.complete);
+    // A done.json that cannot be parsed: the case is named with the file, not dropped.
+    std::fs::write(b.join("200N/done.json"), "{ \"status\": \"compl").unwrap();
+    let t = study::collect(&[a.clone(), b.clone()], &merged).unwrap();
+    let lines = t.unfinished();
+    assert!(
+        lines.iter().any(
+            |l| l.starts_with("case `200N` cannot be read: cannot read `")
+                && l.contains("200N/done.json")
+        ),
+        "{lines:?}"
+    );
+    // A summary that says nothing: a failed case's row has empty metrics, never 0.
+    let fail = |s: &Scenario, o: &RunOptions| match s.load.weight_n as i64 {
+        2000 => Err(AppError::RunFailed("step failed at t = 0".into())),
+        _ => fake(s, o),
+    };
+    study::run_study_with(&st, &opts(&a), &fail).unwrap();
+    let t = study::collect(std::slice::from_ref(&a), &merged).unwrap();
+    let r = t.rows.iter().find(|r| r.case == "2000N").unwrap();
+    assert_eq!(r.state.word(), "failed");
+    assert!(r.metrics.values().all(String::is_empty), "{r:?}");
 }

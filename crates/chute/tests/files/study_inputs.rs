@@ -177,9 +177,12 @@ fn collect_flags_the_stale_case() {
     // A case the study file no longer has is stale too.
     std::fs::write(&file, text.replace("name = \"20N\"", "name = \"10N\"")).unwrap();
     let t = study::collect(std::slice::from_ref(&out), &merged).unwrap();
+    let row = |name: &str| t.rows.iter().find(|r| r.case == name).unwrap();
     assert!(
-        matches!(&t.rows[0].inputs, InputsState::Changed(why) if why.contains("no longer has"))
+        matches!(&row("20N").inputs, InputsState::Changed(why) if why.contains("no longer has"))
     );
+    // And the case it has instead has not run.
+    assert_eq!(row("10N").state.word(), "missing");
 }
 
 #[test]

@@ -292,6 +292,22 @@ fn invalid_input_is_rejected() {
         exact_max_extended_height_m: None,
     };
     assert_eq!(compute(&s, &params(1.0)), Err(MetricsError::Empty));
+    // One sample (a run that stopped at its first step): nothing measured, so no v_t of 0
+    // and no force balance of 1 pretending to be results.
+    let one = [0.0];
+    let s = Series {
+        t_s: &one,
+        vz_mps: &one,
+        vx_mps: &one,
+        vy_mps: &one,
+        extended_height_m: &one,
+        drag_z_n: &one,
+        exact_max_extended_height_m: None,
+    };
+    assert_eq!(
+        compute(&s, &params(1.0)),
+        Err(MetricsError::NoTimeElapsed(0.0))
+    );
 }
 
 #[test]

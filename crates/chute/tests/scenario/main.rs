@@ -11,6 +11,7 @@ mod docs;
 mod errors;
 mod fuzz;
 mod imperfection;
+mod limits;
 mod membranes;
 mod messages;
 mod overrides;

@@ -1,0 +1,139 @@
+//! The output directory of a run: made sure of before any simulation (a directory, created
+//! when missing, writable, not somebody else's files, not another run's without `--force`),
+//! and held by one process at a time ([`crate::output::lock`]). docs/cli.md §`chute run`,
+//! docs/reliability.md §5.
+
+use std::path::Path;
+
+use super::AppError;
+use crate::output::lock::{LockError, RunLock};
+use crate::output::run_files;
+
+impl From<LockError> for AppError {
+    fn from(e: LockError) -> Self {
+        // Both are about the directory the user named: bad input (exit 2).
+        AppError::Input(e.to_string())
+    }
+}
+
+/// A prepared output directory: held by this process until dropped.
+#[derive(Debug)]
+pub struct Prepared {
+    /// The lock (and reserve) on the directory.
+    pub lock: RunLock,
+    /// Whether the directory was created here (and so is removed again if the run leaves it
+    /// empty, [`Prepared::release`]).
+    pub created: bool,
+}
+
+impl Prepared {
+    /// Release the directory; one created here that holds nothing is removed, so that it
+    /// does not block the next attempt.
+    pub fn release(self) {
+        let dir = self.lock.dir().to_path_buf();
+        drop(self.lock);
+        if self.created && run_files::is_empty(&dir) {
+            let _ = std::fs::remove_dir(&dir);
+        }
+    }
+}
+
+/// Make sure `dir` can take a run's outputs and hold it: a directory (created when missing),
+/// not held by another process, writable (the lock's reserve is real data, synced), and, when
+/// it has files, an earlier chute run that `allow_existing` (`--force`, a resume) lets this
+/// one replace.
+pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<Prepared, AppError> {
+    let created = !dir.exists();
+    ensure_dir(dir)?;
+    let lock = match RunLock::acquire(dir) {
+        Ok(l) => l,
+        Err(e) => {
+            if created {
+                let _ = std::fs::remove_dir(dir);
+            }
+            return Err(e.into());
+        }
+    };
+    let prepared = Prepared { lock, created };
+    match check_fresh_dir(dir, allow_existing) {
+        Ok(()) => Ok(prepared),
+        Err(e) => {
+            prepared.release();
+            Err(e)
+        }
+    }
+}
+
+/// Create `dir` (and its parents) for a command's outputs (`run`, `study`, `converge`,
+/// `collect --out`, `validate --out`): a path that is, or lies under, a file, or that cannot be
+/// created, is bad input (exit 2) saying so.
+pub fn ensure_dir(dir: &Path) -> Result<(), AppError> {
+    refuse_non_directory(dir)?;
+    std::fs::create_dir_all(dir).map_err(|e| {
+        AppError::Input(format!(
+            "cannot create output directory `{}`: {e}",
+            dir.display()
+        ))
+    })
+}
+
+/// `dir`, or the first of its ancestors that exists, must be a directory: `--out file` or
+/// `--out file/sub` is refused naming the file, not with the operating system's "File exists".
+fn refuse_non_directory(dir: &Path) -> Result<(), AppError> {
+    let existing = dir.ancestors().find(|a| a.exists() || a.is_symlink());
+    match existing {
+        Some(a) if !a.is_dir() && !a.as_os_str().is_empty() => {
+            let what = if a == dir {
+                format!(
+                    "output path `{}` exists and is not a directory",
+                    dir.display()
+                )
+            } else {
+                format!(
+                    "cannot create output directory `{}`: `{}` is not a directory",
+                    dir.display(),
+                    a.display()
+                )
+            };
+            Err(AppError::Input(format!("{what}; choose another --out DIR")))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// A fresh run may write `dir` when it is empty, or, with `force`, when it holds an earlier
+/// chute run (whose files are then cleared); never over files chute did not write.
+pub fn check_fresh_dir(dir: &Path, force: bool) -> Result<(), AppError> {
+    if run_files::is_empty(dir) {
+        return Ok(());
+    }
+    if !force {
+        return Err(AppError::Input(format!(
+            "output directory `{}` already exists and is not empty; pass --force to overwrite it, or --out DIR to choose another",
+            dir.display()
+        )));
+    }
+    if !run_files::is_run_dir(dir) {
+        return Err(not_a_run_dir(dir));
+    }
+    Ok(())
+}
+
+/// `--force` is refused on a non-empty directory chute did not write: it would delete or
+/// mix with someone else's files.
+pub fn not_a_run_dir(dir: &Path) -> AppError {
+    AppError::Input(format!(
+        "output directory `{}` is not empty and is not a chute run directory (it has no {}); --force only replaces an earlier chute run: choose another --out DIR",
+        dir.display(),
+        run_files::RESOLVED_SCENARIO
+    ))
+}
+
+/// The lock on `dir` for a run, unless this process holds it already (the command that
+/// prepared it, or the study running the case).
+pub(super) fn hold(dir: &Path) -> Result<Option<RunLock>, AppError> {
+    if RunLock::held_here(dir) {
+        return Ok(None);
+    }
+    Ok(Some(RunLock::acquire(dir)?))
+}

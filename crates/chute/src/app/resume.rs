@@ -1,0 +1,193 @@
+//! What `chute resume` checks before it continues a run in place: the checkpoint belongs
+//! to this scenario (only `time.duration_s` may grow), and every input file the run read
+//! still has the bytes it had (docs/reliability.md §2 and §5).
+
+use std::path::Path;
+
+use super::AppError;
+use crate::output::record::RunRecord;
+use crate::scenario::Scenario;
+
+/// Refuse to resume `dir` when an input file of its record has other bytes now (or cannot
+/// be read): the run would continue from a state of one mesh with another. A record-less
+/// directory (an older chute) cannot be checked and is accepted.
+pub(super) fn check_inputs(dir: &Path, s: &Scenario) -> Result<(), AppError> {
+    let record = RunRecord::read(dir).map_err(|e| cannot(dir, e))?;
+    let Some(record) = record else {
+        return Ok(());
+    };
+    let now = s.input_files();
+    for recorded in &record.inputs {
+        let path = now
+            .iter()
+            .find(|(k, _)| *k == recorded.key)
+            .map_or(&recorded.path, |(_, p)| p);
+        let digest = crate::study::inputs::file_digest(path).map_err(|e| {
+            cannot(
+                dir,
+                format!("{} `{}` cannot be read: {e}", recorded.key, path.display()),
+            )
+        })?;
+        if digest != recorded.digest {
+            return Err(cannot(
+                dir,
+                format!(
+                    "{} `{}` has changed since the run started (recorded {}, now {digest}); the run cannot continue with other inputs: restore the file, or start a new run with `chute run … --force`",
+                    recorded.key,
+                    path.display(),
+                    recorded.digest
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn cannot(dir: &Path, why: String) -> AppError {
+    AppError::Input(format!("cannot resume `{}`: {why}", dir.display()))
+}
+
+/// Read the checkpoint of run directory `dir` and check it belongs to this scenario.
+pub(super) fn load_checkpoint(
+    dir: &std::path::Path,
+    out_dir: &std::path::Path,
+    scenario_toml: &str,
+) -> Result<crate::checkpoint::Checkpoint, AppError> {
+    let same_dir = match (dir.canonicalize(), out_dir.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if !same_dir {
+        return Err(AppError::Input(format!(
+            "resuming `{}` continues that run in place; the output directory `{}` must be the same directory",
+            dir.display(),
+            out_dir.display()
+        )));
+    }
+    let c = crate::checkpoint::Checkpoint::read(dir)
+        .map_err(|e| AppError::Input(format!("cannot resume from `{}`: {e}", dir.display())))?;
+    let cannot = |why: String| AppError::Input(format!("cannot resume `{}`: {why}", dir.display()));
+    if let Some(d) = scenario_difference(&c.scenario_toml, scenario_toml) {
+        return Err(cannot(format!(
+            "`{}` = {} (checkpoint) vs {} (now); only time.duration_s may change",
+            d.key, d.was, d.now
+        )));
+    }
+    let (was, now) = (
+        resolved_value(&c.scenario_toml, DURATION_KEY).and_then(|v| v.parse::<f64>().ok()),
+        resolved_value(scenario_toml, DURATION_KEY).and_then(|v| v.parse::<f64>().ok()),
+    );
+    if let (Some(was), Some(now)) = (was, now) {
+        if now < was {
+            return Err(cannot(format!(
+                "time.duration_s = {now} s is shorter than the recorded run's {was} s (checkpoint at t = {} s); a resumed run can only be extended",
+                crate::scenario::derived::sig4(c.t)
+            )));
+        }
+    }
+    Ok(c)
+}
+
+/// The one key a resumed run may change.
+pub const DURATION_KEY: &str = "time.duration_s";
+
+/// A key whose value differs between two resolved scenarios.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Difference {
+    /// The dotted key (`load.weight_n`).
+    pub key: String,
+    /// Its value in the first text (`<absent>` when it has none).
+    pub was: String,
+    /// Its value in the second.
+    pub now: String,
+}
+
+/// The `key = value` lines of a resolved scenario as (dotted key, value text), tracking the
+/// `[section]` and `[[section]]` headers (entries of arrays of tables numbered from 0).
+fn resolved_entries(text: &str) -> Vec<(String, String)> {
+    let mut section = String::new();
+    let mut counts: std::collections::BTreeMap<String, usize> = Default::default();
+    let mut out = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        if let Some(name) = line.strip_prefix("[[").and_then(|l| l.strip_suffix("]]")) {
+            let n = counts.entry(name.to_string()).or_default();
+            section = format!("{name}[{n}]");
+            *n += 1;
+        } else if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
+            section = name.to_string();
+        } else if let Some((k, v)) = line.split_once('=') {
+            let k = k.trim();
+            let key = if section.is_empty() {
+                k.to_string()
+            } else {
+                format!("{section}.{k}")
+            };
+            out.push((key, v.trim().to_string()));
+        }
+    }
+    out
+}
+
+/// The value text of `key` in a resolved scenario.
+pub fn resolved_value(text: &str, key: &str) -> Option<String> {
+    resolved_entries(text)
+        .into_iter()
+        .find_map(|(k, v)| (k == key).then_some(v))
+}
+
+/// The first key (in the checkpoint's order, then keys only `now` has) whose value differs
+/// between two resolved scenarios, ignoring `time.duration_s` (a resumed run may be
+/// extended).
+pub fn scenario_difference(was: &str, now: &str) -> Option<Difference> {
+    let keep = |(k, _): &(String, String)| k != DURATION_KEY;
+    let a: Vec<_> = resolved_entries(was).into_iter().filter(keep).collect();
+    let b: Vec<_> = resolved_entries(now).into_iter().filter(keep).collect();
+    let find = |list: &[(String, String)], key: &str| {
+        list.iter()
+            .find(|(k, _)| k == key)
+            .map_or_else(|| "<absent>".to_string(), |(_, v)| v.clone())
+    };
+    a.iter()
+        .chain(&b)
+        .map(|(k, _)| Difference {
+            key: k.clone(),
+            was: find(&a, k),
+            now: find(&b, k),
+        })
+        .find(|d| d.was != d.now)
+}
+
+/// Why `dir` cannot be resumed from its checkpoint (`e`: reading it failed), and what to do
+/// instead: a directory that is no run, a complete run that kept no checkpoint, or a run
+/// that stopped before its first one, are each started again with `chute run`.
+pub fn unresumable(dir: &Path, e: &crate::checkpoint::CheckpointError) -> AppError {
+    use crate::checkpoint::CheckpointError;
+    use crate::output::record::{DirState, Status};
+    use crate::output::run_files::{is_run_dir, RESOLVED_SCENARIO, SUMMARY};
+    let d = dir.display();
+    if !is_run_dir(dir) {
+        return AppError::Input(format!(
+            "cannot resume `{d}`: it is not a chute run directory (it has no {RESOLVED_SCENARIO}); give the directory `chute run` wrote"
+        ));
+    }
+    let again = format!("chute run {d}/{RESOLVED_SCENARIO} --out {d} --force");
+    let missing = matches!(e, CheckpointError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound);
+    let complete = matches!(DirState::of(dir), Ok(DirState::Ended(Status::Complete, _)))
+        || std::fs::read_to_string(dir.join(SUMMARY))
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            .is_some_and(|j| j["complete"] == true);
+    let why = match (missing, complete) {
+        (true, true) => format!(
+            "the run is complete and kept no checkpoint (a run keeps one after it ends only when written with --checkpoint-every S); to run it longer, start it again with a longer duration: `{again} --set time.duration_s=T`"
+        ),
+        (true, false) => format!(
+            "it has no checkpoint: the run stopped before writing one (a checkpoint is written on Ctrl-C or SIGTERM, at a failed step, and every --checkpoint-every S); start it again: `{again}`"
+        ),
+        (false, _) => format!("{e}; start the run again: `{again}`"),
+    };
+    AppError::Input(format!("cannot resume `{d}`: {why}"))
+}

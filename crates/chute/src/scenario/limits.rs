@@ -1,0 +1,361 @@
+//! Limits on what the keys imply together, checked with the scenario (so by `chute check` and
+//! before `run` builds anything): the masses, the total weight, the flat-canopy terminal
+//! speed and its Mach number, and the size of the model. A value every key accepts on its own
+//! can still make one of these absurd (a weight of 1e308 N, a gravity of 1e300 m/s², 10 000
+//! rim sites refining the circle past the triangle limit); the run would then fail at t = 0 or
+//! exhaust memory. Each is refused naming the key that made it so (docs/scenarios.md
+//! §Derived limits).
+
+use super::derived::sig4;
+use super::error::short;
+use super::validate::Checker;
+use super::{CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, SiteSet, Sites};
+use crate::metrics::{MACH_INCOMPRESSIBLE_MAX, SPEED_OF_SOUND_MPS};
+
+/// No derived quantity may exceed this in SI units: the residual and the Jacobian multiply
+/// them (squares of speeds, stiffness × displacement, mass / dt²), and every product must stay
+/// far inside f64's 1.8e308.
+pub const MAX_MAGNITUDE: f64 = 1e100;
+/// Most triangles a shell canopy may have (memory and time; about 1 GB of model).
+pub const MAX_SHELL_TRIANGLES: f64 = 2.0e6;
+/// Most nodes the suspension lines may have together.
+pub const MAX_LINE_NODES: f64 = 1.0e6;
+
+/// One input of a derived quantity: its key, its value and how far that is from a typical
+/// one (value / typical), so that the key blamed is the one furthest from the usual.
+#[derive(Clone, Copy)]
+struct Input {
+    key: &'static str,
+    value: f64,
+    ratio: f64,
+}
+
+fn input(key: &'static str, value: f64, typical: f64) -> Input {
+    Input {
+        key,
+        value,
+        ratio: value / typical,
+    }
+}
+
+/// A quantity the keys imply and what it depends on.
+struct Derived {
+    name: &'static str,
+    unit: &'static str,
+    value: f64,
+    inputs: Vec<Input>,
+}
+
+/// Check every derived quantity of `s`.
+pub(super) fn check(c: &mut Checker, s: &Scenario) {
+    let quantities = derived(s);
+    let mut bad = false;
+    for q in &quantities {
+        if !(q.value.is_finite() && q.value.abs() <= MAX_MAGNITUDE) {
+            let reason = format!(
+                "makes the {} {} {}, beyond what the solver can compute with (at most {MAX_MAGNITUDE:e} {}); is the value or its unit wrong?",
+                q.name,
+                sig4(q.value),
+                q.unit,
+                q.unit
+            );
+            blame(c, &q.inputs, reason);
+            bad = true;
+        }
+    }
+    if !bad {
+        mach(c, s, quantities.iter().find(|q| q.name == TERMINAL_SPEED));
+    }
+    model_size(c, s);
+}
+
+const TERMINAL_SPEED: &str = "flat-canopy terminal speed √(2W/(ρ C_D A))";
+
+/// Refuse the input most responsible for a bad quantity: among those set with `--set` (else
+/// all), the one furthest (in orders of magnitude) from its typical value.
+fn blame(c: &mut Checker, inputs: &[Input], reason: String) {
+    let set: Vec<&Input> = inputs
+        .iter()
+        .filter(|i| matches!(c.prov.origin(i.key), super::error::Origin::Set(_)))
+        .collect();
+    let pool: Vec<&Input> = if set.is_empty() {
+        inputs.iter().collect()
+    } else {
+        set
+    };
+    let far = |i: &Input| {
+        let r = i.ratio.abs();
+        if r.is_finite() && r > 0.0 {
+            r.ln().abs()
+        } else {
+            f64::INFINITY
+        }
+    };
+    let worst = pool.into_iter().max_by(|a, b| far(a).total_cmp(&far(b)));
+    if let Some(i) = worst {
+        c.fail(i.key, i.value, reason);
+    }
+}
+
+/// The planform area (m²) of a generated canopy and the keys it comes from.
+fn area(s: &Scenario) -> Option<(f64, Vec<Input>)> {
+    let cn = &s.canopy;
+    let a = s.planform_area_m2()?;
+    let keys = match (s.model.kind, cn.shape) {
+        (ModelKind::Rod, _) | (_, CanopyShape::Rectangle) => vec![
+            input("canopy.span_m", cn.span_m, 6.0),
+            input("canopy.width_m", cn.width_m, 3.0),
+        ],
+        _ => vec![input("canopy.radius_m", cn.radius_m, 1.5)],
+    };
+    Some((a, keys))
+}
+
+/// The masses of `s` (canopy, lines) as quantities, their sum (kg) and the keys they come
+/// from.
+fn masses(s: &Scenario) -> (Vec<Derived>, f64, Vec<Input>) {
+    let (mut out, mut total, mut inputs) = (Vec::new(), 0.0, Vec::new());
+    if let Some((a, mut keys)) = area(s) {
+        keys.push(input("canopy.thickness_m", s.canopy.thickness_m, 1e-3));
+        keys.push(input(
+            "material.density_kg_m3",
+            s.material.density_kg_m3,
+            1000.0,
+        ));
+        let m = a * s.canopy.thickness_m * s.material.density_kg_m3;
+        out.push(Derived {
+            name: "canopy mass",
+            unit: "kg",
+            value: m,
+            inputs: keys.clone(),
+        });
+        total += m;
+        inputs.extend(keys);
+    }
+    if let (LoadMode::Payload, Some(n)) = (s.load.mode, s.site_count()) {
+        let l = &s.lines;
+        let keys = vec![
+            input("lines.length_m", l.length_m, 3.0),
+            input("lines.radius_m", l.radius_m, 1e-3),
+            input("lines.density_kg_m3", l.density_kg_m3, 1000.0),
+        ];
+        let m = n as f64 * l.length_m * std::f64::consts::PI * l.radius_m.powi(2) * l.density_kg_m3;
+        out.push(Derived {
+            name: "suspension lines' mass",
+            unit: "kg",
+            value: m,
+            inputs: keys.clone(),
+        });
+        total += m;
+        inputs.extend(keys);
+    }
+    (out, total, inputs)
+}
+
+/// The quantities of `s` that must be finite and bounded.
+fn derived(s: &Scenario) -> Vec<Derived> {
+    let (mut out, mass, mass_keys) = masses(s);
+    out.push(stiffness(s));
+    if s.load.mode == LoadMode::NodeMassScale {
+        return out;
+    }
+    let g = input("fluid.gravity_mps2", s.fluid.gravity_mps2, 9.81);
+    let mut keys = vec![input("load.weight_n", s.load.weight_n, 200.0), g];
+    keys.extend(mass_keys);
+    let weight = s.load.weight_n + mass * s.fluid.gravity_mps2;
+    out.push(Derived {
+        name: "total weight",
+        unit: "N",
+        value: weight,
+        inputs: keys.clone(),
+    });
+    if let (DragLaw::Quadratic, Some((a, area_keys))) = (s.fluid.drag, area(s)) {
+        let (rho, air) = air_density(s);
+        let cd = input("fluid.drag_coefficient", s.fluid.drag_coefficient, 1.0);
+        let mut drag_keys = area_keys.clone();
+        drag_keys.extend([air, cd]);
+        out.push(Derived {
+            name: "flat canopy's drag at 1 m/s ½ ρ C_D A",
+            unit: "N",
+            value: 0.5 * rho * s.fluid.drag_coefficient * a,
+            inputs: drag_keys,
+        });
+        keys.extend(area_keys);
+        keys.extend([air, cd]);
+        out.push(Derived {
+            name: TERMINAL_SPEED,
+            unit: "m/s",
+            value: (2.0 * weight / (rho * s.fluid.drag_coefficient * a)).sqrt(),
+            inputs: keys,
+        });
+    }
+    out
+}
+
+/// The canopy's axial stiffness: E h (N/m) for a shell, E w h (N) for a rod strip.
+fn stiffness(s: &Scenario) -> Derived {
+    let (cn, m) = (&s.canopy, &s.material);
+    let mut inputs = vec![
+        input("material.youngs_modulus_pa", m.youngs_modulus_pa, 1e9),
+        input("canopy.thickness_m", cn.thickness_m, 1e-3),
+    ];
+    let (name, unit, value) = match s.model.kind {
+        ModelKind::Rod => {
+            inputs.push(input("canopy.width_m", cn.width_m, 3.0));
+            (
+                "strip's axial stiffness E w h",
+                "N",
+                m.youngs_modulus_pa * cn.width_m * cn.thickness_m,
+            )
+        }
+        ModelKind::Shell => (
+            "membrane stiffness E h",
+            "N/m",
+            m.youngs_modulus_pa * cn.thickness_m,
+        ),
+    };
+    Derived {
+        name,
+        unit,
+        value,
+        inputs,
+    }
+}
+
+/// The speeds of the canopy through the air that the scenario implies: the wind's at the
+/// start (the canopy starts at rest over the ground) and the flat-canopy terminal speed
+/// (quadratic drag of a generated canopy), both in m/s.
+pub fn air_speeds(s: &Scenario) -> (f64, Option<f64>) {
+    let w = s.fluid.wind_mps;
+    let wind = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    let terminal = derived(s)
+        .into_iter()
+        .find(|q| q.name == TERMINAL_SPEED)
+        .map(|q| q.value);
+    (wind, terminal)
+}
+
+/// The warning for a scenario whose canopy moves through the air faster than Mach
+/// [`MACH_INCOMPRESSIBLE_MAX`] (below Mach 1, which [`check`] refuses).
+pub fn mach_warning(s: &Scenario) -> Option<String> {
+    let (wind, terminal) = air_speeds(s);
+    let mach = |v: f64| v / SPEED_OF_SOUND_MPS;
+    let high = |v: f64| mach(v) > MACH_INCOMPRESSIBLE_MAX && mach(v) < 1.0;
+    let what = match terminal {
+        Some(v) if v > wind && high(v) => format!(
+            "the flat-canopy terminal speed is {} m/s, Mach {} through the air",
+            sig4(v),
+            sig4(mach(v))
+        ),
+        _ if high(wind) => format!(
+            "the canopy starts at rest in a {} m/s wind: it moves through the air at Mach {}",
+            sig4(wind),
+            sig4(mach(wind))
+        ),
+        _ => return None,
+    };
+    Some(format!(
+        "{what} (speed of sound {SPEED_OF_SOUND_MPS} m/s); above Mach {MACH_INCOMPRESSIBLE_MAX} air is compressible and the drag laws do not hold"
+    ))
+}
+
+/// The air density at the start (kg/m³) and the input it comes from: the constant density,
+/// or the altitude of the standard atmosphere (as far from the usual as its density).
+fn air_density(s: &Scenario) -> (f64, Input) {
+    const SEA_LEVEL: f64 = 1.225;
+    match s.atmosphere.model {
+        super::AtmosphereModel::Constant => {
+            let rho = s.fluid.density_kg_m3;
+            (rho, input("fluid.density_kg_m3", rho, SEA_LEVEL))
+        }
+        super::AtmosphereModel::Isa1976 => {
+            let h = s.atmosphere.altitude_m;
+            let rho = engine::aero::atmosphere::isa1976(h).density_kg_m3;
+            let air = Input {
+                key: "atmosphere.altitude_m",
+                value: h,
+                ratio: rho / SEA_LEVEL,
+            };
+            (rho, air)
+        }
+    }
+}
+
+/// The canopy moves through the air at the wind's speed at the start (it starts at rest over
+/// the ground) and at about the flat-canopy terminal speed at the end: at Mach 1 or more the
+/// incompressible drag laws do not hold at all.
+fn mach(c: &mut Checker, s: &Scenario, terminal: Option<&Derived>) {
+    let w = s.fluid.wind_mps;
+    let wind = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    if !(wind.is_finite() && wind < SPEED_OF_SOUND_MPS) {
+        let shown = format!("[{}, {}, {}]", short(w[0]), short(w[1]), short(w[2]));
+        c.fail(
+            "fluid.wind_mps",
+            shown,
+            if wind.is_finite() {
+                format!(
+                    "the canopy starts at rest in a {} m/s wind, Mach {} through the air (speed of sound {SPEED_OF_SOUND_MPS} m/s): the drag laws hold only well below Mach 1",
+                    sig4(wind),
+                    sig4(wind / SPEED_OF_SOUND_MPS)
+                )
+            } else {
+                "the wind's speed is not a finite number (its square overflows): the drag laws hold only well below Mach 1".into()
+            },
+        );
+        return;
+    }
+    if let Some(t) = terminal.filter(|t| t.value >= SPEED_OF_SOUND_MPS) {
+        let reason = format!(
+            "makes the {} {} m/s, Mach {} (speed of sound {SPEED_OF_SOUND_MPS} m/s): the drag laws hold only well below Mach 1",
+            t.name,
+            sig4(t.value),
+            sig4(t.value / SPEED_OF_SOUND_MPS)
+        );
+        blame(c, &t.inputs, reason);
+    }
+}
+
+/// The triangles a circle gets when its rim must hold the rim sites, and the line nodes.
+fn model_size(c: &mut Checker, s: &Scenario) {
+    let cn = &s.canopy;
+    let rim = matches!(s.load.sites, Sites::Named(SiteSet::Rim));
+    if s.model.kind == ModelKind::Shell
+        && cn.shape == CanopyShape::Circle
+        && rim
+        && cn.radius_m > 0.0
+        && cn.edge_length_m > 0.0
+    {
+        let plain = crate::mesh::generate::circle_rings(cn.radius_m, cn.edge_length_m, 1);
+        let n = crate::mesh::generate::circle_rings(
+            cn.radius_m,
+            cn.edge_length_m,
+            s.load.rim_site_count,
+        );
+        let triangles = 6.0 * (n as f64).powi(2);
+        if triangles > MAX_SHELL_TRIANGLES && n > plain {
+            c.fail(
+                "load.rim_site_count",
+                s.load.rim_site_count,
+                format!(
+                    "the rim must hold a node at every site, which refines the circle to {n} rings, {} triangles; at most {MAX_SHELL_TRIANGLES:.0} are allowed (a count that divides the rim's {} nodes keeps the mesh as it is)",
+                    sig4(triangles),
+                    6 * plain
+                ),
+            );
+        }
+    }
+    if let (LoadMode::Payload, Some(n)) = (s.load.mode, s.site_count()) {
+        let nodes = n as f64 * s.lines.segments as f64;
+        if nodes > MAX_LINE_NODES {
+            c.fail(
+                "lines.segments",
+                s.lines.segments,
+                format!(
+                    "{n} lines of {} segments are {} line nodes; at most {MAX_LINE_NODES:e} are allowed",
+                    s.lines.segments,
+                    sig4(nodes)
+                ),
+            );
+        }
+    }
+}

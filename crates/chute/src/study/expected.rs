@@ -1,0 +1,91 @@
+//! The full case list of a study, as its cases record it: so that a table gathered from
+//! some of its directories (one shard's, a case deleted, a case whose directory was never
+//! made) shows every case it lacks instead of silently leaving it out (docs/cli.md
+//! §`chute collect`).
+//!
+//! Every `done.json` records its recipe: the study file, the base scenario, the study-wide
+//! and the case's overrides, and the number of cases of the study. A study made in code
+//! (`chute converge`, which has no file) records its case names too.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use super::{Case, Study};
+
+/// A recipe of `case` of `study` run under the study-wide `set`, for its `done.json`.
+pub(super) fn recipe(study: &Study, set: &[String], case: &Case) -> serde_json::Value {
+    let mut r = serde_json::json!({
+        "study_file": study.file,
+        "base": study.base,
+        "set": set,
+        "case_set": case.set,
+        "case_count": study.cases.len(),
+    });
+    if study.file.is_none() {
+        let names: Vec<&str> = study.cases.iter().map(|c| c.name.as_str()).collect();
+        r["case_names"] = names.into();
+    }
+    r
+}
+
+/// The cases a table must have, as (index, name, the case's own overrides), and the studies
+/// whose full list could not be known (so the table cannot be called complete).
+#[derive(Debug, Default)]
+pub(super) struct CaseList {
+    pub cases: Vec<(usize, String, Vec<String>)>,
+    pub unknown: Vec<String>,
+}
+
+/// Every case of `invocation`, or of the studies `recipes` (the cases' recorded recipes;
+/// null for a case without one) name.
+pub(super) fn cases<'a>(
+    invocation: Option<&Study>,
+    recipes: impl Iterator<Item = &'a serde_json::Value>,
+) -> CaseList {
+    let mut list = CaseList::default();
+    if let Some(st) = invocation {
+        list.cases = entries(st);
+        return list;
+    }
+    let mut files: BTreeMap<PathBuf, usize> = BTreeMap::new();
+    let mut named: BTreeMap<Vec<String>, ()> = BTreeMap::new();
+    for r in recipes.filter(|r| !r.is_null()) {
+        let count = r["case_count"].as_u64().map_or(0, |n| n as usize);
+        match (r["study_file"].as_str(), r["case_names"].as_array()) {
+            (Some(f), _) => {
+                let n = files.entry(PathBuf::from(f)).or_default();
+                *n = (*n).max(count);
+            }
+            (None, Some(names)) => {
+                let names = names.iter().filter_map(|n| Some(n.as_str()?.to_string()));
+                named.insert(names.collect(), ());
+            }
+            // Recorded before the case list was: nothing to compare with.
+            (None, None) => {}
+        }
+    }
+    for (file, count) in files {
+        match Study::load(&file) {
+            Ok(st) => list.cases.extend(entries(&st)),
+            Err(e) => list.unknown.push(format!(
+                "the full case list of study file `{}` is unknown ({e}): it has {count} case(s), and the table shows only those found",
+                file.display()
+            )),
+        }
+    }
+    for names in named.into_keys() {
+        let cases = names
+            .into_iter()
+            .enumerate()
+            .map(|(i, n)| (i, n, Vec::new()));
+        list.cases.extend(cases);
+    }
+    list
+}
+
+fn entries(st: &Study) -> Vec<(usize, String, Vec<String>)> {
+    st.cases
+        .iter()
+        .map(|c| (c.index, c.name.clone(), c.set.clone()))
+        .collect()
+}

@@ -1,0 +1,425 @@
+//! Run-directory integrity through the binary (docs/reliability.md §5): one writer per
+//! directory, one run's files per directory, whole rows and a record that says why a run
+//! ended, and a resume only over the same inputs.
+use crate::common::*;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Stdio};
+use std::time::{Duration, Instant};
+
+use chute::output::run_files;
+
+fn rod_file() -> String {
+    repo()
+        .join("scenarios/report-rod-200n.toml")
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// `chute run` of the coarse rod for `duration` s into `out`, with `extra` arguments.
+fn rod_run(duration: &str, out: &str, extra: &[&str]) -> Vec<String> {
+    let mut a: Vec<String> = ["run", &rod_file(), "--quiet", "--out", out]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    for s in ["canopy.nodes=21", &format!("time.duration_s={duration}")] {
+        a.extend(["--set".to_string(), s.to_string()]);
+    }
+    a.extend(extra.iter().map(|s| s.to_string()));
+    a
+}
+
+fn run(cwd: &Path, args: &[String]) -> std::process::Output {
+    let a: Vec<&str> = args.iter().map(String::as_str).collect();
+    chute(cwd, &a)
+}
+
+/// A long run started in the background, once it holds `dir` (its record says `running`).
+fn start_holding(cwd: &Path, dir: &str) -> Child {
+    let child = chute_command()
+        .args(rod_run("600", dir, &[]))
+        .current_dir(cwd)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let record = cwd.join(dir).join(run_files::RUN_RECORD);
+    let t0 = Instant::now();
+    while !std::fs::read_to_string(&record).is_ok_and(|t| t.contains("\"running\"")) {
+        assert!(
+            t0.elapsed() < Duration::from_secs(60),
+            "the run never started"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child
+}
+
+#[test]
+fn a_second_writer_is_refused_naming_the_holder_and_a_dead_holder_blocks_nobody() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut first = start_holding(tmp.path(), "d");
+    let pid = first.id();
+    let holder = format!("in use by process {pid} on host");
+    let second = run(tmp.path(), &rod_run("0.05", "d", &["--force"]));
+    let resume = chute(tmp.path(), &["resume", "d"]);
+    let view = chute(tmp.path(), &["view", "d"]);
+    for (what, o) in [
+        ("run --force", &second),
+        ("resume", &resume),
+        ("view", &view),
+    ] {
+        assert_eq!(o.status.code(), Some(2), "{what}: {}", stderr(o));
+        assert!(stderr(o).contains(&holder), "{what}: {}", stderr(o));
+    }
+    // Nothing of the refused commands reached the directory: the first run's files only.
+    assert!(!tmp.path().join("d/viewer.html").exists());
+    first.kill().unwrap();
+    first.wait().unwrap();
+    // The kernel released the dead process's lock; its stale lock file blocks nobody.
+    assert!(tmp.path().join("d").join(run_files::LOCK).exists());
+    let after = run(tmp.path(), &rod_run("0.05", "d", &["--force"]));
+    assert_eq!(after.status.code(), Some(0), "{}", stderr(&after));
+    let dir = tmp.path().join("d");
+    assert!(!dir.join(run_files::LOCK).exists() && !dir.join(run_files::RESERVE).exists());
+    let rows = csv_rows(&dir.join("timeseries.csv"));
+    assert!((rows.last().unwrap()[0] - 0.05).abs() < 1e-12);
+}
+
+#[test]
+fn a_killed_run_is_recorded_as_abandoned_and_view_says_so() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut first = start_holding(tmp.path(), "k");
+    first.kill().unwrap();
+    first.wait().unwrap();
+    let o = chute(tmp.path(), &["view", "k"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the run ended without finishing"),
+        "{}",
+        stderr(&o)
+    );
+    let o = chute(tmp.path(), &["resume", "k"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("chute run k/scenario.resolved.toml --out k --force"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// Arguments of a square shell canopy with a line pull and a no-compression fabric, so that
+/// the run writes every optional file: lines.csv, track.csv, track.png, wrinkles.png and a
+/// snapshot.
+fn every_file_run(out: &str) -> Vec<String> {
+    let scenario = repo().join("scenarios/control-steer.toml");
+    let mut a: Vec<String> = ["run", &scenario.to_string_lossy(), "--quiet", "--out", out]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    for s in [
+        "time.duration_s=0.1",
+        "canopy.edge_length_m=0.5",
+        "output.snapshots_s=[0.05]",
+        "shell.membrane=fabric",
+        "material.no_compression=true",
+        "material.warp_modulus_pa=1e9",
+        "material.weft_modulus_pa=1e9",
+        "material.shear_modulus_pa=1e8",
+        "material.fabric_poisson_ratio=0.2",
+    ] {
+        a.extend(["--set".to_string(), s.to_string()]);
+    }
+    a
+}
+
+#[test]
+fn every_file_a_run_writes_is_registered_and_force_clears_them_all() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = run(tmp.path(), &every_file_run("d"));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let dir = tmp.path().join("d");
+    let written: Vec<String> = files(&dir).into_keys().collect();
+    for f in [
+        "lines.csv",
+        "track.csv",
+        "track.png",
+        "wrinkles.png",
+        "snapshot_0.05s.png",
+        "run.json",
+    ] {
+        assert!(
+            written.iter().any(|w| w == f),
+            "{f} not written: {written:?}"
+        );
+    }
+    for f in &written {
+        let top = f.strip_prefix("frames/").unwrap_or(f);
+        assert!(
+            run_files::is_run_file(f) || (f.starts_with("frames/") && top.starts_with("frame_")),
+            "{f} is not in the registry"
+        );
+    }
+    std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+    // A plain rod over it: nothing of the earlier run may stay.
+    let o = run(
+        tmp.path(),
+        &rod_run("0.05", "d", &["--force", "--no-viewer"]),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let now: Vec<String> = files(&dir).into_keys().collect();
+    for gone in [
+        "lines.csv",
+        "track.csv",
+        "track.png",
+        "wrinkles.png",
+        "snapshot_0.05s.png",
+        "viewer.html",
+    ] {
+        assert!(
+            !now.iter().any(|w| w == gone),
+            "{gone} left behind: {now:?}"
+        );
+    }
+    assert_eq!(
+        std::fs::read_to_string(dir.join("notes.txt")).unwrap(),
+        "mine"
+    );
+}
+
+#[test]
+fn resume_cleans_the_temporaries_of_a_killed_writer() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = run(
+        tmp.path(),
+        &rod_run("0.1", "r", &["--checkpoint-every", "0.05", "--no-viewer"]),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let dir = tmp.path().join("r");
+    let left = [
+        dir.join("frames/.frame_000003.vtu.Ab12Cd.tmp"),
+        dir.join(".summary.json.Zz99Yy.tmp"),
+        dir.join(".velocity.png.4242.tmp.png"),
+    ];
+    for f in &left {
+        std::fs::write(f, "half a file").unwrap();
+    }
+    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    for f in &left {
+        assert!(!f.exists(), "{f:?} left behind");
+    }
+}
+
+#[test]
+fn resume_keeps_no_viewer() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = run(
+        tmp.path(),
+        &rod_run("0.1", "r", &["--checkpoint-every", "0.05", "--no-viewer"]),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = chute(
+        tmp.path(),
+        &["resume", "r", "--set", "time.duration_s=0.15"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(!tmp.path().join("r/viewer.html").exists());
+}
+
+/// The bundled DisMech hexagon with every node coordinate × `scale`.
+fn hex_mesh(scale: f64) -> String {
+    let text =
+        std::fs::read_to_string(repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt"))
+            .unwrap();
+    let mut nodes = false;
+    let mut out = String::new();
+    for line in text.lines() {
+        if line.starts_with('*') {
+            nodes = line.eq_ignore_ascii_case("*Nodes");
+            out.push_str(line);
+        } else if nodes && !line.trim().is_empty() {
+            let xs: Vec<String> = line
+                .split(',')
+                .map(|x| (x.trim().parse::<f64>().unwrap() * scale).to_string())
+                .collect();
+            out.push_str(&xs.join(", "));
+        } else {
+            out.push_str(line);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+#[test]
+fn resume_refuses_a_changed_mesh_naming_the_key_and_the_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mesh = tmp.path().join("canopy.txt");
+    std::fs::write(&mesh, hex_mesh(1.0)).unwrap();
+    // dt = 10 ms: the first sync point, and checkpoint, is at 0.64 s.
+    let scenario = repo().join("scenarios/dismech-hex-n6.toml");
+    let args: Vec<String> = [
+        "run",
+        &scenario.to_string_lossy(),
+        "--quiet",
+        "--no-viewer",
+        "--out",
+        "m",
+        "--checkpoint-every",
+        "0.05",
+        "--set",
+        "time.duration_s=0.7",
+        "--set",
+        &format!("canopy.mesh_file={}", mesh.display()),
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let o = run(tmp.path(), &args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("m/run.json")).unwrap())
+            .unwrap();
+    assert_eq!(record["inputs"][0]["key"], "canopy.mesh_file", "{record}");
+    // Every node × 1.2: the same name, other contents.
+    std::fs::write(&mesh, hex_mesh(1.2)).unwrap();
+    let o = chute(tmp.path(), &["resume", "m", "--set", "time.duration_s=0.8"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    for want in [
+        "canopy.mesh_file",
+        "canopy.txt",
+        "has changed since the run started",
+    ] {
+        assert!(stderr(&o).contains(want), "{}", stderr(&o));
+    }
+    // The run is untouched and resumes once the file is back.
+    std::fs::write(&mesh, hex_mesh(1.0)).unwrap();
+    let o = chute(tmp.path(), &["resume", "m", "--set", "time.duration_s=0.8"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+#[test]
+fn a_resumed_study_case_says_how_it_ended_in_its_marker() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = run(
+        tmp.path(),
+        &rod_run("0.1", "s/c", &["--checkpoint-every", "0.05", "--no-viewer"]),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // The marker of a case the study saw stop early.
+    let done = tmp.path().join("s/c/done.json");
+    let marker = serde_json::json!({
+        "study": "s", "case": "c", "index": 0, "overrides": [], "status": "incomplete",
+        "message": "interrupted at t = 0.1 s", "wall_time_s": 1.0, "inputs": "fnv1a64:0",
+    });
+    std::fs::write(&done, marker.to_string()).unwrap();
+    let o = chute(
+        tmp.path(),
+        &["resume", "s/c", "--set", "time.duration_s=0.15"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let after: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+    assert_eq!(after["status"], "complete", "{after}");
+    assert!(after["message"].is_null(), "{after}");
+    assert!(after["wall_time_s"].as_f64().unwrap() > 1.0, "{after}");
+    assert_eq!(after["inputs"], "fnv1a64:0", "the recipe is kept");
+}
+
+/// The test's tmpfs: `sh -c SCRIPT` in a private mount namespace (root only).
+fn in_small_tmpfs(cwd: &Path, script: &str) -> std::process::Output {
+    let o = std::process::Command::new("unshare")
+        .args(["-m", "sh", "-c", script])
+        .current_dir(cwd)
+        .output()
+        .expect("unshare runs");
+    assert!(
+        !String::from_utf8_lossy(&o.stderr).contains("unshare failed"),
+        "this test needs root (a private mount namespace and a tmpfs); set CHUTE_NO_TMPFS=1 to skip it: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o
+}
+
+#[test]
+fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
+    let args = rod_run("600", "small/d", &["--no-viewer"]);
+    let quoted: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
+    // 1 MiB: the time series and frames fill it within seconds of simulated time.
+    let script = format!(
+        "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && {} {}; echo $? > out/code; cp -r small/d out/d",
+        bin.display(),
+        quoted.join(" ")
+    );
+    let o = in_small_tmpfs(tmp.path(), &script);
+    let code = std::fs::read_to_string(tmp.path().join("out/code")).unwrap_or_else(|_| {
+        panic!(
+            "the run in a 1 MiB tmpfs did not happen (this test needs root for a private mount namespace; CHUTE_NO_TMPFS=1 skips it): {}",
+            String::from_utf8_lossy(&o.stderr)
+        )
+    });
+    assert_eq!(
+        code.trim(),
+        "1",
+        "an I/O error: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let dir = tmp.path().join("out/d");
+    // Whole rows only, every one of them numbers.
+    let rows = csv_rows(&dir.join("timeseries.csv"));
+    assert!(rows.len() > 100 && rows.iter().all(|r| r.len() == 16));
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(record["status"], "failed", "{record}");
+    assert!(
+        record["reason"].as_str().unwrap().contains("No space left"),
+        "{record}"
+    );
+    // What was written can still be read.
+    let o = chute(tmp.path(), &["view", "out/d"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("the run failed: "), "{}", stderr(&o));
+}
+
+#[test]
+fn collect_of_some_shards_names_the_missing_case_and_fails() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    for (out, shard) in [("a", "0/3"), ("b", "1/3")] {
+        let o = chute(
+            tmp.path(),
+            &[
+                "study",
+                &study,
+                "--out",
+                out,
+                "--shard",
+                shard,
+                "--set",
+                "time.duration_s=0.02",
+            ],
+        );
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    let o = chute(tmp.path(), &["collect", "a", "b", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("2 of 3 case(s) complete") && err.contains("case `2000N` is missing"),
+        "{err}"
+    );
+    // The table is still written, with the missing case's row.
+    let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
+    assert!(
+        table
+            .lines()
+            .any(|l| l.starts_with("2000N,") && l.contains(",missing,false,")),
+        "{table}"
+    );
+}

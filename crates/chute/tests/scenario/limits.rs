@@ -1,0 +1,145 @@
+//! The limits on what the keys imply together (docs/scenarios.md §Derived limits): a value
+//! each key accepts on its own but that makes a mass, the weight, a stiffness, the drag, the
+//! terminal speed, its Mach number or the model's size absurd is refused when the scenario is
+//! loaded (so by `chute check`, before any model is built), naming the key that made it so.
+
+use chute::scenario::{Scenario, ScenarioError};
+
+use crate::common::repo;
+
+fn load(file: &str, set: &[&str]) -> Result<Scenario, ScenarioError> {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    Scenario::load(&repo().join("scenarios").join(file), &set)
+}
+
+/// `--set` of `file` is refused naming `key` and saying `why`.
+fn refused(file: &str, set: &str, key: &str, why: &str) {
+    let e = load(file, &[set]).expect_err(set);
+    assert_eq!(e.key(), Some(key), "{set}: {e}");
+    let msg = e.to_string();
+    assert!(msg.contains(why), "{set}: {msg}");
+}
+
+#[test]
+fn absurd_magnitudes_are_refused_naming_the_key() {
+    let rod = "report-rod-200n.toml";
+    refused(
+        rod,
+        "load.weight_n=1e308",
+        "load.weight_n",
+        "makes the total weight 1.000e308 N",
+    );
+    refused(
+        rod,
+        "fluid.gravity_mps2=1e300",
+        "fluid.gravity_mps2",
+        "makes the total weight",
+    );
+    // The canopy's own mass, not a mesh node's, and blamed on the key, not on the mesh.
+    refused(
+        rod,
+        "canopy.span_m=1e308",
+        "canopy.span_m",
+        "makes the canopy mass inf kg",
+    );
+    refused(
+        rod,
+        "material.density_kg_m3=1e308",
+        "material.density_kg_m3",
+        "canopy mass",
+    );
+    refused(
+        rod,
+        "material.youngs_modulus_pa=1e308",
+        "material.youngs_modulus_pa",
+        "axial stiffness",
+    );
+    refused(
+        rod,
+        "fluid.density_kg_m3=1e300",
+        "fluid.density_kg_m3",
+        "drag at 1 m/s",
+    );
+    refused(
+        rod,
+        "fluid.wind_mps=[1e308,0,0]",
+        "fluid.wind_mps",
+        "not a finite number",
+    );
+    let round = "round-parachute.toml";
+    refused(
+        round,
+        "lines.density_kg_m3=1e308",
+        "lines.density_kg_m3",
+        "suspension lines' mass",
+    );
+}
+
+#[test]
+fn supersonic_air_speeds_are_refused_and_fast_ones_warned() {
+    let rod = "report-rod-200n.toml";
+    // About 720 m/s through the air at the end, 400 m/s at the start.
+    refused(rod, "load.weight_n=1e7", "load.weight_n", "Mach 2.1");
+    refused(
+        rod,
+        "fluid.wind_mps=[400,0,0]",
+        "fluid.wind_mps",
+        "Mach 1.175",
+    );
+    // Through the air, not over the ground: at rest in a 200 m/s wind it is Mach 0.59.
+    let s = load(rod, &["fluid.wind_mps=[200,0,0]"]).unwrap();
+    let w = chute::scenario::plausibility::warnings(&s);
+    assert!(
+        w.iter()
+            .any(|w| w.contains("200.0 m/s wind") && w.contains("Mach 0.5877")),
+        "{w:?}"
+    );
+    // A slow canopy in still air: no warning.
+    let s = load(rod, &[]).unwrap();
+    assert!(!chute::scenario::plausibility::warnings(&s)
+        .iter()
+        .any(|w| w.contains("Mach")));
+}
+
+#[test]
+fn rim_sites_that_refine_the_circle_past_the_limit_are_refused_before_building() {
+    // 10 000 sites need 5000 rings (1.5e8 triangles); refused by the loader itself, so no
+    // mesh is generated.
+    refused(
+        "round-parachute.toml",
+        "load.rim_site_count=10000",
+        "load.rim_site_count",
+        "refines the circle to 5000 rings, 1.500e8 triangles",
+    );
+    // A count the rim already holds is fine.
+    load("round-parachute.toml", &["load.rim_site_count=24"]).unwrap();
+}
+
+#[test]
+fn every_bundled_scenario_is_within_the_limits() {
+    for e in std::fs::read_dir(repo().join("scenarios")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "toml") {
+            Scenario::load(&p, &[]).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        }
+    }
+}
+
+#[test]
+fn a_site_off_an_imported_mesh_is_refused_naming_it() {
+    let sets = ["load.mode=force", "load.sites=[[0, 0], [5, 5]]"];
+    let s = load("dismech-hex-n6.toml", &sets).unwrap();
+    let e = chute::build::build(&s).err().expect("refused");
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with("load.sites: site 2 [5, 5] m is not on the imported canopy"),
+        "{msg}"
+    );
+    // On the canopy (inside a triangle's top view), as before.
+    let s = load(
+        "dismech-hex-n6.toml",
+        &["load.mode=force", "load.sites=[[0, 0], [0.5, 0.2]]"],
+    )
+    .unwrap();
+    chute::build::build(&s).unwrap();
+}
