@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::common::{chute_command, repo, FAILING_SOLVER_SETS};
+use crate::common::{chute_command, repo, FAILING_PULL_SETS};
 
 fn rod() -> String {
     repo()
@@ -187,43 +187,43 @@ fn bad_ladders_exit_2_naming_key_and_value() {
     }
 }
 
-/// One Newton iteration per step at a 1 mN tolerance under 3 kN (docs/reliability.md's
-/// failing run): the dt = 0.02 s level stops early, the dt = 0.005 s level completes; the
-/// ladder is still summarised, and the exit status is 3.
+/// The failing round parachute of FAILING_PULL_SETS (its lines jump shorter at t = 0.2 s;
+/// docs/reliability.md's failing run): a level that stops early is named with its reason and
+/// left out of the estimate, the ladder is still summarised (no estimate from fewer than two
+/// complete levels), and the exit status is 3. (Which dt survives the jump is chaotic; at
+/// least one does not.)
 #[test]
 fn a_failing_level_is_reported_and_exits_3() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod();
+    let round = crate::common::round_file();
     let args = [
         [
-            rod.as_str(),
+            round.as_str(),
             "--vary",
-            "time.dt_s=0.02,0.005",
+            "time.dt_s=2e-3,1e-3",
             "--out",
             "f",
             "--set",
-            "canopy.nodes=21",
-            "--set",
-            "time.duration_s=0.2",
-            "--set",
-            "output.snapshots_s=[0.1]",
+            "time.duration_s=0.3",
         ]
         .as_slice(),
-        &FAILING_SOLVER_SETS,
+        &FAILING_PULL_SETS,
     ]
     .concat();
     let o = converge(tmp.path(), &args);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(
-        err.contains("time.dt_s=0.02") && err.contains("step failed"),
-        "{err}"
-    );
+    assert!(err.contains("step failed at t = 0.2"), "{err}");
     let c = json(&tmp.path().join("f/convergence.json"));
-    let levels = &c["studies"][0]["levels"];
-    assert_eq!(levels[0]["status"], "incomplete");
-    assert_eq!(levels[1]["status"], "complete");
-    assert_eq!(levels[0]["used"], false);
+    let levels = c["studies"][0]["levels"].as_array().unwrap();
+    let failed: Vec<_> = levels
+        .iter()
+        .filter(|l| l["status"] == "incomplete")
+        .collect();
+    assert!(!failed.is_empty(), "{levels:?}");
+    for l in &failed {
+        assert_eq!(l["used"], false, "{l}");
+    }
     let md = std::fs::read_to_string(tmp.path().join("f/convergence.md")).unwrap();
     assert!(
         md.contains("incomplete") && md.contains("at least two"),

@@ -122,25 +122,28 @@ fn force_leaves_nothing_old() {
     // An earlier run with 7 frames, a snapshot, plots, a checkpoint and the viewer.
     let long = ["--set", "time.duration_s=0.3", "--checkpoint-every", "0.1"];
     ok(&run(tmp.path(), "d", &long));
-    // A run that fails after its first frame (exit 3), once fresh and once over the earlier
-    // one: the two directories hold the same files.
-    let failing = [
-        [
+    // A run that fails after its first frames (exit 3; FAILING_PULL_SETS), once fresh and
+    // once over the earlier one: the two directories hold the same files.
+    let round = round_file();
+    let failing = |out: &'static str, force: bool| {
+        let mut a = vec![
+            "run",
+            round.as_str(),
+            "--quiet",
+            "--out",
+            out,
             "--no-viewer",
-            "--set",
-            "time.duration_s=1",
-            "--set",
-            "time.dt_s=0.02",
-        ]
-        .as_slice(),
-        &FAILING_SOLVER_SETS,
-    ]
-    .concat();
-    let o = run(tmp.path(), "fresh", &failing);
+        ];
+        a.extend(["--set", "time.duration_s=0.4"]);
+        a.extend(FAILING_PULL_SETS);
+        if force {
+            a.push("--force");
+        }
+        chute(tmp.path(), &a)
+    };
+    let o = failing("fresh", false);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    let mut forced = failing.to_vec();
-    forced.push("--force");
-    let o = run(tmp.path(), "d", &forced);
+    let o = failing("d", true);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert_same_outputs(&tmp.path().join("fresh"), &tmp.path().join("d"));
     // A run that cannot start (an input error) leaves the earlier run whole.

@@ -68,19 +68,31 @@ pub const SQUARE_ON_CORNERS: [&str; 5] = [
     "load.sites=corners",
 ];
 
-/// `--set` arguments that make a rod run fail (exit 3) after a while: one Newton iteration per
-/// step with a 1 mN tolerance, no rescue stages, under a 3 kN load: the strip is whipped so hard
-/// that, after many halved steps, a single update no longer meets the tolerance.
-pub const FAILING_SOLVER_SETS: [&str; 8] = [
+/// `round-parachute.toml` made to fail part-way (exit 3): 0.5 m edges, six of its lines
+/// shortened by 2 m in one step at t = 0.2 s, one iteration per stage and no rescue stages.
+/// The step change of the lines' rest length is a jump the step size cannot shrink, so no
+/// step after the pull is solved at any size (measured: stops at t ≈ 0.237 s after ~650
+/// accepted steps, with frames, a snapshot and a checkpoint before it).
+pub const FAILING_PULL_SETS: [&str; 10] = [
+    "--set",
+    "canopy.edge_length_m=0.5",
+    "--set",
+    "control=[{lines = [0, 1, 2, 3, 4, 5], start_s = 0.2, shorten_m = 2.0}]",
     "--set",
     "time.newton_max_iterations=1",
     "--set",
     "time.newton_rescue_stages=false",
     "--set",
-    "time.newton_tolerance_n=1e-3",
-    "--set",
-    "load.weight_n=3e3",
+    "output.snapshots_s=[0.1]",
 ];
+
+/// The bundled round parachute (`scenarios/round-parachute.toml`).
+pub fn round_file() -> String {
+    repo()
+        .join("scenarios/round-parachute.toml")
+        .display()
+        .to_string()
+}
 
 /// Run `s` into `dir` and require it complete: the model at the end and `summary.json`.
 pub fn run_complete(s: &Scenario, dir: &Path) -> (chute::build::Built, serde_json::Value) {

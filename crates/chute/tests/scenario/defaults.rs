@@ -100,7 +100,7 @@ fn schema_matches_the_serde_structs() {
     let text = "[model]\nkind = \"shell\"\n[canopy]\nshape = \"mesh\"\nmesh_file = \"m.obj\"\nimperfection_m = 0.01\n\
                 [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\nadaptive = true\n\
                 newton_relative_tolerance = 0.1\nnewton_step_tolerance_m = 1e-9\nnewton_strict = true\n\
-                error_norm = \"max\"\nerror_filter = false\n\
+                newton_rescue_stages = false\nerror_norm = \"max\"\nerror_filter = false\n\
                 [lines]\ndrag_coefficient = 1.0\n[shell]\nmembrane = \"fabric\"\nbending = \"midedge\"\n\
                 [material]\nwarp_modulus_pa = 1e9\nweft_modulus_pa = 5e8\nshear_modulus_pa = 1e7\n\
                 fabric_poisson_ratio = 0.3\nwarp_direction_deg = 10.0\nno_compression = true\n\

@@ -201,10 +201,11 @@ impl ImplicitEuler {
     /// With held factors the bits of a step depend on which factors are held; a stepper built
     /// afresh (e.g. on resume from a checkpoint) holds none. Calling this at the same
     /// deterministic points in every run makes those runs bit-identical from there. The
-    /// predictor's history, the held stage's back-off and the retry ledger are dropped too,
-    /// for the same reason.
+    /// predictor's history, the held stage's back-off, the retry ledger and the measured
+    /// round-off are dropped too, for the same reason.
     pub fn invalidate_factorization(&mut self) {
         self.lin.invalidate();
+        self.ws.forget_noise();
         self.ledger.reset();
         self.backoff = HeldBackoff::default();
         self.predictor.reset();
@@ -333,7 +334,8 @@ impl ImplicitEuler {
                 Err(gave_up) => {
                     held_report.iterations = cx.ws.history.len() - 1;
                     // Newton starts from wherever is closer to the solution.
-                    if !(gave_up.residual < gave_up.initial) {
+                    let progressed = gave_up.residual < gave_up.initial;
+                    if !progressed {
                         q.copy_from_slice(&self.q_guess);
                     }
                     res = Err(gave_up.error);

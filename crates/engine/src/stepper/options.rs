@@ -77,7 +77,7 @@ impl NewtonOptions {
             reuse_contraction: 0.3,
             divergence_limit: 1e4,
             predictor: Predictor::Adaptive,
-            accuracy_fraction: 0.01,
+            accuracy_fraction: 0.001,
             accuracy_floor: 1e-4,
             continuation: true,
             step_homotopy: true,
@@ -220,6 +220,7 @@ impl Counters {
             stages_skipped: self.stages_skipped + other.stages_skipped,
             accuracy_accepts: self.accuracy_accepts + other.accuracy_accepts,
             roundoff_accepts: self.roundoff_accepts + other.roundoff_accepts,
+            noise_probes: self.noise_probes + other.noise_probes,
             error_filters: self.error_filters + other.error_filters,
             error_filter_fallbacks: self.error_filter_fallbacks + other.error_filter_fallbacks,
         }
@@ -282,6 +283,9 @@ pub struct Counters {
     /// Solves that converged because every residual was within its round-off floor
     /// (`stepper/convergence.rs`).
     pub roundoff_accepts: u64,
+    /// Measurements of the residual's round-off where an iteration stalled (one residual
+    /// evaluation each, counted in `evaluations` too).
+    pub noise_probes: u64,
     /// Local error estimates filtered through the step's factors.
     pub error_filters: u64,
     /// Estimates left unfiltered (no factors for the step's own `dt`, or not finite).

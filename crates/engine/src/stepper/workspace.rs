@@ -47,6 +47,11 @@ pub(crate) struct Workspace {
     /// `R_i` changes when every coordinate moves by its own relative round-off, which sets
     /// the row's round-off floor (`convergence.rs`).
     pub force_roundoff: Vec<f64>,
+    /// `|R_i(q ⊕ 1 ulp) − R_i(q)|` per free row, measured where an iteration stalled
+    /// ([`Workspace::measure_noise`]; zero until then): the residual's actual round-off.
+    pub noise: Vec<f64>,
+    /// The residual kept across a noise measurement.
+    saved: Vec<f64>,
     /// Mass of each free DOF.
     pub mass: Vec<f64>,
     /// `‖R‖∞` after each iteration of the last solve (the predictor first).
@@ -68,6 +73,8 @@ impl Workspace {
             delta: vec![0.0; nf],
             q_trial: vec![0.0; n],
             force_roundoff: vec![0.0; nf],
+            noise: vec![0.0; nf],
+            saved: vec![0.0; nf],
             mass: asm.dof_of.iter().map(|&d| model.mass[d]).collect(),
             history: Vec::with_capacity(max_history),
             counters: Counters::default(),
@@ -128,6 +135,36 @@ impl Workspace {
                 self.force_roundoff[r] += (self.values[k] - inertia).abs() * qc;
             }
         }
+    }
+
+    /// Measure the residual's round-off at `q` (its residual in [`Workspace::residual`], which
+    /// is kept): every free coordinate moved by one unit in the last place (up on even rows,
+    /// down on odd ones, so the probe is the same in every run), `R` evaluated there, and
+    /// [`Workspace::noise`] raised to the change of each row. One residual evaluation.
+    pub fn measure_noise(&mut self, model: &Model, q: &[f64], tg: &Target<'_>) {
+        self.saved.copy_from_slice(&self.residual);
+        self.q_trial.copy_from_slice(q);
+        for (r, &d) in self.asm.dof_of.iter().enumerate() {
+            let x = q[d];
+            self.q_trial[d] = if r % 2 == 0 {
+                x.next_up()
+            } else {
+                x.next_down()
+            };
+        }
+        let qt = std::mem::take(&mut self.q_trial);
+        self.evaluate(model, &qt, tg, false);
+        self.q_trial = qt;
+        for ((n, r), s) in self.noise.iter_mut().zip(&self.residual).zip(&self.saved) {
+            *n = n.max((r - s).abs());
+        }
+        self.residual.copy_from_slice(&self.saved);
+        self.counters.noise_probes += 1;
+    }
+
+    /// Forget the measured noise (a new run segment: sync point).
+    pub fn forget_noise(&mut self) {
+        self.noise.iter_mut().for_each(|x| *x = 0.0);
     }
 
     /// `‖R‖∞` and the DOF where it is reached (a NaN residual is always the worst).

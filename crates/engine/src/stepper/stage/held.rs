@@ -43,12 +43,13 @@ pub(crate) fn run(cx: &mut Ctx<'_>, tg: &Target<'_>, q: &mut [f64]) -> Result<St
     cx.ws.evaluate(cx.model, q, tg, false);
     let tol = cx.conv.start(cx.ws);
     cx.ws.history.push(tol.r0);
-    cx.mix.reset(cx.ws, q);
+    cx.mix.begin(cx.ws, q);
     let give_up = |error, residual| GaveUp {
         error,
         residual,
         initial: tol.r0,
     };
+    let mut probed = false;
     loop {
         let rinf = match cx.conv.judge(cx.ws, q, tg, &tol, rep.iterations, budget) {
             Ok(Verdict::Converged) => break,
@@ -60,6 +61,12 @@ pub(crate) fn run(cx: &mut Ctx<'_>, tg: &Target<'_>, q: &mut [f64]) -> Result<St
         };
         let k = rep.iterations;
         let slow = k >= 2 && rinf > tol.r0 * cx.opts.reuse_contraction.powi(k as i32);
+        if slow && rinf <= 1e3 * tol.tol && !probed {
+            // Before giving up: stalled on the residual's round-off? (as in the Newton stage)
+            probed = true;
+            cx.ws.measure_noise(cx.model, q, tg);
+            continue;
+        }
         if k >= 1 && (rinf > tol.r0 || slow) {
             let (_, worst) = cx.ws.inf_norm();
             let error = StepError::NotConverged {

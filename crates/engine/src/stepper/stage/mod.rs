@@ -57,8 +57,11 @@ impl Mixing {
         }
     }
 
-    /// Start mixing from iterate `q` (new factors: the fixed-point map changed).
-    pub fn reset(&mut self, ws: &Workspace, q: &[f64]) {
+    /// Start mixing from iterate `q` (new factors, or a new step: the fixed-point map
+    /// changed). Keeping the differences of earlier steps with the same factors as secant
+    /// information was tried: on the main job it tripled the factorisations (old secant pairs
+    /// extrapolate wildly once the shape has moved; docs/performance.md).
+    pub fn begin(&mut self, ws: &Workspace, q: &[f64]) {
         self.anderson.reset();
         ws.gather(q, &mut self.x);
     }

@@ -63,11 +63,21 @@ pub(crate) fn run(
     // Chord iterations since the last Newton iteration, and the residual they started from
     // (`None`: the next iteration is a Newton iteration).
     let mut chord: Option<(usize, f64)> = None;
+    // The residual of the iterate before, and whether this stage measured the round-off.
+    let (mut prev, mut probed) = (f64::INFINITY, false);
     loop {
         let rinf = match cx.conv.judge(cx.ws, q, tg, &tol, rep.iterations, budget)? {
             Verdict::Converged => break,
             Verdict::Continue(r) => r,
         };
+        if rinf > 0.5 * prev && rinf <= 1e3 * tol.tol && !probed {
+            // Stalled near the tolerance: perhaps on the residual's round-off, which the
+            // estimate of `convergence.rs` can miss; measured once, then judged again.
+            probed = true;
+            cx.ws.measure_noise(cx.model, q, tg);
+            continue;
+        }
+        prev = rinf;
         if let Some((k, r_ref)) = chord {
             if k >= 1 && rinf > r_ref {
                 // A chord update that raised the residual is undone: the factors no longer
@@ -100,7 +110,7 @@ pub(crate) fn run(
             // to shorten it, the factors are not a good model of the step beyond.
             if rate > 0.0 && alpha == 1.0 {
                 chord = Some((0, r));
-                cx.mix.reset(cx.ws, q);
+                cx.mix.begin(cx.ws, q);
             }
             if cx.conv.stalled_at_tolerance(step, r, &tol) {
                 break;
