@@ -107,6 +107,9 @@ pub struct NewtonExperiment {
     /// The predictor of the first Newton iterate.
     #[arg(long, hide = true, value_enum)]
     pub predictor: Option<PredictorChoice>,
+    /// Factors in single (`single`) or double (`double`) precision.
+    #[arg(long, hide = true, value_name = "P")]
+    pub factors: Option<String>,
 }
 
 /// `--predictor`.
@@ -143,6 +146,9 @@ impl NewtonExperiment {
         }
         if let Some(k) = self.held_iterations {
             n.held_iterations = k;
+        }
+        if let Some(p) = &self.factors {
+            n.single_precision_factors = p == "single";
         }
         if let Some(p) = self.predictor {
             n.predictor = match p {

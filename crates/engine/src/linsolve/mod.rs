@@ -12,21 +12,37 @@
 //! bundled shells (docs/performance.md).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, IntranodeLbltRef, LltRef,
-    SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering,
 };
 use faer::sparse::linalg::{amd, SupernodalThreshold};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{MatMut, Par, Side};
 
 use crate::error::{EngineError, SparseError};
 use faer::sparse::FaerError;
 
 mod krylov;
+mod numeric;
 pub use krylov::KrylovReport;
+use numeric::Numeric;
+
+/// The precision of the factors ([`numeric`] module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Precision {
+    /// `f64` factors.
+    #[default]
+    Double,
+    /// `f32` factors: half the storage and memory traffic, for factors that precondition an
+    /// iteration whose residual is in double precision.
+    Single,
+}
+
+/// The numeric factors in the chosen precision.
+enum Factors {
+    Double(Numeric<f64>),
+    Single(Numeric<f32>),
+}
 
 /// The engine's name for a faer failure.
 fn sparse_error(e: FaerError) -> SparseError {
@@ -103,9 +119,8 @@ pub struct LinearSolver {
     n: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    llt: (SymbolicCholesky<usize>, Vec<f64>),
-    /// LBLᵀ extras: sub-diagonal of B and the pivoting permutation (forward, inverse).
-    lblt: (Vec<f64>, Vec<usize>, Vec<usize>),
+    chol: SymbolicCholesky<usize>,
+    factors: Factors,
     mem: MemBuffer,
     /// Scratch needed by the LLᵀ / LBLᵀ paths.
     req: StackReq,
@@ -121,13 +136,12 @@ pub struct LinearSolver {
     lower: Option<Lower>,
 }
 
-/// The lower triangle of a pattern and a buffer for its values.
+/// The lower triangle of a pattern.
 struct Lower {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     /// Index in the full pattern's values of each lower entry.
     src: Vec<usize>,
-    values: Vec<f64>,
 }
 
 impl Lower {
@@ -142,25 +156,11 @@ impl Lower {
             }
             cp.push(ri.len());
         }
-        let values = vec![0.0; ri.len()];
         Self {
             col_ptr: cp,
             row_idx: ri,
             src,
-            values,
         }
-    }
-
-    /// The lower triangle of the `n × n` matrix with values `full` (in the full pattern).
-    fn matrix(&mut self, n: usize, full: &[f64]) -> SparseColMatRef<'_, usize, f64> {
-        for (v, &k) in self.values.iter_mut().zip(&self.src) {
-            *v = full[k];
-        }
-        // SAFETY: the lower triangle of a checked pattern is a valid pattern.
-        let sym = unsafe {
-            SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
-        };
-        SparseColMatRef::new(sym, &self.values[..])
     }
 }
 
@@ -168,7 +168,7 @@ impl LinearSolver {
     /// Analyse the symmetric pattern (CSC, sorted rows, no duplicates, both triangles;
     /// checked, an invalid pattern is [`SparseError::InvalidPattern`]) with AMD ordering.
     pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<Self, EngineError> {
-        Self::with_ordering(n, col_ptr, row_idx, SymmetricOrdering::Amd)
+        Self::with_ordering(n, col_ptr, row_idx, SymmetricOrdering::Amd, Precision::Double)
     }
 
     /// [`LinearSolver::new`] for a system already numbered in its fill-reducing order
@@ -177,8 +177,9 @@ impl LinearSolver {
         n: usize,
         col_ptr: &[usize],
         row_idx: &[usize],
+        precision: Precision,
     ) -> Result<Self, EngineError> {
-        Self::with_ordering(n, col_ptr, row_idx, SymmetricOrdering::Identity)
+        Self::with_ordering(n, col_ptr, row_idx, SymmetricOrdering::Identity, precision)
     }
 
     fn with_ordering(
@@ -186,6 +187,7 @@ impl LinearSolver {
         col_ptr: &[usize],
         row_idx: &[usize],
         ordering: SymmetricOrdering<'_, usize>,
+        precision: Precision,
     ) -> Result<Self, EngineError> {
         check_pattern(n, col_ptr, row_idx).map_err(EngineError::Symbolic)?;
         // faer's parallel sparse LLᵀ was measured slower than one thread on the bundled
@@ -210,16 +212,23 @@ impl LinearSolver {
         let req = chol
             .factorize_numeric_llt_scratch::<f64>(par, Default::default())
             .or(chol.factorize_numeric_intranode_lblt_scratch::<f64>(par, Default::default()))
-            .or(chol.solve_in_place_scratch::<f64>(1, par));
-        let vals = vec![0.0; chol.len_val()];
+            .or(chol.solve_in_place_scratch::<f64>(1, par))
+            .or(chol.factorize_numeric_llt_scratch::<f32>(par, Default::default()))
+            .or(chol.factorize_numeric_intranode_lblt_scratch::<f32>(par, Default::default()))
+            .or(chol.solve_in_place_scratch::<f32>(1, par));
         let lower = matches!(ordering, SymmetricOrdering::Identity)
             .then(|| Lower::new(n, col_ptr, row_idx));
+        let nnz = lower.as_ref().map_or(row_idx.len(), |lo| lo.row_idx.len());
+        let factors = match precision {
+            Precision::Double => Factors::Double(Numeric::new(&chol, n, nnz)),
+            Precision::Single => Factors::Single(Numeric::new(&chol, n, nnz)),
+        };
         Ok(Self {
             n,
             col_ptr: col_ptr.to_vec(),
             row_idx: row_idx.to_vec(),
-            llt: (chol, vals),
-            lblt: (vec![0.0; n], vec![0; n], vec![0; n]),
+            chol,
+            factors,
             mem: MemBuffer::new(req),
             req,
             krylov_mem: None,
@@ -254,55 +263,51 @@ impl LinearSolver {
         if n == 0 {
             return self.last;
         }
-        // SAFETY: the same valid pattern as in `new` (borrowed field by field: the factors
-        // and the workspace are borrowed mutably below).
-        let sym = unsafe {
-            SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
+        let (pattern, src) = match &self.lower {
+            // SAFETY: the lower triangle of a checked pattern is a valid pattern.
+            Some(lo) => (
+                unsafe {
+                    SymbolicSparseColMatRef::new_unchecked(n, n, &lo.col_ptr, None, &lo.row_idx)
+                },
+                Some(&lo.src[..]),
+            ),
+            // SAFETY: the same valid pattern as in `new`.
+            None => (
+                unsafe {
+                    SymbolicSparseColMatRef::new_unchecked(
+                        n,
+                        n,
+                        &self.col_ptr,
+                        None,
+                        &self.row_idx,
+                    )
+                },
+                None,
+            ),
         };
-        let (chol, lvals) = &mut self.llt;
-        let a_spd = match self.lower.as_mut() {
-            Some(lo) => lo.matrix(n, spd),
-            None => SparseColMatRef::new(sym, spd),
-        };
-        let ok = chol
-            .factorize_numeric_llt::<f64>(
-                lvals,
-                a_spd,
-                Side::Lower,
-                LltRegularization::default(),
-                self.par,
-                MemStack::new(&mut self.mem),
-                Default::default(),
-            )
-            .is_ok();
-        self.last = if ok {
-            Factorization::Llt
-        } else {
-            let (sub, fwd, inv) = &mut self.lblt;
-            chol.factorize_numeric_intranode_lblt::<f64>(
-                lvals,
-                sub,
-                fwd,
-                inv,
-                a_spd,
-                Side::Lower,
-                self.par,
-                MemStack::new(&mut self.mem),
-                Default::default(),
-            );
-            Factorization::Lblt
+        let stack = MemStack::new(&mut self.mem);
+        self.last = match &mut self.factors {
+            Factors::Double(f) => f.factor(&self.chol, pattern, spd, src, self.par, stack),
+            Factors::Single(f) => f.factor(&self.chol, pattern, spd, src, self.par, stack),
         };
         self.last
     }
 
     /// Memory held by the solver (bytes): `(factor values, scratch)`.
     pub fn memory_bytes(&self) -> (usize, usize) {
-        (self.llt.1.len() * 8, self.req.unaligned_bytes_required())
+        let l = match &self.factors {
+            Factors::Double(f) => f.factor_bytes(),
+            Factors::Single(f) => f.factor_bytes(),
+        };
+        (l, self.req.unaligned_bytes_required())
     }
 
     /// Stored entries of the factor.
     pub fn factor_entries(&self) -> usize {
-        self.llt.1.len()
+        match &self.factors {
+            Factors::Double(f) => f.factor_entries(),
+            Factors::Single(f) => f.factor_entries(),
+        }
     }
 
     /// Forget the factors (e.g. after `dt` changed).
@@ -328,26 +333,17 @@ impl LinearSolver {
 
     /// Workspace of [`LinearSolver::solve_with`] for `ncols` right-hand sides.
     fn solve_scratch(&self, ncols: usize, par: Par) -> StackReq {
-        self.llt.0.solve_in_place_scratch::<f64>(ncols, par)
+        match &self.factors {
+            Factors::Double(_) => self.chol.solve_in_place_scratch::<f64>(ncols, par),
+            Factors::Single(_) => self.chol.solve_in_place_scratch::<f32>(ncols, par),
+        }
     }
 
     /// Solve in place with the held factors and the given workspace.
     fn solve_with(&self, x: MatMut<'_, f64>, par: Par, stack: &mut MemStack) {
-        let (chol, lvals) = &self.llt;
-        match self.last {
-            Factorization::Llt => {
-                LltRef::new(chol, lvals).solve_in_place_with_conj(Conj::No, x, par, stack);
-            }
-            Factorization::Lblt => {
-                let (sub, fwd, inv) = &self.lblt;
-                let perm = PermRef::new_checked(fwd, inv, self.n);
-                IntranodeLbltRef::new(chol, lvals, sub, perm).solve_in_place_with_conj(
-                    Conj::No,
-                    x,
-                    par,
-                    stack,
-                );
-            }
+        match &self.factors {
+            Factors::Double(f) => f.solve(&self.chol, self.last, x, par, stack),
+            Factors::Single(f) => f.solve_f64(&self.chol, self.last, x, par, stack),
         }
     }
 

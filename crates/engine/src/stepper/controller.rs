@@ -23,7 +23,7 @@
 use super::convergence::Convergence;
 use super::error_control::raw_estimate;
 use super::implicit_euler::{velocities, Trial};
-use super::linearization::Linearization;
+use super::linearization::{precision, Linearization};
 use super::options::{Counters, NewtonOptions, StepReport};
 use super::predictor::PredictorState;
 use super::retry_ledger::RetryLedger;
@@ -131,7 +131,7 @@ impl ImplicitEuler {
         let n = model.n_dofs();
         let ws = Workspace::new(model, 8 * opts.max_iterations + opts.held_iterations + 2);
         Ok(Self {
-            lin: Linearization::new(&ws)?,
+            lin: Linearization::new(&ws, precision(&opts))?,
             conv: Convergence::new(&opts, model.total_mass()),
             mix: Mixing::new(opts.anderson_depth, &ws.mass, model.n_dofs()),
             homotopy: HomotopyBuffers::new(n),

@@ -26,11 +26,20 @@ use std::time::Instant;
 
 use super::workspace::{Target, Workspace};
 use crate::error::EngineError;
-use crate::linsolve::{Factorization, LinearSolver};
+use crate::linsolve::{Factorization, LinearSolver, Precision};
 
 /// Most BiCGStab iterations of one correction (each: two products with `J`, two pairs of
 /// triangular solves).
 const KRYLOV_MAX: usize = 20;
+
+/// The factor precision `opts` ask for.
+pub(crate) fn precision(opts: &crate::stepper::options::NewtonOptions) -> Precision {
+    if opts.single_precision_factors {
+        Precision::Single
+    } else {
+        Precision::Double
+    }
+}
 
 /// The held factorisation and what it was computed for.
 pub(crate) struct Linearization {
@@ -54,10 +63,10 @@ pub(crate) struct Linearization {
 
 impl Linearization {
     /// The symbolic analysis of the workspace's pattern (done once).
-    pub fn new(ws: &Workspace) -> Result<Self, EngineError> {
+    pub fn new(ws: &Workspace, precision: Precision) -> Result<Self, EngineError> {
         let a = &ws.asm;
         let solver = if a.ordered {
-            LinearSolver::new_ordered(a.n_free, &a.col_ptr, &a.row_idx)?
+            LinearSolver::new_ordered(a.n_free, &a.col_ptr, &a.row_idx, precision)?
         } else {
             LinearSolver::new(a.n_free, &a.col_ptr, &a.row_idx)?
         };

@@ -4,7 +4,7 @@
 //! (DER reference frames) are committed after every increment, like a quasi-static step.
 
 use super::convergence::Convergence;
-use super::linearization::Linearization;
+use super::linearization::{precision, Linearization};
 use super::options::{NewtonOptions, StepReport};
 use super::stage::{newton, Ctx, Mixing};
 use super::workspace::{Target, Workspace};
@@ -27,7 +27,7 @@ impl StaticSolver {
         model.validate(false)?;
         let ws = Workspace::new(model, opts.max_iterations + 1);
         Ok(Self {
-            lin: Linearization::new(&ws)?,
+            lin: Linearization::new(&ws, precision(&opts))?,
             conv: Convergence::new(&opts, model.total_mass()),
             mix: Mixing::new(opts.anderson_depth, &ws.mass, model.n_dofs()),
             zeros: vec![0.0; model.n_dofs()],
