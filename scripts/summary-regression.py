@@ -17,7 +17,7 @@ import argparse, json, pathlib, subprocess, sys, tempfile
 # Fields that measure the machine, not the physics.
 VOLATILE = {"wall_time_s", "peak_rss_mib", "timings", "ms_per_step"}
 # The wall times of the `solver` object (docs/outputs.md §solver); its counts are compared.
-SOLVER_TIMES = {"assembly_s", "merit_s", "factor_s", "solve_s"}
+SOLVER_TIMES = {"assembly_s", "factor_s", "solve_s"}
 
 
 def physics(summary):

@@ -66,7 +66,7 @@ def run_cli(chute_bin):
     return go
 
 
-SOLVER_TIMES = ("assembly_s", "merit_s", "factor_s", "solve_s")
+SOLVER_TIMES = ("assembly_s", "factor_s", "solve_s")
 
 
 def summary_without_wall_time(path_or_dict):

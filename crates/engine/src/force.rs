@@ -231,7 +231,7 @@ pub trait Force: Send + Sync {
         None
     }
     /// True when [`Force::energy`] is always `Some` and the force is `−∇E` (no velocity
-    /// dependence). The Newton line search then uses the incremental potential as merit.
+    /// dependence): the conformance checks then test the force against the energy.
     fn conservative(&self) -> bool {
         false
     }

@@ -7,7 +7,7 @@ use crate::metrics::descent::Recovery;
 use crate::metrics::Metrics;
 
 /// Version of the `summary.json` layout; bump when a field changes meaning or is removed.
-pub const SUMMARY_VERSION: u32 = 1;
+pub const SUMMARY_VERSION: u32 = 2;
 
 /// Bookkeeping of a run that does not come from the time series.
 #[derive(Debug, Clone, Default, PartialEq)]

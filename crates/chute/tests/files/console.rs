@@ -10,7 +10,7 @@ use chute::output::{Stepping, Summary};
 
 fn summary() -> Summary {
     Summary {
-        summary_version: 1,
+        summary_version: chute::output::summary::SUMMARY_VERSION,
         scenario_name: "round".into(),
         complete: true,
         stop_reason: None,

@@ -168,7 +168,13 @@ impl LinearSolver {
     /// Analyse the symmetric pattern (CSC, sorted rows, no duplicates, both triangles;
     /// checked, an invalid pattern is [`SparseError::InvalidPattern`]) with AMD ordering.
     pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<Self, EngineError> {
-        Self::with_ordering(n, col_ptr, row_idx, SymmetricOrdering::Amd, Precision::Double)
+        Self::with_ordering(
+            n,
+            col_ptr,
+            row_idx,
+            SymmetricOrdering::Amd,
+            Precision::Double,
+        )
     }
 
     /// [`LinearSolver::new`] for a system already numbered in its fill-reducing order
@@ -274,13 +280,7 @@ impl LinearSolver {
             // SAFETY: the same valid pattern as in `new`.
             None => (
                 unsafe {
-                    SymbolicSparseColMatRef::new_unchecked(
-                        n,
-                        n,
-                        &self.col_ptr,
-                        None,
-                        &self.row_idx,
-                    )
+                    SymbolicSparseColMatRef::new_unchecked(n, n, &self.col_ptr, None, &self.row_idx)
                 },
                 None,
             ),

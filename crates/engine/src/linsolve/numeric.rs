@@ -172,8 +172,12 @@ impl<T: Real> Numeric<T> {
             }
             Factorization::Lblt => {
                 let perm = PermRef::new_checked(&self.fwd, &self.inv, self.fwd.len());
-                IntranodeLbltRef::new(chol, &self.l, &self.sub, perm)
-                    .solve_in_place_with_conj(Conj::No, x, par, stack);
+                IntranodeLbltRef::new(chol, &self.l, &self.sub, perm).solve_in_place_with_conj(
+                    Conj::No,
+                    x,
+                    par,
+                    stack,
+                );
             }
         }
     }

@@ -143,7 +143,8 @@ fn preordered_system_solves_like_the_permuting_solver() {
             pcp.push(pri.len());
         }
         let mut plain = LinearSolver::new(n, &cp, &ri).unwrap();
-        let mut ordered = LinearSolver::new_ordered(n, &pcp, &pri, super::Precision::Double).unwrap();
+        let mut ordered =
+            LinearSolver::new_ordered(n, &pcp, &pri, super::Precision::Double).unwrap();
         let f1 = plain.factor(&v);
         let f2 = ordered.factor(&pv);
         assert_eq!(f1, f2, "n {n}, shift {shift}");
