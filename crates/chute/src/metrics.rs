@@ -65,6 +65,9 @@ pub struct Params {
     pub reference_length_m: f64,
     /// Whether the drag model is quadratic in speed (enables the low-Re warning).
     pub quadratic_drag: bool,
+    /// Wind velocity U∞ (m/s): the Mach warning judges the canopy's speed through the air,
+    /// `v − U∞`, which is what the drag laws see.
+    pub wind_mps: [f64; 3],
 }
 
 /// Metrics of a run. Velocities in m/s, forces in N, lengths in m, times in s.
@@ -232,7 +235,8 @@ pub fn compute(s: &Series<'_>, p: &Params) -> Result<Metrics, MetricsError> {
         warnings: Vec::new(),
     };
     judge_steadiness(&mut m, band_entry, p);
-    m.warnings.extend(mach_warning(peak_speed_mps(s)));
+    m.warnings
+        .extend(mach_warning(peak_airspeed_mps(s, p.wind_mps)));
     Ok(m)
 }
 
@@ -249,23 +253,23 @@ pub const SPEED_OF_SOUND_MPS: f64 = 340.3;
 /// incompressible flow) no longer holds.
 pub const MACH_INCOMPRESSIBLE_MAX: f64 = 0.3;
 
-/// Largest canopy speed |(vx, vy, vz)| of the series (m/s).
-fn peak_speed_mps(s: &Series<'_>) -> f64 {
+/// Largest canopy airspeed |(vx, vy, vz) − U∞| of the series (m/s).
+fn peak_airspeed_mps(s: &Series<'_>, wind: [f64; 3]) -> f64 {
     (0..s.t_s.len())
         .map(|i| {
-            let c = |col: &[f64]| col.get(i).copied().unwrap_or(0.0);
-            (c(s.vx_mps).powi(2) + c(s.vy_mps).powi(2) + c(s.vz_mps).powi(2)).sqrt()
+            let c = |col: &[f64], k: usize| col.get(i).copied().unwrap_or(0.0) - wind[k];
+            (c(s.vx_mps, 0).powi(2) + c(s.vy_mps, 1).powi(2) + c(s.vz_mps, 2).powi(2)).sqrt()
         })
         .fold(0.0, f64::max)
 }
 
-/// The warning for a canopy that reached `peak_speed_mps`, when that is above Mach
+/// The warning for a canopy whose airspeed reached `peak_speed_mps`, when that is above Mach
 /// [`MACH_INCOMPRESSIBLE_MAX`].
 pub fn mach_warning(peak_speed_mps: f64) -> Option<String> {
     let mach = peak_speed_mps / SPEED_OF_SOUND_MPS;
     (mach > MACH_INCOMPRESSIBLE_MAX).then(|| {
         format!(
-            "the canopy reached {peak_speed_mps:.1} m/s, Mach {mach:.2} (speed of sound {SPEED_OF_SOUND_MPS} m/s): \
+            "the canopy reached {peak_speed_mps:.1} m/s through the air, Mach {mach:.2} (speed of sound {SPEED_OF_SOUND_MPS} m/s): \
              above Mach {MACH_INCOMPRESSIBLE_MAX} air is compressible and the drag law does not hold; check the load and the material"
         )
     })

@@ -249,6 +249,7 @@ impl Flight {
             air_viscosity_pa_s: mu,
             reference_length_m: built.reference_length_m,
             quadratic_drag: cfg.quadratic_drag,
+            wind_mps: cfg.air.wind,
         };
         match metrics::compute(&self.dec.series(), &params) {
             Ok(m) => {

@@ -226,6 +226,7 @@ fn summary_json_has_every_documented_field() {
         air_viscosity_pa_s: 1.81e-5,
         reference_length_m: 1.0,
         quadratic_drag: true,
+        wind_mps: [0.0; 3],
     };
     let m = compute(&d.series(), &p).unwrap();
     let run = run_info();

@@ -12,6 +12,7 @@ fn params() -> Params {
         air_viscosity_pa_s: 1.81e-5,
         reference_length_m: 6.0,
         quadratic_drag: true,
+        wind_mps: [0.0; 3],
     }
 }
 

@@ -48,6 +48,7 @@ fn params(w: f64) -> Params {
         air_viscosity_pa_s: 1.81e-5,
         reference_length_m: 2.0,
         quadratic_drag: true,
+        wind_mps: [0.0; 3],
     }
 }
 
@@ -343,4 +344,35 @@ fn mach_above_0_3_is_warned() {
         .expect("warned");
     assert!(w.contains("Mach 0.50"), "{w}");
     assert_eq!(metrics::mach_warning(0.3 * a), None);
+}
+
+/// The drag laws see the velocity through the air, `v − U∞`: a canopy carried by a jet stream
+/// at Mach 0.4 over the ground while falling at 30 m/s through the air is not warned about,
+/// and the same ground speed in still air is.
+#[test]
+fn mach_is_judged_through_the_air() {
+    let a = metrics::SPEED_OF_SOUND_MPS;
+    let mut c = Cols::new(4.0, 0.01, |_| -30.0, |_| 100.0);
+    c.vy = vec![0.4 * a; c.t.len()];
+    let wind = [0.3, 0.4 * a, 0.0];
+    let with_wind = compute(
+        &c.series(),
+        &Params {
+            wind_mps: wind,
+            ..params(100.0)
+        },
+    )
+    .unwrap();
+    assert!(
+        !with_wind.warnings.iter().any(|w| w.contains("Mach")),
+        "{:?}",
+        with_wind.warnings
+    );
+    let still = run(&c, 100.0);
+    let w = still
+        .warnings
+        .iter()
+        .find(|w| w.contains("Mach"))
+        .expect("warned");
+    assert!(w.contains("Mach 0.40"), "{w}");
 }

@@ -162,6 +162,17 @@ impl Workspace {
         self.counters.noise_probes += 1;
     }
 
+    /// Keep the residual of the current iterate aside (one slot; [`Workspace::measure_noise`]
+    /// uses the same slot).
+    pub fn save_residual(&mut self) {
+        self.saved.copy_from_slice(&self.residual);
+    }
+
+    /// The residual kept by [`Workspace::save_residual`], back in [`Workspace::residual`].
+    pub fn restore_residual(&mut self) {
+        self.residual.copy_from_slice(&self.saved);
+    }
+
     /// Forget the measured noise (a new run segment: sync point).
     pub fn forget_noise(&mut self) {
         self.noise.iter_mut().for_each(|x| *x = 0.0);

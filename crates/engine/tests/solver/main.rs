@@ -8,6 +8,7 @@ mod error_control;
 mod error_filter;
 mod ladder;
 mod newton_accuracy;
+mod newton_descent;
 mod newton_update;
 mod predictor;
 mod rod_history;
