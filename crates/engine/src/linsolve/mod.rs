@@ -245,6 +245,32 @@ impl LinearSolver {
         })
     }
 
+    /// The precision the factors are computed in.
+    pub fn precision(&self) -> Precision {
+        match self.factors {
+            Factors::Double(_) => Precision::Double,
+            Factors::Single(_) => Precision::Single,
+        }
+    }
+
+    /// Compute later factors in `precision` (allocates the new factors' storage once when it
+    /// changes; the factors held are dropped, so the next call must be a
+    /// [`LinearSolver::factor`]).
+    pub fn set_precision(&mut self, precision: Precision) {
+        if self.precision() == precision {
+            return;
+        }
+        let nnz = self
+            .lower
+            .as_ref()
+            .map_or(self.row_idx.len(), |lo| lo.row_idx.len());
+        self.factors = match precision {
+            Precision::Double => Factors::Double(Numeric::new(&self.chol, self.n, nnz)),
+            Precision::Single => Factors::Single(Numeric::new(&self.chol, self.n, nnz)),
+        };
+        self.valid = false;
+    }
+
     /// The pattern given to [`LinearSolver::new`], as a faer view.
     fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
         // SAFETY: `new` checked the pattern (`check_pattern`), and it is never modified.

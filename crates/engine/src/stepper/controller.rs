@@ -176,6 +176,13 @@ impl ImplicitEuler {
         self.lin.memory_bytes()
     }
 
+    /// Whether the factors are computed in single precision: as asked by
+    /// [`NewtonOptions::single_precision_factors`], until a matrix too ill-conditioned for
+    /// them switched the stepper to double precision (docs/engine.md §Precision).
+    pub fn single_precision_factors(&self) -> bool {
+        self.lin.single_precision()
+    }
+
     /// The settings in force.
     pub fn options(&self) -> &NewtonOptions {
         &self.opts

@@ -18,6 +18,13 @@
 //! quadratically like the exact one (Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19(2),
 //! 1982).
 //!
+//! **Precision.** Single-precision factors solve `J_s` only to about `ε₃₂ κ`; that is the
+//! chord iteration's business (it contracts or it does not), but a Newton update must meet
+//! its forcing term. With `f32` factors the Newton update is therefore always checked against
+//! the full `J` (`‖J Δ + R‖ ≤ η ‖R‖`) and corrected by BiCGStab; where even the correction
+//! fails (κ beyond `1/ε₃₂`: the 10,000-node rod's edges of 0.6 mm), the factors switch to
+//! double precision for the rest of the run and the update is computed again.
+//!
 //! **Keys.** The factors are valid for one `(c_m, c_v, σ)`: a step of another size, or a
 //! shifted matrix, needs new ones. Whether held factors from earlier steps are still good
 //! enough is not known in advance; the stages measure it by the contraction they achieve.
@@ -46,8 +53,8 @@ pub(crate) struct Linearization {
     solver: LinearSolver,
     /// `J_s` (+ `σ c_m M`) in the pattern's values (empty when `J` is symmetric).
     sym: Vec<f64>,
-    /// `(J − J_s) Δ` (free DOFs; empty when `J` is symmetric).
-    skew_product: Vec<f64>,
+    /// `J Δ + R`, the linearised residual of an update (free DOFs).
+    linear_residual: Vec<f64>,
     /// `−R` for the Krylov correction, and the chord update kept in case it fails.
     rhs: Vec<f64>,
     chord: Vec<f64>,
@@ -70,14 +77,17 @@ impl Linearization {
         } else {
             LinearSolver::new(a.n_free, &a.col_ptr, &a.row_idx)?
         };
-        let skew = !a.symmetric;
-        let buf = |on: bool, n: usize| if on { vec![0.0; n] } else { Vec::new() };
+        let sym = if a.symmetric {
+            Vec::new()
+        } else {
+            vec![0.0; a.nnz()]
+        };
         Ok(Self {
             solver,
-            sym: buf(skew, a.nnz()),
-            skew_product: buf(skew, a.n_free),
-            rhs: buf(skew, a.n_free),
-            chord: buf(skew, a.n_free),
+            sym,
+            linear_residual: vec![0.0; a.n_free],
+            rhs: vec![0.0; a.n_free],
+            chord: vec![0.0; a.n_free],
             key: None,
             current: false,
             values_shift: 0.0,
@@ -115,19 +125,28 @@ impl Linearization {
             }
             self.values_shift = shift;
         }
+        if !self.sym.is_empty() {
+            ws.asm.symmetric_part(&ws.values, &mut self.sym);
+        }
+        let fac = self.factor(ws);
+        self.key = Some((tg.c_m, tg.c_v, shift));
+        self.current = true;
+        fac
+    }
+
+    /// Factorise the symmetric matrix of the Jacobian in the workspace (`self.sym`, or the
+    /// values themselves when `J` is symmetric).
+    fn factor(&mut self, ws: &mut Workspace) -> Factorization {
         let t0 = Instant::now();
         let fac = if self.sym.is_empty() {
             self.solver.factor(&ws.values)
         } else {
-            ws.asm.symmetric_part(&ws.values, &mut self.sym);
             self.solver.factor(&self.sym)
         };
         let c = &mut ws.counters;
         c.factor_s += t0.elapsed().as_secs_f64();
         c.factorizations += 1;
         c.indefinite_factorizations += u64::from(fac == Factorization::Lblt);
-        self.key = Some((tg.c_m, tg.c_v, shift));
-        self.current = true;
         fac
     }
 
@@ -138,26 +157,50 @@ impl Linearization {
         ws.counters.solve_s += t0.elapsed().as_secs_f64();
     }
 
-    /// The chord update `Δ = −A⁻¹ R` into `ws.delta`.
+    /// The chord update `Δ = −A⁻¹ R` into `ws.delta` (one iteration).
     pub fn chord(&mut self, ws: &mut Workspace) {
+        self.apply_chord(ws);
+        ws.counters.iterations += 1;
+    }
+
+    fn apply_chord(&mut self, ws: &mut Workspace) {
         let mut delta = std::mem::take(&mut ws.delta);
         for (d, r) in delta.iter_mut().zip(&ws.residual) {
             *d = -r;
         }
         self.apply(ws, &mut delta);
         ws.delta = delta;
-        ws.counters.iterations += 1;
     }
 
     /// The Newton update `J Δ = −R` into `ws.delta` to the relative linearised residual
     /// `eta` (the forcing term): the chord update, corrected by BiCGStab where the skew part
-    /// of `J` makes it too far from Newton's (module docs). Only the chord update when the
-    /// factors are not of the Jacobian in `ws.values`.
+    /// of `J`, or the rounding of single-precision factors, makes it too far from Newton's
+    /// (module docs). Only the chord update when the factors are not of the Jacobian in
+    /// `ws.values`.
     pub fn newton(&mut self, ws: &mut Workspace, eta: f64) {
         self.chord(ws);
-        if self.sym.is_empty() || !self.current || self.skew_ratio(ws) <= eta {
+        let single = self.solver.precision() == Precision::Single;
+        if !self.current || (self.sym.is_empty() && !single) {
             return;
         }
+        if self.linear_residual_ratio(ws) <= eta || self.correct(ws, eta) {
+            return;
+        }
+        if single {
+            // The factors are too coarse to precondition this matrix: double precision from
+            // now on (module docs), and the update again.
+            self.solver.set_precision(Precision::Double);
+            self.factor(ws);
+            self.apply_chord(ws);
+            if self.linear_residual_ratio(ws) > eta {
+                self.correct(ws, eta);
+            }
+        }
+    }
+
+    /// BiCGStab from the chord update in `ws.delta` to `eta`; whether it converged (if not,
+    /// the chord update is kept and the stage's contraction test decides).
+    fn correct(&mut self, ws: &mut Workspace, eta: f64) -> bool {
         for (b, r) in self.rhs.iter_mut().zip(&ws.residual) {
             *b = -r;
         }
@@ -169,23 +212,25 @@ impl Linearization {
         let c = &mut ws.counters;
         c.solve_s += t0.elapsed().as_secs_f64();
         c.krylov_iterations += rep.iterations as u64;
-        if !(rep.converged && ws.delta.iter().all(|d| d.is_finite())) {
-            // A correction that does not converge (drag dominating M/h² + K, or a wild
-            // iterate) keeps the chord update; the stage's contraction test decides.
+        let ok = rep.converged && ws.delta.iter().all(|d| d.is_finite());
+        if !ok {
             c.krylov_failures += 1;
             ws.delta.copy_from_slice(&self.chord);
         }
+        ok
     }
 
-    /// `‖(J − J_s) Δ‖∞ / ‖R‖∞` for the chord update in `ws.delta` (module docs).
-    fn skew_ratio(&mut self, ws: &Workspace) -> f64 {
+    /// `‖J Δ + R‖∞ / ‖R‖∞` for the update in `ws.delta`, `J` the (shifted) Jacobian in
+    /// `ws.values`: zero for exact factors of a symmetric `J`, `‖(J − J_s) Δ‖∞ / ‖R‖∞` for
+    /// exact factors of its symmetric part.
+    fn linear_residual_ratio(&mut self, ws: &Workspace) -> f64 {
         let a = &ws.asm;
-        let y = &mut self.skew_product;
-        y.iter_mut().for_each(|x| *x = 0.0);
+        let y = &mut self.linear_residual;
+        y.copy_from_slice(&ws.residual);
         for c in 0..a.n_free {
             let dc = ws.delta[c];
             for k in a.col_ptr[c]..a.col_ptr[c + 1] {
-                y[a.row_idx[k]] += (ws.values[k] - self.sym[k]) * dc;
+                y[a.row_idx[k]] += ws.values[k] * dc;
             }
         }
         let num = y.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -195,6 +240,11 @@ impl Linearization {
         } else {
             0.0
         }
+    }
+
+    /// Whether the factors are single precision (module docs, §Precision).
+    pub fn single_precision(&self) -> bool {
+        self.solver.precision() == Precision::Single
     }
 
     /// Memory of the factors and their scratch (bytes).

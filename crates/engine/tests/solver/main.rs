@@ -6,6 +6,7 @@ mod aero_newton;
 mod backward_euler;
 mod error_control;
 mod error_filter;
+mod factor_precision;
 mod ladder;
 mod newton_accuracy;
 mod newton_descent;
