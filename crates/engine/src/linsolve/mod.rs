@@ -268,6 +268,8 @@ impl LinearSolver {
             Precision::Double => Factors::Double(Numeric::new(&self.chol, self.n, nnz)),
             Precision::Single => Factors::Single(Numeric::new(&self.chol, self.n, nnz)),
         };
+        // The Krylov workspace was sized for the old precision's solves.
+        self.krylov_mem = None;
         self.valid = false;
     }
 

@@ -159,3 +159,35 @@ fn preordered_system_solves_like_the_permuting_solver() {
         assert!(err <= 1e-10 * scale, "n {n}, shift {shift}: {err:e}");
     }
 }
+
+/// Factors switched from single to double precision after the Krylov workspace was sized for
+/// single-precision solves: the next corrected solve sizes it again and reaches 1e-10 (only
+/// double-precision factors can precondition that far on their own).
+#[test]
+fn precision_switch_resizes_the_krylov_workspace() {
+    let mut rng = StdRng::seed_from_u64(3);
+    let n = 300;
+    let (cp, ri, full) = system(n, 1.0, &mut rng);
+    let a = dense(n, &cp, &ri, &full);
+    let sym = 0.5 * (&a + a.transpose());
+    let mut sym_vals = Vec::with_capacity(full.len());
+    for c in 0..n {
+        for k in cp[c]..cp[c + 1] {
+            sym_vals.push(sym[(ri[k], c)]);
+        }
+    }
+    let mut solver = LinearSolver::new_ordered(n, &cp, &ri, super::Precision::Single).unwrap();
+    let b: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+    let bv = DVector::from_column_slice(&b);
+    let rel = |x: &[f64]| (&a * DVector::from_column_slice(x) - &bv).norm() / bv.norm();
+    for precision in [super::Precision::Single, super::Precision::Double] {
+        solver.set_precision(precision);
+        assert_eq!(solver.precision(), precision);
+        solver.factor(&sym_vals);
+        let mut x = b.clone();
+        solver.solve(&mut x);
+        let rep = solver.solve_corrected(&full, &b, &mut x, 1e-10, 50);
+        assert!(rep.converged, "{precision:?}");
+        assert!(rel(&x) <= 1e-9, "{precision:?}: {:e}", rel(&x));
+    }
+}
