@@ -8,7 +8,7 @@
 //! <name>` with the same experiment options), so its peak resident memory (`VmHWM` of
 //! `/proc/self/status`) is its own and not the high-water mark of a larger case run earlier.
 //! The child builds the model, takes `warmup` untimed steps, zeroes the stepper's
-//! [`engine::Timings`], then times `steps` steps and prints one JSON object. Steps are taken
+//! [`engine::Counters`], then times `steps` steps and prints one JSON object. Steps are taken
 //! as a run takes them ([`crate::runner::Driver`]): a failed Newton solve halves the step.
 //!
 //! Why a warm-up: a canopy released flat and at rest first falls almost rigidly, so the

@@ -236,7 +236,7 @@ pub fn air_speeds(s: &Scenario) -> (f64, Option<f64>) {
 }
 
 /// The warning for a scenario whose canopy moves through the air faster than Mach
-/// [`MACH_INCOMPRESSIBLE_MAX`] (below Mach 1, which [`check`] refuses).
+/// [`MACH_INCOMPRESSIBLE_MAX`] (below Mach 1, which `check` refuses).
 pub fn mach_warning(s: &Scenario) -> Option<String> {
     let (wind, terminal) = air_speeds(s);
     let mach = |v: f64| v / SPEED_OF_SOUND_MPS;

@@ -236,7 +236,7 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, serde_json::
 /// Gather every case of the given study output directories (e.g. one per shard): a row per
 /// case directory, then a `missing` row for every case of the study that none of them holds
 /// (the study's full list: `invocation`'s for `chute study`, else the one recorded in the
-/// cases' `done.json`, [`super::expected`]). Each finished case's recorded inputs are
+/// cases' `done.json`, `study::expected`). Each finished case's recorded inputs are
 /// compared with what its study would run now: under the study and study-wide overrides of
 /// `invocation` when given, else those recorded with the case (and the table then notes
 /// cases recorded under different study-wide overrides). A case found twice keeps its last

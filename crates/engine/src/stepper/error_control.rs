@@ -26,7 +26,7 @@
 //! under gravity) pass unchanged, stiff ones are divided by ≈ (ω h)². It costs one pair of
 //! triangular solves. When the step holds no factors for its own `h` (it converged at the
 //! predictor, e.g. right after a sync point with a changed `h`) the raw `e` is used
-//! ([`crate::Timings::error_filter_fallbacks`] counts it).
+//! ([`crate::Counters::error_filter_fallbacks`] counts it).
 //!
 //! **Norm.** Over the nodes `i` with free translational DOFs, relative to the user's
 //! tolerance `tol` (m per step), by default the mass-weighted RMS
