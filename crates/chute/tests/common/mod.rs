@@ -254,7 +254,7 @@ pub fn without_wall_times(mut j: serde_json::Value) -> serde_json::Value {
 }
 
 /// Every field of the `solver` object of `summary.json` (docs/outputs.md §solver).
-pub const SOLVER_FIELDS: [&str; 21] = [
+pub const SOLVER_FIELDS: [&str; 22] = [
     "assembly_s",
     "factor_s",
     "solve_s",
@@ -274,6 +274,7 @@ pub const SOLVER_FIELDS: [&str; 21] = [
     "stages_skipped",
     "accuracy_accepts",
     "roundoff_accepts",
+    "noise_probes",
     "error_filters",
     "error_filter_fallbacks",
 ];
