@@ -92,11 +92,14 @@ impl NewtonOptions {
         }
     }
 
-    /// These options with the accuracy-based test off: converged only on the force
-    /// tolerance (references and tests, `time.newton_strict`).
+    /// These options solving each step as exactly as the machine allows: the accuracy-based
+    /// test off (converged only on the force tolerance) and double-precision factors, whose
+    /// chord iterations contract to far below the tolerance, so that runs that should agree
+    /// to round-off (mirror images, references) do (`time.newton_strict`).
     pub fn strict(self) -> Self {
         Self {
             accuracy_fraction: 0.0,
+            single_precision_factors: false,
             ..self
         }
     }

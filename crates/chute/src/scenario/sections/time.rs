@@ -56,9 +56,10 @@ section! {
             .positive("a step tolerance")
             .default_doc("engine default 1e-12"),
         /// converge on the force tolerances alone, without the accuracy-based test (a step
-        /// converges when its residual moves the state by ≤ 1 % of its local error, or each
-        /// DOF's residual is ≤ 1e-4 of its weight; off too when `newton_tolerance_n` is set);
-        /// for references and tests (written to the resolved scenario only when true)
+        /// converges when its residual moves the state by ≤ 0.1 % of its local error, or each
+        /// DOF's residual is ≤ 1e-4 of its weight; off too when `newton_tolerance_n` is set),
+        /// with double-precision factors; for references and tests (written to the resolved
+        /// scenario only when true)
         #[serde(skip_serializing_if = "std::ops::Not::not")]
         newton_strict: bool = false => key(),
         /// after a failed Newton stage, try the continuation and homotopy stages before the step
