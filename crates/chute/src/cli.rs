@@ -56,7 +56,8 @@ pub struct ViewArgs {
 #[derive(Debug, Args)]
 pub struct RunArgs {
     /// Scenario file (TOML).
-    pub scenario: PathBuf,
+    #[arg(required_unless_present = "resume")]
+    pub scenario: Option<PathBuf>,
     /// Output directory (default: `runs/<scenario name>`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -284,7 +285,9 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
             r.display()
         )));
     }
-    let s = Scenario::load(&a.scenario, &a.set)?;
+    // clap requires the scenario unless `--resume` is given, which returned above.
+    let scenario = a.scenario.as_deref().unwrap_or(Path::new(""));
+    let s = Scenario::load(scenario, &a.set)?;
     let checkpoint_every_s = checkpoint_interval(a.checkpoint_every)?;
     let out = a
         .out

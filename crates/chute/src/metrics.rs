@@ -253,14 +253,22 @@ pub const SPEED_OF_SOUND_MPS: f64 = 340.3;
 /// incompressible flow) no longer holds.
 pub const MACH_INCOMPRESSIBLE_MAX: f64 = 0.3;
 
-/// Largest canopy airspeed |(vx, vy, vz) − U∞| of the series (m/s).
+/// Largest canopy airspeed |(vx, vy, vz) − U∞| of the series (m/s), or 0 when the first
+/// sample's is larger than every later one: a canopy starting at rest in a strong wind is fastest through the air
+/// at the start, which `chute check`'s warning (scenario::limits) already names, and the run
+/// then only slows it down.
 fn peak_airspeed_mps(s: &Series<'_>, wind: [f64; 3]) -> f64 {
-    (0..s.t_s.len())
-        .map(|i| {
-            let c = |col: &[f64], k: usize| col.get(i).copied().unwrap_or(0.0) - wind[k];
-            (c(s.vx_mps, 0).powi(2) + c(s.vy_mps, 1).powi(2) + c(s.vz_mps, 2).powi(2)).sqrt()
-        })
-        .fold(0.0, f64::max)
+    let speed = |i: usize| {
+        let c = |col: &[f64], k: usize| col.get(i).copied().unwrap_or(0.0) - wind[k];
+        (c(s.vx_mps, 0).powi(2) + c(s.vy_mps, 1).powi(2) + c(s.vz_mps, 2).powi(2)).sqrt()
+    };
+    let first = speed(0);
+    let later = (1..s.t_s.len()).map(speed).fold(0.0, f64::max);
+    if later >= first {
+        later
+    } else {
+        0.0
+    }
 }
 
 /// The warning for a canopy whose airspeed reached `peak_speed_mps`, when that is above Mach

@@ -133,10 +133,33 @@ impl RunFile {
     }
 }
 
-/// A temporary of an atomic write (`.<name>.XXXXXX.tmp`, `.<name>.<pid>.tmp.png`), left
-/// behind only by a process that was killed while writing.
+/// A temporary of an atomic write of a run file (`.<name>.XXXXXX.tmp`,
+/// `.<name>.<pid>.tmp.png`, `<name>` one of the registry's), left behind only by a process
+/// that was killed while writing. A user's `.notes.tmp` is not one.
+fn is_temporary_of(name: &str, in_frames: bool) -> bool {
+    let Some(inner) = name.strip_prefix('.').and_then(|n| {
+        n.strip_suffix(".tmp.png")
+            .or_else(|| n.strip_suffix(".tmp"))
+    }) else {
+        return false;
+    };
+    inner.rsplit_once('.').is_some_and(|(base, tag)| {
+        !tag.is_empty()
+            && tag.bytes().all(|b| b.is_ascii_alphanumeric())
+            && RUN_FILES
+                .iter()
+                .any(|f| f.in_frames == in_frames && f.role != Role::Holder && f.matches(base))
+    })
+}
+
+/// A temporary of a run file at the top of a run directory ([`is_temporary_of`]).
 pub fn is_temporary(name: &str) -> bool {
-    name.starts_with('.') && (name.ends_with(".tmp") || name.ends_with(".tmp.png"))
+    is_temporary_of(name, false)
+}
+
+/// A temporary of a frame in `frames/`.
+fn is_frame_temporary(name: &str) -> bool {
+    is_temporary_of(name, true)
 }
 
 /// The registry entry of `name`, an entry at the top of a run directory.
@@ -152,7 +175,7 @@ pub fn is_run_file(name: &str) -> bool {
 
 /// Whether `name`, an entry of `frames/`, is a frame chute writes (or its temporary).
 fn is_frame_file(name: &str) -> bool {
-    RUN_FILES.iter().any(|f| f.in_frames && f.matches(name)) || is_temporary(name)
+    RUN_FILES.iter().any(|f| f.in_frames && f.matches(name)) || is_frame_temporary(name)
 }
 
 /// Whether `name` belongs to the process holding the directory rather than to a run.
@@ -191,7 +214,7 @@ pub fn clear_top_except(dir: &Path, keep: &[&str]) -> io::Result<()> {
 /// Remove the temporaries a killed writer left in `dir` and `frames/` (a resume's first
 /// step: nothing else of the run is touched).
 pub fn remove_temporaries(dir: &Path) -> io::Result<()> {
-    clear_where(dir, is_temporary, is_temporary)
+    clear_where(dir, is_temporary, is_frame_temporary)
 }
 
 /// Remove the files at the top of `dir` whose names satisfy `top` and those of `frames/`
@@ -203,7 +226,8 @@ fn clear_where(
 ) -> io::Result<()> {
     remove_matching(dir, top)?;
     let frames = dir.join(FRAMES_DIR);
-    if frames.is_dir() {
+    // Not through a symbolic link: the directory it points to is not the run's.
+    if std::fs::symlink_metadata(&frames).is_ok_and(|m| m.is_dir()) {
         remove_matching(&frames, frame)?;
         // Kept when it holds something chute did not write.
         let _ = std::fs::remove_dir(&frames);
@@ -251,12 +275,48 @@ mod tests {
         ] {
             assert!(is_run_file(n), "{n}");
         }
-        for n in ["notes.txt", "summary.json.bak", "snapshot.png", "frames"] {
+        for n in [
+            "notes.txt",
+            "summary.json.bak",
+            "snapshot.png",
+            "frames",
+            ".notes.tmp",
+            ".x.y.tmp",
+            ".my.file.tmp.png",
+            ".data.csv.backup.tmp",
+            ".chute.lock.abc123.tmp",
+        ] {
             assert!(!is_run_file(n), "{n}");
         }
+        assert!(is_frame_file(".frame_000012.vtu.Zq81xY.tmp"));
+        assert!(!is_frame_file(".a.tmp") && !is_frame_file(".summary.json.a1B2c3.tmp"));
         assert!(is_frame_file("frame_000012.vtu"));
         assert!(!is_frame_file("frame_.vtu") && !is_frame_file("mine.vtu"));
         assert!(is_holder_file(LOCK) && is_holder_file(RESERVE));
         assert!(!is_holder_file(SUMMARY));
+    }
+
+    /// `frames` as a symbolic link to a directory of the user's: clearing the run leaves that
+    /// directory's frames alone (they are not the run's), and user files named like hidden
+    /// temporaries survive too.
+    #[cfg(unix)]
+    #[test]
+    fn clear_does_not_follow_a_linked_frames_directory() {
+        let tmp = tempfile::tempdir().unwrap();
+        let (run, other) = (tmp.path().join("run"), tmp.path().join("other"));
+        std::fs::create_dir_all(&run).unwrap();
+        std::fs::create_dir_all(&other).unwrap();
+        for f in ["frame_000001.vtu", ".frame_000002.vtu.Ab12Cd.tmp"] {
+            std::fs::write(other.join(f), "x").unwrap();
+        }
+        std::os::unix::fs::symlink(&other, run.join(FRAMES_DIR)).unwrap();
+        for f in [SUMMARY, ".notes.tmp", ".summary.json.a1B2c3.tmp"] {
+            std::fs::write(run.join(f), "x").unwrap();
+        }
+        clear(&run).unwrap();
+        assert!(other.join("frame_000001.vtu").exists());
+        assert!(other.join(".frame_000002.vtu.Ab12Cd.tmp").exists());
+        assert!(run.join(".notes.tmp").exists());
+        assert!(!run.join(SUMMARY).exists() && !run.join(".summary.json.a1B2c3.tmp").exists());
     }
 }

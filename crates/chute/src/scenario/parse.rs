@@ -8,10 +8,16 @@ use super::sections::SECTIONS;
 use super::source::Provenance;
 use super::{overrides, schema, source, validate, Scenario};
 
-/// The absolute directory against which a scenario's relative paths resolve.
+/// The absolute directory against which a scenario's relative paths resolve (a bare file
+/// name is in the current directory: its empty parent cannot be made absolute, and a
+/// relative path recorded for a mesh would then resolve against the run directory on
+/// resume).
 pub fn base_dir(file: &Path) -> PathBuf {
-    let dir = file.parent().unwrap_or(Path::new(""));
-    std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf())
+    let dir = match file.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    normalize(&std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf()))
 }
 
 /// `a/b/../c` → `a/c` without touching the file system (the file may not exist yet, and

@@ -196,3 +196,18 @@ fn docs_tables_cover_new_shapes() {
         "{table}"
     );
 }
+
+/// A scenario named by a bare file name resolves its relative paths against the current
+/// directory as an absolute path, so a run records its mesh where `chute resume` finds it
+/// from any directory.
+#[test]
+fn a_bare_scenario_name_has_an_absolute_base_directory() {
+    let cwd = std::env::current_dir().unwrap();
+    for name in ["s.toml", "./s.toml"] {
+        let dir = super::parse::base_dir(std::path::Path::new(name));
+        assert!(dir.is_absolute(), "{name}: {dir:?}");
+        assert_eq!(dir, cwd, "{name}");
+    }
+    let sub = super::parse::base_dir(std::path::Path::new("sub/../s.toml"));
+    assert_eq!(sub, cwd, "a `..` is normalized away");
+}

@@ -260,6 +260,11 @@ fn run_refuses_to_overwrite_and_checks_writability() {
                 2,
                 &["retired", "chute resume nowhere"],
             ),
+            (
+                &["run", "--resume", "nowhere"],
+                2,
+                &["retired", "chute resume nowhere"],
+            ),
         ],
     );
 }
