@@ -113,6 +113,17 @@ fn rim_sites_that_refine_the_circle_past_the_limit_are_refused_before_building()
     );
     // A count the rim already holds is fine.
     load("round-parachute.toml", &["load.rim_site_count=24"]).unwrap();
+    // Past the key's own range, the key is named for that, not a quantity it derives (the
+    // line nodes, the terminal speed of the thin canopy).
+    for n in ["1000000", "100000000", "4000000000"] {
+        let set = format!("load.rim_site_count={n}");
+        refused(
+            "round-parachute.toml",
+            &set,
+            "load.rim_site_count",
+            "between 3 and 10000",
+        );
+    }
 }
 
 #[test]
