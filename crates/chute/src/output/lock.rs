@@ -83,8 +83,13 @@ impl RunLock {
             });
         }
         let mut file = lock_file(dir)?;
-        describe_holder(&mut file).map_err(unwritable)?;
-        write_reserve(dir).map_err(unwritable)?;
+        if let Err(e) = describe_holder(&mut file).and_then(|()| write_reserve(dir)) {
+            // Nothing of ours stays behind (a full disk: the caller then removes the
+            // directory it created).
+            free_reserve(dir);
+            let _ = std::fs::remove_file(dir.join(LOCK));
+            return Err(unwritable(e));
+        }
         held.insert(key.clone());
         Ok(RunLock {
             dir: dir.to_path_buf(),

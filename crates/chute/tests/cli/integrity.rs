@@ -349,13 +349,20 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
-    let args = rod_run("600", "small/d", &["--no-viewer"]);
-    let quoted: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
-    // 1 MiB: the time series and frames fill it within seconds of simulated time.
+    let quote = |args: Vec<String>| {
+        let q: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
+        q.join(" ")
+    };
+    // 1 MiB: the time series and frames fill it within seconds of simulated time. With the
+    // rest filled up too, a second run into a new directory is refused (status 2: it cannot
+    // set its reserve aside) and leaves neither its lock file nor the directory it created.
     let script = format!(
-        "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && {} {}; echo $? > out/code; cp -r small/d out/d",
-        bin.display(),
-        quoted.join(" ")
+        "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && {bin} {}; echo $? > out/code; \
+         cp -r small/d out/d; dd if=/dev/zero of=small/fill bs=4096 2>/dev/null; \
+         {bin} {}; echo $? > out/code2; if [ -e small/new ]; then ls -a small/new > out/new; fi",
+        quote(rod_run("600", "small/d", &["--no-viewer"])),
+        quote(rod_run("600", "small/new", &["--no-viewer"])),
+        bin = bin.display(),
     );
     let o = in_small_tmpfs(tmp.path(), &script);
     let code = std::fs::read_to_string(tmp.path().join("out/code")).unwrap_or_else(|_| {
@@ -369,6 +376,17 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
         "1",
         "an I/O error: {}",
         String::from_utf8_lossy(&o.stderr)
+    );
+    let code2 = std::fs::read_to_string(tmp.path().join("out/code2")).unwrap();
+    assert_eq!(
+        code2.trim(),
+        "2",
+        "a run on a full disk is refused as bad input"
+    );
+    let left = std::fs::read_to_string(tmp.path().join("out/new")).unwrap_or_default();
+    assert!(
+        left.is_empty(),
+        "the refused run left its directory: {left}"
     );
     let dir = tmp.path().join("out/d");
     // Whole rows only, every one of them numbers.
