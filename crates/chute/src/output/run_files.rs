@@ -152,7 +152,8 @@ fn is_temporary_of(name: &str, in_frames: bool) -> bool {
     })
 }
 
-/// A temporary of a run file at the top of a run directory ([`is_temporary_of`]).
+/// A temporary of a run file at the top of a run directory (`.<name>.XXXXXX.tmp` of a
+/// registered `<name>`).
 pub fn is_temporary(name: &str) -> bool {
     is_temporary_of(name, false)
 }

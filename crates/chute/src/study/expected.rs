@@ -49,7 +49,8 @@ pub(super) fn cases<'a>(
     }
     let mut files: BTreeMap<PathBuf, usize> = BTreeMap::new();
     let mut named: BTreeMap<Vec<String>, ()> = BTreeMap::new();
-    for r in recipes.filter(|r| !r.is_null()) {
+    let mut without = 0;
+    for r in recipes {
         let count = r["case_count"].as_u64().map_or(0, |n| n as usize);
         match (r["study_file"].as_str(), r["case_names"].as_array()) {
             (Some(f), _) => {
@@ -60,9 +61,15 @@ pub(super) fn cases<'a>(
                 let names = names.iter().filter_map(|n| Some(n.as_str()?.to_string()));
                 named.insert(names.collect(), ());
             }
-            // Recorded before the case list was: nothing to compare with.
-            (None, None) => {}
+            // Recorded before the case list was (or no recipe at all): nothing to compare
+            // with, so the table cannot be called complete.
+            (None, None) => without += 1,
         }
+    }
+    if without > 0 {
+        list.unknown.push(format!(
+            "{without} case(s) record no recipe (a `done.json` of an older chute, or none readable): the full case list of their study is unknown, and the table shows only the cases found"
+        ));
     }
     for (file, count) in files {
         match Study::load(&file) {

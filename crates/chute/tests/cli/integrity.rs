@@ -405,6 +405,38 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
     assert!(stderr(&o).contains("the run failed: "), "{}", stderr(&o));
 }
 
+/// Cases of an older chute record no recipe, so their study's full case list is unknown:
+/// `collect` of them, one case deleted, cannot call the table complete (status 3).
+#[test]
+fn collect_of_cases_without_a_recipe_cannot_call_the_table_complete() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            &study,
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    for case in ["20N", "200N", "2000N"] {
+        let done = tmp.path().join("s").join(case).join("done.json");
+        let mut j: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+        j.as_object_mut().unwrap().remove("recipe");
+        std::fs::write(&done, j.to_string()).unwrap();
+    }
+    std::fs::remove_dir_all(tmp.path().join("s/20N")).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("record no recipe"), "{err}");
+}
+
 #[test]
 fn collect_of_some_shards_names_the_missing_case_and_fails() {
     let tmp = tempfile::tempdir().unwrap();
