@@ -20,6 +20,10 @@ pub const MAX_MAGNITUDE: f64 = 1e100;
 pub const MAX_SHELL_TRIANGLES: f64 = 2.0e6;
 /// Most nodes the suspension lines may have together.
 pub const MAX_LINE_NODES: f64 = 1.0e6;
+/// Largest stiffness-to-inertia ratio `E h²/(ρ l²)` of one element over one step: the
+/// Newton matrix is `M/h² + K`, whose condition number grows as this ratio; at 1e12 it still
+/// leaves four significant digits of f64 to the inertia (bundled scenarios: below 2e8).
+pub const MAX_STEP_STIFFNESS: f64 = 1e12;
 
 /// One input of a derived quantity: its key, its value and how far that is from a typical
 /// one (value / typical), so that the key blamed is the one furthest from the usual.
@@ -65,6 +69,16 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
     }
     if !bad {
         mach(c, s, quantities.iter().find(|q| q.name == TERMINAL_SPEED));
+        for q in step_stiffness(s) {
+            if !(q.value.is_finite() && q.value <= MAX_STEP_STIFFNESS) {
+                let reason = format!(
+                    "makes the {} {}: above {MAX_STEP_STIFFNESS:e} the step's Newton matrix M/dt² + K is too ill-conditioned to solve in f64 (a mass far too small, a stiffness far too large, or a smaller dt_s)",
+                    q.name,
+                    sig4(q.value)
+                );
+                blame(c, &q.inputs, reason);
+            }
+        }
     }
     model_size(c, s);
 }
@@ -150,6 +164,54 @@ fn masses(s: &Scenario) -> (Vec<Derived>, f64, Vec<Input>) {
         inputs.extend(keys);
     }
     (out, total, inputs)
+}
+
+/// The stiffness-to-inertia ratios `E h²/(ρ l²)` of the canopy's and the lines' elements over
+/// one step `h` of length `l` (an imported mesh's edge length is not known here).
+fn step_stiffness(s: &Scenario) -> Vec<Derived> {
+    let dt = input("time.dt_s", s.time.dt_s, 1e-3);
+    let mut out = Vec::new();
+    let (cn, m) = (&s.canopy, &s.material);
+    let edge = match s.model.kind {
+        ModelKind::Rod => Some((
+            cn.span_m / (cn.nodes.max(2) - 1) as f64,
+            input("canopy.nodes", cn.nodes as f64, 61.0),
+        )),
+        ModelKind::Shell if cn.mesh_file.is_none() => Some((
+            cn.edge_length_m,
+            input("canopy.edge_length_m", cn.edge_length_m, 0.125),
+        )),
+        ModelKind::Shell => None,
+    };
+    if let Some((len, l)) = edge {
+        out.push(Derived {
+            name: "canopy element's stiffness-to-inertia ratio over a step E dt²/(ρ l²)",
+            unit: "",
+            value: m.youngs_modulus_pa * s.time.dt_s.powi(2) / (m.density_kg_m3 * len * len),
+            inputs: vec![
+                input("material.youngs_modulus_pa", m.youngs_modulus_pa, 1e9),
+                input("material.density_kg_m3", m.density_kg_m3, 1000.0),
+                dt,
+                l,
+            ],
+        });
+    }
+    if let (LoadMode::Payload, Some(_)) = (s.load.mode, s.site_count()) {
+        let ln = &s.lines;
+        let seg = ln.length_m / ln.segments.max(1) as f64;
+        out.push(Derived {
+            name: "line segment's stiffness-to-inertia ratio over a step E dt²/(ρ l²)",
+            unit: "",
+            value: ln.youngs_modulus_pa * s.time.dt_s.powi(2) / (ln.density_kg_m3 * seg * seg),
+            inputs: vec![
+                input("lines.youngs_modulus_pa", ln.youngs_modulus_pa, 1e9),
+                input("lines.density_kg_m3", ln.density_kg_m3, 1000.0),
+                dt,
+                input("lines.segments", ln.segments as f64, 10.0),
+            ],
+        });
+    }
+    out
 }
 
 /// The quantities of `s` that must be finite and bounded.

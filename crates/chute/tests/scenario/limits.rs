@@ -154,3 +154,25 @@ fn a_site_off_an_imported_mesh_is_refused_naming_it() {
     .unwrap();
     chute::build::build(&s).unwrap();
 }
+
+/// A mass far too small for the stiffness over one step (a density of 1e-10 kg/m³: E dt²/(ρ l²)
+/// ≈ 1e17) makes the Newton matrix singular in f64: refused when loaded, naming the density,
+/// instead of a non-finite update at t = 0. The lines are judged the same way.
+#[test]
+fn a_step_too_stiff_for_its_inertia_is_refused() {
+    let rod = "report-rod-200n.toml";
+    for d in ["1e-10", "1e-20", "1e-300"] {
+        refused(
+            rod,
+            &format!("material.density_kg_m3={d}"),
+            "material.density_kg_m3",
+            "too ill-conditioned",
+        );
+    }
+    refused(
+        "round-parachute.toml",
+        "lines.density_kg_m3=1e-12",
+        "lines.density_kg_m3",
+        "line segment's stiffness-to-inertia ratio",
+    );
+}
