@@ -495,7 +495,12 @@ fn run_case(
     // process running this case (a re-queued array task) is left alone.
     let _lock = match crate::output::lock::RunLock::acquire(&dir) {
         Ok(lock) => lock,
-        Err(e @ crate::output::lock::LockError::Busy { .. }) => {
+        // Held by another process, or not writable (a full disk): this case is not run and
+        // the study goes on, so the other cases and the table still get their chance.
+        Err(
+            e @ (crate::output::lock::LockError::Busy { .. }
+            | crate::output::lock::LockError::Unwritable { .. }),
+        ) => {
             if opts.verbose {
                 eprintln!("case {}: not run: {e}", case.name);
             }

@@ -407,6 +407,35 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
 
 /// Cases of an older chute record no recipe, so their study's full case list is unknown:
 /// `collect` of them, one case deleted, cannot call the table complete (status 3).
+/// A study on a full file system: a case whose directory cannot take its lock and reserve is
+/// "not run" and the study goes on to the others and to the table, instead of stopping at
+/// the first case as if the input were bad (status 2).
+#[test]
+fn a_study_on_a_full_file_system_goes_through_every_case() {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let script = format!(
+        "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && \
+         dd if=/dev/zero of=small/fill bs=4096 2>/dev/null; \
+         {} study '{study}' --out small/S --set time.duration_s=0.02 2> out/err; echo $? > out/code",
+        bin.display()
+    );
+    let o = in_small_tmpfs(tmp.path(), &script);
+    let code = std::fs::read_to_string(tmp.path().join("out/code"))
+        .unwrap_or_else(|_| panic!("no tmpfs run: {}", String::from_utf8_lossy(&o.stderr)));
+    let err = std::fs::read_to_string(tmp.path().join("out/err")).unwrap();
+    // The table cannot be written either: an I/O error (1), not bad input (2).
+    assert_eq!(code.trim(), "1", "{err}");
+    for case in ["20N", "200N", "2000N"] {
+        let not_run = format!("case {case}: not run: ");
+        assert!(err.contains(&not_run), "{case} not reported: {err}");
+    }
+}
+
 #[test]
 fn collect_of_cases_without_a_recipe_cannot_call_the_table_complete() {
     let tmp = tempfile::tempdir().unwrap();

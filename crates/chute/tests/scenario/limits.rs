@@ -156,7 +156,7 @@ fn a_site_off_an_imported_mesh_is_refused_naming_it() {
 }
 
 /// A mass far too small for the stiffness over one step (a density of 1e-10 kg/m³: E dt²/(ρ l²)
-/// ≈ 1e17) makes the Newton matrix singular in f64: refused when loaded, naming the density,
+/// ≈ 5e16) makes the Newton matrix singular in f64: refused when loaded, naming the density,
 /// instead of a non-finite update at t = 0. The lines are judged the same way.
 #[test]
 fn a_step_too_stiff_for_its_inertia_is_refused() {
