@@ -36,9 +36,14 @@ fn format_err(path: &Path, message: impl Into<String>) -> RunDirError {
 }
 
 fn read(path: &Path) -> Result<String, RunDirError> {
-    std::fs::read_to_string(path).map_err(|source| RunDirError::Io {
-        path: path.to_path_buf(),
-        source,
+    std::fs::read_to_string(path).map_err(|source| match source.kind() {
+        // Read, but not text: a file that is not what chute writes (bad input), not an I/O
+        // failure.
+        std::io::ErrorKind::InvalidData => format_err(path, "not UTF-8 text"),
+        _ => RunDirError::Io {
+            path: path.to_path_buf(),
+            source,
+        },
     })
 }
 

@@ -280,6 +280,10 @@ pub fn gather(
             .filter_map(|s| super::split_override(s).map(|[k, v]| (k, v)))
             .collect();
         let why = match dirs {
+            [one] if one.join(&case).is_dir() => format!(
+                "`{}` exists but holds no record of it (no `done.json` of this case)",
+                one.join(&case).display()
+            ),
             [one] => format!("`{}` has no directory for it", one.join(&case).display()),
             _ => "none of the directories given has it".into(),
         };

@@ -466,6 +466,33 @@ fn collect_of_cases_without_a_recipe_cannot_call_the_table_complete() {
     assert!(err.contains("record no recipe"), "{err}");
 }
 
+/// A case whose directory is there but empty is missing, and said to be so as it is: the
+/// directory exists but holds no record of the case.
+#[test]
+fn collect_names_an_empty_case_directory_as_such() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            &study,
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let case = tmp.path().join("s/200N");
+    std::fs::remove_dir_all(&case).unwrap();
+    std::fs::create_dir(&case).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("exists but holds no record of it"), "{err}");
+}
+
 #[test]
 fn collect_of_some_shards_names_the_missing_case_and_fails() {
     let tmp = tempfile::tempdir().unwrap();

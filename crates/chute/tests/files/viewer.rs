@@ -364,6 +364,15 @@ fn chute_view_writes_the_viewer_or_says_why_not() {
         "{out}"
     );
     assert!(dir.path().join(VIEWER_HTML).is_file());
+    // A summary that is not text is a file chute did not write: bad input (2), named.
+    fs::write(dir.path().join("summary.json"), [0xff, 0xfe, 0x00, 0x81]).unwrap();
+    let o = view(dir.path());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("summary.json") && err.contains("not UTF-8"),
+        "{err}"
+    );
 }
 
 #[cfg(unix)]
