@@ -126,6 +126,14 @@ pub enum CheckpointError {
         /// What is wrong.
         reason: String,
     },
+    /// A file of the run (`timeseries.csv`) does not hold what the checkpoint says it does.
+    #[error("{}: does not match the run's checkpoint: {reason}", path.display())]
+    Mismatch {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
 }
 
 /// 64-bit FNV-1a: a cheap checksum that catches truncation and bit rot (not tampering).
@@ -380,7 +388,7 @@ impl Checkpoint {
 /// after its checkpoint wrote more), and return those rows' samples so the in-memory series
 /// can be rebuilt. Errors if the file has fewer rows or a malformed one.
 pub fn truncate_timeseries(path: &Path, rows: u64) -> Result<Vec<Sample>, CheckpointError> {
-    let invalid = |reason: String| CheckpointError::Invalid {
+    let invalid = |reason: String| CheckpointError::Mismatch {
         path: path.to_path_buf(),
         reason,
     };
@@ -580,5 +588,22 @@ mod tests {
         c.dt_cap = f64::NAN;
         assert!(c.check_shape(3, 2).is_err());
         assert!(sample().check_shape(3, 2).is_ok());
+    }
+
+    /// A time series shorter than the checkpoint's row count is named as not matching the
+    /// checkpoint (the checkpoint itself is fine).
+    #[test]
+    fn a_short_time_series_does_not_match_the_checkpoint() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("timeseries.csv");
+        std::fs::write(&path, format!("{}\n0,1", crate::output::timeseries::HEADER)).unwrap();
+        let e = truncate_timeseries(&path, 1).unwrap_err();
+        assert!(matches!(e, CheckpointError::Mismatch { .. }), "{e}");
+        let msg = e.to_string();
+        assert!(msg.contains("does not match the run's checkpoint"), "{msg}");
+        assert!(
+            msg.contains("has 0 complete rows, the checkpoint needs 1"),
+            "{msg}"
+        );
     }
 }
