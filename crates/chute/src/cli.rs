@@ -477,7 +477,7 @@ fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {
     let failed = report.failures();
     if failed > 0 {
         return Err(AppError::RunFailed(format!(
-            "{failed} of {} case(s) failed or stopped early; see `{}/<case>/done.json`",
+            "{failed} of {} case(s) failed, stopped early or were not run; see the lines above (and `{}/<case>/done.json` of a case that ran)",
             report.cases.len(),
             opts.out_dir.display()
         )));

@@ -94,6 +94,11 @@ pub struct VtkSeries {
     wrinkles: Option<Wrinkles>,
 }
 
+/// The path of frame `i` inside a run directory (`frames/frame_NNNNNN.vtu`).
+pub fn frame_name(i: usize) -> String {
+    format!("{FRAMES_DIR}/frame_{i:06}.vtu")
+}
+
 impl VtkSeries {
     /// Prepare `out_dir/frames/` (created if missing). Nothing else is written yet.
     pub fn new(out_dir: &Path) -> io::Result<Self> {
@@ -115,7 +120,7 @@ impl VtkSeries {
         me.entries = times
             .iter()
             .enumerate()
-            .map(|(i, &t)| (t, format!("{FRAMES_DIR}/frame_{i:06}.vtu")))
+            .map(|(i, &t)| (t, frame_name(i)))
             .collect();
         for entry in std::fs::read_dir(out_dir.join(FRAMES_DIR))? {
             let name = entry?.file_name();
@@ -187,7 +192,7 @@ impl VtkSeries {
     /// Same as [`write_frame`](Self::write_frame), taking a [`Frame`].
     pub fn write(&mut self, f: &Frame<'_>) -> io::Result<PathBuf> {
         validate(f)?;
-        let name = format!("{FRAMES_DIR}/frame_{:06}.vtu", self.entries.len());
+        let name = frame_name(self.entries.len());
         let path = self.out_dir.join(&name);
         write_atomic(&path, vtu_string(f).as_bytes())?;
         self.entries.push((f.t_s, name));

@@ -30,6 +30,17 @@ impl Run {
         let rows =
             checkpoint::truncate_timeseries(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
         let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
+        // The frames the checkpoint counts must still be there: a resumed run lists them in
+        // `canopy.pvd`, and a directory missing them is not the run that was stopped.
+        for i in 0..c.frame_times.len() {
+            let f = out_dir.join(crate::output::vtk::frame_name(i));
+            if !f.is_file() {
+                return Err(bad(format!(
+                    "`{}` of the stopped run is missing: the run directory changed since; run the scenario again",
+                    f.display()
+                )));
+            }
+        }
         let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk, Some(c.t))?;
         built.state = engine::State {

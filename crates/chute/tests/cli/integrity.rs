@@ -211,6 +211,26 @@ fn resume_cleans_the_temporaries_of_a_killed_writer() {
     }
 }
 
+/// A run directory whose frames were deleted after the run stopped is not the run the
+/// checkpoint describes: resume refuses it (2) naming the missing frame.
+#[test]
+fn resume_refuses_a_run_directory_missing_its_frames() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = run(
+        tmp.path(),
+        &rod_run("0.1", "r", &["--checkpoint-every", "0.05", "--no-viewer"]),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::remove_dir_all(tmp.path().join("r/frames")).unwrap();
+    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("frame_000000.vtu") && err.contains("is missing"),
+        "{err}"
+    );
+}
+
 #[test]
 fn resume_keeps_no_viewer() {
     let tmp = tempfile::tempdir().unwrap();
