@@ -175,8 +175,10 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
             ..engine::NewtonOptions::recommended()
         }
         // The accuracy-based test replaces the default tolerance only: a scenario that sets
-        // `time.newton_tolerance_n` (e.g. a peer's tolerances) gets exactly that one.
-        .strict_if(s.time.newton_strict || s.time.newton_tolerance_n.is_some()),
+        // `time.newton_tolerance_n` (e.g. a peer's tolerances) gets exactly that one, with the
+        // recommended factors; `newton_strict` also solves with double-precision factors.
+        .without_accuracy_test_if(s.time.newton_tolerance_n.is_some())
+        .strict_if(s.time.newton_strict),
         air_density: s.fluid.density_kg_m3,
         air_viscosity: s.fluid.viscosity_pa_s,
         quadratic_drag: s.fluid.drag == DragLaw::Quadratic,

@@ -104,6 +104,15 @@ impl NewtonOptions {
         }
     }
 
+    /// These options with the accuracy-based test off when `off` (a caller's own force
+    /// tolerance replaces it), the factors unchanged.
+    pub fn without_accuracy_test_if(self, off: bool) -> Self {
+        Self {
+            accuracy_fraction: if off { 0.0 } else { self.accuracy_fraction },
+            ..self
+        }
+    }
+
     /// [`NewtonOptions::strict`] when `strict`, else these options unchanged.
     pub fn strict_if(self, strict: bool) -> Self {
         if strict {
