@@ -47,6 +47,13 @@ pub enum LockError {
         /// The operating system's error.
         source: io::Error,
     },
+    /// The directory's `frames` is a symbolic link: chute would write and remove frames in
+    /// the directory it points to, which is not the run's.
+    #[error("`{}` is a symbolic link: chute writes a run's frames only inside its run directory; remove the link (or choose another directory)", dir.join(super::vtk::FRAMES_DIR).display())]
+    LinkedFrames {
+        /// The run directory.
+        dir: PathBuf,
+    },
     /// The lock or the reserve cannot be written.
     #[error("output directory `{}` is not writable: {source}", dir.display())]
     Unwritable {
@@ -75,6 +82,12 @@ impl RunLock {
             source,
         };
         let key = dir.canonicalize().map_err(unwritable)?;
+        let frames = dir.join(super::vtk::FRAMES_DIR);
+        if std::fs::symlink_metadata(&frames).is_ok_and(|m| m.file_type().is_symlink()) {
+            return Err(LockError::LinkedFrames {
+                dir: dir.to_path_buf(),
+            });
+        }
         let mut held = HELD.lock().unwrap_or_else(|e| e.into_inner());
         if held.contains(&key) {
             return Err(LockError::Busy {

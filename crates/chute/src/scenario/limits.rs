@@ -219,7 +219,32 @@ fn step_stiffness(s: &Scenario) -> Vec<Derived> {
 fn derived(s: &Scenario) -> Vec<Derived> {
     let (mut out, mass, mass_keys) = masses(s);
     out.push(stiffness(s));
+    // What an imported mesh's unknown area leaves out of the masses and the weight: the
+    // factors themselves, each of which the residual multiplies.
+    let m = &s.material;
+    let mut factors = vec![Derived {
+        name: "canopy's mass per area ρ h",
+        unit: "kg/m²",
+        value: m.density_kg_m3 * s.canopy.thickness_m,
+        inputs: vec![
+            input("material.density_kg_m3", m.density_kg_m3, 1000.0),
+            input("canopy.thickness_m", s.canopy.thickness_m, 1e-3),
+        ],
+    }];
+    factors.push(Derived {
+        name: "gravitational acceleration",
+        unit: "m/s²",
+        value: s.fluid.gravity_mps2,
+        inputs: vec![input("fluid.gravity_mps2", s.fluid.gravity_mps2, 9.81)],
+    });
     if s.load.mode == LoadMode::NodeMassScale {
+        factors.push(Derived {
+            name: "payload node's mass factor",
+            unit: "",
+            value: s.load.mass_scale,
+            inputs: vec![input("load.mass_scale", s.load.mass_scale, 100.0)],
+        });
+        out.extend(factors);
         return out;
     }
     let g = input("fluid.gravity_mps2", s.fluid.gravity_mps2, 9.81);
@@ -252,6 +277,8 @@ fn derived(s: &Scenario) -> Vec<Derived> {
             inputs: keys,
         });
     }
+    // After the masses and the weight, which say more when they are known.
+    out.extend(factors);
     out
 }
 

@@ -211,6 +211,40 @@ fn resume_cleans_the_temporaries_of_a_killed_writer() {
     }
 }
 
+/// A `frames` that is a symbolic link would make a run write and remove frames in the
+/// directory it points to: `run --force` and `resume` refuse the directory (2), and the
+/// user's files there are untouched.
+#[cfg(unix)]
+#[test]
+fn a_linked_frames_directory_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = run(
+        tmp.path(),
+        &rod_run("0.1", "r", &["--checkpoint-every", "0.05", "--no-viewer"]),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let ext = tmp.path().join("ext");
+    std::fs::create_dir(&ext).unwrap();
+    std::fs::write(ext.join("frame_000000.vtu"), "mine").unwrap();
+    std::fs::remove_dir_all(tmp.path().join("r/frames")).unwrap();
+    std::os::unix::fs::symlink(&ext, tmp.path().join("r/frames")).unwrap();
+    let mut force = rod_run("0.1", "r", &["--no-viewer"]);
+    force.push("--force".into());
+    for o in [
+        run(tmp.path(), &force),
+        chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]),
+    ] {
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("is a symbolic link"), "{err}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(ext.join("frame_000000.vtu")).unwrap(),
+        "mine"
+    );
+    assert_eq!(std::fs::read_dir(&ext).unwrap().count(), 1);
+}
+
 /// A run directory whose frames were deleted after the run stopped is not the run the
 /// checkpoint describes: resume refuses it (2) naming the missing frame.
 #[test]

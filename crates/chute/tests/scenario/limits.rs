@@ -176,3 +176,29 @@ fn a_step_too_stiff_for_its_inertia_is_refused() {
         "line segment's stiffness-to-inertia ratio",
     );
 }
+
+/// An imported mesh's area is not known when the scenario is loaded, so its masses and weight
+/// are not; the factors that would make them absurd still are: the gravity, the mass factor
+/// of the payload node, the canopy's mass per area.
+#[test]
+fn an_imported_mesh_scenario_is_held_to_the_factors_it_knows() {
+    let hex = "dismech-hex-n6.toml";
+    refused(
+        hex,
+        "fluid.gravity_mps2=1e300",
+        "fluid.gravity_mps2",
+        "gravitational acceleration",
+    );
+    refused(
+        hex,
+        "load.mass_scale=1e200",
+        "load.mass_scale",
+        "mass factor",
+    );
+    refused(
+        hex,
+        "material.density_kg_m3=1e300",
+        "material.density_kg_m3",
+        "mass per area",
+    );
+}
