@@ -409,8 +409,13 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
     };
     let started = std::time::Instant::now();
     let result = run_and_report(&s, &opts, &report);
-    // A study case says how it ended in its marker too.
-    let marked = study::mark_resumed(dir, &result, started.elapsed().as_secs_f64());
+    // A study case says how it ended in its marker too, and no longer matches its study's
+    // inputs once the resume extended it.
+    let stopped_at = Scenario::from_str_with_name(&c.scenario_toml, "", &[])
+        .map(|r| r.time.duration_s)
+        .ok();
+    let extended = (stopped_at != Some(s.time.duration_s)).then_some(s.time.duration_s);
+    let marked = study::mark_resumed(dir, &result, started.elapsed().as_secs_f64(), extended);
     drop(lock);
     result?;
     marked
