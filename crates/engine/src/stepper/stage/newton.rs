@@ -61,14 +61,17 @@ pub(crate) fn run(
         stage: Stage::Newton,
         ..StepReport::default()
     };
-    cx.ws.evaluate(cx.model, q, tg, false);
+    // With the Jacobian at once: the stage runs because the held stage (or the predictor)
+    // left a residual above the tolerance, so its first iteration needs it, and one element
+    // pass gives both.
+    cx.ws.evaluate(cx.model, q, tg, true);
     let tol = cx.conv.start(cx.ws);
     cx.ws.history.push(tol.r0);
     let rate = cx.opts.reuse_contraction;
     // Plain Newton assembles the Jacobian with every trial point (the next iteration needs
     // it); with chord iterations only where it refactorises.
     let jac_at_trials = rate <= 0.0;
-    let mut jac_at_q = false;
+    let mut jac_at_q = true;
     // Chord iterations since the last Newton iteration, and the residual they started from
     // (`None`: the next iteration is a Newton iteration).
     let mut chord: Option<(usize, f64)> = None;
