@@ -3,7 +3,7 @@
 //! and held by one process at a time ([`crate::output::lock`]). docs/cli.md §`chute run`,
 //! docs/reliability.md §5.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::AppError;
 use crate::output::lock::{LockError, RunLock};
@@ -21,9 +21,10 @@ impl From<LockError> for AppError {
 pub struct Prepared {
     /// The lock (and reserve) on the directory.
     pub lock: RunLock,
-    /// Whether the directory was created here (and so is removed again if the run leaves it
-    /// empty, [`Prepared::release`]).
-    pub created: bool,
+    /// The outermost directory created here (`dir` itself or one of its parents), when any
+    /// was: removed again, with what lies between, if the run leaves it empty
+    /// ([`Prepared::release`]).
+    pub created: Option<PathBuf>,
 }
 
 impl Prepared {
@@ -32,9 +33,34 @@ impl Prepared {
     pub fn release(self) {
         let dir = self.lock.dir().to_path_buf();
         drop(self.lock);
-        if self.created && run_files::is_empty(&dir) {
-            let _ = std::fs::remove_dir(&dir);
+        if run_files::is_empty(&dir) {
+            remove_created(&dir, self.created.as_deref());
         }
+    }
+}
+
+/// The outermost of `dir` and its ancestors that does not exist yet (what creating `dir`
+/// will create).
+fn first_missing(dir: &Path) -> Option<PathBuf> {
+    let mut missing = None;
+    let mut p = Some(dir);
+    while let Some(d) = p.filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
+        missing = Some(d.to_path_buf());
+        p = d.parent();
+    }
+    missing
+}
+
+/// Remove `dir` and its parents up to `top` (the outermost directory this command created),
+/// each only while empty; nothing when `top` is `None`.
+fn remove_created(dir: &Path, top: Option<&Path>) {
+    let Some(top) = top else { return };
+    let mut d = Some(dir);
+    while let Some(cur) = d {
+        if std::fs::remove_dir(cur).is_err() || cur == top {
+            break;
+        }
+        d = cur.parent();
     }
 }
 
@@ -43,14 +69,12 @@ impl Prepared {
 /// it has files, an earlier chute run that `allow_existing` (`--force`, a resume) lets this
 /// one replace.
 pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<Prepared, AppError> {
-    let created = !dir.exists();
+    let created = first_missing(dir);
     ensure_dir(dir)?;
     let lock = match RunLock::acquire(dir) {
         Ok(l) => l,
         Err(e) => {
-            if created {
-                let _ = std::fs::remove_dir(dir);
-            }
+            remove_created(dir, created.as_deref());
             return Err(e.into());
         }
     };

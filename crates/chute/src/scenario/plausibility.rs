@@ -75,7 +75,26 @@ pub fn warnings(s: &Scenario) -> Vec<String> {
         })
         .chain(regularisation)
         .chain(super::limits::mach_warning(s))
+        .chain(snapshot_collisions(&s.output.snapshots_s))
         .collect()
+}
+
+/// Snapshot times whose files have one name (they are named to the millisecond): the later
+/// snapshot overwrites the earlier.
+fn snapshot_collisions(times: &[f64]) -> Vec<String> {
+    let name = crate::output::plots::snapshot_file_name;
+    let mut out = Vec::new();
+    for (i, &a) in times.iter().enumerate() {
+        if let Some(&b) = times[..i].iter().find(|&&b| name(b) == name(a)) {
+            out.push(format!(
+                "output.snapshots_s: {} s and {} s both write `{}` (names are to the millisecond): the later overwrites the earlier",
+                short(b),
+                short(a),
+                name(a)
+            ));
+        }
+    }
+    out
 }
 
 fn modulus(key: &'static str) -> Band {

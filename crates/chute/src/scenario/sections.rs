@@ -503,6 +503,6 @@ section! {
             .unit("s")
             .non_negative("times after time.duration_s are skipped")
             .default_doc("30 %, 60 %, 90 % of `time.duration_s`")
-            .note("times after `time.duration_s` are skipped with a warning in the summary"),
+            .note("times after `time.duration_s` are skipped with a warning in the summary; files are named to the millisecond, and two times sharing a name are warned about"),
     }
 }

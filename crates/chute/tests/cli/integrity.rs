@@ -245,6 +245,35 @@ fn a_linked_frames_directory_is_refused() {
     assert_eq!(std::fs::read_dir(&ext).unwrap().count(), 1);
 }
 
+/// A run that cannot start removes every directory it created for `--out`, parents
+/// included, and nothing that was there before.
+#[test]
+fn a_refused_run_removes_the_directories_it_created() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::create_dir(tmp.path().join("keep")).unwrap();
+    let hex = repo()
+        .join("scenarios/dismech-hex-n6.toml")
+        .display()
+        .to_string();
+    for out in ["nest/a/b", "keep/a/b"] {
+        let o = chute(
+            tmp.path(),
+            &[
+                "run",
+                &hex,
+                "--out",
+                out,
+                "--set",
+                "load.node=1000",
+                "--quiet",
+            ],
+        );
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    }
+    assert!(!tmp.path().join("nest").exists());
+    assert!(tmp.path().join("keep").is_dir() && !tmp.path().join("keep/a").exists());
+}
+
 /// A run directory whose frames were deleted after the run stopped is not the run the
 /// checkpoint describes: resume refuses it (2) naming the missing frame.
 #[test]

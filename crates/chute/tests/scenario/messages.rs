@@ -115,3 +115,18 @@ fn material_values_no_fabric_has_are_warned_about() {
         assert!(plausibility::warnings(&s).is_empty(), "{p:?}");
     }
 }
+
+/// Two snapshot times that round to the same millisecond would write one file: warned about,
+/// naming both times and the file; distinct names are not.
+#[test]
+fn snapshot_times_sharing_a_file_name_are_warned_about() {
+    let f = repo().join("scenarios/report-rod-200n.toml");
+    let load = |set: &str| plausibility::warnings(&Scenario::load(&f, &[set.to_string()]).unwrap());
+    let w = load("output.snapshots_s=[0.0121, 0.0124, 0.5]");
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("0.0121 s and 0.0124 s") && w[0].contains("snapshot_0.012s.png"),
+        "{w:?}"
+    );
+    assert!(load("output.snapshots_s=[0.012, 0.013]").is_empty());
+}
