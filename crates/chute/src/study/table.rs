@@ -265,7 +265,11 @@ pub fn gather(
             {
                 continue;
             }
-            recipes.insert(row.case.clone(), recipe);
+            // A directory without a `done.json` (missing, running) records no recipe but
+            // says nothing about the study's case list either.
+            if !matches!(row.state, CaseState::Missing(_) | CaseState::Running) {
+                recipes.insert(row.case.clone(), recipe);
+            }
             by_name.insert(row.case.clone(), row);
         }
     }

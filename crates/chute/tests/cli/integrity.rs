@@ -572,7 +572,15 @@ fn collect_names_an_empty_case_directory_as_such() {
         ],
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // Its run's files without the study's record: missing, and the others' recipes still
+    // give the full case list.
     let case = tmp.path().join("s/200N");
+    std::fs::remove_file(case.join("done.json")).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("case `200N` is missing"), "{err}");
+    assert!(!err.contains("no recipe"), "{err}");
     std::fs::remove_dir_all(&case).unwrap();
     std::fs::create_dir(&case).unwrap();
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
