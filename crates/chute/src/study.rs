@@ -4,6 +4,7 @@
 
 mod expected;
 pub mod inputs;
+mod resumed;
 mod table;
 
 use std::collections::BTreeMap;
@@ -16,6 +17,7 @@ use crate::app::{self, AppError, RunOptions, RunOutcome};
 use crate::scenario::source::line_col;
 use crate::scenario::Scenario;
 pub use inputs::InputsState;
+pub use resumed::mark_resumed;
 use table::read_json;
 pub use table::{collect, gather, write_atomic, write_table, CaseState, Row, Table};
 
@@ -487,6 +489,15 @@ fn run_case(
         }
         return Ok(CaseStatus::Skipped);
     }
+    if crate::runner::STOP.load(std::sync::atomic::Ordering::SeqCst) {
+        // Stopped (Ctrl-C, SIGTERM) before this case began: it is not run, and gets no
+        // directory that would show it as an interrupted run.
+        let why = "not run: the study was stopped before this case began";
+        if opts.verbose {
+            eprintln!("case {}: {why}", case.name);
+        }
+        return Ok(CaseStatus::Failed(why.into()));
+    }
     if let (Some(why), true, false) = (stale, opts.verbose, opts.force) {
         eprintln!("case {}: {why}; re-running", case.name);
     }
@@ -565,37 +576,4 @@ pub(crate) fn split_override(s: &str) -> Option<[String; 2]> {
         .and_then(|x| x.strip_suffix('"'))
         .unwrap_or(v);
     Some([k.trim().to_string(), v.to_string()])
-}
-
-/// After `chute resume` of a study case's directory `dir`: its `done.json` (when it has one)
-/// says how the resumed run ended, and its wall time grows by `wall_s`; a resume that
-/// extended the run to `extended_to` seconds records inputs no study has, so the case is
-/// never taken as current again. A resume refused as bad input changed nothing and leaves
-/// the marker as it was.
-pub fn mark_resumed(
-    dir: &Path,
-    result: &Result<RunOutcome, AppError>,
-    wall_s: f64,
-    extended_to: Option<f64>,
-) -> Result<(), AppError> {
-    let done = dir.join(DONE_FILE);
-    let Some(mut marker) = read_json(&done) else {
-        return Ok(());
-    };
-    let (word, message) = match result {
-        Ok(o) if o.complete => ("complete", None),
-        Ok(o) => ("incomplete", o.message.clone()),
-        Err(e @ AppError::RunFailed(_)) => ("incomplete", Some(e.to_string())),
-        Err(e @ AppError::Io { .. }) => ("failed", Some(e.to_string())),
-        Err(_) => return Ok(()),
-    };
-    marker["status"] = word.into();
-    marker["message"] = message.into();
-    if let Some(d) = extended_to {
-        // Not the study's case any more: never current, so a study re-runs it.
-        marker["inputs"] = format!("extended by chute resume to time.duration_s = {d}").into();
-    }
-    let wall = marker["wall_time_s"].as_f64().unwrap_or(0.0) + wall_s;
-    marker["wall_time_s"] = wall.into();
-    write_atomic(&done, format!("{marker:#}\n").as_bytes())
 }

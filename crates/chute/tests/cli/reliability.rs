@@ -243,3 +243,41 @@ fn parallel_element_loops_give_identical_files_whatever_the_threads() {
     assert!(dofs.contains("\"dofs\": "), "{dofs}");
     assert_same_outputs(&tmp.path().join("t1"), &tmp.path().join("t4"));
 }
+
+/// SIGTERM while a study's first case runs: that case is interrupted, the cases after it are
+/// "not run" and get no directory (they never began), and the study exits 3.
+#[cfg(unix)]
+#[test]
+fn a_stopped_study_does_not_begin_its_remaining_cases() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let child = chute_command()
+        .args(["study", &study, "--out", "s", "--jobs", "1"])
+        .args(["--set", "time.duration_s=20"])
+        .current_dir(tmp.path())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let frame = tmp.path().join("s/20N/frames/frame_000002.vtu");
+    let start = Instant::now();
+    while !frame.exists() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "study never started"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("not run: the study was stopped"), "{err}");
+    for later in ["200N", "2000N"] {
+        assert!(!tmp.path().join("s").join(later).exists(), "{later}: {err}");
+    }
+}
