@@ -524,22 +524,22 @@ fn a_study_on_a_full_file_system_goes_through_every_case() {
     }
 }
 
-#[test]
-fn collect_of_cases_without_a_recipe_cannot_call_the_table_complete() {
+/// Report Table I as a study of 0.02 s flights in `out` of a new temporary directory.
+fn table1_study_in(out: &str) -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
     let study = repo().join("studies/table1.toml").display().to_string();
+    let set = ["--set", "time.duration_s=0.02"];
     let o = chute(
         tmp.path(),
-        &[
-            "study",
-            &study,
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
+        &[&["study", &study, "--out", out][..], &set].concat(),
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    tmp
+}
+
+#[test]
+fn collect_of_cases_without_a_recipe_cannot_call_the_table_complete() {
+    let tmp = table1_study_in("s");
     for case in ["20N", "200N", "2000N"] {
         let done = tmp.path().join("s").join(case).join("done.json");
         let mut j: serde_json::Value =
@@ -558,20 +558,7 @@ fn collect_of_cases_without_a_recipe_cannot_call_the_table_complete() {
 /// directory exists but holds no record of the case.
 #[test]
 fn collect_names_an_empty_case_directory_as_such() {
-    let tmp = tempfile::tempdir().unwrap();
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            &study,
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let tmp = table1_study_in("s");
     // Its run's files without the study's record: missing, and the others' recipes still
     // give the full case list.
     let case = tmp.path().join("s/200N");

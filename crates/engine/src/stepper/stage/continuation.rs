@@ -33,14 +33,8 @@ pub(crate) fn run(
     q: &mut [f64],
     budget: usize,
 ) -> Result<StepReport, StepError> {
-    let mut rep = StepReport {
-        stage: Stage::Continuation,
-        ..StepReport::default()
-    };
     q.copy_from_slice(tg.q_tilde);
-    let mut norm = cx.ws.evaluate(cx.model, q, tg, true);
-    let tol = cx.conv.start(cx.ws);
-    cx.ws.history.push(tol.r0);
+    let (mut rep, tol, mut norm) = cx.begin(Stage::Continuation, tg, q, true);
     let mut tau = TAU_START;
     loop {
         if let Verdict::Converged = cx.conv.judge(cx.ws, q, tg, &tol, rep.iterations, budget)? {

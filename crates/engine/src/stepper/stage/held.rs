@@ -35,14 +35,8 @@ pub(crate) struct GaveUp {
 
 /// Solve the step from `q` with the held factors (which must be for `tg`'s step size).
 pub(crate) fn run(cx: &mut Ctx<'_>, tg: &Target<'_>, q: &mut [f64]) -> Result<StepReport, GaveUp> {
-    let mut rep = StepReport {
-        stage: Stage::Held,
-        ..StepReport::default()
-    };
+    let (mut rep, tol, _) = cx.begin(Stage::Held, tg, q, false);
     let budget = cx.opts.held_iterations.min(cx.opts.max_iterations);
-    cx.ws.evaluate(cx.model, q, tg, false);
-    let tol = cx.conv.start(cx.ws);
-    cx.ws.history.push(tol.r0);
     cx.mix.begin(cx.ws, q);
     let give_up = |error, residual| GaveUp {
         error,

@@ -19,9 +19,10 @@ pub(crate) mod newton;
 
 use super::anderson::Anderson;
 use super::convergence::Convergence;
+use super::convergence::Tolerance;
 use super::linearization::Linearization;
-use super::options::NewtonOptions;
-use super::workspace::Workspace;
+use super::options::{NewtonOptions, Stage, StepReport};
+use super::workspace::{Target, Workspace};
 use crate::model::Model;
 
 /// What a stage works with: the model, the buffers, the held factors, the Anderson mixing of
@@ -33,6 +34,27 @@ pub(crate) struct Ctx<'a> {
     pub mix: &'a mut Mixing,
     pub conv: &'a Convergence,
     pub opts: &'a NewtonOptions,
+}
+
+impl Ctx<'_> {
+    /// A stage's start at `q`: its report, the residual there (with the Jacobian when `jac`)
+    /// as the first entry of the residual history, the solve's tolerance, and `‖R‖₂`.
+    pub fn begin(
+        &mut self,
+        stage: Stage,
+        tg: &Target<'_>,
+        q: &[f64],
+        jac: bool,
+    ) -> (StepReport, Tolerance, f64) {
+        let norm = self.ws.evaluate(self.model, q, tg, jac);
+        let tol = self.conv.start(self.ws);
+        self.ws.history.push(tol.r0);
+        let rep = StepReport {
+            stage,
+            ..StepReport::default()
+        };
+        (rep, tol, norm)
+    }
 }
 
 /// Chord iterations `q ← q + Δ` (the update in the workspace), Anderson-mixed over the free

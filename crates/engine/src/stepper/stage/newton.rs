@@ -57,16 +57,10 @@ pub(crate) fn run(
     q: &mut [f64],
     budget: usize,
 ) -> Result<StepReport, StepError> {
-    let mut rep = StepReport {
-        stage: Stage::Newton,
-        ..StepReport::default()
-    };
     // With the Jacobian at once: the stage runs because the held stage (or the predictor)
     // left a residual above the tolerance, so its first iteration needs it, and one element
     // pass gives both.
-    cx.ws.evaluate(cx.model, q, tg, true);
-    let tol = cx.conv.start(cx.ws);
-    cx.ws.history.push(tol.r0);
+    let (mut rep, tol, _) = cx.begin(Stage::Newton, tg, q, true);
     let rate = cx.opts.reuse_contraction;
     // Plain Newton assembles the Jacobian with every trial point (the next iteration needs
     // it); with chord iterations only where it refactorises.
