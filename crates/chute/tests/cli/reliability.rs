@@ -96,29 +96,8 @@ fn sigterm_leaves_a_checkpoint_and_the_resumed_run_equals_the_uninterrupted_one(
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 
     let args = run_args("part", dur, &["--checkpoint-every", "0.1"]);
-    let child = chute_command()
-        .args(&args)
-        .current_dir(tmp.path())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
     // Signal once the run is under way (its fifth frame, t = 0.2 s, is written).
-    let frame = tmp.path().join("part/frames/frame_000004.vtu");
-    let start = Instant::now();
-    while !frame.exists() {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "run never started"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    let kill = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let o = child.wait_with_output().unwrap();
+    let o = term_once_written(tmp.path(), &args, "part/frames/frame_000004.vtu");
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(err.contains("interrupted"), "{err}");
@@ -251,20 +230,37 @@ fn parallel_element_loops_give_identical_files_whatever_the_threads() {
 fn a_stopped_study_does_not_begin_its_remaining_cases() {
     let tmp = tempfile::tempdir().unwrap();
     let study = repo().join("studies/table1.toml").display().to_string();
+    let args: Vec<String> = ["study", &study, "--out", "s", "--jobs", "1"]
+        .iter()
+        .chain(&["--set", "time.duration_s=20"])
+        .map(|s| s.to_string())
+        .collect();
+    let o = term_once_written(tmp.path(), &args, "s/20N/frames/frame_000002.vtu");
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("not run: the study was stopped"), "{err}");
+    for later in ["200N", "2000N"] {
+        assert!(!tmp.path().join("s").join(later).exists(), "{later}: {err}");
+    }
+}
+
+/// Run chute with `args` in `cwd`, send it SIGTERM once `file` (relative to `cwd`) exists, and
+/// wait for it.
+#[cfg(unix)]
+fn term_once_written(cwd: &Path, args: &[String], file: &str) -> Output {
     let child = chute_command()
-        .args(["study", &study, "--out", "s", "--jobs", "1"])
-        .args(["--set", "time.duration_s=20"])
-        .current_dir(tmp.path())
+        .args(args)
+        .current_dir(cwd)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let frame = tmp.path().join("s/20N/frames/frame_000002.vtu");
+    let file = cwd.join(file);
     let start = Instant::now();
-    while !frame.exists() {
+    while !file.exists() {
         assert!(
             start.elapsed() < Duration::from_secs(60),
-            "study never started"
+            "never started: no {file:?}"
         );
         std::thread::sleep(Duration::from_millis(5));
     }
@@ -273,11 +269,5 @@ fn a_stopped_study_does_not_begin_its_remaining_cases() {
         .status()
         .unwrap();
     assert!(kill.success());
-    let o = child.wait_with_output().unwrap();
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(err.contains("not run: the study was stopped"), "{err}");
-    for later in ["200N", "2000N"] {
-        assert!(!tmp.path().join("s").join(later).exists(), "{later}: {err}");
-    }
+    child.wait_with_output().unwrap()
 }
