@@ -25,6 +25,11 @@ pub const MAX_LINE_NODES: f64 = 1.0e6;
 /// rounding still perturbs its solves by only ε κ ≈ 1e-2, which the Krylov-corrected
 /// Newton update absorbs; near 1e16 they are noise (bundled scenarios: below 2e8).
 pub const MAX_STEP_STIFFNESS: f64 = 1e14;
+/// Smallest factor on the payload node's lumped mass (`load.mass_scale`): the factor divides
+/// that node's stiffness-to-inertia ratio, which for a mesh's elements lies near 1e8, so
+/// below 1e-6 it passes [`MAX_STEP_STIFFNESS`]; the node's mass is also formed as
+/// `m + (s − 1) m`, which cancels to zero for s below f64's ε.
+pub const MIN_MASS_SCALE: f64 = 1e-6;
 
 /// One input of a derived quantity: its key, its value and how far that is from a typical
 /// one (value / typical), so that the key blamed is the one furthest from the usual.
@@ -67,6 +72,14 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
             blame(c, &q.inputs, reason);
             bad = true;
         }
+    }
+    if s.load.mode == LoadMode::NodeMassScale && s.load.mass_scale < MIN_MASS_SCALE {
+        c.fail(
+            "load.mass_scale",
+            s.load.mass_scale,
+            format!("the payload node's mass would be its lumped mass × {}: below {MIN_MASS_SCALE:e} the node is so light that its step's Newton matrix M/dt² + K is too ill-conditioned to solve in f64", sig4(s.load.mass_scale)),
+        );
+        bad = true;
     }
     if !bad {
         mach(c, s, quantities.iter().find(|q| q.name == TERMINAL_SPEED));
@@ -176,11 +189,14 @@ fn step_stiffness(s: &Scenario) -> Vec<Derived> {
     let edge = match s.model.kind {
         ModelKind::Rod => Some((
             cn.span_m / (cn.nodes.max(2) - 1) as f64,
-            input("canopy.nodes", cn.nodes as f64, 61.0),
+            vec![
+                input("canopy.nodes", cn.nodes as f64, 61.0),
+                input("canopy.span_m", cn.span_m, 6.0),
+            ],
         )),
         ModelKind::Shell if cn.mesh_file.is_none() => Some((
             cn.edge_length_m,
-            input("canopy.edge_length_m", cn.edge_length_m, 0.125),
+            vec![input("canopy.edge_length_m", cn.edge_length_m, 0.125)],
         )),
         ModelKind::Shell => None,
     };
@@ -189,12 +205,15 @@ fn step_stiffness(s: &Scenario) -> Vec<Derived> {
             name: "canopy element's stiffness-to-inertia ratio over a step E dt²/(ρ l²)",
             unit: "",
             value: m.youngs_modulus_pa * s.time.dt_s.powi(2) / (m.density_kg_m3 * len * len),
-            inputs: vec![
-                input("material.youngs_modulus_pa", m.youngs_modulus_pa, 1e9),
-                input("material.density_kg_m3", m.density_kg_m3, 1000.0),
-                dt,
+            inputs: [
+                vec![
+                    input("material.youngs_modulus_pa", m.youngs_modulus_pa, 1e9),
+                    input("material.density_kg_m3", m.density_kg_m3, 1000.0),
+                    dt,
+                ],
                 l,
-            ],
+            ]
+            .concat(),
         });
     }
     if let (LoadMode::Payload, Some(_)) = (s.load.mode, s.site_count()) {
@@ -209,6 +228,7 @@ fn step_stiffness(s: &Scenario) -> Vec<Derived> {
                 input("lines.density_kg_m3", ln.density_kg_m3, 1000.0),
                 dt,
                 input("lines.segments", ln.segments as f64, 10.0),
+                input("lines.length_m", ln.length_m, 3.0),
             ],
         });
     }

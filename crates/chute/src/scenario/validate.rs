@@ -206,12 +206,19 @@ fn name(c: &mut Checker, name: &str) {
     }
 }
 
-/// The in-plane size that bounds the thickness and the shell edge length (m).
-fn in_plane_size(s: &Scenario) -> Option<f64> {
+/// The canopy's smallest in-plane size (m) and the key that sets it.
+fn in_plane_size(s: &Scenario) -> Option<(f64, &'static str, f64)> {
     let cn = &s.canopy;
     match (s.model.kind, cn.shape) {
-        (ModelKind::Rod, _) | (_, CanopyShape::Rectangle) => Some(cn.span_m.min(cn.width_m)),
-        (_, CanopyShape::Hexagon | CanopyShape::Circle) => Some(2.0 * cn.radius_m),
+        (ModelKind::Rod, _) | (_, CanopyShape::Rectangle) if cn.width_m < cn.span_m => {
+            Some((cn.width_m, "canopy.width_m", cn.width_m))
+        }
+        (ModelKind::Rod, _) | (_, CanopyShape::Rectangle) => {
+            Some((cn.span_m, "canopy.span_m", cn.span_m))
+        }
+        (_, CanopyShape::Hexagon | CanopyShape::Circle) => {
+            Some((2.0 * cn.radius_m, "canopy.radius_m", cn.radius_m))
+        }
         (_, CanopyShape::Mesh) => None,
     }
 }
@@ -233,23 +240,32 @@ fn canopy(c: &mut Checker, s: &Scenario) {
             "only used with `model.kind = \"shell\"` (a rod canopy has no triangles)",
         );
     }
-    let size = in_plane_size(s).filter(|x| *x > 0.0);
-    if let Some(size) = size {
+    let sized = in_plane_size(s).filter(|(x, _, _)| *x > 0.0);
+    if let Some((size, size_key, size_value)) = sized {
         if cn.thickness_m > 0.1 * size {
+            let (key, value) = match c.changed(&["canopy.thickness_m", size_key]) {
+                "canopy.thickness_m" => ("canopy.thickness_m", cn.thickness_m),
+                _ => (size_key, size_value),
+            };
             c.fail(
-                "canopy.thickness_m",
-                cn.thickness_m,
-                format!("thin-structure models need a thickness below 1/10 of the canopy size ({size} m); is it in metres?"),
+                key,
+                value,
+                format!("thin-structure models need a thickness ({} m) below 1/10 of the canopy's in-plane size ({} m); is it in metres?", short(cn.thickness_m), short(size)),
             );
         }
     }
+    let size = sized.map(|(x, _, _)| x);
     if s.model.kind == ModelKind::Shell && cn.edge_length_m > 0.0 {
-        if let (Some(size), Some(area)) = (size, s.planform_area_m2()) {
+        if let (Some((size, size_key, size_value)), Some(area)) = (sized, s.planform_area_m2()) {
             if cn.edge_length_m > 0.5 * size {
+                let (key, value) = match c.changed(&["canopy.edge_length_m", size_key]) {
+                    "canopy.edge_length_m" => ("canopy.edge_length_m", cn.edge_length_m),
+                    _ => (size_key, size_value),
+                };
                 c.fail(
-                    "canopy.edge_length_m",
-                    cn.edge_length_m,
-                    format!("the mesh needs at least two edges across the canopy (size {size} m)"),
+                    key,
+                    value,
+                    format!("the mesh needs at least two edges ({} m each) across the canopy (size {} m)", short(cn.edge_length_m), short(size)),
                 );
             }
             let triangles = area / (0.25 * 3f64.sqrt() * cn.edge_length_m.powi(2));
@@ -421,7 +437,7 @@ fn load(c: &mut Checker, s: &Scenario) {
 fn outside(s: &Scenario, p: [f64; 2]) -> Option<String> {
     let cn = &s.canopy;
     let (x, y) = (p[0], p[1]);
-    let shape = in_plane_size(s)?;
+    let (shape, _, _) = in_plane_size(s)?;
     let eps = 1e-9 * shape.max(1.0);
     let rect = || {
         let (hx, hy) = (cn.span_m / 2.0, cn.width_m / 2.0);

@@ -175,6 +175,27 @@ fn a_step_too_stiff_for_its_inertia_is_refused() {
         "lines.density_kg_m3",
         "line segment's stiffness-to-inertia ratio",
     );
+    // A length the user shortened is blamed, not the modulus written in the file.
+    refused(
+        "round-fabric.toml",
+        "lines.length_m=1e-6",
+        "lines.length_m",
+        "line segment's stiffness-to-inertia ratio",
+    );
+}
+
+/// A rule relating two keys blames the one the user changed with `--set`, not the one the
+/// file wrote: a canopy shrunk below ten thicknesses is refused naming its size.
+#[test]
+fn a_rule_between_two_keys_blames_the_one_changed() {
+    let rod = "report-rod-200n.toml";
+    refused(rod, "canopy.span_m=1e-6", "canopy.span_m", "thickness");
+    refused(rod, "canopy.width_m=1e-9", "canopy.width_m", "thickness");
+    refused(rod, "canopy.thickness_m=1", "canopy.thickness_m", "thickness");
+    let round = "round-fabric.toml";
+    refused(round, "canopy.radius_m=1e-6", "canopy.radius_m", "thickness");
+    refused(round, "canopy.radius_m=0.1", "canopy.radius_m", "two edges");
+    refused(round, "canopy.edge_length_m=2.9", "canopy.edge_length_m", "two edges");
 }
 
 /// An imported mesh's area is not known when the scenario is loaded, so its masses and weight
@@ -195,6 +216,17 @@ fn an_imported_mesh_scenario_is_held_to_the_factors_it_knows() {
         "load.mass_scale",
         "mass factor",
     );
+    // A factor so small that the node's mass cancels to zero (1 + (s − 1) in f64) is the
+    // key's fault, not the mesh file's.
+    for tiny in ["1e-30", "1e-7"] {
+        refused(
+            hex,
+            &format!("load.mass_scale={tiny}"),
+            "load.mass_scale",
+            "too ill-conditioned",
+        );
+    }
+    assert!(load(hex, &["load.mass_scale=1e-5"]).is_ok());
     refused(
         hex,
         "material.density_kg_m3=1e300",
