@@ -2,7 +2,7 @@
 //! The other commands live in their own modules: [`crate::verify`] (`chute validate`), [`crate::bench`],
 //! [`crate::study`].
 
-mod out_dir;
+pub(crate) mod out_dir;
 mod resume;
 
 use std::path::PathBuf;

@@ -501,6 +501,7 @@ fn run_case(
     if let (Some(why), true, false) = (stale, opts.verbose, opts.force) {
         eprintln!("case {}: {why}; re-running", case.name);
     }
+    let created = crate::app::out_dir::first_missing(&dir);
     std::fs::create_dir_all(&dir).map_err(|e| AppError::io(&dir, e))?;
     // Held from before its marker is removed until after the new one is written: another
     // process running this case (a re-queued array task) is left alone.
@@ -512,6 +513,8 @@ fn run_case(
             e @ (crate::output::lock::LockError::Busy { .. }
             | crate::output::lock::LockError::Unwritable { .. }),
         ) => {
+            // A case that did not run leaves no directory that looks like one.
+            crate::app::out_dir::remove_created(&dir, created.as_deref());
             if opts.verbose {
                 eprintln!("case {}: not run: {e}", case.name);
             }

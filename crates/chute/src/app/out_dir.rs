@@ -41,7 +41,7 @@ impl Prepared {
 
 /// The outermost of `dir` and its ancestors that does not exist yet (what creating `dir`
 /// will create).
-fn first_missing(dir: &Path) -> Option<PathBuf> {
+pub(crate) fn first_missing(dir: &Path) -> Option<PathBuf> {
     let mut missing = None;
     let mut p = Some(dir);
     while let Some(d) = p.filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
@@ -53,7 +53,7 @@ fn first_missing(dir: &Path) -> Option<PathBuf> {
 
 /// Remove `dir` and its parents up to `top` (the outermost directory this command created),
 /// each only while empty; nothing when `top` is `None`.
-fn remove_created(dir: &Path, top: Option<&Path>) {
+pub(crate) fn remove_created(dir: &Path, top: Option<&Path>) {
     let Some(top) = top else { return };
     let mut d = Some(dir);
     while let Some(cur) = d {

@@ -47,19 +47,29 @@ pub(super) fn cases<'a>(
         list.cases = entries(st);
         return list;
     }
-    let mut files: BTreeMap<PathBuf, usize> = BTreeMap::new();
+    // Per study file, the smallest and the largest case count its cases recorded.
+    let mut files: BTreeMap<PathBuf, (usize, usize)> = BTreeMap::new();
     let mut named: BTreeMap<Vec<String>, ()> = BTreeMap::new();
     let mut without = 0;
     for r in recipes {
         let count = r["case_count"].as_u64().map_or(0, |n| n as usize);
         match (r["study_file"].as_str(), r["case_names"].as_array()) {
             (Some(f), _) => {
-                let n = files.entry(PathBuf::from(f)).or_default();
-                *n = (*n).max(count);
+                let n = files.entry(PathBuf::from(f)).or_insert((count, count));
+                *n = (n.0.min(count), n.1.max(count));
             }
             (None, Some(names)) => {
-                let names = names.iter().filter_map(|n| Some(n.as_str()?.to_string()));
-                named.insert(names.collect(), ());
+                let names: Vec<String> = names
+                    .iter()
+                    .filter_map(|n| Some(n.as_str()?.to_string()))
+                    .collect();
+                if names.len() != count {
+                    list.unknown.push(format!(
+                        "a case records {} case name(s) but a case count of {count}: its `done.json` was edited, so the study's full case list is uncertain",
+                        names.len()
+                    ));
+                }
+                named.insert(names, ());
             }
             // Recorded before the case list was (or no recipe at all): nothing to compare
             // with, so the table cannot be called complete.
@@ -71,9 +81,22 @@ pub(super) fn cases<'a>(
             "{without} case(s) record no recipe (a `done.json` of an older chute, or none readable): the full case list of their study is unknown, and the table shows only the cases found"
         ));
     }
-    for (file, count) in files {
+    for (file, (least, count)) in files {
         match Study::load(&file) {
-            Ok(st) => list.cases.extend(entries(&st)),
+            Ok(st) => {
+                if (least, count) != (st.cases.len(), st.cases.len()) {
+                    let recorded = match least == count {
+                        true => format!("{count}"),
+                        false => format!("{least} to {count}"),
+                    };
+                    list.unknown.push(format!(
+                        "study file `{}` has {} case(s) now, but its cases recorded {recorded}: the file changed since they ran (or a `done.json` was edited), so its full case list is uncertain",
+                        file.display(),
+                        st.cases.len()
+                    ));
+                }
+                list.cases.extend(entries(&st));
+            }
             Err(e) => list.unknown.push(format!(
                 "the full case list of study file `{}` is unknown ({e}): it has {count} case(s), and the table shows only those found",
                 file.display()

@@ -6,6 +6,7 @@ mod common;
 
 mod adaptive;
 mod bench;
+mod collect;
 mod converge;
 mod errors;
 mod inputs;

@@ -191,11 +191,26 @@ fn a_rule_between_two_keys_blames_the_one_changed() {
     let rod = "report-rod-200n.toml";
     refused(rod, "canopy.span_m=1e-6", "canopy.span_m", "thickness");
     refused(rod, "canopy.width_m=1e-9", "canopy.width_m", "thickness");
-    refused(rod, "canopy.thickness_m=1", "canopy.thickness_m", "thickness");
+    refused(
+        rod,
+        "canopy.thickness_m=1",
+        "canopy.thickness_m",
+        "thickness",
+    );
     let round = "round-fabric.toml";
-    refused(round, "canopy.radius_m=1e-6", "canopy.radius_m", "thickness");
+    refused(
+        round,
+        "canopy.radius_m=1e-6",
+        "canopy.radius_m",
+        "thickness",
+    );
     refused(round, "canopy.radius_m=0.1", "canopy.radius_m", "two edges");
-    refused(round, "canopy.edge_length_m=2.9", "canopy.edge_length_m", "two edges");
+    refused(
+        round,
+        "canopy.edge_length_m=2.9",
+        "canopy.edge_length_m",
+        "two edges",
+    );
 }
 
 /// An imported mesh's area is not known when the scenario is loaded, so its masses and weight

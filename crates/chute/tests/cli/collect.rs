@@ -1,0 +1,126 @@
+//! `chute collect` knows a study's full case list from the recipe its cases record
+//! (docs/reliability.md §4): a missing, failed or incomplete case, or a list that cannot be
+//! known, makes the table incomplete (status 3), and the message says which and why.
+use crate::common::*;
+
+/// Report Table I as a study of 0.02 s flights in `out` of a new temporary directory.
+fn table1_study_in(out: &str) -> tempfile::TempDir {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let set = ["--set", "time.duration_s=0.02"];
+    let o = chute(
+        tmp.path(),
+        &[&["study", &study, "--out", out][..], &set].concat(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    tmp
+}
+
+/// Cases of an older chute record no recipe, so their study's full case list is unknown:
+/// `collect` of them, one case deleted, cannot call the table complete (status 3).
+#[test]
+fn collect_of_cases_without_a_recipe_cannot_call_the_table_complete() {
+    let tmp = table1_study_in("s");
+    for case in ["20N", "200N", "2000N"] {
+        let done = tmp.path().join("s").join(case).join("done.json");
+        let mut j: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+        j.as_object_mut().unwrap().remove("recipe");
+        std::fs::write(&done, j.to_string()).unwrap();
+    }
+    std::fs::remove_dir_all(tmp.path().join("s/20N")).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("record no recipe"), "{err}");
+}
+
+/// A case whose directory is there but empty is missing, and said to be so as it is: the
+/// directory exists but holds no record of the case.
+#[test]
+fn collect_names_an_empty_case_directory_as_such() {
+    let tmp = table1_study_in("s");
+    // Its run's files without the study's record: missing, and the others' recipes still
+    // give the full case list.
+    let case = tmp.path().join("s/200N");
+    std::fs::remove_file(case.join("done.json")).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("case `200N` is missing"), "{err}");
+    assert!(!err.contains("no recipe"), "{err}");
+    std::fs::remove_dir_all(&case).unwrap();
+    std::fs::create_dir(&case).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("exists but holds no record of it"), "{err}");
+}
+
+#[test]
+fn collect_of_some_shards_names_the_missing_case_and_fails() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    for (out, shard) in [("a", "0/3"), ("b", "1/3")] {
+        let o = chute(
+            tmp.path(),
+            &[
+                "study",
+                &study,
+                "--out",
+                out,
+                "--shard",
+                shard,
+                "--set",
+                "time.duration_s=0.02",
+            ],
+        );
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    let o = chute(tmp.path(), &["collect", "a", "b", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("2 of 3 case(s) complete") && err.contains("case `2000N` is missing"),
+        "{err}"
+    );
+    // The table is still written, with the missing case's row.
+    let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
+    assert!(
+        table
+            .lines()
+            .any(|l| l.starts_with("2000N,") && l.contains(",missing,false,")),
+        "{table}"
+    );
+}
+
+/// A case count in a `done.json` that disagrees with the study file (the file edited since
+/// the cases ran, or the record edited) makes the full case list uncertain: not complete.
+#[test]
+fn collect_flags_a_recorded_case_count_that_disagrees_with_the_study() {
+    let tmp = table1_study_in("s");
+    let done = tmp.path().join("s/200N/done.json");
+    let mut j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+    assert_eq!(j["recipe"]["case_count"], 3, "{j}");
+    j["recipe"]["case_count"] = 5.into();
+    std::fs::write(&done, j.to_string()).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("has 3 case(s) now, but its cases recorded 3 to 5"),
+        "{err}"
+    );
+    // Every case recording the same wrong count: still flagged.
+    for case in ["20N", "2000N"] {
+        let done = tmp.path().join("s").join(case).join("done.json");
+        let mut j: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+        j["recipe"]["case_count"] = 5.into();
+        std::fs::write(&done, j.to_string()).unwrap();
+    }
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("recorded 5:"), "{}", stderr(&o));
+}
