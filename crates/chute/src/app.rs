@@ -248,6 +248,14 @@ pub fn run_watched(
     let (resume, record) = match &opts.resume {
         Some(from) => {
             let c = resume::load_checkpoint(from, dir, &scenario_toml)?;
+            // Judged before anything in the directory changes: a refused resume leaves it
+            // as it was.
+            crate::runner::check_resumable(&built, dir, &c).map_err(|e| match e {
+                crate::runner::RunError::Checkpoint(m) => {
+                    AppError::Input(format!("checkpoint: {m}"))
+                }
+                e => AppError::RunFailed(e.to_string()),
+            })?;
             crate::output::run_files::remove_temporaries(dir).map_err(|e| AppError::io(dir, e))?;
             // A run of a chute before run.json gets one now (its inputs as they are).
             let record = match RunRecord::read(dir).map_err(AppError::Input)? {

@@ -230,6 +230,11 @@ const ROD_PATH: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../scenarios/report-rod-200n.toml"
 );
+const ROUND: &str = include_str!("../../../scenarios/round-fabric.toml");
+const ROUND_PATH: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/round-fabric.toml"
+);
 const HEX: &str = include_str!("../../../scenarios/dismech-hex-n6.toml");
 /// The hexagonal scenario's `mesh_file` is relative to its own directory, so it is parsed
 /// under its real path (this binary's source tree).
@@ -243,7 +248,7 @@ const HEX_PATH: &str = concat!(
 pub struct Case {
     /// Name (the hexagonal cases contain `n6` / `n12`).
     pub name: String,
-    /// Which bundled scenario: `"rod"`, `"shell"` or `"hex"`.
+    /// Which bundled scenario: `"rod"`, `"shell"`, `"main"`, `"round"` or `"hex"`.
     pub base: &'static str,
     /// `--set` overrides applied to it.
     pub overrides: Vec<String>,
@@ -414,6 +419,7 @@ pub fn main(args: &BenchArgs) -> Result<(), AppError> {
         let mut c = cases
             .iter()
             .chain(ladder(false, false).iter())
+            .chain(std::iter::once(&flight::large_canopy()))
             .find(|c| &c.name == name)
             .cloned()
             .ok_or_else(|| AppError::Input(format!("no bench case `{name}`")))?;
@@ -478,6 +484,7 @@ fn scenario_of(c: &Case, set: &[String]) -> Result<Scenario, AppError> {
         "rod" => (ROD, ROD_PATH, &[]),
         "shell" => (SHELL, SHELL_PATH, &REPORT_SHELL_MODEL),
         "main" => (SHELL, SHELL_PATH, &[]),
+        "round" => (ROUND, ROUND_PATH, &[]),
         _ => (HEX, HEX_PATH, &[]),
     };
     let mut overrides: Vec<String> = model.iter().map(|s| s.to_string()).collect();

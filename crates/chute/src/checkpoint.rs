@@ -388,6 +388,23 @@ impl Checkpoint {
 /// after its checkpoint wrote more), and return those rows' samples so the in-memory series
 /// can be rebuilt. Errors if the file has fewer rows or a malformed one.
 pub fn truncate_timeseries(path: &Path, rows: u64) -> Result<Vec<Sample>, CheckpointError> {
+    let (samples, keep) = timeseries_prefix(path, rows)?;
+    let io_err = |source| CheckpointError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let f = std::fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .map_err(io_err)?;
+    f.set_len(keep).map_err(io_err)?;
+    f.sync_all().map_err(io_err)?;
+    Ok(samples)
+}
+
+/// The samples of the first `rows` data rows of `timeseries.csv` and the bytes they take
+/// with the header, without changing the file: errors as [`truncate_timeseries`].
+pub fn timeseries_prefix(path: &Path, rows: u64) -> Result<(Vec<Sample>, u64), CheckpointError> {
     let invalid = |reason: String| CheckpointError::Mismatch {
         path: path.to_path_buf(),
         reason,
@@ -419,13 +436,7 @@ pub fn truncate_timeseries(path: &Path, rows: u64) -> Result<Vec<Sample>, Checkp
         .enumerate()
         .map(|(i, r)| r.map_err(|e| invalid(format!("row {}: {e}", i + 1))))
         .collect::<Result<Vec<_>, _>>()?;
-    let f = std::fs::OpenOptions::new()
-        .write(true)
-        .open(path)
-        .map_err(io_err)?;
-    f.set_len(keep).map_err(io_err)?;
-    f.sync_all().map_err(io_err)?;
-    Ok(samples)
+    Ok((samples, keep))
 }
 
 #[cfg(test)]

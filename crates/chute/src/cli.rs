@@ -386,6 +386,18 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
     let c = crate::checkpoint::Checkpoint::read(dir).map_err(|e| app::unresumable(dir, &e))?;
     // The recorded scenario is the checkpoint's own copy; errors point at the directory's.
     let source = dir.join(crate::output::run_files::RESOLVED_SCENARIO);
+    // A checkpoint of another run (copied in) would continue that run over this one's files.
+    let resolved = std::fs::read_to_string(&source).map_err(|e| AppError::io(&source, e))?;
+    if let Some(d) = app::scenario_difference(&resolved, &c.scenario_toml) {
+        return Err(AppError::Input(format!(
+            "cannot resume `{}`: its checkpoint is not of the run in the directory (`{}` = {} in {}, {} in the checkpoint); start the run again with `chute run`",
+            dir.display(),
+            d.key,
+            d.was,
+            crate::output::run_files::RESOLVED_SCENARIO,
+            d.now
+        )));
+    }
     let s = Scenario::from_str_with_name(&c.scenario_toml, &source.display().to_string(), &a.set)?;
     let checkpoint_every_s = checkpoint_interval(a.checkpoint_every.or(c.checkpoint_every_s))?;
     let recorded = crate::output::record::RunRecord::read(dir).map_err(AppError::Input)?;

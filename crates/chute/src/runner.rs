@@ -44,6 +44,7 @@ pub use dt_policy::SYNC_STEPS;
 pub use engine::stepper::step_size::GROW_AFTER;
 pub use flight::WASTED_WORK_WARN;
 use flight::{Attempt, End, Flight};
+pub use persist::check_resumable;
 pub use session::{Session, StepInfo, Stopped};
 
 /// Everything the loop needs besides the model.

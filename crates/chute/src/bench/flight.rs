@@ -18,6 +18,26 @@ pub fn flight() -> Case {
     )
 }
 
+/// `large-canopy` (only by `--case`): a 30-gore flat circular canopy of a troop
+/// parachute's size (radius 5.3 m, 0.6 m edges, 30 lines of 7.77 m, 1,600 N) in
+/// `round-fabric`'s fabric and inflation pressure, its first 3 s from the flat start at
+/// dt = 1 ms: the hardest opening measured (docs/performance.md §Targets).
+pub fn large_canopy() -> Case {
+    case(
+        "large-canopy",
+        "round",
+        &[
+            "canopy.radius_m=5.3",
+            "canopy.edge_length_m=0.6",
+            "load.weight_n=1600",
+            "load.rim_site_count=30",
+            "lines.length_m=7.77",
+        ],
+        0,
+        3_000,
+    )
+}
+
 /// `cross-613`: 0.25 m cells split into four triangles through a centre node (613 nodes),
 /// pressure drag, the corner point forces of the scenario, 1 s at dt = 1e-2 s from rest.
 pub fn cross() -> Case {

@@ -205,7 +205,9 @@ fn describe_holder(file: &mut File) -> io::Result<()> {
     let started = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
-    let command: Vec<String> = std::env::args().collect();
+    let command: Vec<String> = std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
     let text = format!(
         "pid={}\nhost={}\nstarted={started}\ncommand={}\n",
         std::process::id(),

@@ -21,8 +21,7 @@ impl Run {
         c: &Checkpoint,
     ) -> Result<Self, RunError> {
         let bad = |reason: String| RunError::Checkpoint(reason);
-        c.check_shape(built.model.n_dofs(), built.model.forces.len())
-            .map_err(bad)?;
+        check_resumable(built, out_dir, c)?;
         for (f, h) in built.model.forces.iter_mut().zip(&c.histories) {
             f.restore_history(h).map_err(|e| bad(e.to_string()))?;
         }
@@ -30,17 +29,6 @@ impl Run {
         let rows =
             checkpoint::truncate_timeseries(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
         let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
-        // The frames the checkpoint counts must still be there: a resumed run lists them in
-        // `canopy.pvd`, and a directory missing them is not the run that was stopped.
-        for i in 0..c.frame_times.len() {
-            let f = out_dir.join(crate::output::vtk::frame_name(i));
-            if !f.is_file() {
-                return Err(bad(format!(
-                    "`{}` of the stopped run is missing: the run directory changed since; run the scenario again",
-                    f.display()
-                )));
-            }
-        }
         let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk, Some(c.t))?;
         built.state = engine::State {
@@ -112,6 +100,30 @@ impl Run {
         c.write(out_dir)
             .map_err(|e| RunError::Checkpoint(e.to_string()))
     }
+}
+
+/// Whether `out_dir` can be resumed from `c` with the model of `built`, judged without
+/// changing anything: the checkpoint's shape fits the model, and the time series and the
+/// frames it counts are all there. A resume refused for any of these leaves the directory as
+/// it was.
+pub fn check_resumable(built: &Built, out_dir: &Path, c: &Checkpoint) -> Result<(), RunError> {
+    let bad = |reason: String| RunError::Checkpoint(reason);
+    c.check_shape(built.model.n_dofs(), built.model.forces.len())
+        .map_err(bad)?;
+    let ts_path = out_dir.join("timeseries.csv");
+    checkpoint::timeseries_prefix(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
+    // A resumed run lists the frames the checkpoint counts in `canopy.pvd`: a directory
+    // missing one is not the run that was stopped.
+    for i in 0..c.frame_times.len() {
+        let f = out_dir.join(crate::output::vtk::frame_name(i));
+        if !f.is_file() {
+            return Err(bad(format!(
+                "`{}` of the stopped run is missing: the run directory changed since; run the scenario again",
+                f.display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Remove whatever an earlier run left in `out_dir` besides what this run has started

@@ -274,24 +274,62 @@ fn a_refused_run_removes_the_directories_it_created() {
     assert!(tmp.path().join("keep").is_dir() && !tmp.path().join("keep/a").exists());
 }
 
+/// Every file of the top of run directory `dir`, by name, with its bytes.
+fn files_of(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .map(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            (name, std::fs::read(&p).unwrap())
+        })
+        .collect();
+    v.sort();
+    v
+}
+
 /// A run directory whose frames were deleted after the run stopped is not the run the
-/// checkpoint describes: resume refuses it (2) naming the missing frame.
+/// checkpoint describes: resume refuses it (2) naming the missing frame, and leaves every
+/// file as it was (the time series is not cut back, the record not rewritten). The same for
+/// another run's checkpoint copied in.
 #[test]
-fn resume_refuses_a_run_directory_missing_its_frames() {
+fn a_refused_resume_leaves_the_run_directory_as_it_was() {
     let tmp = tempfile::tempdir().unwrap();
     let o = run(
         tmp.path(),
         &rod_run("0.1", "r", &["--checkpoint-every", "0.05", "--no-viewer"]),
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    std::fs::remove_dir_all(tmp.path().join("r/frames")).unwrap();
+    std::fs::remove_file(tmp.path().join("r/frames/frame_000001.vtu")).unwrap();
+    let before = files_of(&tmp.path().join("r"));
     let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(
-        err.contains("frame_000000.vtu") && err.contains("is missing"),
+        err.contains("frame_000001.vtu") && err.contains("is missing"),
         "{err}"
     );
+    assert!(files_of(&tmp.path().join("r")) == before, "files changed");
+    // Another model's checkpoint: refused for its shape, nothing changed either.
+    let o = run(
+        tmp.path(),
+        &rod_run(
+            "0.1",
+            "r",
+            &["--checkpoint-every", "0.05", "--no-viewer", "--force"],
+        ),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let mut other = rod_run("0.1", "o", &["--checkpoint-every", "0.05", "--no-viewer"]);
+    other.extend(["--set".into(), "canopy.nodes=31".into()]);
+    assert_eq!(run(tmp.path(), &other).status.code(), Some(0));
+    let ckpt = tmp.path().join("r/checkpoint.bin");
+    std::fs::copy(tmp.path().join("o/checkpoint.bin"), &ckpt).unwrap();
+    let before = files_of(&tmp.path().join("r"));
+    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(files_of(&tmp.path().join("r")) == before, "files changed");
 }
 
 #[test]
@@ -529,4 +567,26 @@ fn a_study_on_a_full_file_system_goes_through_every_case() {
             "{case}'s directory is left: {left}"
         );
     }
+}
+
+/// A path that is not UTF-8 (legal on Linux) is a path like any other: the run takes its lock
+/// and runs, instead of panicking while describing the lock's holder.
+#[test]
+fn a_run_directory_named_in_bytes_that_are_not_utf8_runs() {
+    use std::os::unix::ffi::OsStrExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let name = std::ffi::OsStr::from_bytes(b"bad\xffname");
+    let mut args: Vec<std::ffi::OsString> = rod_run("0.02", "x", &["--no-viewer"])
+        .into_iter()
+        .map(Into::into)
+        .collect();
+    let at = args.iter().position(|a| a == "x").unwrap();
+    args[at] = name.to_os_string();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_chute"))
+        .args(&args)
+        .current_dir(tmp.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(tmp.path().join(name).join("summary.json").is_file());
 }
