@@ -572,10 +572,11 @@ fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {
     let dir = opts.out_dir.display();
     eprintln!("wrote {dir}/convergence.json, convergence.md and convergence.png");
     if outcome.pending > 0 {
-        eprintln!(
-            "note: {} level(s) not run yet (other shards); re-run without --shard to complete the estimates",
-            outcome.pending
-        );
+        let why = match opts.shard {
+            Some(_) => "other shards); re-run without --shard to complete the estimates",
+            None => "the run was stopped first); run the same command again to complete them",
+        };
+        eprintln!("note: {} level(s) not run yet ({why}", outcome.pending);
     }
     if !outcome.failures.is_empty() {
         return Err(AppError::RunFailed(format!(

@@ -361,7 +361,12 @@ impl Run {
         for t in due.snaps {
             let roles = node_roles(b);
             let scene = shape_scene(b, &obs.pos, &roles);
-            let _ = plots::snapshot_plot(out_dir, t, &scene);
+            let r = plots::snapshot_plot(out_dir, t, &scene);
+            plotted(
+                &mut self.flight.warnings,
+                &format!("the snapshot at t = {t} s"),
+                r,
+            );
         }
         Ok(())
     }
@@ -399,17 +404,22 @@ impl Run {
         obs.load(&built.state.q, &built.state.v);
         let roles = node_roles(built);
         let scene = shape_scene(built, &obs.pos, &roles);
-        let _ = plots::final_shape_plot(out_dir, built.state.t, &scene);
+        let mut failed = Vec::new();
+        let r = plots::final_shape_plot(out_dir, built.state.t, &scene);
+        plotted(&mut failed, "shape.png", r);
         if let Some(w) = built.wrinkles(&built.state.q) {
             // One state per canopy triangle (the probe is the canopy's membrane).
             let by_state = plots::ShapeScene {
                 cell_state: &w.state,
                 ..scene
             };
-            let _ = plots::wrinkle_plot(out_dir, built.state.t, &by_state);
+            let r = plots::wrinkle_plot(out_dir, built.state.t, &by_state);
+            plotted(&mut failed, "wrinkles.png", r);
         }
+        // The time-series plots need the metrics; their failures are added after them.
+        self.flight.warnings.extend(failed);
         let info = self.flight.info(built, cfg, end);
-        let (summary, metrics) = self.flight.summary(built, cfg, info);
+        let (mut summary, metrics) = self.flight.summary(built, cfg, info);
         if let Some(m) = metrics {
             let reason = crate::output::console::not_reached_reason(&summary);
             let mark = match &reason {
@@ -420,13 +430,15 @@ impl Run {
                 Some(r) => plots::TerminalMark::NotReached { reason: r },
             };
             let dec = &self.flight.dec;
-            let _ =
+            let r =
                 plots::velocity_plot(&out_dir.join("velocity.png"), &dec.t_s, &dec.vz_mps, &mark);
-            let _ = plots::height_plot(
+            plotted(&mut summary.warnings, "velocity.png", r);
+            let r = plots::height_plot(
                 &out_dir.join("height.png"),
                 &dec.t_s,
                 &dec.extended_height_m,
             );
+            plotted(&mut summary.warnings, "height.png", r);
         }
         let sp = out_dir.join("summary.json");
         summary.write(&sp).map_err(io_err(&sp))?;
@@ -435,6 +447,15 @@ impl Run {
             complete,
             stop_reason,
         })
+    }
+}
+
+/// A picture that could not be drawn or written (a full disk) is missing from the run
+/// directory: a warning says which and why, instead of the file silently not being there.
+fn plotted<T>(warnings: &mut Vec<String>, what: &str, r: Result<T, plots::PlotError>) {
+    match r {
+        Ok(_) | Err(plots::PlotError::NoData(_)) => {}
+        Err(e) => warnings.push(format!("{what} was not written: {e}")),
     }
 }
 

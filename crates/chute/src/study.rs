@@ -295,7 +295,13 @@ impl Shard {
     /// every task, naming the array.
     pub fn from_slurm(var: impl Fn(&str) -> Option<String>) -> Option<Result<Shard, AppError>> {
         let id = var("SLURM_ARRAY_TASK_ID")?;
-        let count = var("SLURM_ARRAY_TASK_COUNT")?;
+        // A task id without the array's size cannot say which shard this is: running every
+        // case in every task would repeat them all.
+        let Some(count) = var("SLURM_ARRAY_TASK_COUNT") else {
+            return Some(Err(input(
+                "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not, so this task's shard is unknown; pass --shard I/N",
+            )));
+        };
         let min = var("SLURM_ARRAY_TASK_MIN").unwrap_or_else(|| "0".into());
         let parse = |name: &str, v: &str| {
             v.trim().parse::<usize>().map_err(|_| {
@@ -422,6 +428,8 @@ pub fn run_study_with(
     let jobs = opts
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        // More workers than cases would only be threads with nothing to do.
+        .min(selected.len())
         .max(1);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
@@ -461,7 +469,12 @@ pub fn case_is_current(study: &Study, case: &Case, set: &[String], out_dir: &Pat
 fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static str>) {
     match read_json(done) {
         Some(d) if d["status"] == "complete" => match d["inputs"].as_str() {
-            Some(recorded) if recorded == digest => (true, None),
+            // Its table row comes from the summary: a case without a readable one is run
+            // again rather than skipped into an `unreadable` row.
+            Some(recorded) if recorded == digest => match done.parent().map(has_summary) {
+                Some(true) => (true, None),
+                _ => (false, Some("its summary.json is missing or unreadable")),
+            },
             Some(_) => (false, Some("inputs changed since the recorded run")),
             None => (
                 false,
@@ -470,6 +483,11 @@ fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static str>) {
         },
         _ => (false, None),
     }
+}
+
+/// Whether `dir` holds a `summary.json` that parses.
+fn has_summary(dir: &Path) -> bool {
+    read_json(&dir.join(crate::output::run_files::SUMMARY)).is_some()
 }
 
 fn run_case(

@@ -182,7 +182,8 @@ pub fn unresumable(dir: &Path, e: &crate::checkpoint::CheckpointError) -> AppErr
             .is_some_and(|j| j["complete"] == true);
     let why = match (missing, complete) {
         (true, true) => format!(
-            "the run is complete and kept no checkpoint (a run keeps one after it ends only when written with --checkpoint-every S); to run it longer, start it again with a longer duration: `{again} --set time.duration_s=T`"
+            "the run is complete and kept no checkpoint (a run keeps one after it ends only when written with --checkpoint-every S, and only once it reached its first sync point, every {} steps); to run it longer, start it again with a longer duration: `{again} --set time.duration_s=T`",
+            crate::runner::SYNC_STEPS
         ),
         (true, false) => format!(
             "it has no checkpoint: the run stopped before writing one (a checkpoint is written on Ctrl-C or SIGTERM, at a failed step, and every --checkpoint-every S); start it again: `{again}`"

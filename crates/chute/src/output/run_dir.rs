@@ -75,6 +75,14 @@ pub fn read_pvd(dir: &Path) -> Result<Vec<(f64, PathBuf)>, RunDirError> {
     if out.windows(2).any(|w| w[1].0 < w[0].0) {
         return Err(format_err(&path, "frame times decrease"));
     }
+    if !text.contains("<Collection") {
+        return Err(format_err(
+            &path,
+            "not a ParaView collection (no <Collection>)",
+        ));
+    }
+    // (Frames on disk beyond those listed are normal: a run killed between writing a frame
+    // and listing it.)
     Ok(out)
 }
 

@@ -3,7 +3,7 @@
 //! ended, and a resume only over the same inputs.
 use crate::common::*;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Stdio};
 use std::time::{Duration, Instant};
 
@@ -17,7 +17,7 @@ fn rod_file() -> String {
 }
 
 /// `chute run` of the coarse rod for `duration` s into `out`, with `extra` arguments.
-fn rod_run(duration: &str, out: &str, extra: &[&str]) -> Vec<String> {
+pub(crate) fn rod_run(duration: &str, out: &str, extra: &[&str]) -> Vec<String> {
     let mut a: Vec<String> = ["run", &rod_file(), "--quiet", "--out", out]
         .iter()
         .map(|s| s.to_string())
@@ -453,122 +453,6 @@ fn a_resumed_study_case_says_how_it_ended_in_its_marker() {
     );
 }
 
-/// The test's tmpfs: `sh -c SCRIPT` in a private mount namespace (root only).
-fn in_small_tmpfs(cwd: &Path, script: &str) -> std::process::Output {
-    let o = std::process::Command::new("unshare")
-        .args(["-m", "sh", "-c", script])
-        .current_dir(cwd)
-        .output()
-        .expect("unshare runs");
-    assert!(
-        !String::from_utf8_lossy(&o.stderr).contains("unshare failed"),
-        "this test needs root (a private mount namespace and a tmpfs); set CHUTE_NO_TMPFS=1 to skip it: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    o
-}
-
-#[test]
-fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
-    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
-        return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
-    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
-    let quote = |args: Vec<String>| {
-        let q: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
-        q.join(" ")
-    };
-    // 1 MiB: the time series and frames fill it within seconds of simulated time. With the
-    // rest filled up too, a second run into a new directory is refused (status 2: it cannot
-    // set its reserve aside) and leaves neither its lock file nor the directory it created.
-    let script = format!(
-        "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && {bin} {}; echo $? > out/code; \
-         cp -r small/d out/d; dd if=/dev/zero of=small/fill bs=4096 2>/dev/null; \
-         {bin} {}; echo $? > out/code2; if [ -e small/new ]; then ls -a small/new > out/new; fi",
-        quote(rod_run("600", "small/d", &["--no-viewer"])),
-        quote(rod_run("600", "small/new", &["--no-viewer"])),
-        bin = bin.display(),
-    );
-    let o = in_small_tmpfs(tmp.path(), &script);
-    let code = std::fs::read_to_string(tmp.path().join("out/code")).unwrap_or_else(|_| {
-        panic!(
-            "the run in a 1 MiB tmpfs did not happen (this test needs root for a private mount namespace; CHUTE_NO_TMPFS=1 skips it): {}",
-            String::from_utf8_lossy(&o.stderr)
-        )
-    });
-    assert_eq!(
-        code.trim(),
-        "1",
-        "an I/O error: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let code2 = std::fs::read_to_string(tmp.path().join("out/code2")).unwrap();
-    assert_eq!(
-        code2.trim(),
-        "2",
-        "a run on a full disk is refused as bad input"
-    );
-    let left = std::fs::read_to_string(tmp.path().join("out/new")).unwrap_or_default();
-    assert!(
-        left.is_empty(),
-        "the refused run left its directory: {left}"
-    );
-    let dir = tmp.path().join("out/d");
-    // Whole rows only, every one of them numbers.
-    let rows = csv_rows(&dir.join("timeseries.csv"));
-    assert!(rows.len() > 100 && rows.iter().all(|r| r.len() == 16));
-    let record: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
-    assert_eq!(record["status"], "failed", "{record}");
-    assert!(
-        record["reason"].as_str().unwrap().contains("No space left"),
-        "{record}"
-    );
-    // What was written can still be read.
-    let o = chute(tmp.path(), &["view", "out/d"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(stderr(&o).contains("the run failed: "), "{}", stderr(&o));
-}
-
-/// A study on a full file system: a case whose directory cannot take its lock and reserve is
-/// "not run" and the study goes on to the others and to the table, instead of stopping at
-/// the first case as if the input were bad (status 2).
-#[test]
-fn a_study_on_a_full_file_system_goes_through_every_case() {
-    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
-        return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
-    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let script = format!(
-        "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && \
-         dd if=/dev/zero of=small/fill bs=4096 2>/dev/null; \
-         {} study '{study}' --out small/S --set time.duration_s=0.02 2> out/err; echo $? > out/code; \
-         ls -A small/S > out/left 2>/dev/null",
-        bin.display()
-    );
-    let o = in_small_tmpfs(tmp.path(), &script);
-    let code = std::fs::read_to_string(tmp.path().join("out/code"))
-        .unwrap_or_else(|_| panic!("no tmpfs run: {}", String::from_utf8_lossy(&o.stderr)));
-    let err = std::fs::read_to_string(tmp.path().join("out/err")).unwrap();
-    // The table cannot be written either: an I/O error (1), not bad input (2).
-    assert_eq!(code.trim(), "1", "{err}");
-    for case in ["20N", "200N", "2000N"] {
-        let not_run = format!("case {case}: not run: ");
-        assert!(err.contains(&not_run), "{case} not reported: {err}");
-    }
-    // Cases that did not run leave no directories that look like cases.
-    let left = std::fs::read_to_string(tmp.path().join("out/left")).unwrap_or_default();
-    for case in ["20N", "200N", "2000N"] {
-        assert!(
-            !left.lines().any(|l| l == case),
-            "{case}'s directory is left: {left}"
-        );
-    }
-}
-
 /// A path that is not UTF-8 (legal on Linux) is a path like any other: the run takes its lock
 /// and runs, instead of panicking while describing the lock's holder.
 #[test]
@@ -589,4 +473,45 @@ fn a_run_directory_named_in_bytes_that_are_not_utf8_runs() {
         .unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(tmp.path().join(name).join("summary.json").is_file());
+}
+
+/// `--jobs` above the number of cases starts no more workers than there are cases: a study
+/// of three cases with `--jobs 1000000` runs like one with `--jobs 3` (before, it spawned a
+/// million threads and did not finish).
+#[test]
+fn a_huge_jobs_count_starts_no_more_workers_than_cases() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            &study,
+            "--out",
+            "s",
+            "--jobs",
+            "1000000",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(tmp.path().join("s/study.csv").is_file());
+}
+
+/// A `canopy.pvd` that is not a ParaView collection is named as such by `view` (status 2),
+/// not read as a run of no frames.
+#[test]
+fn view_names_a_frame_collection_that_is_not_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = run(tmp.path(), &rod_run("0.02", "r", &["--no-viewer"]));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::write(tmp.path().join("r/canopy.pvd"), "not xml at all\n").unwrap();
+    let o = chute(tmp.path(), &["view", "r"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("canopy.pvd") && stderr(&o).contains("not a ParaView collection"),
+        "{}",
+        stderr(&o)
+    );
 }

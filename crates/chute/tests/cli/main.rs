@@ -9,6 +9,7 @@ mod bench;
 mod collect;
 mod converge;
 mod errors;
+mod full_disk;
 mod inputs;
 mod integrity;
 mod recovery;

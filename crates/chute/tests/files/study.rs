@@ -370,6 +370,13 @@ fn shard_specs_and_slurm_variables() {
     assert!(Shard::from_slurm(vars("5", "4", None)).unwrap().is_err());
     assert!(Shard::from_slurm(vars("x", "4", None)).unwrap().is_err());
     assert!(Shard::from_slurm(|_| None).is_none());
+    // A task id without the array's size: refused, not every case in every task.
+    let lone = |k: &str| (k == "SLURM_ARRAY_TASK_ID").then(|| "2".to_string());
+    let e = Shard::from_slurm(lone).unwrap().unwrap_err();
+    assert!(
+        e.to_string().contains("SLURM_ARRAY_TASK_COUNT is not"),
+        "{e}"
+    );
     // Arrays whose ids are not consecutive would leave shards unrun: refused in every task.
     let array = |id: &'static str, min: &'static str, max: &'static str, step: &'static str| {
         move |k: &str| {

@@ -90,13 +90,17 @@ fn a_pull_glides_towards_the_pulled_side_and_its_mirror_mirrors() {
     let (plus_x, _) = fly(&square(8.0, &pull("1, 2", 0.3)));
     let [vx, vy] = plus_x.horizontal_velocity_mps;
     assert!(vx > 0.1 * plus_x.terminal_velocity_mps.abs(), "vx = {vx}");
-    assert!(vy.abs() < 1e-9 * vx, "vy = {vy}");
+    // Across, only what the Newton tolerance (1e-9 of the weight W per step) lets through: an
+    // asymmetric residual f ≤ tol at terminal speed moves the canopy sideways by
+    // f / (∂D/∂v) = f v_t / (2 W) ≤ 1e-9 v_t / 2.
+    let across = 1e-9 * plus_x.terminal_velocity_mps.abs();
+    assert!(vy.abs() < across, "vy = {vy}");
     assert!(plus_x.glide_angle_deg > 3.0, "{}", plus_x.glide_angle_deg);
     // Their mirror through the y axis (lines 3 and 0, the −x side) glides the mirror way.
     let (minus_x, _) = fly(&square(8.0, &pull("3, 0", 0.3)));
     let [mx, my] = minus_x.horizontal_velocity_mps;
     assert!(
-        (mx + vx).abs() < 1e-6 * vx && my.abs() < 1e-9 * vx,
+        (mx + vx).abs() < 1e-6 * vx && my.abs() < across,
         "{mx} {my}"
     );
     // One corner, and its mirror through the x axis: towards that corner, mirrored in y.

@@ -3,12 +3,28 @@
 //!
 //! **Iterations.** A *Newton iteration* assembles the Jacobian at the iterate, factorises its
 //! symmetric part and takes the update of `Linearization::newton` along a line search. The
-//! factors are then kept for *chord iterations* `Δ = −A⁻¹ R`, Anderson-mixed
+//! factors and that Jacobian are then kept for *chord iterations*, Anderson-mixed
 //! (`stepper/anderson.rs`) as in the held stage, as long as they contract: a chord
-//! iteration costs one residual and one pair of triangular solves, a Newton iteration about
-//! 20 of those on the bundled shells. Once the residual grows, or its mean contraction since
-//! the Newton iteration is worse than [`NewtonOptions::reuse_contraction`] per iteration, the
-//! next iteration is a Newton iteration again. `reuse_contraction = 0` is plain Newton.
+//! iteration costs one residual and one pair of triangular solves (plus a few BiCGStab
+//! iterations where `J` is not symmetric), a Newton iteration about 20 of those on the
+//! bundled shells. Once the residual grows, or its mean contraction since the Newton
+//! iteration is worse than [`NewtonOptions::reuse_contraction`] per iteration, the next
+//! iteration is a Newton iteration again. `reuse_contraction = 0` is plain Newton.
+//!
+//! **Chord iterations** solve with the lagged Jacobian `J(q_k)` itself, not only with its
+//! symmetric factors: `Linearization::newton` corrects the update by BiCGStab wherever the
+//! skew part makes `J_s⁻¹` too far from `J⁻¹`. With follower loads (the inflation pressure) that
+//! skew part is large, and the uncorrected iteration contracts at `‖I − J J_s⁻¹‖`, which
+//! crawled from 1e-3 to 1e-5 N over 20 iterations on a 30-gore canopy's opening until the
+//! stage failed; corrected, it contracts at the lag of `J` (docs/performance.md §The large
+//! canopy). The held stage stays uncorrected: its factors' Jacobian is of an earlier step,
+//! and correcting towards it was measured worse.
+//!
+//! **Forcing.** Each update is solved to the relative linear residual `η` (Dembo, Eisenstat
+//! & Steihaug 1982): the Newton iteration's `η = (‖R‖/‖R₀‖)²` for quadratic convergence, but
+//! never below `0.1 tol/‖R‖`, which is all that reaching the tolerance in one update needs
+//! (asking for less made BiCGStab fail its 20 iterations near the end of a solve, and the
+//! uncorrected update then crawled), and within [1e-12, 1e-3].
 //!
 //! **Descent.** Where the symmetric part is indefinite (a membrane buckling within the step)
 //! its LBLᵀ update may point uphill (`R · Δ ≥ 0`). The matrix is then shifted by an added
@@ -48,6 +64,18 @@ const MAX_SHIFT: f64 = 1024.0;
 const ETA_MAX: f64 = 1e-3;
 /// Smallest forcing term (below it BiCGStab's own round-off dominates).
 const ETA_MIN: f64 = 1e-12;
+/// An update need not be solved more accurately than it takes to end the stage: its linear
+/// residual may be this fraction of the tolerance (module docs, §Forcing).
+const FORCING_MARGIN: f64 = 0.1;
+
+/// The forcing term of an update from an iterate of residual `rinf`: `quadratic` (the
+/// Newton iteration's `(‖R‖/‖R₀‖)²`, or 0 for a chord iteration), but never below what it
+/// takes to reach the tolerance `tol` in one update (module docs, §Forcing).
+fn forcing(quadratic: f64, rinf: f64, tol: f64) -> f64 {
+    quadratic
+        .max(FORCING_MARGIN * tol / rinf)
+        .clamp(ETA_MIN, ETA_MAX)
+}
 
 /// Solve the step from `q` (overwritten with the solution on success, an unspecified
 /// iterate on failure) within `budget` iterations.
@@ -104,9 +132,8 @@ pub(crate) fn run(
             }
             // Forcing term ∝ ‖R‖²: the last iterations of plain Newton (no chord iterations)
             // overshoot the tolerance quadratically, as with an exact solve.
-            let eta = (rinf / tol.r0.max(f64::MIN_POSITIVE))
-                .powi(2)
-                .clamp(ETA_MIN, ETA_MAX);
+            let quadratic = (rinf / tol.r0.max(f64::MIN_POSITIVE)).powi(2);
+            let eta = forcing(quadratic, rinf, tol.tol);
             let alpha = newton_iteration(cx, tg, q, eta, jac_at_trials, &mut rep)?;
             let step = alpha * cx.ws.delta_max().unwrap_or(f64::INFINITY);
             jac_at_q = jac_at_trials;
@@ -123,7 +150,9 @@ pub(crate) fn run(
             }
             continue;
         };
-        cx.lin.chord(cx.ws);
+        // The lagged Jacobian's update, not only its symmetric part's (module docs, §Chord
+        // iterations).
+        cx.lin.newton(cx.ws, forcing(0.0, rinf, tol.tol));
         cx.ws.delta_max().map_err(|dof| StepError::NonFinite {
             what: "chord update",
             dof,

@@ -1,0 +1,170 @@
+//! Runs and studies on a full file system (docs/reliability.md §5), in a 1 MiB tmpfs of a
+//! private mount namespace (root only; `CHUTE_NO_TMPFS=1` skips these tests): whole rows, a
+//! record of why, nothing left by what did not run, and no output missing without a word.
+use crate::common::*;
+use crate::integrity::rod_run;
+
+use std::path::{Path, PathBuf};
+
+/// The test's tmpfs: `sh -c SCRIPT` in a private mount namespace (root only).
+fn in_small_tmpfs(cwd: &Path, script: &str) -> std::process::Output {
+    let o = std::process::Command::new("unshare")
+        .args(["-m", "sh", "-c", script])
+        .current_dir(cwd)
+        .output()
+        .expect("unshare runs");
+    assert!(
+        !String::from_utf8_lossy(&o.stderr).contains("unshare failed"),
+        "this test needs root (a private mount namespace and a tmpfs); set CHUTE_NO_TMPFS=1 to skip it: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o
+}
+
+#[test]
+fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
+    let quote = |args: Vec<String>| {
+        let q: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
+        q.join(" ")
+    };
+    // 1 MiB: the time series and frames fill it within seconds of simulated time. With the
+    // rest filled up too, a second run into a new directory is refused (status 2: it cannot
+    // set its reserve aside) and leaves neither its lock file nor the directory it created.
+    let script = format!(
+        "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && {bin} {}; echo $? > out/code; \
+         cp -r small/d out/d; dd if=/dev/zero of=small/fill bs=4096 2>/dev/null; \
+         {bin} {}; echo $? > out/code2; if [ -e small/new ]; then ls -a small/new > out/new; fi",
+        quote(rod_run("600", "small/d", &["--no-viewer"])),
+        quote(rod_run("600", "small/new", &["--no-viewer"])),
+        bin = bin.display(),
+    );
+    let o = in_small_tmpfs(tmp.path(), &script);
+    let code = std::fs::read_to_string(tmp.path().join("out/code")).unwrap_or_else(|_| {
+        panic!(
+            "the run in a 1 MiB tmpfs did not happen (this test needs root for a private mount namespace; CHUTE_NO_TMPFS=1 skips it): {}",
+            String::from_utf8_lossy(&o.stderr)
+        )
+    });
+    assert_eq!(
+        code.trim(),
+        "1",
+        "an I/O error: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let code2 = std::fs::read_to_string(tmp.path().join("out/code2")).unwrap();
+    assert_eq!(
+        code2.trim(),
+        "2",
+        "a run on a full disk is refused as bad input"
+    );
+    let left = std::fs::read_to_string(tmp.path().join("out/new")).unwrap_or_default();
+    assert!(
+        left.is_empty(),
+        "the refused run left its directory: {left}"
+    );
+    let dir = tmp.path().join("out/d");
+    // Whole rows only, every one of them numbers.
+    let rows = csv_rows(&dir.join("timeseries.csv"));
+    assert!(rows.len() > 100 && rows.iter().all(|r| r.len() == 16));
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(record["status"], "failed", "{record}");
+    assert!(
+        record["reason"].as_str().unwrap().contains("No space left"),
+        "{record}"
+    );
+    // What was written can still be read.
+    let o = chute(tmp.path(), &["view", "out/d"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("the run failed: "), "{}", stderr(&o));
+}
+
+/// A study on a full file system: a case whose directory cannot take its lock and reserve is
+/// "not run" and the study goes on to the others and to the table, instead of stopping at
+/// the first case as if the input were bad (status 2).
+#[test]
+fn a_study_on_a_full_file_system_goes_through_every_case() {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let script = format!(
+        "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && \
+         dd if=/dev/zero of=small/fill bs=4096 2>/dev/null; \
+         {} study '{study}' --out small/S --set time.duration_s=0.02 2> out/err; echo $? > out/code; \
+         ls -A small/S > out/left 2>/dev/null",
+        bin.display()
+    );
+    let o = in_small_tmpfs(tmp.path(), &script);
+    let code = std::fs::read_to_string(tmp.path().join("out/code"))
+        .unwrap_or_else(|_| panic!("no tmpfs run: {}", String::from_utf8_lossy(&o.stderr)));
+    let err = std::fs::read_to_string(tmp.path().join("out/err")).unwrap();
+    // The table cannot be written either: an I/O error (1), not bad input (2).
+    assert_eq!(code.trim(), "1", "{err}");
+    for case in ["20N", "200N", "2000N"] {
+        let not_run = format!("case {case}: not run: ");
+        assert!(err.contains(&not_run), "{case} not reported: {err}");
+    }
+    // Cases that did not run leave no directories that look like cases.
+    let left = std::fs::read_to_string(tmp.path().join("out/left")).unwrap_or_default();
+    for case in ["20N", "200N", "2000N"] {
+        assert!(
+            !left.lines().any(|l| l == case),
+            "{case}'s directory is left: {left}"
+        );
+    }
+}
+
+/// A run that fits on the disk but whose pictures do not: each missing picture is named in a
+/// warning of `summary.json` (and so on the console), never silently absent.
+#[test]
+fn a_picture_that_cannot_be_written_is_named_in_a_warning() {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
+    let args: Vec<String> = rod_run("0.05", "small/r", &["--no-viewer"])
+        .iter()
+        .map(|a| format!("'{a}'"))
+        .collect();
+    let script = format!(
+        "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && \
+         head -c 850K /dev/zero > small/filler && {} {} 2> out/err; echo $? > out/code; \
+         cp small/r/summary.json out/ 2>/dev/null; ls small/r > out/files",
+        bin.display(),
+        args.join(" ")
+    );
+    let o = in_small_tmpfs(tmp.path(), &script);
+    let code = std::fs::read_to_string(tmp.path().join("out/code"))
+        .unwrap_or_else(|_| panic!("no tmpfs run: {}", String::from_utf8_lossy(&o.stderr)));
+    let err = std::fs::read_to_string(tmp.path().join("out/err")).unwrap();
+    assert_eq!(code.trim(), "0", "{err}");
+    let files = std::fs::read_to_string(tmp.path().join("out/files")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let warnings = summary["warnings"].to_string();
+    let mut missing = 0;
+    for png in ["shape.png", "velocity.png", "height.png"] {
+        if !files.lines().any(|l| l == png) {
+            missing += 1;
+            assert!(
+                warnings.contains(&format!("{png} was not written")),
+                "{png} missing without a warning: {warnings}"
+            );
+        }
+    }
+    assert!(
+        missing > 0,
+        "the disk held every picture: the test tests nothing ({files})"
+    );
+}
