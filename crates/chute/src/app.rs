@@ -149,7 +149,7 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
         // Fixed step: ten halvings after failed Newton solves; adaptive: time.dt_min_s.
         min_dt_s: s
             .adaptive_settings()
-            .map_or(s.time.dt_s / 1024.0, |a| a.dt_min_s),
+            .map_or(crate::scenario::min_step(s.time.dt_s), |a| a.dt_min_s),
         adaptive: s.adaptive_settings(),
         duration_s: s.time.duration_s,
         frame_interval_s: s.output.frame_interval_s,

@@ -18,6 +18,15 @@
 //! corners at angles 0°, 60°, …, 300° on the circle of radius `radius_m`; a circle has radius
 //! `radius_m`. Load-site coordinates `[x, y]` are in this frame (m).
 
+/// Halvings of `time.dt_s` after which a failing step stops a fixed-step run; `dt_s` over
+/// `2^MIN_STEP_HALVINGS` (1024) is also the default `time.dt_min_s` of an adaptive one.
+pub const MIN_STEP_HALVINGS: i32 = 10;
+
+/// The smallest step of a run of step `dt_s` ([`MIN_STEP_HALVINGS`] halvings of it).
+pub fn min_step(dt_s: f64) -> f64 {
+    dt_s / 2f64.powi(MIN_STEP_HALVINGS)
+}
+
 pub mod control;
 pub mod derived;
 pub mod docs;

@@ -170,7 +170,7 @@ fn fill_adaptive_defaults(t: &mut toml::Table) {
     let frame = number(t, "output", "frame_interval_s")
         .unwrap_or(super::Output::default().frame_interval_s);
     let defaults = [
-        ("dt_min_s", dt / 1024.0),
+        ("dt_min_s", super::min_step(dt)),
         ("dt_max_s", (100.0 * dt).min(frame)),
     ];
     let time = section_mut(t, "time");
