@@ -188,8 +188,9 @@ fn recorded_state(
     }
 }
 
-/// A row and the `recipe` of its `done.json` (null for a case without a readable one).
-fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, serde_json::Value)> {
+/// A row and the `recipe` of its `done.json` (null for a record without one; `None` when no
+/// record could be read, which says nothing about the study's case list).
+fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde_json::Value>)> {
     let done = match read_json_strict(&case_dir.join(DONE_FILE)) {
         Ok(Some(d)) if d.is_object() => d,
         Ok(Some(_)) => {
@@ -197,9 +198,9 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, serde_json::
                 "`{}` is not a case record",
                 case_dir.join(DONE_FILE).display()
             );
-            return unfinished_row(case_dir, Err(why)).map(|r| (r, serde_json::Value::Null));
+            return unfinished_row(case_dir, Err(why)).map(|r| (r, None));
         }
-        other => return unfinished_row(case_dir, other).map(|r| (r, serde_json::Value::Null)),
+        other => return unfinished_row(case_dir, other).map(|r| (r, None)),
     };
     let summary = read_json_strict(&case_dir.join(SUMMARY));
     let case = done["case"].as_str().map(str::to_string).or_else(|| {
@@ -230,7 +231,7 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, serde_json::
         state,
         inputs: checker.state(&done),
     };
-    Some((row, done["recipe"].clone()))
+    Some((row, Some(done["recipe"].clone())))
 }
 
 /// Gather every case of the given study output directories (e.g. one per shard): a row per
@@ -265,9 +266,9 @@ pub fn gather(
             {
                 continue;
             }
-            // A directory without a `done.json` (missing, running) records no recipe but
-            // says nothing about the study's case list either.
-            if !matches!(row.state, CaseState::Missing(_) | CaseState::Running) {
+            // A directory without a readable `done.json` (missing, running, unreadable)
+            // records no recipe but says nothing about the study's case list either.
+            if let Some(recipe) = recipe {
                 recipes.insert(row.case.clone(), recipe);
             }
             by_name.insert(row.case.clone(), row);

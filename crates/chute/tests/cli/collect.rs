@@ -124,3 +124,21 @@ fn collect_flags_a_recorded_case_count_that_disagrees_with_the_study() {
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("recorded 5:"), "{}", stderr(&o));
 }
+
+/// A `done.json` that cannot be read (here a directory) makes its case unreadable, named, but
+/// says nothing about the study's case list: the others' recipes still give it.
+#[test]
+fn an_unreadable_record_is_named_and_the_case_list_still_known() {
+    let tmp = table1_study_in("s");
+    let done = tmp.path().join("s/200N/done.json");
+    std::fs::remove_file(&done).unwrap();
+    std::fs::create_dir(&done).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("200N") && err.contains("done.json"), "{err}");
+    assert!(
+        !err.contains("unknown") && !err.contains("no recipe"),
+        "{err}"
+    );
+}
