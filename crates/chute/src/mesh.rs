@@ -15,6 +15,19 @@ use engine::shell::{MeshError, TriMesh};
 use std::collections::BTreeMap;
 use thiserror::Error;
 
+/// Read an imported canopy mesh: Wavefront OBJ by its `.obj` extension, else the DisMech
+/// text format.
+pub fn read_file(path: &std::path::Path) -> Result<CanopyMesh, MeshFileError> {
+    let is_obj = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    if is_obj {
+        obj::read(path)
+    } else {
+        dismech::read(path)
+    }
+}
+
 /// A canopy: positions (m), shell triangles, rod edges and named node sets.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct CanopyMesh {
@@ -77,6 +90,43 @@ fn read_with(
 }
 
 impl CanopyMesh {
+    /// The rod edges' total length (m) and each node's lumped share of it (half of every
+    /// edge it ends), as the rods' masses are lumped.
+    pub fn lumped_lengths(&self) -> (f64, Vec<f64>) {
+        let mut share = vec![0.0; self.positions.len()];
+        let mut total = 0.0;
+        for &[a, b] in &self.rod_edges {
+            let d = sub(self.positions[b], self.positions[a]);
+            let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            total += l;
+            share[a] += 0.5 * l;
+            share[b] += 0.5 * l;
+        }
+        (total, share)
+    }
+
+    /// The triangles' total area (m²) and each node's lumped share of it (a third of every
+    /// triangle it is a corner of), as the shell's masses are lumped.
+    pub fn lumped_areas(&self) -> (f64, Vec<f64>) {
+        let mut share = vec![0.0; self.positions.len()];
+        let mut total = 0.0;
+        for f in &self.faces {
+            let [a, b, c] = f.map(|i| self.positions[i]);
+            let (u, v) = (sub(b, a), sub(c, a));
+            let n = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
+            let area = 0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            total += area;
+            for &i in f {
+                share[i] += area / 3.0;
+            }
+        }
+        (total, share)
+    }
+
     /// Number of nodes.
     pub fn n_nodes(&self) -> usize {
         self.positions.len()
@@ -160,4 +210,8 @@ impl CanopyMesh {
         }
         chains
     }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }

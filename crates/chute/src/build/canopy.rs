@@ -222,14 +222,7 @@ fn pattern(p: Option<MeshPattern>) -> Pattern {
 }
 
 fn read_mesh(path: &std::path::Path) -> Result<CanopyMesh, BuildError> {
-    let is_obj = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
-    Ok(if is_obj {
-        mesh::obj::read(path)?
-    } else {
-        mesh::dismech::read(path)?
-    })
+    Ok(mesh::read_file(path)?)
 }
 
 /// Bounding box of `nodes`.

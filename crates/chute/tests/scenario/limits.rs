@@ -242,6 +242,13 @@ fn an_imported_mesh_scenario_is_held_to_the_factors_it_knows() {
         );
     }
     assert!(load(hex, &["load.mass_scale=1e-4"]).is_ok());
+    // The mesh file is read for its lumped masses: a payload node so heavy that the flat
+    // canopy would fall faster than sound is refused, one near it warned about (the same
+    // terminal speed the builder prints: 1.750 m/s × √(s/100) here).
+    refused(hex, "load.mass_scale=1e10", "load.mass_scale", "Mach 9.245");
+    let s = load(hex, &["load.mass_scale=1e8"]).unwrap();
+    let w = chute::scenario::plausibility::warnings(&s);
+    assert!(w.iter().any(|w| w.contains("Mach 0.9")), "{w:?}");
     refused(
         hex,
         "material.density_kg_m3=1e300",
