@@ -142,3 +142,26 @@ fn an_unreadable_record_is_named_and_the_case_list_still_known() {
         "{err}"
     );
 }
+
+/// `chute study` skips a case only when its summary reads too: a "complete" case whose
+/// `summary.json` was removed is run again, not skipped into an `unreadable` row.
+#[test]
+fn a_study_reruns_a_complete_case_without_its_summary() {
+    let tmp = table1_study_in("s");
+    std::fs::remove_file(tmp.path().join("s/200N/summary.json")).unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let set = ["--set", "time.duration_s=0.02"];
+    let o = chute(
+        tmp.path(),
+        &[&["study", &study, "--out", "s"][..], &set].concat(),
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("case 200N: its summary.json is missing or unreadable; re-running"),
+        "{err}"
+    );
+    assert!(tmp.path().join("s/200N/summary.json").is_file());
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
