@@ -275,8 +275,13 @@ pub fn run_watched(
     let path = dir.join(crate::output::run_files::RUN_RECORD);
     running.write(dir).map_err(|e| AppError::io(&path, e))?;
     let resolved = dir.join(crate::output::run_files::RESOLVED_SCENARIO);
-    crate::output::atomic::write_atomic(&resolved, scenario_toml.as_bytes())
-        .map_err(|e| AppError::io(&resolved, e))?;
+    if let Err(e) = crate::output::atomic::write_atomic(&resolved, scenario_toml.as_bytes()) {
+        // The record says why the run never started (a full disk), not `running`.
+        crate::output::lock::free_reserve(dir);
+        let why = format!("{}: {e}", resolved.display());
+        let _ = record.with_status(Status::Failed, Some(why)).write(dir);
+        return Err(AppError::io(&resolved, e));
+    }
     let cfg = run_config(s, opts.progress);
     let ctl = crate::runner::RunControl {
         stop: watch.stop,

@@ -46,8 +46,9 @@ pub const VARY_KEYS: &[(&str, Axis)] = &[
 /// The solver-resolution inputs of one level (docs/convergence.md §Round-off).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Resolution {
-    /// Absolute Newton tolerance on ‖R‖∞ (N): `time.newton_tolerance_n`, or the engine's
-    /// default 1e-9 (1 + Σm g) with g = 9.81 m/s² as in `engine::NewtonOptions`.
+    /// Absolute Newton tolerance on ‖R‖∞ (N) of the level's solves
+    /// (`engine::NewtonOptions::force_tolerance`: `time.newton_tolerance_n`, or
+    /// 1e-9 (1 N + Σm a_ref)).
     pub force_tolerance_n: f64,
     /// Free vertical DOFs (each may carry a residual up to the tolerance).
     pub free_z_dofs: usize,
@@ -197,10 +198,10 @@ fn resolution(s: &Scenario, b: &Built) -> Resolution {
         .map(|i| m.node_mass(i))
         .fold(0.0, f64::max);
     Resolution {
-        force_tolerance_n: s
-            .time
-            .newton_tolerance_n
-            .unwrap_or(1e-9 * (1.0 + m.total_mass() * 9.81)),
+        // The tolerance the run's solves use (one definition: the engine's).
+        force_tolerance_n: crate::app::run_config(s, false)
+            .newton
+            .force_tolerance(m.total_mass()),
         free_z_dofs,
         max_node_mass_kg,
         weight_n: b.total_weight_n,

@@ -153,13 +153,17 @@ fn lock_file(dir: &Path) -> Result<File, LockError> {
         source,
     };
     for _ in 0..8 {
-        let mut file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
+        let mut file = no_follow(OpenOptions::new().read(true).write(true).create(true))
             .truncate(false)
             .open(&path)
+            .map_err(|e| not_followed(&path, e))
             .map_err(unwritable)?;
+        if !file.metadata().map_err(unwritable)?.is_file() {
+            return Err(unwritable(io::Error::other(format!(
+                "{} is not a plain file (a FIFO, a device?): chute keeps its lock there",
+                path.display()
+            ))));
+        }
         match file.try_lock() {
             Ok(()) => {}
             Err(std::fs::TryLockError::WouldBlock) => {
@@ -260,10 +264,38 @@ fn hostname() -> String {
 }
 
 /// Write the reserve: real bytes, synced, so that a full file system refuses it.
+/// `opts` that refuse to open a symbolic link (a link named like chute's file would make it
+/// write wherever the link points) or to block on a FIFO.
+fn no_follow(opts: &mut OpenOptions) -> &mut OpenOptions {
+    use std::os::unix::fs::OpenOptionsExt;
+    opts.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK)
+}
+
+/// The error of opening `path` without following links, said plainly when it is a link.
+fn not_followed(path: &Path, e: io::Error) -> io::Error {
+    if e.raw_os_error() == Some(libc::ELOOP) {
+        io::Error::other(format!(
+            "{} is a symbolic link: chute writes its own file there, never through a link",
+            path.display()
+        ))
+    } else {
+        e
+    }
+}
+
 fn write_reserve(dir: &Path) -> io::Result<()> {
     let path = dir.join(RESERVE);
+    if std::fs::symlink_metadata(&path).is_ok_and(|m| !m.file_type().is_file()) {
+        return Err(io::Error::other(format!(
+            "{} is not a plain file: chute writes its own file there, never through a link",
+            path.display()
+        )));
+    }
     let result = (|| {
-        let mut f = File::create(&path)?;
+        let mut f = no_follow(OpenOptions::new().write(true).create(true))
+            .truncate(true)
+            .open(&path)
+            .map_err(|e| not_followed(&path, e))?;
         f.write_all(&[0u8; RESERVE_BYTES])?;
         f.sync_all()
     })();

@@ -14,9 +14,12 @@ use super::{Case, Study};
 
 /// A recipe of `case` of `study` run under the study-wide `set`, for its `done.json`.
 pub(super) fn recipe(study: &Study, set: &[String], case: &Case) -> serde_json::Value {
+    // Paths as text (a path that is not UTF-8 is recorded lossily: its case list then reads
+    // as unknown, where the exact path would have failed to serialise).
+    let text = |p: &std::path::Path| p.to_string_lossy().into_owned();
     let mut r = serde_json::json!({
-        "study_file": study.file,
-        "base": study.base,
+        "study_file": study.file.as_deref().map(text),
+        "base": text(&study.base),
         "set": set,
         "case_set": case.set,
         "case_count": study.cases.len(),

@@ -165,3 +165,32 @@ fn a_study_reruns_a_complete_case_without_its_summary() {
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
+
+/// A study file whose path is not UTF-8 runs its cases and writes its table (its recorded
+/// path is lossy text), instead of panicking when each case records its recipe.
+#[test]
+fn a_study_file_at_a_path_that_is_not_utf8_runs() {
+    use std::os::unix::ffi::OsStrExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join(std::ffi::OsStr::from_bytes(b"st\xffudies"));
+    std::fs::create_dir(&dir).unwrap();
+    let base = repo().join("scenarios/report-rod-200n.toml");
+    let text = std::fs::read_to_string(repo().join("studies/table1.toml"))
+        .unwrap()
+        .replace(
+            "base = \"../scenarios/report-rod-200n.toml\"",
+            &format!("base = \"{}\"", base.display()),
+        );
+    std::fs::write(dir.join("t.toml"), text).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_chute"))
+        .arg("study")
+        .arg(dir.join("t.toml"))
+        .args(["--out", "s", "--set", "time.duration_s=0.02"])
+        .current_dir(tmp.path())
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(tmp.path().join("s/study.csv").is_file());
+}

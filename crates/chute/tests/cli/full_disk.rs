@@ -168,3 +168,47 @@ fn a_picture_that_cannot_be_written_is_named_in_a_warning() {
         "the disk held every picture: the test tests nothing ({files})"
     );
 }
+
+/// Whatever the disk can still take, a run that ended never leaves a record saying
+/// `running`: at every fill level from 880 KiB to 1 MiB of a 1 MiB tmpfs, the run either
+/// is refused before it starts (no record) or records how it ended.
+#[test]
+fn no_fill_level_leaves_a_record_saying_running() {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
+    let args: Vec<String> = rod_run("0.05", "small/r", &["--no-viewer"])
+        .iter()
+        .map(|a| format!("'{a}'"))
+        .collect();
+    let mut script = String::from("mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small");
+    for k in (880..=1024).step_by(8) {
+        script.push_str(&format!(
+            " && rm -rf small/r small/filler; head -c {k}K /dev/zero > small/filler 2>/dev/null; \
+             {} {} 2>/dev/null; cat small/r/run.json > out/{k}.json 2>/dev/null; true",
+            bin.display(),
+            args.join(" ")
+        ));
+    }
+    let o = in_small_tmpfs(tmp.path(), &script);
+    let mut seen = 0;
+    for k in (880..=1024).step_by(8) {
+        let Ok(text) = std::fs::read_to_string(tmp.path().join(format!("out/{k}.json"))) else {
+            continue;
+        };
+        if text.trim().is_empty() {
+            continue;
+        }
+        seen += 1;
+        let record: serde_json::Value = serde_json::from_str(&text)
+            .unwrap_or_else(|e| panic!("{k} KiB filler: run.json unreadable ({e}): {text}"));
+        assert_ne!(record["status"], "running", "{k} KiB filler: {record}");
+    }
+    assert!(
+        seen > 0,
+        "no run got a record at any fill level: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

@@ -515,3 +515,49 @@ fn view_names_a_frame_collection_that_is_not_one() {
         stderr(&o)
     );
 }
+
+/// chute's lock and reserve files are its own: a symbolic link named like one (to a file of
+/// the user's) is refused as unwritable (status 2), and the file it points to is untouched.
+#[test]
+fn a_link_named_like_the_lock_or_the_reserve_is_not_written_through() {
+    for name in [".chute.lock", ".chute.reserve"] {
+        let tmp = tempfile::tempdir().unwrap();
+        let precious = tmp.path().join("precious.txt");
+        std::fs::write(&precious, "the user's data\n").unwrap();
+        std::fs::create_dir(tmp.path().join("r")).unwrap();
+        std::os::unix::fs::symlink(&precious, tmp.path().join("r").join(name)).unwrap();
+        let o = run(
+            tmp.path(),
+            &rod_run("0.02", "r", &["--no-viewer", "--force"]),
+        );
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(stderr(&o).contains(name), "{name}: {}", stderr(&o));
+        assert_eq!(
+            std::fs::read_to_string(&precious).unwrap(),
+            "the user's data\n",
+            "{name}"
+        );
+    }
+}
+
+/// A reader that closes the pipe early ends chute by SIGPIPE, as it ends other tools, not
+/// by a panic in its printing.
+#[test]
+fn a_closed_output_pipe_is_no_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_chute"))
+        .args(["check", &rod_file()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        o.status.signal() == Some(13) || o.status.code() == Some(0),
+        "{:?}: {err}",
+        o.status
+    );
+}

@@ -67,7 +67,7 @@ impl Convergence {
     pub fn new(opts: &NewtonOptions, mass: f64) -> Self {
         let a_ref = opts.reference_acceleration;
         Self {
-            tol_abs: opts.force_tol_abs.unwrap_or(1e-9 * (1.0 + mass * a_ref)),
+            tol_abs: opts.force_tolerance(mass),
             tol_rel: opts.force_tol_rel,
             eta: opts.accuracy_fraction,
             floor: opts.accuracy_floor * a_ref,

@@ -72,6 +72,13 @@ pub struct NewtonOptions {
 }
 
 impl NewtonOptions {
+    /// The absolute force tolerance (N) for a model of total mass `mass` (kg):
+    /// [`NewtonOptions::force_tol_abs`], or `1e-9 × (1 N + mass · a_ref)`.
+    pub fn force_tolerance(&self, mass: f64) -> f64 {
+        self.force_tol_abs
+            .unwrap_or(1e-9 * (1.0 + mass * self.reference_acceleration))
+    }
+
     /// The tuned settings for time stepping large models (what `chute run` uses): the held
     /// stage with Anderson mixing, modified Newton in the Newton stage (refactorise below a
     /// 2× contraction), a divergence limit of 1e4, the [`Predictor::Adaptive`] predictor, the
