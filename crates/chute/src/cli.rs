@@ -471,7 +471,7 @@ fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {
     let st = Study::load(&a.study)?;
     let shard = match &a.shard {
         Some(s) => Some(Shard::parse(s)?),
-        None => Shard::from_slurm(|k| std::env::var(k).ok()).transpose()?,
+        None => Shard::from_slurm(slurm_var).transpose()?,
     };
     if a.jobs == Some(0) {
         return Err(AppError::Input("--jobs must be at least 1".into()));
@@ -547,7 +547,7 @@ fn warn_stale(table: &study::Table) {
 fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {
     let shard = match &a.shard {
         Some(s) => Some(Shard::parse(s)?),
-        None => Shard::from_slurm(|k| std::env::var(k).ok()).transpose()?,
+        None => Shard::from_slurm(slurm_var).transpose()?,
     };
     if a.jobs == Some(0) {
         return Err(AppError::Input("--jobs must be at least 1".into()));
@@ -586,4 +586,10 @@ fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {
         )));
     }
     Ok(())
+}
+
+/// A SLURM variable as text: unset is `None`; a value that is not UTF-8 is kept (lossily) so
+/// that it is refused as a bad value, not taken as unset (which would run every case).
+fn slurm_var(key: &str) -> Option<String> {
+    std::env::var_os(key).map(|v| v.to_string_lossy().into_owned())
 }

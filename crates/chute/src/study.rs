@@ -5,6 +5,7 @@
 mod expected;
 pub mod inputs;
 mod resumed;
+mod skip;
 mod table;
 
 use std::collections::BTreeMap;
@@ -18,7 +19,6 @@ use crate::scenario::source::line_col;
 use crate::scenario::Scenario;
 pub use inputs::InputsState;
 pub use resumed::mark_resumed;
-use table::read_json;
 pub use table::{collect, gather, write_atomic, write_table, CaseState, Row, Table};
 
 /// The summary metrics that become table columns, after the case name and its overrides.
@@ -461,33 +461,7 @@ pub fn case_is_current(study: &Study, case: &Case, set: &[String], out_dir: &Pat
     let Ok(digest) = study.scenario(case, set).and_then(|s| inputs::digest(&s)) else {
         return false;
     };
-    recorded_run(&out_dir.join(&case.name).join(DONE_FILE), &digest).0
-}
-
-/// Whether a case directory holds a complete run of exactly these inputs, and if it holds a
-/// complete run of others, why it is re-run.
-fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static str>) {
-    match read_json(done) {
-        Some(d) if d["status"] == "complete" => match d["inputs"].as_str() {
-            // Its table row comes from the summary: a case without a readable one is run
-            // again rather than skipped into an `unreadable` row.
-            Some(recorded) if recorded == digest => match done.parent().map(has_summary) {
-                Some(true) => (true, None),
-                _ => (false, Some("its summary.json is missing or unreadable")),
-            },
-            Some(_) => (false, Some("inputs changed since the recorded run")),
-            None => (
-                false,
-                Some("its record names no inputs (an older chute wrote it)"),
-            ),
-        },
-        _ => (false, None),
-    }
-}
-
-/// Whether `dir` holds a `summary.json` that parses.
-fn has_summary(dir: &Path) -> bool {
-    read_json(&dir.join(crate::output::run_files::SUMMARY)).is_some()
+    skip::recorded_run(&out_dir.join(&case.name).join(DONE_FILE), &digest).0
 }
 
 fn run_case(
@@ -500,7 +474,7 @@ fn run_case(
 ) -> Result<CaseStatus, AppError> {
     let dir = opts.out_dir.join(&case.name);
     let done = dir.join(DONE_FILE);
-    let (current, stale) = recorded_run(&done, digest);
+    let (current, stale) = skip::recorded_run(&done, digest);
     if current && !opts.force {
         if opts.verbose {
             eprintln!("case {}: already complete, skipped", case.name);

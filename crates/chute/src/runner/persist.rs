@@ -110,6 +110,18 @@ pub fn check_resumable(built: &Built, out_dir: &Path, c: &Checkpoint) -> Result<
     let bad = |reason: String| RunError::Checkpoint(reason);
     c.check_shape(built.model.n_dofs(), built.model.forces.len())
         .map_err(bad)?;
+    // A resumed run appends to and rewrites its files in place: never through a link.
+    for entry in std::fs::read_dir(out_dir).map_err(super::io_err(out_dir))? {
+        let entry = entry.map_err(super::io_err(out_dir))?;
+        let name = entry.file_name();
+        let linked = entry.file_type().is_ok_and(|t| t.is_symlink());
+        if linked && crate::output::run_files::is_run_file(&name.to_string_lossy()) {
+            return Err(bad(format!(
+                "`{}` is a symbolic link: a resumed run writes its files in place, never through a link; run the scenario again",
+                entry.path().display()
+            )));
+        }
+    }
     let ts_path = out_dir.join("timeseries.csv");
     checkpoint::timeseries_prefix(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
     // A resumed run lists the frames the checkpoint counts in `canopy.pvd`: a directory

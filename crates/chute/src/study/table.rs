@@ -221,7 +221,14 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde
         .iter()
         .map(|k| (k.to_string(), metric_text(values.and_then(|s| s.get(*k)))))
         .collect();
-    let state = recorded_state(&done, &summary);
+    let state = match crate::output::record::DirState::of(case_dir) {
+        // A run of the case (a `chute resume`) was killed after its record: whatever
+        // `done.json` says, the directory now mixes that run's files with the record's.
+        Ok(crate::output::record::DirState::Abandoned) => CaseState::Missing(
+            "a run of it was killed (run.json says running; no process holds it): run the study again".into(),
+        ),
+        _ => recorded_state(&done, &summary),
+    };
     let row = Row {
         index: done["index"].as_u64().map_or(usize::MAX, |i| i as usize),
         case,

@@ -194,3 +194,52 @@ fn a_study_file_at_a_path_that_is_not_utf8_runs() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(tmp.path().join("s/study.csv").is_file());
 }
+
+/// A case whose later run was killed (its `run.json` says `running` and no process holds
+/// it: a `chute resume` of the case killed mid-way) is not complete, whatever its
+/// `done.json` says: collect reports it (status 3) and a study runs it again.
+#[test]
+fn a_case_whose_later_run_was_killed_is_not_complete() {
+    let tmp = table1_study_in("s");
+    let record = tmp.path().join("s/200N/run.json");
+    let mut j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
+    j["status"] = "running".into();
+    std::fs::write(&record, j.to_string()).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("200N") && err.contains("killed"), "{err}");
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let set = ["--set", "time.duration_s=0.02"];
+    let o = chute(
+        tmp.path(),
+        &[&["study", &study, "--out", "s"][..], &set].concat(),
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("case 200N: a run of it was killed; re-running"),
+        "{err}"
+    );
+}
+
+/// A SLURM task id that is not UTF-8 is a bad value (status 2), not an unset variable that
+/// would make every task run every case.
+#[test]
+fn a_slurm_variable_that_is_not_utf8_is_refused() {
+    use std::os::unix::ffi::OsStrExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/table1.toml");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_chute"))
+        .arg("study")
+        .arg(&study)
+        .args(["--out", "s", "--set", "time.duration_s=0.02"])
+        .env("SLURM_ARRAY_TASK_ID", std::ffi::OsStr::from_bytes(b"1\xff"))
+        .env("SLURM_ARRAY_TASK_COUNT", "3")
+        .current_dir(tmp.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("SLURM_ARRAY_TASK_ID"), "{}", stderr(&o));
+}

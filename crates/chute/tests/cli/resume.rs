@@ -187,3 +187,32 @@ fn force_never_deletes_files_chute_did_not_write() {
     assert_eq!(after["notes.txt"], b"keep");
     assert_eq!(after["frames/mine.vtu"], b"keep");
 }
+
+/// A resumed run writes its files in place: a run file replaced by a link (to a file of the
+/// user's elsewhere) is refused before anything is written, and the linked file is untouched.
+#[test]
+fn resume_refuses_a_run_file_that_is_a_link() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(
+        tmp.path(),
+        "r",
+        &[
+            "--set",
+            "time.duration_s=0.1",
+            "--checkpoint-every",
+            "0.05",
+            "--no-viewer",
+        ],
+    ));
+    let ts = tmp.path().join("r/timeseries.csv");
+    let outside = tmp.path().join("elsewhere.csv");
+    std::fs::rename(&ts, &outside).unwrap();
+    std::os::unix::fs::symlink(&outside, &ts).unwrap();
+    let before = std::fs::read(&outside).unwrap();
+    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
+    refused(&o, &["timeseries.csv", "symbolic link"]);
+    assert!(
+        std::fs::read(&outside).unwrap() == before,
+        "the linked file changed"
+    );
+}

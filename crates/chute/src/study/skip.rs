@@ -1,0 +1,42 @@
+//! Whether a study may skip a case: its directory holds a complete run of exactly the
+//! inputs the study would run now, with a summary to read, and no killed run since.
+
+use std::path::Path;
+
+use super::table::read_json;
+use crate::output::run_files::SUMMARY;
+
+/// Whether a case directory holds a complete run of exactly these inputs, and if it holds a
+/// complete run of others, why it is re-run.
+pub(super) fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static str>) {
+    match read_json(done) {
+        Some(d) if d["status"] == "complete" => match d["inputs"].as_str() {
+            // Its table row comes from the summary: a case without a readable one is run
+            // again rather than skipped into an `unreadable` row.
+            Some(recorded) if recorded == digest => match done.parent() {
+                Some(d) if abandoned(d) => (false, Some("a run of it was killed")),
+                Some(d) if has_summary(d) => (true, None),
+                _ => (false, Some("its summary.json is missing or unreadable")),
+            },
+            Some(_) => (false, Some("inputs changed since the recorded run")),
+            None => (
+                false,
+                Some("its record names no inputs (an older chute wrote it)"),
+            ),
+        },
+        _ => (false, None),
+    }
+}
+
+/// Whether `dir`'s record says a run is going that no process holds (killed).
+fn abandoned(dir: &Path) -> bool {
+    matches!(
+        crate::output::record::DirState::of(dir),
+        Ok(crate::output::record::DirState::Abandoned)
+    )
+}
+
+/// Whether `dir` holds a `summary.json` that parses.
+fn has_summary(dir: &Path) -> bool {
+    read_json(&dir.join(SUMMARY)).is_some()
+}
