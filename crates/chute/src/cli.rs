@@ -387,7 +387,14 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
     // The recorded scenario is the checkpoint's own copy; errors point at the directory's.
     let source = dir.join(crate::output::run_files::RESOLVED_SCENARIO);
     // A checkpoint of another run (copied in) would continue that run over this one's files.
-    let resolved = std::fs::read_to_string(&source).map_err(|e| AppError::io(&source, e))?;
+    let resolved = std::fs::read_to_string(&source).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => AppError::Input(format!(
+            "cannot resume `{}`: it has a checkpoint but no {} (the run's scenario): it is not a whole run directory; start the run again with `chute run`",
+            dir.display(),
+            crate::output::run_files::RESOLVED_SCENARIO
+        )),
+        _ => AppError::io(&source, e),
+    })?;
     if let Some(d) = app::scenario_difference(&resolved, &c.scenario_toml) {
         return Err(AppError::Input(format!(
             "cannot resume `{}`: its checkpoint is not of the run in the directory (`{}` = {} in {}, {} in the checkpoint); start the run again with `chute run`",

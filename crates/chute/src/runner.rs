@@ -222,7 +222,12 @@ pub fn simulate_with(
         }
         let iterations = match run.flight.attempt(&mut stepper, built, cfg) {
             Attempt::Accepted(iterations, sample) => {
-                run.record(built, cfg, out_dir, &sample)?;
+                if let Err(e) = run.record(built, cfg, out_dir, &sample) {
+                    // The rows taken so far are kept where they fit (a frame that did not
+                    // fit on a full disk may leave room for them); whole rows only.
+                    let _ = run.ts.flush();
+                    return Err(e);
+                }
                 if run.flight.landing.is_some() {
                     stop_reason = Some(GROUND.to_string());
                     break;

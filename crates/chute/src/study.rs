@@ -493,6 +493,17 @@ fn run_case(
     if let (Some(why), true, false) = (stale, opts.verbose, opts.force) {
         eprintln!("case {}: {why}; re-running", case.name);
     }
+    if std::fs::symlink_metadata(&dir).is_ok_and(|m| m.file_type().is_symlink()) {
+        // A link would make the case replace whatever run it points to, outside the study.
+        let why = format!(
+            "not run: `{}` is a symbolic link; a study writes its cases in its own directory",
+            dir.display()
+        );
+        if opts.verbose {
+            eprintln!("case {}: {why}", case.name);
+        }
+        return Ok(CaseStatus::Failed(why));
+    }
     let created = crate::app::out_dir::first_missing(&dir);
     std::fs::create_dir_all(&dir).map_err(|e| AppError::io(&dir, e))?;
     // Held from before its marker is removed until after the new one is written: another

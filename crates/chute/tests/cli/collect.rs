@@ -243,3 +243,35 @@ fn a_slurm_variable_that_is_not_utf8_is_refused() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("SLURM_ARRAY_TASK_ID"), "{}", stderr(&o));
 }
+
+/// A case directory that is a link (to a run elsewhere) is not run through: the case is
+/// "not run", and the run the link points to is untouched.
+#[test]
+fn a_study_does_not_write_through_a_linked_case_directory() {
+    let tmp = tempfile::tempdir().unwrap();
+    let elsewhere = tmp.path().join("elsewhere");
+    std::fs::create_dir(&elsewhere).unwrap();
+    std::fs::write(elsewhere.join("keep.txt"), "mine\n").unwrap();
+    std::fs::create_dir(tmp.path().join("s")).unwrap();
+    std::os::unix::fs::symlink(&elsewhere, tmp.path().join("s/200N")).unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            &study,
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    let err = stderr(&o);
+    assert_ne!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("200N") && err.contains("symbolic link"),
+        "{err}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&elsewhere).unwrap().collect();
+    assert_eq!(left.len(), 1, "the linked directory was written to");
+}

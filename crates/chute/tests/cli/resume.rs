@@ -216,3 +216,24 @@ fn resume_refuses_a_run_file_that_is_a_link() {
         "the linked file changed"
     );
 }
+
+/// A directory with a checkpoint but without the run's scenario is not a whole run: resume
+/// refuses it as bad input (status 2) saying what is missing.
+#[test]
+fn resume_without_the_resolved_scenario_is_bad_input() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(
+        tmp.path(),
+        "r",
+        &[
+            "--set",
+            "time.duration_s=0.1",
+            "--checkpoint-every",
+            "0.05",
+            "--no-viewer",
+        ],
+    ));
+    std::fs::remove_file(tmp.path().join("r/scenario.resolved.toml")).unwrap();
+    let o = chute(tmp.path(), &["resume", "r"]);
+    refused(&o, &["scenario.resolved.toml"]);
+}
