@@ -58,6 +58,14 @@ impl Observer {
         }
     }
 
+    /// The canopy's mean height and vertical velocity at `(q, v)` (m, m/s), as a time-series
+    /// row records them (`z_m`, `vz_mps`).
+    pub fn canopy_height(&mut self, b: &Built, q: &[f64], v: &[f64]) -> Option<(f64, f64)> {
+        self.load(q, v);
+        let m = canopy_means(&self.pos, &self.vel, &self.masses, &b.canopy_nodes)?;
+        Some((m.z_m, m.v_mps[2]))
+    }
+
     /// Start the payload's acceleration from state `s` (a fresh or resumed run).
     pub fn start(&mut self, b: &Built, s: &engine::State) {
         self.payload_v = b

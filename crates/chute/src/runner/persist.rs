@@ -123,7 +123,25 @@ pub fn check_resumable(built: &Built, out_dir: &Path, c: &Checkpoint) -> Result<
         }
     }
     let ts_path = out_dir.join("timeseries.csv");
-    checkpoint::timeseries_prefix(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
+    let (rows, _) =
+        checkpoint::timeseries_prefix(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
+    // The time series must end where the checkpoint is: a row of every accepted step, the
+    // last at the checkpoint's time and state (a checkpoint of another run copied in with its
+    // scenario would continue that run over this one's rows).
+    let mut obs = super::observe::Observer::new(built);
+    let here = obs.canopy_height(built, &c.q, &c.v);
+    if let (Some(last), Some((z, vz))) = (rows.last(), here) {
+        if (last.t_s, last.z_m, last.vz_mps) != (c.t, z, vz) {
+            return Err(bad(format!(
+                "`{}` ends at t = {} s, z = {} m, but the checkpoint is at t = {} s, z = {} m: they are not of one run; run the scenario again",
+                ts_path.display(),
+                last.t_s,
+                last.z_m,
+                c.t,
+                z
+            )));
+        }
+    }
     // A resumed run lists the frames the checkpoint counts in `canopy.pvd`: a directory
     // missing one is not the run that was stopped.
     for i in 0..c.frame_times.len() {

@@ -330,6 +330,18 @@ fn a_refused_resume_leaves_the_run_directory_as_it_was() {
     let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(files_of(&tmp.path().join("r")) == before, "files changed");
+    // Its scenario copied in too: the time series does not end at the checkpoint's state.
+    let resolved = "scenario.resolved.toml";
+    std::fs::copy(
+        tmp.path().join("o").join(resolved),
+        tmp.path().join("r").join(resolved),
+    )
+    .unwrap();
+    let before = files_of(&tmp.path().join("r"));
+    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not of one run"), "{}", stderr(&o));
+    assert!(files_of(&tmp.path().join("r")) == before, "files changed");
 }
 
 #[test]
