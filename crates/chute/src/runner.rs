@@ -208,6 +208,13 @@ pub fn simulate_with(
         .checkpoint_every_s
         .map(|s| next_multiple(s, built.state.t));
     run.flight.start_watches(built);
+    if ctl.checkpoint_every_s.is_some() && cfg.duration_s < run.flight.dt.sync_dt - tol {
+        // Checkpoints are written at sync points only (bit-identical resume).
+        run.flight.warnings.push(format!(
+            "no checkpoint was written: the run ends at t = {} s, before its first sync point at t = {} s, where --checkpoint-every writes the first one",
+            cfg.duration_s, run.flight.dt.sync_dt
+        ));
+    }
     // The start (fresh or resumed) is a sync point: the stepper holds no factorisation.
     let mut last_sync = run.checkpoint(built, ctl, &wall, stepper.counters(), true);
     let mut stop_reason = None;

@@ -237,3 +237,24 @@ fn resume_without_the_resolved_scenario_is_bad_input() {
     let o = chute(tmp.path(), &["resume", "r"]);
     refused(&o, &["scenario.resolved.toml"]);
 }
+
+/// A run that ends before its first sync point (64 steps) writes no checkpoint whatever
+/// `--checkpoint-every` asks: its summary says so instead of leaving it to a failed resume.
+#[test]
+fn a_run_too_short_for_a_checkpoint_says_so() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(
+        tmp.path(),
+        "r",
+        &[
+            "--set",
+            "time.duration_s=0.05",
+            "--checkpoint-every",
+            "0.01",
+            "--no-viewer",
+        ],
+    ));
+    let summary = std::fs::read_to_string(tmp.path().join("r/summary.json")).unwrap();
+    assert!(summary.contains("no checkpoint was written"), "{summary}");
+    assert!(!tmp.path().join("r/checkpoint.bin").exists());
+}
