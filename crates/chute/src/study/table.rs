@@ -282,6 +282,11 @@ pub fn gather(
         }
     }
     let list = super::expected::cases(invocation.map(|(st, _)| st), recipes.values());
+    if invocation.is_some() {
+        // The study's own table: its cases only, not other directories beside them (a study
+        // written into a directory that holds other runs).
+        by_name.retain(|name, _| list.cases.iter().any(|(_, c, _)| c == name));
+    }
     for (index, case, set) in list.cases {
         if let Some(row) = by_name.get_mut(&case) {
             row.index = row.index.min(index);

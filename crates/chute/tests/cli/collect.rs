@@ -275,3 +275,45 @@ fn a_study_does_not_write_through_a_linked_case_directory() {
     let left: Vec<_> = std::fs::read_dir(&elsewhere).unwrap().collect();
     assert_eq!(left.len(), 1, "the linked directory was written to");
 }
+
+/// A study written into a directory that also holds other runs tables its own cases only.
+#[test]
+fn a_study_tables_only_its_own_cases() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = repo()
+        .join("scenarios/report-rod-200n.toml")
+        .display()
+        .to_string();
+    let o = chute(
+        tmp.path(),
+        &[
+            "run",
+            &rod,
+            "--quiet",
+            "--no-viewer",
+            "--out",
+            "s/other",
+            "--set",
+            "time.duration_s=0.02",
+            "--set",
+            "canopy.nodes=21",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            &study,
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = std::fs::read_to_string(tmp.path().join("s/study.csv")).unwrap();
+    assert_eq!(table.lines().count(), 4, "{table}");
+    assert!(!table.contains("other"), "{table}");
+}
