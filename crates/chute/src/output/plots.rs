@@ -53,7 +53,18 @@ pub enum PlotError {
 }
 
 fn de<E: std::fmt::Display>(e: E) -> PlotError {
-    PlotError::Draw(e.to_string())
+    let text = e.to_string();
+    // plotters wraps the encoder's I/O error in several layers of Debug text
+    // (`ImageError(IoError(Custom { …, error: "No space left on device (os error 28)" }))`):
+    // the I/O error's own sentence is what a user needs.
+    let sentence = text
+        .split_once("error: \"")
+        .and_then(|(_, rest)| rest.split_once('"'))
+        .map(|(io, _)| io.to_string());
+    match sentence {
+        Some(io) if text.contains("IoError") => PlotError::Io(std::io::Error::other(io)),
+        _ => PlotError::Draw(text),
+    }
 }
 
 /// Register the embedded DejaVu Sans as the `sans-serif` family, once per process; without it
