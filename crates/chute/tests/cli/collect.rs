@@ -16,6 +16,26 @@ fn table1_study_in(out: &str) -> tempfile::TempDir {
     tmp
 }
 
+/// Table I's study again into `s` of `dir` (as [`table1_study_in`] ran it): its stderr, after
+/// checking it succeeded.
+fn table1_study_again(dir: &std::path::Path) -> String {
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let set = ["--set", "time.duration_s=0.02"];
+    let o = chute(dir, &[&["study", &study, "--out", "s"][..], &set].concat());
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    err
+}
+
+/// `chute collect s --out m` in `dir`, which must call the table incomplete (status 3): its
+/// stderr.
+fn incomplete_collect(dir: &std::path::Path) -> String {
+    let o = chute(dir, &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    err
+}
+
 /// Cases of an older chute record no recipe, so their study's full case list is unknown:
 /// `collect` of them, one case deleted, cannot call the table complete (status 3).
 #[test]
@@ -29,9 +49,7 @@ fn collect_of_cases_without_a_recipe_cannot_call_the_table_complete() {
         std::fs::write(&done, j.to_string()).unwrap();
     }
     std::fs::remove_dir_all(tmp.path().join("s/20N")).unwrap();
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
+    let err = incomplete_collect(tmp.path());
     assert!(err.contains("record no recipe"), "{err}");
 }
 
@@ -44,16 +62,12 @@ fn collect_names_an_empty_case_directory_as_such() {
     // give the full case list.
     let case = tmp.path().join("s/200N");
     std::fs::remove_file(case.join("done.json")).unwrap();
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
+    let err = incomplete_collect(tmp.path());
     assert!(err.contains("case `200N` is missing"), "{err}");
     assert!(!err.contains("no recipe"), "{err}");
     std::fs::remove_dir_all(&case).unwrap();
     std::fs::create_dir(&case).unwrap();
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
+    let err = incomplete_collect(tmp.path());
     assert!(err.contains("exists but holds no record of it"), "{err}");
 }
 
@@ -105,9 +119,7 @@ fn collect_flags_a_recorded_case_count_that_disagrees_with_the_study() {
     assert_eq!(j["recipe"]["case_count"], 3, "{j}");
     j["recipe"]["case_count"] = 5.into();
     std::fs::write(&done, j.to_string()).unwrap();
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
+    let err = incomplete_collect(tmp.path());
     assert!(
         err.contains("has 3 case(s) now, but its cases recorded 3 to 5"),
         "{err}"
@@ -133,9 +145,7 @@ fn an_unreadable_record_is_named_and_the_case_list_still_known() {
     let done = tmp.path().join("s/200N/done.json");
     std::fs::remove_file(&done).unwrap();
     std::fs::create_dir(&done).unwrap();
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
+    let err = incomplete_collect(tmp.path());
     assert!(err.contains("200N") && err.contains("done.json"), "{err}");
     assert!(
         !err.contains("unknown") && !err.contains("no recipe"),
@@ -149,14 +159,7 @@ fn an_unreadable_record_is_named_and_the_case_list_still_known() {
 fn a_study_reruns_a_complete_case_without_its_summary() {
     let tmp = table1_study_in("s");
     std::fs::remove_file(tmp.path().join("s/200N/summary.json")).unwrap();
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let set = ["--set", "time.duration_s=0.02"];
-    let o = chute(
-        tmp.path(),
-        &[&["study", &study, "--out", "s"][..], &set].concat(),
-    );
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
+    let err = table1_study_again(tmp.path());
     assert!(
         err.contains("case 200N: its summary.json is missing or unreadable; re-running"),
         "{err}"
@@ -206,18 +209,9 @@ fn a_case_whose_later_run_was_killed_is_not_complete() {
         serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
     j["status"] = "running".into();
     std::fs::write(&record, j.to_string()).unwrap();
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
+    let err = incomplete_collect(tmp.path());
     assert!(err.contains("200N") && err.contains("killed"), "{err}");
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let set = ["--set", "time.duration_s=0.02"];
-    let o = chute(
-        tmp.path(),
-        &[&["study", &study, "--out", "s"][..], &set].concat(),
-    );
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
+    let err = table1_study_again(tmp.path());
     assert!(
         err.contains("case 200N: a run of it was killed; re-running"),
         "{err}"

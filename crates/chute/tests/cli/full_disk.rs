@@ -130,17 +130,11 @@ fn a_picture_that_cannot_be_written_is_named_in_a_warning() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
-    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
-    let args: Vec<String> = rod_run("0.05", "small/r", &["--no-viewer"])
-        .iter()
-        .map(|a| format!("'{a}'"))
-        .collect();
+    let run = quoted_rod_run("small/r");
     let script = format!(
         "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && \
-         head -c 850K /dev/zero > small/filler && {} {} 2> out/err; echo $? > out/code; \
-         cp small/r/summary.json out/ 2>/dev/null; ls small/r > out/files",
-        bin.display(),
-        args.join(" ")
+         head -c 850K /dev/zero > small/filler && {run} 2> out/err; echo $? > out/code; \
+         cp small/r/summary.json out/ 2>/dev/null; ls small/r > out/files"
     );
     let o = in_small_tmpfs(tmp.path(), &script);
     let code = std::fs::read_to_string(tmp.path().join("out/code"))
@@ -178,18 +172,12 @@ fn no_fill_level_leaves_a_record_saying_running() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
-    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
-    let args: Vec<String> = rod_run("0.05", "small/r", &["--no-viewer"])
-        .iter()
-        .map(|a| format!("'{a}'"))
-        .collect();
+    let run = quoted_rod_run("small/r");
     let mut script = String::from("mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small");
     for k in (880..=1024).step_by(8) {
         script.push_str(&format!(
             " && rm -rf small/r small/filler; head -c {k}K /dev/zero > small/filler 2>/dev/null; \
-             {} {} 2>/dev/null; cat small/r/run.json > out/{k}.json 2>/dev/null; true",
-            bin.display(),
-            args.join(" ")
+             {run} 2>/dev/null; cat small/r/run.json > out/{k}.json 2>/dev/null; true"
         ));
     }
     let o = in_small_tmpfs(tmp.path(), &script);
@@ -211,4 +199,14 @@ fn no_fill_level_leaves_a_record_saying_running() {
         "no run got a record at any fill level: {}",
         String::from_utf8_lossy(&o.stderr)
     );
+}
+
+/// The shell command of a 0.05 s coarse-rod run into `out`, without the viewer.
+fn quoted_rod_run(out: &str) -> String {
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
+    let args: Vec<String> = rod_run("0.05", out, &["--no-viewer"])
+        .iter()
+        .map(|a| format!("'{a}'"))
+        .collect();
+    format!("{} {}", bin.display(), args.join(" "))
 }

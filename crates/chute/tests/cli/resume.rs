@@ -31,6 +31,15 @@ fn run(cwd: &Path, out: &str, extra: &[&str]) -> Output {
     chute(cwd, &a)
 }
 
+/// A 0.1 s run with checkpoints every 0.05 s and no viewer.
+const CHECKPOINTED: [&str; 5] = [
+    "--set",
+    "time.duration_s=0.1",
+    "--checkpoint-every",
+    "0.05",
+    "--no-viewer",
+];
+
 fn ok(o: &Output) {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(o));
 }
@@ -193,17 +202,7 @@ fn force_never_deletes_files_chute_did_not_write() {
 #[test]
 fn resume_refuses_a_run_file_that_is_a_link() {
     let tmp = tempfile::tempdir().unwrap();
-    ok(&run(
-        tmp.path(),
-        "r",
-        &[
-            "--set",
-            "time.duration_s=0.1",
-            "--checkpoint-every",
-            "0.05",
-            "--no-viewer",
-        ],
-    ));
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
     let ts = tmp.path().join("r/timeseries.csv");
     let outside = tmp.path().join("elsewhere.csv");
     std::fs::rename(&ts, &outside).unwrap();
@@ -222,17 +221,7 @@ fn resume_refuses_a_run_file_that_is_a_link() {
 #[test]
 fn resume_without_the_resolved_scenario_is_bad_input() {
     let tmp = tempfile::tempdir().unwrap();
-    ok(&run(
-        tmp.path(),
-        "r",
-        &[
-            "--set",
-            "time.duration_s=0.1",
-            "--checkpoint-every",
-            "0.05",
-            "--no-viewer",
-        ],
-    ));
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
     std::fs::remove_file(tmp.path().join("r/scenario.resolved.toml")).unwrap();
     let o = chute(tmp.path(), &["resume", "r"]);
     refused(&o, &["scenario.resolved.toml"]);
