@@ -350,10 +350,11 @@ impl Checkpoint {
     /// Read `dir/checkpoint.bin`.
     pub fn read(dir: &Path) -> Result<Self, CheckpointError> {
         let path = dir.join(FILE_NAME);
-        let bytes = std::fs::read(&path).map_err(|source| CheckpointError::Io {
-            path: path.clone(),
-            source,
-        })?;
+        let bytes =
+            crate::output::atomic::read_own(&path).map_err(|source| CheckpointError::Io {
+                path: path.clone(),
+                source,
+            })?;
         Self::decode(&bytes).map_err(|reason| CheckpointError::Invalid { path, reason })
     }
 
@@ -393,12 +394,11 @@ pub fn truncate_timeseries(path: &Path, rows: u64) -> Result<Vec<Sample>, Checkp
         path: path.to_path_buf(),
         source,
     };
-    let f = std::fs::OpenOptions::new()
-        .write(true)
-        .open(path)
-        .map_err(io_err)?;
-    f.set_len(keep).map_err(io_err)?;
-    f.sync_all().map_err(io_err)?;
+    // A new file renamed over the old one, not the old one cut in place: a directory copied
+    // with hard links (`cp -al`) shares its files with the original, which must not change.
+    let bytes = crate::output::atomic::read_own(path).map_err(io_err)?;
+    let keep = (keep as usize).min(bytes.len());
+    crate::output::atomic::write_atomic(path, &bytes[..keep]).map_err(io_err)?;
     Ok(samples)
 }
 
@@ -413,7 +413,7 @@ pub fn timeseries_prefix(path: &Path, rows: u64) -> Result<(Vec<Sample>, u64), C
         path: path.to_path_buf(),
         source,
     };
-    let file = std::fs::File::open(path).map_err(io_err)?;
+    let file = crate::output::atomic::open_own(path).map_err(io_err)?;
     let mut reader = io::BufReader::new(file);
     let mut line = String::new();
     let mut keep: u64 = 0;

@@ -387,7 +387,7 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
     // The recorded scenario is the checkpoint's own copy; errors point at the directory's.
     let source = dir.join(crate::output::run_files::RESOLVED_SCENARIO);
     // A checkpoint of another run (copied in) would continue that run over this one's files.
-    let resolved = std::fs::read_to_string(&source).map_err(|e| match e.kind() {
+    let resolved = crate::output::atomic::read_own_string(&source).map_err(|e| match e.kind() {
         std::io::ErrorKind::NotFound => AppError::Input(format!(
             "cannot resume `{}`: it has a checkpoint but no {} (the run's scenario): it is not a whole run directory; start the run again with `chute run`",
             dir.display(),

@@ -176,7 +176,7 @@ pub fn unresumable(dir: &Path, e: &crate::checkpoint::CheckpointError) -> AppErr
     let again = format!("chute run {d}/{RESOLVED_SCENARIO} --out {d} --force");
     let missing = matches!(e, CheckpointError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound);
     let complete = matches!(DirState::of(dir), Ok(DirState::Ended(Status::Complete, _)))
-        || std::fs::read_to_string(dir.join(SUMMARY))
+        || crate::output::atomic::read_own_string(&dir.join(SUMMARY))
             .ok()
             .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
             .is_some_and(|j| j["complete"] == true);

@@ -95,7 +95,7 @@ impl LevelResult {
 }
 
 fn read_json(path: &Path) -> Option<serde_json::Value> {
-    serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()
+    serde_json::from_str(&crate::output::atomic::read_own_string(path).ok()?).ok()
 }
 
 /// Read `dir/done.json` and `dir/summary.json`.

@@ -64,10 +64,46 @@ pub fn append_whole(file: &mut fs::File, len: &mut u64, bytes: &[u8]) -> io::Res
     }
 }
 
+/// Open a file chute wrote (a run's record, table, summary, checkpoint) for reading, refusing
+/// anything but a plain file: a FIFO or a device named like one of chute's files would
+/// otherwise make `view`, `collect` or a study wait forever on its first read.
+pub fn open_own(path: &Path) -> io::Result<fs::File> {
+    #[cfg(unix)]
+    let file = {
+        use std::os::unix::fs::OpenOptionsExt;
+        fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(libc::O_NONBLOCK)
+            .open(path)?
+    };
+    #[cfg(not(unix))]
+    let file = fs::File::open(path)?;
+    if !file.metadata()?.is_file() {
+        return Err(io::Error::other(format!(
+            "{} is not a plain file (a FIFO, a device, a directory?): chute only reads its own files there",
+            path.display()
+        )));
+    }
+    Ok(file)
+}
+
+/// The bytes of a file chute wrote ([`open_own`]).
+pub fn read_own(path: &Path) -> io::Result<Vec<u8>> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    open_own(path)?.read_to_end(&mut bytes)?;
+    Ok(bytes)
+}
+
+/// The text of a file chute wrote ([`open_own`]); not UTF-8 is `InvalidData`.
+pub fn read_own_string(path: &Path) -> io::Result<String> {
+    String::from_utf8(read_own(path)?).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))
+}
+
 /// Open `path`, which holds `rows` whole rows written by chute, for [`append_whole`]: with
 /// its length, after cutting off a partial last row a killed writer may have left.
 pub fn open_rows(path: &Path) -> io::Result<(fs::File, u64)> {
-    let text = fs::read(path)?;
+    let text = read_own(path)?;
     let whole = text.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
     let file = fs::OpenOptions::new().append(true).open(path)?;
     if whole < text.len() {

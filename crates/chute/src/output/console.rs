@@ -212,7 +212,7 @@ pub fn print_run_report(
     use std::io::Write;
     let mut stdout = std::io::stdout().lock();
     if json {
-        return stdout.write_all(&std::fs::read(dir.join("summary.json"))?);
+        return stdout.write_all(&super::atomic::read_own(&dir.join("summary.json"))?);
     }
     if quiet {
         return Ok(());

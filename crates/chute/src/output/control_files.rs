@@ -36,9 +36,10 @@ impl Rows {
     fn open(dir: &Path, name: &str, header: &str, t_resume: Option<f64>) -> io::Result<Self> {
         let path = dir.join(name);
         match t_resume {
-            None => std::fs::write(&path, format!("{header}\n"))?,
+            // A new file, never the old one truncated in place: it may be a hard link.
+            None => super::write_atomic(&path, format!("{header}\n").as_bytes())?,
             Some(t) => {
-                let text = std::fs::read_to_string(&path).unwrap_or_default();
+                let text = super::atomic::read_own_string(&path).unwrap_or_default();
                 // Only rows with their newline were written whole.
                 let whole = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
                 let keep: Vec<&str> = whole
@@ -92,7 +93,7 @@ impl ControlFiles {
 
     /// The track so far, read back from `track.csv`: `[x, y]` per row.
     pub fn track(&self) -> io::Result<Vec<[f64; 2]>> {
-        let text = std::fs::read_to_string(&self.track.path)?;
+        let text = super::atomic::read_own_string(&self.track.path)?;
         Ok(text
             .lines()
             .skip(1)

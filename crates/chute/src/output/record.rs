@@ -63,7 +63,7 @@ impl RunRecord {
     /// error naming the file when it cannot be read.
     pub fn read(dir: &Path) -> Result<Option<RunRecord>, String> {
         let path = dir.join(RUN_RECORD);
-        match std::fs::read_to_string(&path) {
+        match super::atomic::read_own_string(&path) {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
             Err(e) => Err(format!("{}: {e}", path.display())),
             Ok(text) => serde_json::from_str(&text)
@@ -135,7 +135,7 @@ fn is_locked(dir: &Path) -> bool {
     if super::lock::RunLock::held_here(dir) {
         return true;
     }
-    let Ok(f) = std::fs::File::open(dir.join(LOCK)) else {
+    let Ok(f) = super::atomic::open_own(&dir.join(LOCK)) else {
         return false;
     };
     match f.try_lock_shared() {

@@ -36,7 +36,7 @@ fn format_err(path: &Path, message: impl Into<String>) -> RunDirError {
 }
 
 fn read(path: &Path) -> Result<String, RunDirError> {
-    std::fs::read_to_string(path).map_err(|source| match source.kind() {
+    super::atomic::read_own_string(path).map_err(|source| match source.kind() {
         // Read, but not text: a file that is not what chute writes (bad input), not an I/O
         // failure.
         std::io::ErrorKind::InvalidData => format_err(path, "not UTF-8 text"),
@@ -214,7 +214,7 @@ pub fn read_series(dir: &Path, max_points: usize) -> Result<Option<Series>, RunD
         return Ok(None);
     }
     let bad = |m: String| format_err(&path, m);
-    let text = std::fs::read(&path).map_err(|source| RunDirError::Io {
+    let text = super::atomic::read_own(&path).map_err(|source| RunDirError::Io {
         path: path.clone(),
         source,
     })?;

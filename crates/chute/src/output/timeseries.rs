@@ -151,9 +151,10 @@ pub struct TimeSeriesWriter {
 }
 
 impl TimeSeriesWriter {
-    /// Create (truncate) `path` and write the header line immediately.
+    /// Create `path` anew (a new file renamed over an old one, which may be a hard link to
+    /// another directory's) and write the header line immediately.
     pub fn create(path: &Path) -> io::Result<Self> {
-        std::fs::write(path, format!("{HEADER}\n"))?;
+        super::write_atomic(path, format!("{HEADER}\n").as_bytes())?;
         Self::append_to(path, 0)
     }
 

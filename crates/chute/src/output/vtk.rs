@@ -99,6 +99,24 @@ pub fn frame_name(i: usize) -> String {
     format!("{FRAMES_DIR}/frame_{i:06}.vtu")
 }
 
+/// The frame files of `out_dir/frames/` numbered `kept` or later: left by a run stopped after
+/// its checkpoint, which a resumed run removes.
+pub fn later_frames(out_dir: &Path, kept: usize) -> io::Result<Vec<PathBuf>> {
+    let mut later = Vec::new();
+    for entry in std::fs::read_dir(out_dir.join(FRAMES_DIR))? {
+        let name = entry?.file_name();
+        let index = name
+            .to_str()
+            .and_then(|n| n.strip_prefix("frame_"))
+            .and_then(|n| n.strip_suffix(".vtu"))
+            .and_then(|n| n.parse::<usize>().ok());
+        if index.is_some_and(|i| i >= kept) {
+            later.push(out_dir.join(FRAMES_DIR).join(name));
+        }
+    }
+    Ok(later)
+}
+
 impl VtkSeries {
     /// Prepare `out_dir/frames/` (created if missing). Nothing else is written yet.
     pub fn new(out_dir: &Path) -> io::Result<Self> {
@@ -122,16 +140,8 @@ impl VtkSeries {
             .enumerate()
             .map(|(i, &t)| (t, frame_name(i)))
             .collect();
-        for entry in std::fs::read_dir(out_dir.join(FRAMES_DIR))? {
-            let name = entry?.file_name();
-            let index = name
-                .to_str()
-                .and_then(|n| n.strip_prefix("frame_"))
-                .and_then(|n| n.strip_suffix(".vtu"))
-                .and_then(|n| n.parse::<usize>().ok());
-            if index.is_some_and(|i| i >= times.len()) {
-                std::fs::remove_file(out_dir.join(FRAMES_DIR).join(name))?;
-            }
+        for path in later_frames(out_dir, times.len())? {
+            std::fs::remove_file(path)?;
         }
         write_atomic(&out_dir.join(PVD_NAME), me.pvd_string().as_bytes())?;
         Ok(me)

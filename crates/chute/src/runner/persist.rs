@@ -25,11 +25,13 @@ impl Run {
         for (f, h) in built.model.forces.iter_mut().zip(&c.histories) {
             f.restore_history(h).map_err(|e| bad(e.to_string()))?;
         }
+        // Frames first: removing those after the checkpoint leaves a directory that is still
+        // the stopped run (its PVD lists what is there) if cutting the time series then fails.
+        let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
         let ts_path = out_dir.join("timeseries.csv");
         let rows =
             checkpoint::truncate_timeseries(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
         let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
-        let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk, Some(c.t))?;
         built.state = engine::State {
             q: c.q.clone(),
@@ -146,12 +148,32 @@ pub fn check_resumable(built: &Built, out_dir: &Path, c: &Checkpoint) -> Result<
     // missing one is not the run that was stopped.
     for i in 0..c.frame_times.len() {
         let f = out_dir.join(crate::output::vtk::frame_name(i));
-        if !f.is_file() {
+        let meta = std::fs::symlink_metadata(&f);
+        if meta.as_ref().is_ok_and(|m| m.file_type().is_symlink()) {
+            return Err(bad(format!(
+                "`{}` is a symbolic link: a run's frames are its own files; run the scenario again",
+                f.display()
+            )));
+        }
+        if !meta.is_ok_and(|m| m.is_file()) {
             return Err(bad(format!(
                 "`{}` of the stopped run is missing: the run directory changed since; run the scenario again",
                 f.display()
             )));
         }
+    }
+    // The frames after the checkpoint are removed: each must be a file (a directory named
+    // like one would stop the resume half-way).
+    let later = crate::output::vtk::later_frames(out_dir, c.frame_times.len())
+        .map_err(super::io_err(out_dir))?;
+    if let Some(d) = later
+        .iter()
+        .find(|p| p.symlink_metadata().is_ok_and(|m| m.is_dir()))
+    {
+        return Err(bad(format!(
+            "`{}` is a directory where the stopped run's later frame was: a resumed run removes that frame and cannot; remove it, or run the scenario again",
+            d.display()
+        )));
     }
     Ok(())
 }

@@ -11,7 +11,7 @@ use crate::output::run_files::{RESOLVED_SCENARIO, SUMMARY};
 use crate::scenario::derived::sig4;
 
 pub(crate) fn read_json(path: &Path) -> Option<serde_json::Value> {
-    serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()
+    serde_json::from_str(&crate::output::atomic::read_own_string(path).ok()?).ok()
 }
 
 /// Write a file atomically ([`crate::output::atomic::write_atomic`]: a temporary file in the
@@ -121,7 +121,7 @@ fn metric_text(v: Option<&serde_json::Value>) -> String {
 /// The JSON of `path`: `Ok(None)` when there is no such file, an error naming it when it
 /// cannot be read or parsed.
 fn read_json_strict(path: &Path) -> Result<Option<serde_json::Value>, String> {
-    match std::fs::read_to_string(path) {
+    match crate::output::atomic::read_own_string(path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
         Err(e) => Err(format!("cannot read `{}`: {e}", path.display())),
         Ok(text) => serde_json::from_str(&text)

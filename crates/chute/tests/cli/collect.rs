@@ -311,3 +311,32 @@ fn a_study_tables_only_its_own_cases() {
     assert_eq!(table.lines().count(), 4, "{table}");
     assert!(!table.contains("other"), "{table}");
 }
+
+/// A FIFO named like one of chute's files (a run's lock, a case's marker) is not one of them:
+/// `collect` and `view` name it and go on or refuse, instead of waiting forever for a writer.
+#[test]
+fn a_fifo_named_like_a_run_file_is_named_not_waited_on() {
+    let tmp = table1_study_in("s");
+    let fifo = |p: &str| {
+        let path = tmp.path().join(p);
+        let _ = std::fs::remove_file(&path);
+        let s = std::process::Command::new("mkfifo")
+            .arg(&path)
+            .status()
+            .unwrap();
+        assert!(s.success());
+    };
+    fifo("s/20N/.chute.lock");
+    fifo("s/200N/done.json");
+    let o = chute_within(tmp.path(), &["collect", "s", "--out", "m"], 60);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("200N/done.json") && err.contains("not a plain file"),
+        "{err}"
+    );
+    let o = chute_within(tmp.path(), &["view", "s/20N"], 60);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains(".chute.lock is not a plain file"), "{err}");
+}

@@ -247,3 +247,63 @@ fn a_run_too_short_for_a_checkpoint_says_so() {
     assert!(summary.contains("no checkpoint was written"), "{summary}");
     assert!(!tmp.path().join("r/checkpoint.bin").exists());
 }
+
+/// A directory copied with hard links (`cp -al`) shares its files with the original: resuming
+/// the copy, or running again into it with `--force`, gives the copy new files and leaves
+/// every byte of the original as it was.
+#[test]
+fn a_hard_linked_copy_is_resumed_and_rerun_without_changing_the_original() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let cp = |to: &str| {
+        let s = std::process::Command::new("cp")
+            .args(["-al", "r", to])
+            .current_dir(tmp.path())
+            .status()
+            .unwrap();
+        assert!(s.success());
+    };
+    cp("linked");
+    cp("linked2");
+    let before = files(&tmp.path().join("r"));
+    ok(&chute(
+        tmp.path(),
+        &["resume", "linked", "-q", "--set", "time.duration_s=0.15"],
+    ));
+    ok(&run(
+        tmp.path(),
+        "linked2",
+        &["--set", "time.duration_s=0.05", "--force", "--no-viewer"],
+    ));
+    assert!(
+        before == files(&tmp.path().join("r")),
+        "the original directory changed"
+    );
+    let resumed = csv_rows(&tmp.path().join("linked/timeseries.csv"));
+    assert!(resumed.len() > csv_rows(&tmp.path().join("r/timeseries.csv")).len());
+}
+
+/// Every check of a resume is made before anything changes: a directory standing where the
+/// stopped run's later frame was (which the resume would have to remove), or a kept frame
+/// replaced by a link, is refused and the directory is left exactly as it was.
+#[test]
+fn resume_refuses_frames_it_could_not_keep_or_remove_before_touching_anything() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let r = tmp.path().join("r");
+    let later = r.join("frames/frame_000099.vtu");
+    std::fs::create_dir(&later).unwrap();
+    std::fs::write(later.join("inside"), "x").unwrap();
+    let before = files(&r);
+    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
+    refused(&o, &["frame_000099.vtu", "is a directory"]);
+    assert!(before == files(&r), "the run was changed");
+    std::fs::remove_dir_all(&later).unwrap();
+
+    let kept = r.join("frames/frame_000000.vtu");
+    let outside = tmp.path().join("frame.vtu");
+    std::fs::rename(&kept, &outside).unwrap();
+    std::os::unix::fs::symlink(&outside, &kept).unwrap();
+    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
+    refused(&o, &["frame_000000.vtu", "symbolic link"]);
+}

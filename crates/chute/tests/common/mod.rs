@@ -37,6 +37,19 @@ pub fn chute(cwd: &Path, args: &[&str]) -> Output {
         .expect("binary runs")
 }
 
+/// [`chute`], failing the test instead of hanging when it has not ended within `secs` (a
+/// command that would wait forever, on a FIFO say, must not stall the suite).
+pub fn chute_within(cwd: &Path, args: &[&str], secs: u64) -> Output {
+    let mut c = chute_command();
+    c.args(args).current_dir(cwd);
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(c.output().expect("binary runs"));
+    });
+    rx.recv_timeout(std::time::Duration::from_secs(secs))
+        .unwrap_or_else(|_| panic!("`chute {}` still runs after {secs} s", args.join(" ")))
+}
+
 /// The process's stderr as text.
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
