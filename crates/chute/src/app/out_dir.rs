@@ -90,7 +90,7 @@ pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<Prepared, App
 
 /// Create `dir` (and its parents) for a command's outputs (`run`, `study`, `converge`,
 /// `collect --out`, `validate --out`): a path that is, or lies under, a file, or that cannot be
-/// created, is bad input (exit 2) saying so.
+/// created or written in (read-only), is bad input (exit 2) saying so, before any work starts.
 pub fn ensure_dir(dir: &Path) -> Result<(), AppError> {
     refuse_non_directory(dir)?;
     std::fs::create_dir_all(dir).map_err(|e| {
@@ -98,7 +98,26 @@ pub fn ensure_dir(dir: &Path) -> Result<(), AppError> {
             "cannot create output directory `{}`: {e}",
             dir.display()
         ))
+    })?;
+    // A file created and removed at once: the only sure test that the directory takes files
+    // (permissions, a read-only mount, ACLs).
+    let probe = dir.join(format!(".chute-probe.{}", std::process::id()));
+    crate::output::atomic::signals_held(|| {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .open(&probe)
+            .map(|_| {
+                let _ = std::fs::remove_file(&probe);
+            })
     })
+        .map_err(|e| {
+            AppError::Input(format!(
+                "output directory `{}` is not writable: {e}",
+                dir.display()
+            ))
+        })
 }
 
 /// `dir`, or the first of its ancestors that exists, must be a directory: `--out file` or

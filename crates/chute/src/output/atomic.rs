@@ -10,6 +10,38 @@ use std::path::Path;
 /// file system), which is fsynced before being renamed over `path`; the directory is then
 /// fsynced so the rename itself survives a power loss. On error the temporary file is removed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    signals_held(|| write_atomic_now(path, bytes))
+}
+
+/// The stop signals a user sends (Ctrl-C, SIGTERM, SIGHUP).
+#[cfg(unix)]
+const STOP_SIGNALS: [libc::c_int; 3] = [libc::SIGINT, libc::SIGTERM, libc::SIGHUP];
+
+/// Run `f` with the stop signals held back on this thread, then let them through: a command
+/// without a handler (`collect`, `view`) that is stopped while it writes a file ends after
+/// the rename instead of leaving the temporary behind. Writes are short, so a stop is late
+/// by milliseconds at most.
+pub fn signals_held<T>(f: impl FnOnce() -> T) -> T {
+    #[cfg(unix)]
+    // SAFETY: sigset_t is plain data initialised by sigemptyset; pthread_sigmask changes only
+    // this thread's mask, and the old mask is restored below.
+    unsafe {
+        let mut set: libc::sigset_t = std::mem::zeroed();
+        libc::sigemptyset(&mut set);
+        for s in STOP_SIGNALS {
+            libc::sigaddset(&mut set, s);
+        }
+        let mut old: libc::sigset_t = std::mem::zeroed();
+        libc::pthread_sigmask(libc::SIG_BLOCK, &set, &mut old);
+        let r = f();
+        libc::pthread_sigmask(libc::SIG_SETMASK, &old, std::ptr::null_mut());
+        r
+    }
+    #[cfg(not(unix))]
+    f()
+}
+
+fn write_atomic_now(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -110,4 +142,27 @@ pub fn open_rows(path: &Path) -> io::Result<(fs::File, u64)> {
         file.set_len(whole as u64)?;
     }
     Ok((file, whole as u64))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The mask of this thread has `sig` blocked.
+    fn blocked(sig: libc::c_int) -> bool {
+        // SAFETY: reading this thread's mask into a zeroed sigset_t.
+        unsafe {
+            let mut cur: libc::sigset_t = std::mem::zeroed();
+            libc::pthread_sigmask(libc::SIG_BLOCK, std::ptr::null(), &mut cur);
+            libc::sigismember(&cur, sig) == 1
+        }
+    }
+
+    #[test]
+    fn stop_signals_are_held_while_a_file_is_written_and_only_then() {
+        assert!(STOP_SIGNALS.iter().all(|&s| !blocked(s)));
+        let during = signals_held(|| STOP_SIGNALS.map(blocked));
+        assert_eq!(during, [true; 3]);
+        assert!(STOP_SIGNALS.iter().all(|&s| !blocked(s)));
+    }
 }

@@ -4,8 +4,9 @@
 //! §`chute collect`).
 //!
 //! Every `done.json` records its recipe: the study file, the base scenario, the study-wide
-//! and the case's overrides, and the number of cases of the study. A study made in code
-//! (`chute converge`, which has no file) records its case names too.
+//! and the case's overrides, and the number and names of the cases of the study. The names
+//! give the list when the study file cannot be read back (moved, deleted, a path that is not
+//! UTF-8) or when there is none (`chute converge` makes its study in code).
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -14,21 +15,18 @@ use super::{Case, Study};
 
 /// A recipe of `case` of `study` run under the study-wide `set`, for its `done.json`.
 pub(super) fn recipe(study: &Study, set: &[String], case: &Case) -> serde_json::Value {
-    // Paths as text (a path that is not UTF-8 is recorded lossily: its case list then reads
-    // as unknown, where the exact path would have failed to serialise).
+    // Paths as text (a path that is not UTF-8 is recorded lossily; the case names still
+    // give the list).
     let text = |p: &std::path::Path| p.to_string_lossy().into_owned();
-    let mut r = serde_json::json!({
+    let names: Vec<&str> = study.cases.iter().map(|c| c.name.as_str()).collect();
+    serde_json::json!({
         "study_file": study.file.as_deref().map(text),
         "base": text(&study.base),
         "set": set,
         "case_set": case.set,
         "case_count": study.cases.len(),
-    });
-    if study.file.is_none() {
-        let names: Vec<&str> = study.cases.iter().map(|c| c.name.as_str()).collect();
-        r["case_names"] = names.into();
-    }
-    r
+        "case_names": names,
+    })
 }
 
 /// The cases a table must have, as (index, name, the case's own overrides), and the studies
@@ -50,22 +48,25 @@ pub(super) fn cases<'a>(
         list.cases = entries(st);
         return list;
     }
-    // Per study file, the smallest and the largest case count its cases recorded.
-    let mut files: BTreeMap<PathBuf, (usize, usize)> = BTreeMap::new();
+    // Per study file, the smallest and the largest case count its cases recorded, and the
+    // case names one of them recorded.
+    let mut files: BTreeMap<PathBuf, (usize, usize, Option<Vec<String>>)> = BTreeMap::new();
     let mut named: BTreeMap<Vec<String>, ()> = BTreeMap::new();
     let mut without = 0;
     for r in recipes {
         let count = r["case_count"].as_u64().map_or(0, |n| n as usize);
-        match (r["study_file"].as_str(), r["case_names"].as_array()) {
-            (Some(f), _) => {
-                let n = files.entry(PathBuf::from(f)).or_insert((count, count));
-                *n = (n.0.min(count), n.1.max(count));
+        let names = r["case_names"].as_array().map(|names| {
+            names
+                .iter()
+                .filter_map(|n| Some(n.as_str()?.to_string()))
+                .collect::<Vec<String>>()
+        });
+        match (r["study_file"].as_str(), names) {
+            (Some(f), names) => {
+                let n = files.entry(PathBuf::from(f)).or_insert((count, count, None));
+                *n = (n.0.min(count), n.1.max(count), n.2.take().or(names));
             }
             (None, Some(names)) => {
-                let names: Vec<String> = names
-                    .iter()
-                    .filter_map(|n| Some(n.as_str()?.to_string()))
-                    .collect();
                 if names.len() != count {
                     list.unknown.push(format!(
                         "a case records {} case name(s) but a case count of {count}: its `done.json` was edited, so the study's full case list is uncertain",
@@ -84,7 +85,7 @@ pub(super) fn cases<'a>(
             "{without} case(s) record no recipe (a `done.json` of an older chute, or none readable): the full case list of their study is unknown, and the table shows only the cases found"
         ));
     }
-    for (file, (least, count)) in files {
+    for (file, (least, count, names)) in files {
         match Study::load(&file) {
             Ok(st) => {
                 if (least, count) != (st.cases.len(), st.cases.len()) {
@@ -99,6 +100,11 @@ pub(super) fn cases<'a>(
                     ));
                 }
                 list.cases.extend(entries(&st));
+            }
+            // The study file is gone (or its recorded path is not the real one): the names
+            // its cases recorded are the list, when they agree with the recorded count.
+            Err(_) if least == count && names.as_ref().is_some_and(|n| n.len() == count) => {
+                named.insert(names.unwrap_or_default(), ());
             }
             Err(e) => list.unknown.push(format!(
                 "the full case list of study file `{}` is unknown ({e}): it has {count} case(s), and the table shows only those found",

@@ -170,7 +170,8 @@ fn a_study_reruns_a_complete_case_without_its_summary() {
 }
 
 /// A study file whose path is not UTF-8 runs its cases and writes its table (its recorded
-/// path is lossy text), instead of panicking when each case records its recipe.
+/// path is lossy text), instead of panicking when each case records its recipe; `collect`
+/// then knows the table is whole from the case names the cases recorded.
 #[test]
 fn a_study_file_at_a_path_that_is_not_utf8_runs() {
     use std::os::unix::ffi::OsStrExt;
@@ -196,6 +197,9 @@ fn a_study_file_at_a_path_that_is_not_utf8_runs() {
     assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(!err.contains("panicked"), "{err}");
     assert!(tmp.path().join("s/study.csv").is_file());
+    // Its cases record their names: the table gathered again knows it is whole.
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
 /// A case whose later run was killed (its `run.json` says `running` and no process holds

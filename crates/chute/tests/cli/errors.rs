@@ -457,3 +457,32 @@ fn every_out_naming_a_file_is_bad_input_saying_not_a_directory() {
         assert!(!stderr(&o).contains("os error"), "{args:?}: {}", stderr(&o));
     }
 }
+
+/// An existing output directory that takes no files (read-only) is bad input named before any
+/// case runs, for a study as for a run: exit 2 and the operating system's reason.
+#[test]
+fn an_output_directory_that_takes_no_files_is_refused_before_any_work() {
+    let tmp = tempfile::tempdir().unwrap();
+    // Root writes through permissions; the kernel's own directories refuse it too.
+    let locked = if unsafe { libc::geteuid() } == 0 {
+        std::path::PathBuf::from("/sys/kernel")
+    } else {
+        let d = tmp.path().join("ro");
+        std::fs::create_dir(&d).unwrap();
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&d, std::fs::Permissions::from_mode(0o555)).unwrap();
+        d
+    };
+    assert!(locked.is_dir(), "{} is no directory", locked.display());
+    let out = locked.to_str().unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let rod = repo().join("scenarios/report-rod-20n.toml").display().to_string();
+    for args in [
+        ["study", &study, "--out", out],
+        ["run", &rod, "--out", out],
+    ] {
+        let o = chute(tmp.path(), &args);
+        assert_error(&o, 2, &["is not writable"]);
+        assert!(!stderr(&o).contains("case "), "{}", stderr(&o));
+    }
+}
