@@ -354,6 +354,9 @@ impl Run {
         let obs = &mut self.flight.obs;
         obs.load(&s.q, &s.v);
         if due.frame {
+            // The rows first: a frame that does not fit (a full disk) then fails after the
+            // time series up to it is on disk, not with the rows still in memory.
+            self.ts.flush().map_err(io_err(&self.ts_path))?;
             if let Some(c) = &mut self.control {
                 c.push(b, out_dir)?;
             }

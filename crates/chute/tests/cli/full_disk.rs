@@ -130,7 +130,7 @@ fn a_picture_that_cannot_be_written_is_named_in_a_warning() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
-    let run = quoted_rod_run("small/r");
+    let run = quoted_rod_run("small/r", "0.05", &[]);
     let script = format!(
         "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && \
          head -c 850K /dev/zero > small/filler && {run} 2> out/err; echo $? > out/code; \
@@ -165,19 +165,26 @@ fn a_picture_that_cannot_be_written_is_named_in_a_warning() {
 
 /// Whatever the disk can still take, a run that ended never leaves a record saying
 /// `running`: at every fill level from 880 KiB to 1 MiB of a 1 MiB tmpfs, the run either
-/// is refused before it starts (no record) or records how it ended.
+/// is refused before it starts (no record) or records how it ended; and its time series
+/// reaches as far as the last frame it wrote.
 #[test]
 fn no_fill_level_leaves_a_record_saying_running() {
     if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
-    let run = quoted_rod_run("small/r");
+    // A frame every 0.01 s: the disk fills between frames as often as at the end.
+    let run = quoted_rod_run(
+        "small/r",
+        "0.2",
+        &["--set", "output.frame_interval_s=0.01"],
+    );
     let mut script = String::from("mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small");
     for k in (880..=1024).step_by(8) {
         script.push_str(&format!(
             " && rm -rf small/r small/filler; head -c {k}K /dev/zero > small/filler 2>/dev/null; \
-             {run} 2>/dev/null; cat small/r/run.json > out/{k}.json 2>/dev/null; true"
+             {run} 2>/dev/null; cat small/r/run.json > out/{k}.json 2>/dev/null; \
+             cp small/r/timeseries.csv out/{k}.csv 2>/dev/null; cp small/r/canopy.pvd out/{k}.pvd 2>/dev/null; true"
         ));
     }
     let o = in_small_tmpfs(tmp.path(), &script);
@@ -193,6 +200,21 @@ fn no_fill_level_leaves_a_record_saying_running() {
         let record: serde_json::Value = serde_json::from_str(&text)
             .unwrap_or_else(|e| panic!("{k} KiB filler: run.json unreadable ({e}): {text}"));
         assert_ne!(record["status"], "running", "{k} KiB filler: {record}");
+        // The rows reach the disk before each frame: every frame the collection lists has
+        // the time series up to its time beside it.
+        let last_frame = std::fs::read_to_string(tmp.path().join(format!("out/{k}.pvd")))
+            .unwrap_or_default()
+            .split("timestep=\"")
+            .skip(1)
+            .filter_map(|t| t.split('"').next()?.parse::<f64>().ok())
+            .fold(f64::NEG_INFINITY, f64::max);
+        let csv = tmp.path().join(format!("out/{k}.csv"));
+        let rows = if csv.is_file() { csv_rows(&csv) } else { Vec::new() };
+        let last_row = rows.last().map_or(f64::NEG_INFINITY, |r| r[0]);
+        assert!(
+            last_row >= last_frame || last_frame == 0.0,
+            "{k} KiB filler: the time series ends at {last_row} s, its last frame is at {last_frame} s"
+        );
     }
     assert!(
         seen > 0,
@@ -201,10 +223,12 @@ fn no_fill_level_leaves_a_record_saying_running() {
     );
 }
 
-/// The shell command of a 0.05 s coarse-rod run into `out`, without the viewer.
-fn quoted_rod_run(out: &str) -> String {
+/// The shell command of a coarse-rod run of `duration` s into `out`, without the viewer,
+/// with `extra` arguments.
+fn quoted_rod_run(out: &str, duration: &str, extra: &[&str]) -> String {
     let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
-    let args: Vec<String> = rod_run("0.05", out, &["--no-viewer"])
+    let extra = [&["--no-viewer"][..], extra].concat();
+    let args: Vec<String> = rod_run(duration, out, &extra)
         .iter()
         .map(|a| format!("'{a}'"))
         .collect();
