@@ -71,7 +71,7 @@ pub struct RunArgs {
     #[arg(long, short)]
     pub quiet: bool,
     /// Write a checkpoint every S simulated seconds.
-    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub checkpoint_every: Option<f64>,
     /// Retired: use `chute resume DIR` (kept so the old form gets a message saying so).
     #[arg(long, value_name = "DIR", hide = true)]
@@ -96,7 +96,7 @@ pub struct ResumeArgs {
     #[arg(long, short)]
     pub quiet: bool,
     /// Write a checkpoint every S simulated seconds [default: as the run did].
-    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub checkpoint_every: Option<f64>,
     /// Do not write viewer.html.
     #[arg(long)]
@@ -453,9 +453,14 @@ fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
         .and_then(|s| s.unfinished());
     // `view` writes into the directory: it waits its turn like any writer.
     let _lock = crate::output::lock::RunLock::acquire(&a.run_dir)?;
+    // A directory that cannot be shown says why its run did not finish, when it knows.
+    let because = |e: String| match &unfinished {
+        Some(why) => format!("{e} (its run did not finish: {why})"),
+        None => e,
+    };
     let r = crate::output::viewer::write_viewer(&a.run_dir).map_err(|e| match e {
         RunDirError::Io { path, source } => AppError::Io { path, source },
-        e @ RunDirError::Format { .. } => AppError::Input(e.to_string()),
+        e @ RunDirError::Format { .. } => AppError::Input(because(e.to_string())),
     })?;
     println!(
         "wrote {} ({} bytes: {} of {} frames, {} triangles)",

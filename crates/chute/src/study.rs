@@ -423,7 +423,7 @@ pub fn run_study_with(
             Ok((s, digest))
         })
         .collect::<Result<Vec<_>, AppError>>()?;
-    table::refuse_run_dir(&opts.out_dir)?;
+    table::refuse_run_dir_out(&opts.out_dir)?;
     app::ensure_dir(&opts.out_dir)?;
     let jobs = opts
         .jobs
@@ -493,6 +493,14 @@ fn run_case(
     if let (Some(why), true, false) = (stale, opts.verbose, opts.force) {
         eprintln!("case {}: {why}; re-running", case.name);
     }
+    if opts.verbose && !done.exists() && crate::output::run_files::is_run_dir(&dir) {
+        // Not silently: the run there may be one the user put there, not a case of this study.
+        eprintln!(
+            "case {}: `{}` holds a run this study did not record (no {DONE_FILE}); replacing it",
+            case.name,
+            dir.display()
+        );
+    }
     if std::fs::symlink_metadata(&dir).is_ok_and(|m| m.file_type().is_symlink()) {
         // A link would make the case replace whatever run it points to, outside the study.
         let why = format!(
@@ -560,6 +568,7 @@ fn run_case(
         "message": message,
         "wall_time_s": started.elapsed().as_secs_f64(),
         "inputs": digest,
+        "summary_digest": summary_digest(&dir),
         "recipe": expected::recipe(study, &opts.set, case),
     });
     write_atomic(&done, format!("{marker:#}\n").as_bytes())?;
@@ -571,6 +580,14 @@ fn run_case(
         );
     }
     Ok(status)
+}
+
+/// The digest of the `summary.json` a case's run wrote, so that one replaced later (another
+/// case's copied in) is not read as this case's; null when there is none.
+pub(crate) fn summary_digest(case_dir: &Path) -> Option<String> {
+    let bytes =
+        crate::output::atomic::read_own(&case_dir.join(crate::output::run_files::SUMMARY)).ok()?;
+    Some(inputs::bytes_digest(&bytes))
 }
 
 pub(crate) fn split_override(s: &str) -> Option<[String; 2]> {

@@ -112,12 +112,12 @@ pub fn ensure_dir(dir: &Path) -> Result<(), AppError> {
                 let _ = std::fs::remove_file(&probe);
             })
     })
-        .map_err(|e| {
-            AppError::Input(format!(
-                "output directory `{}` is not writable: {e}",
-                dir.display()
-            ))
-        })
+    .map_err(|e| {
+        AppError::Input(format!(
+            "output directory `{}` is not writable: {e}",
+            dir.display()
+        ))
+    })
 }
 
 /// `dir`, or the first of its ancestors that exists, must be a directory: `--out file` or

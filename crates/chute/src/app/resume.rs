@@ -173,6 +173,20 @@ pub fn unresumable(dir: &Path, e: &crate::checkpoint::CheckpointError) -> AppErr
             "cannot resume `{d}`: it is not a chute run directory (it has no {RESOLVED_SCENARIO}); give the directory `chute run` wrote"
         ));
     }
+    if !dir.join(RESOLVED_SCENARIO).is_file() {
+        // Only its record: the run ended (a full disk) before it wrote its scenario.
+        // From the record alone: this process holds the lock now.
+        let how = match crate::output::record::RunRecord::read(dir) {
+            Ok(Some(r)) if r.status != Status::Running => DirState::Ended(r.status, r.reason),
+            _ => DirState::Abandoned,
+        };
+        let how = how
+            .unfinished()
+            .unwrap_or_else(|| "it ended before writing it".into());
+        return AppError::Input(format!(
+            "cannot resume `{d}`: it has no {RESOLVED_SCENARIO} (the run's scenario) to continue: {how}; run your scenario file again: `chute run SCENARIO --out {d} --force`"
+        ));
+    }
     let again = format!("chute run {d}/{RESOLVED_SCENARIO} --out {d} --force");
     let missing = matches!(e, CheckpointError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound);
     let complete = matches!(DirState::of(dir), Ok(DirState::Ended(Status::Complete, _)))

@@ -142,7 +142,11 @@ impl Drop for RunLock {
 /// Free the reserve of a directory this process holds, so that the files written after an
 /// I/O failure (the run's record, a study case's marker) find room.
 pub fn free_reserve(dir: &Path) {
-    let _ = std::fs::remove_file(dir.join(RESERVE));
+    // Only chute's own file: a link or anything else of that name is the user's.
+    let path = dir.join(RESERVE);
+    if std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_file()) {
+        let _ = std::fs::remove_file(path);
+    }
 }
 
 /// Open and lock `dir/.chute.lock`, retrying while the path is replaced under us.
@@ -157,6 +161,7 @@ fn lock_file(dir: &Path) -> Result<File, LockError> {
             .truncate(false)
             .open(&path)
             .map_err(|e| not_followed(&path, e))
+            .map_err(|e| named(&path, e))
             .map_err(unwritable)?;
         if !file.metadata().map_err(unwritable)?.is_file() {
             return Err(unwritable(io::Error::other(format!(
@@ -280,6 +285,15 @@ fn not_followed(path: &Path, e: io::Error) -> io::Error {
         ))
     } else {
         e
+    }
+}
+
+/// `e` with the path it concerns, unless it already says it (a directory named `.chute.lock`
+/// fails with the bare "Is a directory").
+fn named(path: &Path, e: io::Error) -> io::Error {
+    match e.raw_os_error() {
+        Some(_) => io::Error::new(e.kind(), format!("{}: {e}", path.display())),
+        None => e,
     }
 }
 

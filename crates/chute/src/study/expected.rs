@@ -63,7 +63,9 @@ pub(super) fn cases<'a>(
         });
         match (r["study_file"].as_str(), names) {
             (Some(f), names) => {
-                let n = files.entry(PathBuf::from(f)).or_insert((count, count, None));
+                let n = files
+                    .entry(PathBuf::from(f))
+                    .or_insert((count, count, None));
                 *n = (n.0.min(count), n.1.max(count), n.2.take().or(names));
             }
             (None, Some(names)) => {

@@ -75,9 +75,14 @@ pub fn digest(s: &Scenario) -> Result<String, AppError> {
 
 /// The digest of one file's bytes, as `fnv1a64:<16 hex digits>`.
 pub fn file_digest(path: &std::path::Path) -> std::io::Result<String> {
+    Ok(bytes_digest(&std::fs::read(path)?))
+}
+
+/// The digest of `bytes`, as `fnv1a64:<16 hex digits>`.
+pub fn bytes_digest(bytes: &[u8]) -> String {
     let mut h = Fnv1a64::new();
-    h.bytes(&std::fs::read(path)?);
-    Ok(format!("{ALGORITHM}:{:016x}", h.0))
+    h.bytes(bytes);
+    format!("{ALGORITHM}:{:016x}", h.0)
 }
 
 /// How a finished case's recorded inputs compare with what its study would run now.

@@ -34,6 +34,8 @@ pub fn mark_resumed(
         // Not the study's case any more: never current, so a study re-runs it.
         marker["inputs"] = format!("extended by chute resume to time.duration_s = {d}").into();
     }
+    // The resumed run wrote its own summary.
+    marker["summary_digest"] = super::summary_digest(dir).into();
     let wall = marker["wall_time_s"].as_f64().unwrap_or(0.0) + wall_s;
     marker["wall_time_s"] = wall.into();
     write_atomic(&done, format!("{marker:#}\n").as_bytes())

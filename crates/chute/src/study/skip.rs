@@ -15,8 +15,14 @@ pub(super) fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static 
             // again rather than skipped into an `unreadable` row.
             Some(recorded) if recorded == digest => match done.parent() {
                 Some(d) if abandoned(d) => (false, Some("a run of it was killed")),
-                Some(d) if has_summary(d) => (true, None),
-                _ => (false, Some("its summary.json is missing or unreadable")),
+                Some(dir) if !has_summary(dir) => {
+                    (false, Some("its summary.json is missing or unreadable"))
+                }
+                Some(dir) if super::table::summary_replaced(dir, &d).is_some() => {
+                    (false, Some("its summary.json is not the one its run wrote"))
+                }
+                Some(_) => (true, None),
+                None => (false, Some("its summary.json is missing or unreadable")),
             },
             Some(_) => (false, Some("inputs changed since the recorded run")),
             None => (

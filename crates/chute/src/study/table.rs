@@ -51,6 +51,9 @@ pub enum CaseState {
     Failed(String),
     /// A process is running it now.
     Running,
+    /// A run of it was killed (its `run.json` says running and no process holds it); what
+    /// the directory shows.
+    Abandoned(String),
     /// Its directory has no finished run: not run yet (or by a shard whose directory was not
     /// given), or its process was killed; what the directory shows.
     Missing(String),
@@ -66,6 +69,7 @@ impl CaseState {
             CaseState::Incomplete(_) => "incomplete",
             CaseState::Failed(_) => "failed",
             CaseState::Running => "running",
+            CaseState::Abandoned(_) => "abandoned",
             CaseState::Missing(_) => "missing",
             CaseState::Unreadable(_) => "unreadable",
         }
@@ -78,6 +82,7 @@ impl CaseState {
             CaseState::Incomplete(_) => "stopped early",
             CaseState::Failed(_) => "failed",
             CaseState::Running => "is still running",
+            CaseState::Abandoned(_) => "was abandoned",
             CaseState::Missing(_) => "is missing",
             CaseState::Unreadable(_) => "cannot be read",
         }
@@ -90,6 +95,7 @@ impl CaseState {
             CaseState::Running => Some("a process is running it now".into()),
             CaseState::Incomplete(m)
             | CaseState::Failed(m)
+            | CaseState::Abandoned(m)
             | CaseState::Missing(m)
             | CaseState::Unreadable(m) => Some(m.clone()),
         }
@@ -139,6 +145,11 @@ fn unfinished_row(case_dir: &Path, done: Result<Option<serde_json::Value>, Strin
         Err(why) => CaseState::Unreadable(why),
         Ok(_) => match DirState::of(case_dir) {
             Ok(DirState::Running) => CaseState::Running,
+            Ok(s @ DirState::Abandoned) => CaseState::Abandoned(format!(
+                "`{}` has no {DONE_FILE}: {}",
+                case_dir.display(),
+                s.unfinished().unwrap_or_default()
+            )),
             Ok(DirState::Unrecorded) if !crate::output::run_files::is_run_dir(case_dir) => {
                 return None
             }
@@ -159,6 +170,21 @@ fn unfinished_row(case_dir: &Path, done: Result<Option<serde_json::Value>, Strin
         complete: false,
         state,
         inputs: InputsState::Unknown("its run was not recorded as finished".into()),
+    })
+}
+
+/// Why `case_dir`'s `summary.json` is not the one its run wrote, as the digest `done`
+/// records shows (`None`: it is, or the record is of an older chute without the digest).
+pub(super) fn summary_replaced(case_dir: &Path, done: &serde_json::Value) -> Option<String> {
+    let recorded = done["summary_digest"].as_str()?;
+    let path = case_dir.join(SUMMARY);
+    // One that cannot be read is reported as such elsewhere.
+    let now = super::inputs::bytes_digest(&crate::output::atomic::read_own(&path).ok()?);
+    (now != recorded).then(|| {
+        format!(
+            "`{}` is not the summary its run wrote (replaced or edited since): run the study again",
+            path.display()
+        )
     })
 }
 
@@ -224,10 +250,13 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde
     let state = match crate::output::record::DirState::of(case_dir) {
         // A run of the case (a `chute resume`) was killed after its record: whatever
         // `done.json` says, the directory now mixes that run's files with the record's.
-        Ok(crate::output::record::DirState::Abandoned) => CaseState::Missing(
+        Ok(crate::output::record::DirState::Abandoned) => CaseState::Abandoned(
             "a run of it was killed (run.json says running; no process holds it): run the study again".into(),
         ),
-        _ => recorded_state(&done, &summary),
+        _ => match summary_replaced(case_dir, &done) {
+            Some(why) => CaseState::Unreadable(why),
+            None => recorded_state(&done, &summary),
+        },
     };
     let row = Row {
         index: done["index"].as_u64().map_or(usize::MAX, |i| i as usize),
@@ -378,9 +407,30 @@ pub(crate) fn refuse_run_dir(dir: &Path) -> Result<(), AppError> {
     }
 }
 
-/// Write `study.csv` and `study.md` into `out` (refused when `out` is a run directory).
-pub fn write_table(table: &Table, out: &Path) -> Result<(), AppError> {
+/// [`refuse_run_dir`] for a directory a command writes a study into: also refused when it
+/// lies inside a run directory (`collect --out RUN/frames` would put a table among a run's
+/// files, which `--force` and `resume` treat as the run's).
+pub(crate) fn refuse_run_dir_out(out: &Path) -> Result<(), AppError> {
     refuse_run_dir(out)?;
+    let abs = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
+    match abs
+        .ancestors()
+        .skip(1)
+        .find(|a| a.join(RESOLVED_SCENARIO).is_file())
+    {
+        Some(run) => Err(AppError::Input(format!(
+            "`{}` lies inside the run directory `{}`: a study's tables and cases go in a directory of their own",
+            out.display(),
+            run.display()
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Write `study.csv` and `study.md` into `out` (refused when `out` is, or lies inside, a run
+/// directory).
+pub fn write_table(table: &Table, out: &Path) -> Result<(), AppError> {
+    refuse_run_dir_out(out)?;
     crate::app::ensure_dir(out)?;
     write_atomic(&out.join("study.csv"), table.to_csv()?.as_bytes())?;
     write_atomic(&out.join("study.md"), table.to_markdown().as_bytes())

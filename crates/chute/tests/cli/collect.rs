@@ -215,6 +215,10 @@ fn a_case_whose_later_run_was_killed_is_not_complete() {
     std::fs::write(&record, j.to_string()).unwrap();
     let err = incomplete_collect(tmp.path());
     assert!(err.contains("200N") && err.contains("killed"), "{err}");
+    // Its status says what happened, not `missing` (which means no directory at all).
+    let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
+    let row = table.lines().find(|l| l.starts_with("200N,")).unwrap();
+    assert!(row.contains(",abandoned,"), "{row}");
     let err = table1_study_again(tmp.path());
     assert!(
         err.contains("case 200N: a run of it was killed; re-running"),
@@ -343,4 +347,61 @@ fn a_fifo_named_like_a_run_file_is_named_not_waited_on() {
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains(".chute.lock is not a plain file"), "{err}");
+}
+
+/// A study's tables never go among a run's files: `collect --out` and `study --out` inside a
+/// run directory (a case of the study, or its `frames`) are refused, status 2, writing nothing.
+#[test]
+fn tables_are_never_written_inside_a_run_directory() {
+    let tmp = table1_study_in("s");
+    let study = repo().join("studies/table1.toml").display().to_string();
+    for args in [
+        &["collect", "s", "--out", "s/20N/frames"][..],
+        &["study", &study, "--out", "s/20N/inner"],
+    ] {
+        let o = chute(tmp.path(), args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("lies inside the run directory"), "{err}");
+    }
+    assert!(!tmp.path().join("s/20N/frames/study.csv").exists());
+    assert!(!tmp.path().join("s/20N/inner").exists());
+}
+
+/// A case's `summary.json` replaced by another case's (or edited) is not read as its result:
+/// each `done.json` records the digest of the summary its run wrote, so `collect` flags the
+/// case (status 3) and a study runs it again, after which the table is whole.
+#[test]
+fn a_summary_swapped_between_cases_is_not_taken_as_the_case_result() {
+    let tmp = table1_study_in("s");
+    let s = tmp.path().join("s");
+    std::fs::copy(s.join("2000N/summary.json"), s.join("20N/summary.json")).unwrap();
+    let err = incomplete_collect(tmp.path());
+    assert!(
+        err.contains("20N") && err.contains("is not the summary its run wrote"),
+        "{err}"
+    );
+    let err = table1_study_again(tmp.path());
+    assert!(
+        err.contains("case 20N: its summary.json is not the one its run wrote; re-running"),
+        "{err}"
+    );
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// A case directory holding a run without its study's record (a run the user put there, or
+/// a case killed before its marker) is replaced, and the study says so instead of doing it
+/// silently.
+#[test]
+fn a_study_says_when_it_replaces_a_run_it_did_not_record() {
+    let tmp = table1_study_in("s");
+    std::fs::remove_file(tmp.path().join("s/20N/done.json")).unwrap();
+    let err = table1_study_again(tmp.path());
+    assert!(
+        err.contains(
+            "case 20N: `s/20N` holds a run this study did not record (no done.json); replacing it"
+        ),
+        "{err}"
+    );
 }

@@ -476,11 +476,11 @@ fn an_output_directory_that_takes_no_files_is_refused_before_any_work() {
     assert!(locked.is_dir(), "{} is no directory", locked.display());
     let out = locked.to_str().unwrap();
     let study = repo().join("studies/table1.toml").display().to_string();
-    let rod = repo().join("scenarios/report-rod-20n.toml").display().to_string();
-    for args in [
-        ["study", &study, "--out", out],
-        ["run", &rod, "--out", out],
-    ] {
+    let rod = repo()
+        .join("scenarios/report-rod-20n.toml")
+        .display()
+        .to_string();
+    for args in [["study", &study, "--out", out], ["run", &rod, "--out", out]] {
         let o = chute(tmp.path(), &args);
         assert_error(&o, 2, &["is not writable"]);
         assert!(!stderr(&o).contains("case "), "{}", stderr(&o));

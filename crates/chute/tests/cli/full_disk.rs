@@ -174,11 +174,7 @@ fn no_fill_level_leaves_a_record_saying_running() {
     }
     let tmp = tempfile::tempdir().unwrap();
     // A frame every 0.01 s: the disk fills between frames as often as at the end.
-    let run = quoted_rod_run(
-        "small/r",
-        "0.2",
-        &["--set", "output.frame_interval_s=0.01"],
-    );
+    let run = quoted_rod_run("small/r", "0.2", &["--set", "output.frame_interval_s=0.01"]);
     let mut script = String::from("mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small");
     for k in (880..=1024).step_by(8) {
         script.push_str(&format!(
@@ -209,7 +205,11 @@ fn no_fill_level_leaves_a_record_saying_running() {
             .filter_map(|t| t.split('"').next()?.parse::<f64>().ok())
             .fold(f64::NEG_INFINITY, f64::max);
         let csv = tmp.path().join(format!("out/{k}.csv"));
-        let rows = if csv.is_file() { csv_rows(&csv) } else { Vec::new() };
+        let rows = if csv.is_file() {
+            csv_rows(&csv)
+        } else {
+            Vec::new()
+        };
         let last_row = rows.last().map_or(f64::NEG_INFINITY, |r| r[0]);
         assert!(
             last_row >= last_frame || last_frame == 0.0,

@@ -549,6 +549,17 @@ fn a_link_named_like_the_lock_or_the_reserve_is_not_written_through() {
             "the user's data\n",
             "{name}"
         );
+        // The link is the user's too: refused, not removed.
+        assert!(tmp.path().join("r").join(name).is_symlink(), "{name}");
+        // A directory of that name is named, not reported as a bare "Is a directory".
+        std::fs::remove_file(tmp.path().join("r").join(name)).unwrap();
+        std::fs::create_dir(tmp.path().join("r").join(name)).unwrap();
+        let o = run(
+            tmp.path(),
+            &rod_run("0.02", "r", &["--no-viewer", "--force"]),
+        );
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(stderr(&o).contains(name), "{name}: {}", stderr(&o));
     }
 }
 

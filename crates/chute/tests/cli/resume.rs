@@ -116,6 +116,10 @@ fn resume_refuses_overrides_other_than_the_duration() {
         &["--checkpoint-every -1: must be a positive number"],
     );
     refused(
+        &chute(tmp.path(), &["resume", "r", "--checkpoint-every", "-inf"]),
+        &["--checkpoint-every -inf: must be a positive number"],
+    );
+    refused(
         &chute(tmp.path(), &["resume", "nowhere"]),
         &["not a directory"],
     );
@@ -306,4 +310,27 @@ fn resume_refuses_frames_it_could_not_keep_or_remove_before_touching_anything() 
     std::os::unix::fs::symlink(&outside, &kept).unwrap();
     let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
     refused(&o, &["frame_000000.vtu", "symbolic link"]);
+}
+
+/// A run that failed before it wrote its scenario (a full disk) leaves only its record: resume
+/// and view say so with the record's reason, and resume advises running the scenario file
+/// again, not a file the directory does not have.
+#[test]
+fn a_directory_with_only_a_failed_record_says_why_on_resume_and_view() {
+    let tmp = tempfile::tempdir().unwrap();
+    let r = tmp.path().join("r");
+    std::fs::create_dir(&r).unwrap();
+    let record = r#"{"status": "failed", "reason": "writing r/x: No space left on device (os error 28)", "inputs": [], "viewer": true}"#;
+    std::fs::write(r.join("run.json"), record).unwrap();
+    let o = chute(tmp.path(), &["resume", "r"]);
+    refused(
+        &o,
+        &[
+            "no scenario.resolved.toml",
+            "No space left on device",
+            "chute run SCENARIO --out r --force",
+        ],
+    );
+    let o = chute(tmp.path(), &["view", "r"]);
+    refused(&o, &["its run did not finish", "No space left on device"]);
 }
