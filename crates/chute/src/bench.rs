@@ -297,7 +297,7 @@ pub fn ladder(quick: bool, tiny: bool) -> Vec<Case> {
         ),
         case("dismech-hex-n6", "hex", &[], 0, 300),
         case("dismech-hex-n12", "hex", &[n12], 0, 300),
-        // shell-1k with mid-edge bending (issue 17's cost of the new bending).
+        // shell-1k with mid-edge bending (the cost of the converged shell's bending law).
         case(
             "shell-1k-midedge",
             "shell",
@@ -478,7 +478,7 @@ fn run_child(exe: &std::path::Path, c: &Case, args: &BenchArgs) -> Result<CaseRe
 
 /// The case's scenario with its own overrides, then `set` (the `--set` options). The shell
 /// cases fly the report's model (springs + hinges, dt = 1 ms: [`REPORT_SHELL_MODEL`]), the
-/// ladder's reference since issue 7, whatever the bundled scenario ships.
+/// ladder's reference (docs/performance.md), whatever the bundled scenario ships.
 fn scenario_of(c: &Case, set: &[String]) -> Result<Scenario, AppError> {
     let (text, path, model): (_, _, &[&str]) = match c.base {
         "rod" => (ROD, ROD_PATH, &[]),

@@ -1,4 +1,4 @@
-//! `chute bench --elements`: the cost of one element of each shell law (issue 17). Every
+//! `chute bench --elements`: the cost of one element of each shell law. Every
 //! membrane (edge springs, constant-strain triangles, the fabric law with and without
 //! compression) and bending law (hinges, mid-edge) of the `shell-1k` mesh is evaluated alone,
 //! force and Jacobian (and force only, what modified Newton's residuals cost), at one fixed

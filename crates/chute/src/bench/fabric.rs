@@ -1,6 +1,6 @@
 //! The fabric-membrane rung of `chute bench`: the report's 1k-node shell canopy with the
 //! orthotropic, no-compression membrane in place of the edge springs, so its cost per step
-//! and per Newton iteration can be read beside `shell-1k` (issue 17: within 2× per element).
+//! and per Newton iteration can be read beside `shell-1k` (docs/performance.md).
 
 use super::{case, Case};
 

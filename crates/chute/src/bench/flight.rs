@@ -1,4 +1,4 @@
-//! The whole-flight and robustness rungs of `chute bench` (issue 16): `flight-1k`, the
+//! The whole-flight and robustness rungs of `chute bench` (docs/performance.md): `flight-1k`, the
 //! report's 4-site canopy at its converged mesh flying 10 s at the report's 1 ms step with
 //! default settings (the real-time target: ≤ 10 s wall), and `cross-613`, the report's Kevlar
 //! canopy on the 613-node cross mesh under the DisMech pressure drag at dt = 1e-2 s (the case

@@ -1,4 +1,4 @@
-//! Membrane patch tests (issue 17, item 4): the continuum membranes (`shell.membrane = "cst"`
+//! Membrane patch tests (docs/shells.md): the continuum membranes (`shell.membrane = "cst"`
 //! and `"fabric"`, with and without no-compression) against the closed forms of homogeneous
 //! states, and the report's edge springs on the same uniaxial test as information.
 //!

@@ -231,7 +231,7 @@ fn a_failing_level_is_reported_and_exits_3() {
     );
 }
 
-/// A field of an array-of-tables entry set by index (`--set control[0].start_s=…`, issue 19)
+/// A field of an array-of-tables entry set by index (`--set control[0].start_s=…`)
 /// reaches every level of a ladder: each level's resolved scenario has it.
 #[test]
 fn indexed_control_field_set_reaches_every_level() {

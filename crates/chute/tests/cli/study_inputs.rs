@@ -1,4 +1,4 @@
-//! Through the binary (issue 14, items 1 and 6): a study case whose inputs changed is re-run,
+//! Through the binary (docs/cli.md §Skipping finished cases): a study case whose inputs changed is re-run,
 //! saying why, into a cleanly replaced directory; `chute collect` warns about a stale case and
 //! refuses directories that hold no study (exit 2, nothing written).
 use crate::common::*;

@@ -1,5 +1,5 @@
 //! The circle mesh holds its rim load sites as nodes and is mirror-symmetric about the sites'
-//! planes (issue 19, item 0): a load pattern with no handedness cannot make the canopy spin.
+//! planes: a load pattern with no handedness cannot make the canopy spin.
 use chute::mesh::{generate, CanopyMesh};
 use std::collections::BTreeSet;
 use std::f64::consts::TAU;

@@ -367,7 +367,7 @@ fn perturbed_scenarios_reach_the_builders() {
     );
     // Measured: 300 samples gave 87 built, 2 builder errors (most bad values are caught by
     // the parser's physical checks before any builder runs), 209 parser errors, 2 skipped as
-    // too large, with the control, guidance and Newton keys of issues 16 and 19.
+    // too large, with the control, guidance and Newton keys included.
     assert!(
         built >= 100 && builder_err >= 1,
         "built {built}, builder errors {builder_err}"

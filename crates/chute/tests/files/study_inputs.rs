@@ -1,6 +1,6 @@
-//! A finished study case is reused only for the inputs it ran (issue 14, item 1): the
+//! A finished study case is reused only for the inputs it ran (docs/cli.md): the
 //! resolved scenario and the mesh file, hashed into `done.json`. With the fake case runner of
-//! `study.rs`; `collect` on directories that hold no study (item 6).
+//! `study.rs`; `collect` on directories that hold no study.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -1,4 +1,4 @@
-//! The round canopy's load pattern has no handedness (issue 19, item 0): its rim sites sit on
+//! The round canopy's load pattern has no handedness (docs/scenarios.md): its rim sites sit on
 //! nodes at exactly the sites' angles, the built model is mirror-symmetric about every site's
 //! plane, and in free descent it neither spins nor drifts.
 use std::f64::consts::TAU;

@@ -1,5 +1,5 @@
 //! `[[control]]` and `[guidance]`: parsed, defaulted, overridden entry by entry and as a
-//! whole array, written back, and every bad input of issue 19 refused naming the entry.
+//! whole array, written back, and every bad input refused naming the entry (docs/control.md).
 use chute::scenario::{Scenario, ScenarioError};
 
 use crate::common::repo;

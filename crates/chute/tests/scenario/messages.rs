@@ -1,5 +1,5 @@
 //! Messages that name the key the user changed and the real reason, with numbers in short
-//! form (issue 14), and the plausibility warnings for values no fabric has.
+//! form, and the plausibility warnings for values no fabric has.
 
 use chute::scenario::{plausibility, Scenario};
 

@@ -1,4 +1,4 @@
-//! The shell-law keys of the bending half of issue 17: `shell.bending` and
+//! The shell-law keys of the bending laws (docs/shells.md): `shell.bending` and
 //! `canopy.mesh_pattern` (values, where they are allowed, line numbers, round trip).
 
 use chute::scenario::{Bending, MeshPattern, Scenario, ScenarioError};

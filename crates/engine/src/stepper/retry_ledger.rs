@@ -1,7 +1,7 @@
 //! What the exact retry may cost: its failures are charged against the work of the solves
 //! that succeeded, and a retry is only attempted while they have not cost more.
 //!
-//! An exact retry that converges saves a halving of `dt` (issue 16 item 3: the report's
+//! An exact retry that converges saves a halving of `dt` (docs/engine.md: the report's
 //! cases, the Kevlar case and the bench ladder take every step whole with it). One that fails
 //! is pure waste — the caller halves anyway — and through its continuation and step homotopy
 //! it can cost hundreds of factorisations: on the fabric canopy's opening
@@ -10,7 +10,7 @@
 //! straight away (docs/engineering.md §Fabric canopy). The ledger bounds that waste: a solve
 //! whose modified-Newton path fails is retried only while the factorisations spent in failed
 //! solves so far do not exceed those of the solves that succeeded; otherwise the failure
-//! goes straight to the caller. Runs whose retries never fail (every case of item 3) are
+//! goes straight to the caller. Runs whose retries never fail (every case above) are
 //! unchanged bit for bit. Work is counted in factorisations, which is what a retry spends
 //! (the start policy's unit also weighs residual evaluations).
 //!

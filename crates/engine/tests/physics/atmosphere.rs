@@ -1,7 +1,7 @@
 //! The 1976 U.S. Standard Atmosphere against its published values, and the density
 //! gradient the drag Jacobians use against differences of ρ(z).
 //!
-//! References: the values issue 18 quotes from the standard's tables (geometric altitude:
+//! References: the standard's own tables (geometric altitude:
 //! ρ = 1.2250, 1.1117, 0.73643, 0.36480 kg/m³ and T = 288.15, 281.65, 255.68, 216.77 K at
 //! 0, 1, 5 and 11 km), the layer-base pressures of the standard's defining table (at the
 //! geopotential altitudes 11, 20, 32, 47, 51, 71 km′: 22 632.1, 5 474.89, 868.019, 110.906,

@@ -1,4 +1,4 @@
-//! The line-pull keys of issue 19: `[[control]]` (scheduled pulls) and `[guidance]`
+//! The line-pull keys: `[[control]]` (scheduled pulls) and `[guidance]`
 //! (steering to a target), both payload-mode only (docs/control.md).
 
 use super::super::keys::{choice, key, section};
