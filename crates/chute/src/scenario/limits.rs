@@ -33,6 +33,13 @@ pub const MAX_STEP_STIFFNESS: f64 = 1e13;
 /// `m + (s − 1) m`, which cancels to zero for s below f64's ε.
 pub const MIN_MASS_SCALE: f64 = 1e-5;
 
+/// Largest nominal strain a load site's force may impose on the element that carries it,
+/// F/(E A) with A the element's cross-section (a shell's `h l`, a rod strip's `w h`, a
+/// line's `π r²`): beyond 1 (the element doubled in length) no fabric is still elastic
+/// (nylon breaks near 0.3, aramid near 0.04), and the first step's Newton solve, which
+/// must stretch the element that far in one step, fails. Bundled scenarios: below 1e-2.
+pub const MAX_NOMINAL_STRAIN: f64 = 1.0;
+
 /// One input of a derived quantity: its key, its value and how far that is from a typical
 /// one (value / typical), so that the key blamed is the one furthest from the usual.
 #[derive(Clone, Copy)]
@@ -85,6 +92,16 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
     }
     if !bad {
         mach(c, s, quantities.iter().find(|q| q.name == TERMINAL_SPEED));
+        for q in load_strains(s) {
+            if !(q.value.is_finite() && q.value <= MAX_NOMINAL_STRAIN) {
+                let reason = format!(
+                    "makes the {} {}: above {MAX_NOMINAL_STRAIN} the load would more than double the element's length, beyond any fabric and beyond what the first step can solve; is the value or its unit wrong?",
+                    q.name,
+                    sig4(q.value)
+                );
+                blame(c, &q.inputs, reason);
+            }
+        }
         for q in step_stiffness(s) {
             if !(q.value.is_finite() && q.value <= MAX_STEP_STIFFNESS) {
                 let reason = format!(
@@ -231,6 +248,58 @@ fn step_stiffness(s: &Scenario) -> Vec<Derived> {
                 dt,
                 input("lines.segments", ln.segments as f64, 10.0),
                 input("lines.length_m", ln.length_m, 3.0),
+            ],
+        });
+    }
+    out
+}
+
+/// The nominal strains F/(E A) a load site's force imposes on the canopy element and the
+/// line that carry it (none for a load carried by a node's mass, or an imported mesh whose
+/// element size is not known here).
+fn load_strains(s: &Scenario) -> Vec<Derived> {
+    let (Some(n), LoadMode::Payload | LoadMode::Force | LoadMode::Mass) =
+        (s.site_count(), s.load.mode)
+    else {
+        return Vec::new();
+    };
+    let force = s.load.weight_n / n.max(1) as f64;
+    let (cn, m, ln) = (&s.canopy, &s.material, &s.lines);
+    let w = input("load.weight_n", s.load.weight_n, 200.0);
+    let e = input("material.youngs_modulus_pa", m.youngs_modulus_pa, 1e9);
+    let h = input("canopy.thickness_m", cn.thickness_m, 1e-3);
+    let canopy = match (s.model.kind, &cn.mesh_file) {
+        (ModelKind::Rod, _) => Some((
+            "nominal strain F/(E w h) of the strip at a load site",
+            cn.width_m,
+            input("canopy.width_m", cn.width_m, 3.0),
+        )),
+        (ModelKind::Shell, None) => Some((
+            "nominal strain F/(E h l) of the canopy element at a load site",
+            cn.edge_length_m,
+            input("canopy.edge_length_m", cn.edge_length_m, 0.125),
+        )),
+        (ModelKind::Shell, Some(_)) => None,
+    };
+    let mut out: Vec<Derived> = canopy
+        .into_iter()
+        .map(|(name, width, key)| Derived {
+            name,
+            unit: "",
+            value: force / (m.youngs_modulus_pa * cn.thickness_m * width),
+            inputs: vec![w, e, h, key],
+        })
+        .collect();
+    if s.load.mode == LoadMode::Payload {
+        let area = std::f64::consts::PI * ln.radius_m * ln.radius_m;
+        out.push(Derived {
+            name: "nominal strain F/(E π r²) of a suspension line",
+            unit: "",
+            value: force / (ln.youngs_modulus_pa * area),
+            inputs: vec![
+                w,
+                input("lines.youngs_modulus_pa", ln.youngs_modulus_pa, 1e9),
+                input("lines.radius_m", ln.radius_m, 1e-3),
             ],
         });
     }

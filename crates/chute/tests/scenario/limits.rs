@@ -184,6 +184,43 @@ fn a_step_too_stiff_for_its_inertia_is_refused() {
     );
 }
 
+/// A load that would more than double the length of the element carrying it (a fabric of
+/// 1e-12 m, a line of 1e-15 m radius, a rod strip of no thickness) is refused naming the key,
+/// where the first step would fail; the bundled scenarios stay below 1 % of that.
+#[test]
+fn a_load_no_fabric_could_carry_is_refused() {
+    for (file, set, key, element) in [
+        (
+            "report-shell-4-sites.toml",
+            "canopy.thickness_m=1e-12",
+            "canopy.thickness_m",
+            "F/(E h l) of the canopy element",
+        ),
+        (
+            "drop-1000m.toml",
+            "lines.radius_m=1e-15",
+            "lines.radius_m",
+            "F/(E π r²) of a suspension line",
+        ),
+        (
+            "report-rod-2000n.toml",
+            "canopy.thickness_m=1e-9",
+            "canopy.thickness_m",
+            "F/(E w h) of the strip",
+        ),
+        (
+            "round-parachute.toml",
+            "material.youngs_modulus_pa=1e3",
+            "material.youngs_modulus_pa",
+            "would more than double the element's length",
+        ),
+    ] {
+        refused(file, set, key, element);
+    }
+    // Just inside: a hundredth of the strain that is refused still loads.
+    load("report-shell-4-sites.toml", &["canopy.thickness_m=1e-7"]).unwrap();
+}
+
 /// A rule relating two keys blames the one the user changed with `--set`, not the one the
 /// file wrote: a canopy shrunk below ten thicknesses is refused naming its size.
 #[test]
