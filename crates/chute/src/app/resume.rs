@@ -17,6 +17,21 @@ pub(super) fn check_inputs(dir: &Path, s: &Scenario) -> Result<(), AppError> {
         return Ok(());
     };
     let now = s.input_files();
+    // Every file the scenario reads must be in the record: one missing from it (a record
+    // edited, or written for another scenario) cannot be checked.
+    if let Some((key, path)) = now
+        .iter()
+        .find(|(k, _)| !record.inputs.iter().any(|r| r.key == *k))
+    {
+        return Err(cannot(
+            dir,
+            format!(
+                "the scenario reads {key} `{}`, which the run's record ({}) does not list, so its bytes cannot be checked against the run's: the record was edited or is another run's; start a new run with `chute run … --force`",
+                path.display(),
+                crate::output::run_files::RUN_RECORD
+            ),
+        ));
+    }
     for recorded in &record.inputs {
         let path = now
             .iter()

@@ -426,6 +426,15 @@ fn resume_refuses_a_changed_mesh_naming_the_key_and_the_file() {
     ] {
         assert!(stderr(&o).contains(want), "{}", stderr(&o));
     }
+    // A record edited to list no inputs cannot hide the change: the file it omits is named.
+    let path = tmp.path().join("m/run.json");
+    let mut without = record.clone();
+    without["inputs"] = serde_json::json!([]);
+    std::fs::write(&path, without.to_string()).unwrap();
+    let o = chute(tmp.path(), &["resume", "m", "--set", "time.duration_s=0.8"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("does not list"), "{}", stderr(&o));
+    std::fs::write(&path, record.to_string()).unwrap();
     // The run is untouched and resumes once the file is back.
     std::fs::write(&mesh, hex_mesh(1.0)).unwrap();
     let o = chute(tmp.path(), &["resume", "m", "--set", "time.duration_s=0.8"]);
