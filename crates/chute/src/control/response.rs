@@ -11,14 +11,16 @@
 //! pull direction (0: the canopy glides towards its pulled side, π: away from it) and a gain
 //! `k` ((m/s)/m). Guidance wants the glide change along the miss `ê`; inverting S gives the
 //! pull direction `p̂ = S⁻¹ ê / |S⁻¹ ê| = R(−θ) ê` (the gain `k > 0` drops out of the
-//! direction). The measured values (docs/control.md, `scenarios/control-steer.toml`):
+//! direction). The measured values (docs/control.md and docs/notes/control-2026-12.md,
+//! `scenarios/control-steer.toml`):
 //!
 //! * the flat square on four corner lines: `θ = 0`, `k = 1.36 (m/s)/m` (lines 1 and 2 pulled
 //!   by 0.3 m: `p = (0.424, 0) m`, steady `Δv_h = (+0.577, 0) m/s`);
 //! * the round canopy on rim lines: `θ = π`, `k ≈ 0.7 (m/s)/m` (line 0 pulled by 0.3 m in the
 //!   crosswind of control-guidance.toml: `Δv_h ≈ (−0.19, −0.09) m/s` 3.5 s after the pull),
 //!   valid only for the first seconds after a pull: the glide then turns, and other lines
-//!   respond differently (docs/control.md has the measurements: no fixed S fits them all);
+//!   respond differently (docs/notes/control-2026-12.md has the measurements: no fixed S
+//!   fits them all);
 //! * the round canopy under the inflation pressure (`fluid.shell_drag = "inflation"`):
 //!   `θ = 0`, `k ≈ 2.9 (m/s)/m` (line 0 pulled by 0.3 m in still air at dt 0.005 s glides
 //!   towards +x at 0.9–1.05 m/s). The open-loop response is not repeatable (other lines and

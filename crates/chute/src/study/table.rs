@@ -270,6 +270,28 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde
     Some((row, Some(done["recipe"].clone())))
 }
 
+/// The study a case's recipe names, by its file's name and its case names (not the file's
+/// full path: shards of one study may run from copies of it in different places); `None`
+/// for a recipe that names neither (an older chute's).
+fn study_of(recipe: &serde_json::Value) -> Option<String> {
+    let file = recipe["study_file"].as_str().map(|f| {
+        let name = Path::new(f)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned());
+        name.unwrap_or_else(|| f.to_string())
+    });
+    let names = recipe["case_names"].as_array().map(|names| {
+        let names: Vec<&str> = names.iter().filter_map(|n| n.as_str()).collect();
+        names.join(", ")
+    });
+    match (file, names) {
+        (Some(f), Some(n)) => Some(format!("study `{f}` (cases {n})")),
+        (Some(f), None) => Some(format!("study `{f}`")),
+        (None, Some(n)) => Some(format!("the study of cases {n}")),
+        (None, None) => None,
+    }
+}
+
 /// Gather every case of the given study output directories (e.g. one per shard): a row per
 /// case directory, then a `missing` row for every case of the study that none of them holds
 /// (the study's full list: `invocation`'s for `chute study`, else the one recorded in the
@@ -288,6 +310,9 @@ pub fn gather(
         None => Checker::default(),
     };
     let mut recipes: BTreeMap<String, serde_json::Value> = BTreeMap::new();
+    // Where each case was found, and of which study: one name in two studies is two cases
+    // that one table cannot hold.
+    let mut found: BTreeMap<String, (PathBuf, String)> = BTreeMap::new();
     for dir in dirs {
         let entries = std::fs::read_dir(dir).map_err(|e| AppError::io(dir, e))?;
         let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
@@ -296,6 +321,21 @@ pub fn gather(
             let Some((row, recipe)) = read_row(&p, &mut checker) else {
                 continue;
             };
+            if let Some(study) = recipe.as_ref().and_then(study_of) {
+                match found.get(&row.case) {
+                    Some((other, was)) if *was != study => {
+                        return Err(AppError::Input(format!(
+                            "case `{}` is in `{}` as a case of {was} and in `{}` as a case of {study}: one table holds one study's cases; collect the two studies separately",
+                            row.case,
+                            other.display(),
+                            p.display()
+                        )))
+                    }
+                    _ => {
+                        found.insert(row.case.clone(), (p.clone(), study));
+                    }
+                }
+            }
             if by_name
                 .get(&row.case)
                 .is_some_and(|r| r.complete && !row.complete)

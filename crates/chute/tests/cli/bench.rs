@@ -143,7 +143,7 @@ fn bench_elements_times_every_shell_law() {
     for c in &costs {
         // Only what is deterministic: counts and times that were measured (finite and
         // positive). How the two paths compare in speed depends on the machine's load; it
-        // is measured by `chute bench --elements` and reported in docs/performance.md.
+        // is measured by `chute bench --elements` (docs/performance.md).
         assert!(c.elements > 0, "{c:?}");
         for ns in [c.ns_per_element, c.force_ns_per_element] {
             assert!(ns.is_finite() && ns > 0.0, "{c:?}");

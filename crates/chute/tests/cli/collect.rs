@@ -405,3 +405,36 @@ fn a_study_says_when_it_replaces_a_run_it_did_not_record() {
         "{err}"
     );
 }
+
+/// Two studies that share a case name are two cases one table cannot hold: `collect` of both
+/// is refused (status 2) naming the case, both directories and both studies, instead of one
+/// case silently replacing the other.
+#[test]
+fn two_studies_sharing_a_case_name_are_not_mixed() {
+    let tmp = table1_study_in("s");
+    let base = repo().join("scenarios/report-rod-200n.toml");
+    let other = format!(
+        "name = \"other\"\nbase = \"{}\"\n[[case]]\nname = \"20N\"\nset = [\"load.weight_n=999\"]\n",
+        base.display()
+    );
+    std::fs::write(tmp.path().join("other.toml"), other).unwrap();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            "other.toml",
+            "--out",
+            "o",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = chute(tmp.path(), &["collect", "s", "o", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    for want in ["case `20N`", "s/20N", "o/20N", "table1.toml", "other.toml"] {
+        assert!(err.contains(want), "want `{want}` in: {err}");
+    }
+    assert!(!tmp.path().join("m").exists());
+}

@@ -8,9 +8,9 @@
 //! The round canopy under the report's panel law is not used: its model is mirror-symmetric
 //! (rim sites on rim nodes), but its free descent is not (the symmetric shape buckles from
 //! round-off and glides), and its glide response to a pull depends on the line and turns
-//! within seconds (docs/control.md). Under the inflation pressure its open-loop response is
-//! not repeatable either (it changes with dt), but closed-loop guidance lands it closer on
-//! every level measured, and one guidance test flies it.
+//! within seconds (docs/notes/control-2026-12.md). Under the inflation pressure its open-loop
+//! response is not repeatable either (it changes with dt), but closed-loop guidance lands it
+//! closer on every level measured, and one guidance test flies it.
 use crate::common::*;
 
 use chute::app::run_config;

@@ -12,8 +12,8 @@ use crate::common::{repo, run_complete};
 /// at 30°, 90°, … were attached at 24°/36°, 84°/96°, …: chiral), coarse in dt, for the first
 /// 0.4 s of the fall. Later (measured between 0.4 and 0.8 s on this mesh) the symmetric
 /// shape buckles and the mode that grows from round-off is chiral: the canopy then spins
-/// although the model has no handedness (docs/engineering.md), so a longer run cannot test
-/// the load pattern's symmetry.
+/// although the model has no handedness (docs/notes/engineering-2026-12.md), so a longer run
+/// cannot test the load pattern's symmetry.
 fn coarse_round(extra: &[&str]) -> Scenario {
     let mut set: Vec<String> = [
         "canopy.edge_length_m=0.3",

@@ -7,7 +7,7 @@
 //! it can cost hundreds of factorisations: on the fabric canopy's opening
 //! (`scenarios/round-fabric.toml` with the retry on, at dt 2 ms) failed retries of ~450 factorisations
 //! each, repeated at every halving of the same step, made the run 33× slower than halving
-//! straight away (docs/engineering.md §Fabric canopy). The ledger bounds that waste: a solve
+//! straight away (docs/notes/engineering-2026-12.md). The ledger bounds that waste: a solve
 //! whose modified-Newton path fails is retried only while the factorisations spent in failed
 //! solves so far do not exceed those of the solves that succeeded; otherwise the failure
 //! goes straight to the caller. Runs whose retries never fail (every case above) are
