@@ -11,9 +11,24 @@ use crate::output::run_files;
 
 impl From<LockError> for AppError {
     fn from(e: LockError) -> Self {
-        // Both are about the directory the user named: bad input (exit 2).
-        AppError::Input(e.to_string())
+        match e {
+            // A full file system is an I/O failure (exit 1, docs/cli.md), not bad input.
+            LockError::Unwritable { dir, source } if is_full(&source) => AppError::Io {
+                path: dir,
+                source: std::io::Error::new(
+                    source.kind(),
+                    format!("the directory cannot take a run's files: {source}"),
+                ),
+            },
+            // The others are about the directory the user named: bad input (exit 2).
+            e => AppError::Input(e.to_string()),
+        }
     }
+}
+
+/// Whether `e` says the file system (or the user's quota) is full.
+pub fn is_full(e: &std::io::Error) -> bool {
+    matches!(e.raw_os_error(), Some(libc::ENOSPC) | Some(libc::EDQUOT))
 }
 
 /// A prepared output directory: held by this process until dropped.

@@ -62,8 +62,15 @@ fn write_atomic_now(path: &Path, bytes: &[u8]) -> io::Result<()> {
         use std::os::unix::fs::PermissionsExt;
         builder.permissions(fs::Permissions::from_mode(0o666));
     }
-    let mut tmp = builder.tempfile_in(dir)?;
-    tmp.write_all(bytes)?;
+    // tempfile appends the temporary's random name to its errors; the caller names the
+    // file it was writing, which is what a user can act on (so the writes go to the file
+    // itself, whose errors are the operating system's).
+    let mut tmp = builder.tempfile_in(dir).map_err(|e| {
+        let text = e.to_string();
+        let plain = text.split(" at path ").next().unwrap_or(&text).to_string();
+        io::Error::new(e.kind(), plain)
+    })?;
+    tmp.as_file_mut().write_all(bytes)?;
     tmp.as_file().sync_all()?;
     tmp.persist(path).map_err(|e| e.error)?;
     sync_dir(dir);

@@ -25,13 +25,16 @@ impl Run {
         for (f, h) in built.model.forces.iter_mut().zip(&c.histories) {
             f.restore_history(h).map_err(|e| bad(e.to_string()))?;
         }
-        // Frames first: removing those after the checkpoint leaves a directory that is still
-        // the stopped run (its PVD lists what is there) if cutting the time series then fails.
-        let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
+        // The time series first: it is cut back by a new file renamed over the old one, so a
+        // failure (a full disk) changes nothing; the frames after the checkpoint, checked
+        // removable by `check_resumable`, go after it.
         let ts_path = out_dir.join("timeseries.csv");
-        let rows =
-            checkpoint::truncate_timeseries(&ts_path, c.ts_rows).map_err(|e| bad(e.to_string()))?;
+        let rows = checkpoint::truncate_timeseries(&ts_path, c.ts_rows).map_err(|e| match e {
+            checkpoint::CheckpointError::Io { path, source } => RunError::Io { path, source },
+            e => bad(e.to_string()),
+        })?;
         let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
+        let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk, Some(c.t))?;
         built.state = engine::State {
             q: c.q.clone(),

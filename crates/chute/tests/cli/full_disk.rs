@@ -33,8 +33,9 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
         q.join(" ")
     };
     // 1 MiB: the time series and frames fill it within seconds of simulated time. With the
-    // rest filled up too, a second run into a new directory is refused (status 2: it cannot
-    // set its reserve aside) and leaves neither its lock file nor the directory it created.
+    // rest filled up too, a second run into a new directory is refused (status 1, an I/O
+    // failure: it cannot set its reserve aside) and leaves neither its lock file nor the
+    // directory it created.
     let script = format!(
         "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && {bin} {}; echo $? > out/code; \
          cp -r small/d out/d; dd if=/dev/zero of=small/fill bs=4096 2>/dev/null; \
@@ -59,8 +60,8 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
     let code2 = std::fs::read_to_string(tmp.path().join("out/code2")).unwrap();
     assert_eq!(
         code2.trim(),
-        "2",
-        "a run on a full disk is refused as bad input"
+        "1",
+        "a run on a full disk is refused as an I/O failure, not as bad input"
     );
     let left = std::fs::read_to_string(tmp.path().join("out/new")).unwrap_or_default();
     assert!(
@@ -233,4 +234,47 @@ fn quoted_rod_run(out: &str, duration: &str, extra: &[&str]) -> String {
         .map(|a| format!("'{a}'"))
         .collect();
     format!("{} {}", bin.display(), args.join(" "))
+}
+
+/// A resume that finds too little room to cut its time series back fails as an I/O failure
+/// (status 1) without changing the run's data: the time series, the frames, the collection
+/// and the summary are byte for byte the stopped run's (the record says the resume failed,
+/// and the resolved scenario holds the duration it was asked for).
+#[test]
+fn a_resume_without_room_changes_nothing_and_exits_1() {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let run = quoted_rod_run(
+        "small/r",
+        "0.5",
+        &["--set", "output.snapshots_s=[]", "--checkpoint-every", "0.1"],
+    );
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
+    // Room for the reserve (64 KiB) but not for a copy of the time series beside it.
+    let script = format!(
+        "mkdir -p small out && mount -t tmpfs -o size=2m tmpfs small && {run} && \
+         cp -r small/r out/before && \
+         dd if=/dev/zero of=small/fill bs=1k count=$(( $(df -k --output=avail small | tail -1) - 80 )) 2>/dev/null; \
+         {bin} resume small/r --quiet --set time.duration_s=1 2> out/err; echo $? > out/code; \
+         cp -r small/r out/after",
+        bin = bin.display()
+    );
+    let o = in_small_tmpfs(tmp.path(), &script);
+    let code = std::fs::read_to_string(tmp.path().join("out/code"))
+        .unwrap_or_else(|_| panic!("no tmpfs run: {}", String::from_utf8_lossy(&o.stderr)));
+    let err = std::fs::read_to_string(tmp.path().join("out/err")).unwrap();
+    assert_eq!(code.trim(), "1", "{err}");
+    assert!(err.contains("No space left") && !err.contains(" at path "), "{err}");
+    let (before, after) = (
+        files(&tmp.path().join("out/before")),
+        files(&tmp.path().join("out/after")),
+    );
+    for (name, bytes) in &before {
+        if name == "run.json" || name == "scenario.resolved.toml" {
+            continue;
+        }
+        assert!(after.get(name) == Some(bytes), "{name} changed: {err}");
+    }
 }
