@@ -51,12 +51,34 @@ pub struct RunFile {
 #[derive(Debug, Clone, Copy)]
 enum Pattern {
     Exact(&'static str),
-    /// `prefix`, one or more characters of `middle`, `suffix`.
+    /// `prefix`, a number, `suffix`.
     Numbered {
         prefix: &'static str,
         suffix: &'static str,
-        digits_only: bool,
+        number: Number,
     },
+}
+
+/// The number in a numbered file's name.
+#[derive(Debug, Clone, Copy)]
+enum Number {
+    /// Digits only (`000012`).
+    Index,
+    /// Digits with at most one decimal point between digits (`2.5`, `10`): a time as
+    /// [`super::plots::snapshot_file_name`] writes it, so that a user's
+    /// `snapshot_of_the_bags.png` is not taken for one.
+    Decimal,
+}
+
+impl Number {
+    fn matches(self, m: &str) -> bool {
+        let digits = |d: &str| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit());
+        match (self, m.split_once('.')) {
+            (Number::Index, _) => digits(m),
+            (Number::Decimal, None) => digits(m),
+            (Number::Decimal, Some((a, b))) => digits(a) && digits(b),
+        }
+    }
 }
 
 const fn exact(name: &'static str) -> RunFile {
@@ -80,7 +102,7 @@ pub const RUN_FILES: &[RunFile] = &[
         pattern: Pattern::Numbered {
             prefix: "frame_",
             suffix: ".vtu",
-            digits_only: true,
+            number: Number::Index,
         },
         in_frames: true,
         role: Role::Run,
@@ -93,7 +115,7 @@ pub const RUN_FILES: &[RunFile] = &[
         pattern: Pattern::Numbered {
             prefix: "snapshot_",
             suffix: "s.png",
-            digits_only: false,
+            number: Number::Decimal,
         },
         in_frames: false,
         role: Role::Run,
@@ -122,13 +144,11 @@ impl RunFile {
             Pattern::Numbered {
                 prefix,
                 suffix,
-                digits_only,
+                number,
             } => name
                 .strip_prefix(prefix)
                 .and_then(|n| n.strip_suffix(suffix))
-                .is_some_and(|m| {
-                    !m.is_empty() && (!digits_only || m.bytes().all(|b| b.is_ascii_digit()))
-                }),
+                .is_some_and(|m| number.matches(m)),
         }
     }
 }
@@ -184,9 +204,11 @@ pub fn is_holder_file(name: &str) -> bool {
     top_entry(name).is_some_and(|f| f.role == Role::Holder)
 }
 
-/// Whether `dir` holds a chute run (its resolved scenario or its record).
+/// Whether `dir` holds a chute run: its resolved scenario, or a record that is chute's
+/// (a `run.json` of another tool does not make a directory chute's to replace).
 pub fn is_run_dir(dir: &Path) -> bool {
-    dir.join(RESOLVED_SCENARIO).is_file() || dir.join(RUN_RECORD).is_file()
+    dir.join(RESOLVED_SCENARIO).is_file()
+        || super::record::RunRecord::read(dir).is_ok_and(|r| r.is_some())
 }
 
 /// Whether `dir` has nothing in it but the files of the process holding it (or does not
@@ -270,6 +292,7 @@ mod tests {
             "track.png",
             "wrinkles.png",
             "snapshot_2.5s.png",
+            "snapshot_10s.png",
             ".summary.json.a1B2c3.tmp",
             ".velocity.png.77.tmp.png",
             ".chute.lock",
@@ -280,6 +303,11 @@ mod tests {
             "notes.txt",
             "summary.json.bak",
             "snapshot.png",
+            // A user's pictures that merely start and end like a snapshot's name.
+            "snapshot_of_the_deployment_bags.png",
+            "snapshot_v2s.png",
+            "snapshot_1.2.3s.png",
+            "snapshot_.5s.png",
             "frames",
             ".notes.tmp",
             ".x.y.tmp",

@@ -249,7 +249,12 @@ fn a_resume_without_room_changes_nothing_and_exits_1() {
     let run = quoted_rod_run(
         "small/r",
         "0.5",
-        &["--set", "output.snapshots_s=[]", "--checkpoint-every", "0.1"],
+        &[
+            "--set",
+            "output.snapshots_s=[]",
+            "--checkpoint-every",
+            "0.1",
+        ],
     );
     let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
     // Room for the reserve (64 KiB) but not for a copy of the time series beside it.
@@ -266,7 +271,10 @@ fn a_resume_without_room_changes_nothing_and_exits_1() {
         .unwrap_or_else(|_| panic!("no tmpfs run: {}", String::from_utf8_lossy(&o.stderr)));
     let err = std::fs::read_to_string(tmp.path().join("out/err")).unwrap();
     assert_eq!(code.trim(), "1", "{err}");
-    assert!(err.contains("No space left") && !err.contains(" at path "), "{err}");
+    assert!(
+        err.contains("No space left") && !err.contains(" at path "),
+        "{err}"
+    );
     let (before, after) = (
         files(&tmp.path().join("out/before")),
         files(&tmp.path().join("out/after")),

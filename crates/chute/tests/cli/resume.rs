@@ -334,3 +334,28 @@ fn a_directory_with_only_a_failed_record_says_why_on_resume_and_view() {
     let o = chute(tmp.path(), &["view", "r"]);
     refused(&o, &["its run did not finish", "No space left on device"]);
 }
+
+/// `--force` replaces only what is chute's: a user's pictures named like a snapshot but
+/// without its time (`snapshot_of_the_bags.png`) stay, and a directory whose `run.json` is
+/// another tool's is not a chute run, so `--force` refuses it (status 2) and changes nothing.
+#[test]
+fn force_replaces_only_chute_files_and_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let r = tmp.path().join("r");
+    for name in ["snapshot_of_the_bags.png", "snapshot_v2s.png"] {
+        std::fs::write(r.join(name), "the user's").unwrap();
+    }
+    ok(&run(tmp.path(), "r", &["--force", "--no-viewer"]));
+    for name in ["snapshot_of_the_bags.png", "snapshot_v2s.png"] {
+        assert!(r.join(name).is_file(), "{name} was removed");
+    }
+    let other = tmp.path().join("other");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::write(other.join("run.json"), r#"{"my": "config"}"#).unwrap();
+    std::fs::write(other.join("summary.json"), r#"{"mine": 1}"#).unwrap();
+    let before = files(&other);
+    let o = run(tmp.path(), "other", &["--force"]);
+    refused(&o, &["not a chute run directory"]);
+    assert!(before == files(&other), "the user's files changed");
+}
