@@ -2,7 +2,9 @@
 //! cases in parallel, each into `OUT/<case>/` with a `done.json` marker, then one table
 //! (`study.csv`, `study.md`) with a row per case. See `docs/cli.md` §study.
 
+mod case_run;
 mod expected;
+mod gathered;
 pub mod inputs;
 mod resumed;
 mod skip;
@@ -439,7 +441,9 @@ pub fn run_study_with(
         selected
             .par_iter()
             .zip(scenarios.par_iter())
-            .map(|(case, (scenario, digest))| run_case(study, case, scenario, digest, opts, runner))
+            .map(|(case, (scenario, digest))| {
+                case_run::run_case(study, case, scenario, digest, opts, runner)
+            })
             .collect()
     });
     let mut cases = Vec::new();
@@ -462,124 +466,6 @@ pub fn case_is_current(study: &Study, case: &Case, set: &[String], out_dir: &Pat
         return false;
     };
     skip::recorded_run(&out_dir.join(&case.name).join(DONE_FILE), &digest).0
-}
-
-fn run_case(
-    study: &Study,
-    case: &Case,
-    scenario: &Scenario,
-    digest: &str,
-    opts: &StudyOptions,
-    runner: &Runner,
-) -> Result<CaseStatus, AppError> {
-    let dir = opts.out_dir.join(&case.name);
-    let done = dir.join(DONE_FILE);
-    let (current, stale) = skip::recorded_run(&done, digest);
-    if current && !opts.force {
-        if opts.verbose {
-            eprintln!("case {}: already complete, skipped", case.name);
-        }
-        return Ok(CaseStatus::Skipped);
-    }
-    if crate::runner::STOP.load(std::sync::atomic::Ordering::SeqCst) {
-        // Stopped (Ctrl-C, SIGTERM) before this case began: it is not run, and gets no
-        // directory that would show it as an interrupted run.
-        let why = "not run: the study was stopped before this case began";
-        if opts.verbose {
-            eprintln!("case {}: {why}", case.name);
-        }
-        return Ok(CaseStatus::Failed(why.into()));
-    }
-    if let (Some(why), true, false) = (stale, opts.verbose, opts.force) {
-        eprintln!("case {}: {why}; re-running", case.name);
-    }
-    if opts.verbose && !done.exists() && crate::output::run_files::is_run_dir(&dir) {
-        // Not silently: the run there may be one the user put there, not a case of this study.
-        eprintln!(
-            "case {}: `{}` holds a run this study did not record (no {DONE_FILE}); replacing it",
-            case.name,
-            dir.display()
-        );
-    }
-    if std::fs::symlink_metadata(&dir).is_ok_and(|m| m.file_type().is_symlink()) {
-        // A link would make the case replace whatever run it points to, outside the study.
-        let why = format!(
-            "not run: `{}` is a symbolic link; a study writes its cases in its own directory",
-            dir.display()
-        );
-        if opts.verbose {
-            eprintln!("case {}: {why}", case.name);
-        }
-        return Ok(CaseStatus::Failed(why));
-    }
-    let created = crate::app::out_dir::first_missing(&dir);
-    std::fs::create_dir_all(&dir).map_err(|e| AppError::io(&dir, e))?;
-    // Held from before its marker is removed until after the new one is written: another
-    // process running this case (a re-queued array task) is left alone.
-    let _lock = match crate::output::lock::RunLock::acquire(&dir) {
-        Ok(lock) => lock,
-        // Held by another process, or not writable (a full disk): this case is not run and
-        // the study goes on, so the other cases and the table still get their chance.
-        Err(
-            e @ (crate::output::lock::LockError::Busy { .. }
-            | crate::output::lock::LockError::Unwritable { .. }),
-        ) => {
-            // A case that did not run leaves no directory that looks like one.
-            crate::app::out_dir::remove_created(&dir, created.as_deref());
-            if opts.verbose {
-                eprintln!("case {}: not run: {e}", case.name);
-            }
-            return Ok(CaseStatus::Failed(format!("not run: {e}")));
-        }
-        Err(e) => return Err(e.into()),
-    };
-    // The marker goes first, so that a run stopped from here on is never taken as complete;
-    // the runner (force) then clears everything else the earlier run wrote.
-    match std::fs::remove_file(&done) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(AppError::io(&done, e)),
-        _ => {}
-    }
-    let run_opts = RunOptions {
-        out_dir: dir.clone(),
-        force: true,
-        progress: false,
-        checkpoint_every_s: None,
-        resume: None,
-        viewer: false,
-    };
-    let started = std::time::Instant::now();
-    let status = match runner(scenario, &run_opts) {
-        Ok(o) if o.complete => CaseStatus::Complete,
-        Ok(o) => CaseStatus::Incomplete(o.message.unwrap_or_else(|| "stopped early".into())),
-        Err(e) => CaseStatus::Failed(e.to_string()),
-    };
-    let (word, message) = match &status {
-        CaseStatus::Complete | CaseStatus::Skipped => ("complete", None),
-        CaseStatus::Incomplete(m) => ("incomplete", Some(m.clone())),
-        CaseStatus::Failed(m) => ("failed", Some(m.clone())),
-    };
-    let overrides: Vec<[String; 2]> = case.set.iter().filter_map(|s| split_override(s)).collect();
-    let marker = serde_json::json!({
-        "study": study.name,
-        "case": case.name,
-        "index": case.index,
-        "overrides": overrides,
-        "status": word,
-        "message": message,
-        "wall_time_s": started.elapsed().as_secs_f64(),
-        "inputs": digest,
-        "summary_digest": summary_digest(&dir),
-        "recipe": expected::recipe(study, &opts.set, case),
-    });
-    write_atomic(&done, format!("{marker:#}\n").as_bytes())?;
-    if opts.verbose {
-        eprintln!(
-            "case {}: {word}{}",
-            case.name,
-            message.map_or(String::new(), |m| format!(": {m}"))
-        );
-    }
-    Ok(status)
 }
 
 /// The digest of the `summary.json` a case's run wrote, so that one replaced later (another

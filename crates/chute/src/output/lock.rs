@@ -163,11 +163,19 @@ fn lock_file(dir: &Path) -> Result<File, LockError> {
             .map_err(|e| not_followed(&path, e))
             .map_err(|e| named(&path, e))
             .map_err(unwritable)?;
-        if !file.metadata().map_err(unwritable)?.is_file() {
+        let meta = file.metadata().map_err(unwritable)?;
+        if !meta.is_file() {
             return Err(unwritable(io::Error::other(format!(
                 "{} is not a plain file (a FIFO, a device?): chute keeps its lock there",
                 path.display()
             ))));
+        }
+        if shared(&meta) {
+            // A hard link to another directory's lock (a `cp -al` copy): `flock` is per
+            // file, so this directory gets a file of its own instead of that one's lock.
+            drop(file);
+            std::fs::remove_file(&path).map_err(unwritable)?;
+            continue;
         }
         match file.try_lock() {
             Ok(()) => {}
@@ -192,6 +200,18 @@ fn lock_file(dir: &Path) -> Result<File, LockError> {
         dir: dir.to_path_buf(),
         holder: "other processes taking and releasing it repeatedly".into(),
     })
+}
+
+/// Whether the file has other names (hard links) besides this one.
+#[cfg(unix)]
+fn shared(meta: &std::fs::Metadata) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    meta.nlink() > 1
+}
+
+#[cfg(not(unix))]
+fn shared(_meta: &std::fs::Metadata) -> bool {
+    false
 }
 
 #[cfg(unix)]
@@ -305,9 +325,13 @@ fn write_reserve(dir: &Path) -> io::Result<()> {
             path.display()
         )));
     }
+    // A new file, never one truncated in place: it may be a hard link to another
+    // directory's reserve.
+    if std::fs::symlink_metadata(&path).is_ok() {
+        std::fs::remove_file(&path)?;
+    }
     let result = (|| {
-        let mut f = no_follow(OpenOptions::new().write(true).create(true))
-            .truncate(true)
+        let mut f = no_follow(OpenOptions::new().write(true).create_new(true))
             .open(&path)
             .map_err(|e| not_followed(&path, e))?;
         f.write_all(&[0u8; RESERVE_BYTES])?;

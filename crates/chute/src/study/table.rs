@@ -270,28 +270,6 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde
     Some((row, Some(done["recipe"].clone())))
 }
 
-/// The study a case's recipe names, by its file's name and its case names (not the file's
-/// full path: shards of one study may run from copies of it in different places); `None`
-/// for a recipe that names neither (an older chute's).
-fn study_of(recipe: &serde_json::Value) -> Option<String> {
-    let file = recipe["study_file"].as_str().map(|f| {
-        let name = Path::new(f)
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned());
-        name.unwrap_or_else(|| f.to_string())
-    });
-    let names = recipe["case_names"].as_array().map(|names| {
-        let names: Vec<&str> = names.iter().filter_map(|n| n.as_str()).collect();
-        names.join(", ")
-    });
-    match (file, names) {
-        (Some(f), Some(n)) => Some(format!("study `{f}` (cases {n})")),
-        (Some(f), None) => Some(format!("study `{f}`")),
-        (None, Some(n)) => Some(format!("the study of cases {n}")),
-        (None, None) => None,
-    }
-}
-
 /// Gather every case of the given study output directories (e.g. one per shard): a row per
 /// case directory, then a `missing` row for every case of the study that none of them holds
 /// (the study's full list: `invocation`'s for `chute study`, else the one recorded in the
@@ -304,52 +282,26 @@ pub fn gather(
     dirs: &[PathBuf],
     invocation: Option<(&Study, &[String])>,
 ) -> Result<Table, AppError> {
-    let mut by_name: BTreeMap<String, Row> = BTreeMap::new();
     let mut checker = match invocation {
         Some((st, set)) => Checker::for_invocation(st, set),
         None => Checker::default(),
     };
-    let mut recipes: BTreeMap<String, serde_json::Value> = BTreeMap::new();
-    // Where each case was found, and of which study: one name in two studies is two cases
-    // that one table cannot hold.
-    let mut found: BTreeMap<String, (PathBuf, String)> = BTreeMap::new();
+    let mut g = super::gathered::Gathered::default();
     for dir in dirs {
         let entries = std::fs::read_dir(dir).map_err(|e| AppError::io(dir, e))?;
         let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
         paths.sort();
         for p in paths.into_iter().filter(|p| p.is_dir()) {
-            let Some((row, recipe)) = read_row(&p, &mut checker) else {
-                continue;
-            };
-            if let Some(study) = recipe.as_ref().and_then(study_of) {
-                match found.get(&row.case) {
-                    Some((other, was)) if *was != study => {
-                        return Err(AppError::Input(format!(
-                            "case `{}` is in `{}` as a case of {was} and in `{}` as a case of {study}: one table holds one study's cases; collect the two studies separately",
-                            row.case,
-                            other.display(),
-                            p.display()
-                        )))
-                    }
-                    _ => {
-                        found.insert(row.case.clone(), (p.clone(), study));
-                    }
-                }
+            if let Some((row, recipe)) = read_row(&p, &mut checker) {
+                g.add(p, row, recipe)?;
             }
-            if by_name
-                .get(&row.case)
-                .is_some_and(|r| r.complete && !row.complete)
-            {
-                continue;
-            }
-            // A directory without a readable `done.json` (missing, running, unreadable)
-            // records no recipe but says nothing about the study's case list either.
-            if let Some(recipe) = recipe {
-                recipes.insert(row.case.clone(), recipe);
-            }
-            by_name.insert(row.case.clone(), row);
         }
     }
+    let super::gathered::Gathered {
+        mut by_name,
+        recipes,
+        found,
+    } = g;
     let list = super::expected::cases(invocation.map(|(st, _)| st), recipes.values());
     if invocation.is_some() {
         // The study's own table: its cases only, not other directories beside them (a study
@@ -396,7 +348,10 @@ pub fn gather(
             }
         }
     }
-    let notes = mixed_recipes(&rows, &recipes).into_iter().collect();
+    let notes = super::gathered::mixed_recipes(&rows, &recipes)
+        .into_iter()
+        .chain(found.values().filter_map(|f| f.note()))
+        .collect();
     Ok(Table {
         override_keys,
         rows,
@@ -405,32 +360,6 @@ pub fn gather(
     })
 }
 
-/// A note when the cases were recorded under different studies or study-wide overrides
-/// (cases named in the order of `rows`).
-fn mixed_recipes(rows: &[Row], recipes: &BTreeMap<String, serde_json::Value>) -> Option<String> {
-    let mut groups: BTreeMap<String, Vec<&str>> = BTreeMap::new();
-    for r in rows {
-        let (case, Some(recipe)) = (&r.case, recipes.get(&r.case).filter(|r| !r.is_null())) else {
-            continue;
-        };
-        let text = format!(
-            "study file {}, --set {}",
-            recipe["study_file"].as_str().unwrap_or("(none)"),
-            recipe["set"]
-        );
-        groups.entry(text).or_default().push(case);
-    }
-    (groups.len() > 1).then(|| {
-        let parts: Vec<String> = groups
-            .iter()
-            .map(|(recipe, cases)| format!("{} with {recipe}", cases.join(", ")))
-            .collect();
-        format!(
-            "the table mixes cases run under different studies or study-wide --set overrides: {}",
-            parts.join("; ")
-        )
-    })
-}
 
 /// Refuse a directory that holds a single run at its top level: study files written there
 /// would mix a study into a run (or a case) directory.

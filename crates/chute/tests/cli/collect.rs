@@ -438,3 +438,66 @@ fn two_studies_sharing_a_case_name_are_not_mixed() {
     }
     assert!(!tmp.path().join("m").exists());
 }
+
+/// A case whose directory cannot be used (a file in its place, a marker that is a
+/// directory) is "not run", named with the reason, and the study goes on: the other cases
+/// run and the table is written (status 3), instead of the whole study stopping.
+#[test]
+fn an_unusable_case_directory_does_not_stop_the_study() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::create_dir(tmp.path().join("s")).unwrap();
+    std::fs::write(tmp.path().join("s/200N"), "a file of the user's").unwrap();
+    std::fs::create_dir_all(tmp.path().join("s/2000N/done.json")).unwrap();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let o = chute(
+        tmp.path(),
+        &["study", &study, "--out", "s", "--set", "time.duration_s=0.02"],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("case 20N: complete"), "{err}");
+    assert!(
+        err.contains("case 200N: not run: `s/200N` is a file, not a directory"),
+        "{err}"
+    );
+    assert!(
+        err.contains("case 2000N: not run: its marker `s/2000N/done.json` cannot be removed"),
+        "{err}"
+    );
+    assert!(tmp.path().join("s/study.csv").is_file());
+    assert_eq!(
+        std::fs::read_to_string(tmp.path().join("s/200N")).unwrap(),
+        "a file of the user's"
+    );
+}
+
+/// A case found in two directories with other states or study-wide overrides is never
+/// dropped without a word: the table shows one (the last complete) and a warning names
+/// both places and which one the table shows.
+#[test]
+fn a_case_found_twice_with_other_inputs_is_named_with_the_one_shown() {
+    let tmp = table1_study_in("s");
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let o = chute(
+        tmp.path(),
+        &["study", &study, "--out", "t", "--set", "time.duration_s=0.03"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // The newer attempt of 20N stopped early.
+    let done = tmp.path().join("t/20N/done.json");
+    let mut j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+    j["status"] = "incomplete".into();
+    j["message"] = "interrupted".into();
+    std::fs::write(&done, j.to_string()).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "t", "--out", "m"]);
+    let err = stderr(&o);
+    let note = err
+        .lines()
+        .find(|l| l.contains("case found in `s/20N`"))
+        .unwrap_or_else(|| panic!("no note on 20N: {err}"));
+    assert!(
+        note.contains("`t/20N` (incomplete") && note.ends_with("the table shows `s/20N`"),
+        "{note}"
+    );
+}

@@ -357,3 +357,40 @@ fn drop_ladder_estimates_landing_velocity_and_flight_time() {
     let md = std::fs::read_to_string(tmp.path().join("d/convergence.md")).unwrap();
     assert!(md.contains("| landing velocity (m/s) |"), "{md}");
 }
+
+/// A ladder re-run into the directory of another ladder takes over the levels the two share
+/// (their records name the new ladder), so `collect` of it knows every level of the ladder
+/// that ran last: a level whose shard never ran is reported missing (status 3), not left out.
+#[test]
+fn a_ladder_rerun_into_another_ladders_directory_does_not_drop_a_level() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod();
+    let ladder = |levels: &str, shard: Option<&str>| {
+        let mut a = vec![
+            rod.as_str(),
+            "--vary",
+            levels,
+            "--set",
+            "time.duration_s=0.02",
+            "--out",
+            "cv",
+        ];
+        if let Some(s) = shard {
+            a.extend(["--shard", s]);
+        }
+        let o = converge(tmp.path(), &a);
+        assert!(
+            o.status.code().is_some_and(|c| c == 0 || c == 3),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    ladder("canopy.nodes=11,21,41", None);
+    // The next ladder as an array of three shards, the third of which never runs.
+    ladder("canopy.nodes=21,41,81", Some("0/3"));
+    ladder("canopy.nodes=21,41,81", Some("1/3"));
+    let o = crate::common::chute(tmp.path(), &["collect", "cv", "--out", "t"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("nodes-81"), "{err}");
+}

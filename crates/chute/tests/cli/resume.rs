@@ -359,3 +359,28 @@ fn force_replaces_only_chute_files_and_runs() {
     refused(&o, &["not a chute run directory"]);
     assert!(before == files(&other), "the user's files changed");
 }
+
+/// A directory copied with hard links shares the original's lock and reserve files: the
+/// copy's writer gets files of its own, so the original's lock (another process's, or a
+/// dead one's description) keeps its bytes and never blocks the copy.
+#[test]
+fn a_hard_linked_copy_gets_its_own_lock() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let lock = tmp.path().join("r/.chute.lock");
+    std::fs::write(&lock, "pid=1\nhost=elsewhere\n").unwrap();
+    let s = std::process::Command::new("cp")
+        .args(["-al", "r", "copy"])
+        .current_dir(tmp.path())
+        .status()
+        .unwrap();
+    assert!(s.success());
+    // The original's lock file held by a process of its own (as a live run would).
+    let held = std::fs::File::open(&lock).unwrap();
+    held.lock().unwrap();
+    ok(&run(tmp.path(), "copy", &["--force", "--no-viewer"]));
+    assert_eq!(
+        std::fs::read_to_string(&lock).unwrap(),
+        "pid=1\nhost=elsewhere\n"
+    );
+}

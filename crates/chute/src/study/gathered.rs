@@ -1,0 +1,141 @@
+//! The case directories `collect` and a study's table gather: one row per case name, and
+//! what the table must say about the rest (a case found in several places, cases of other
+//! studies or study-wide overrides).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use super::table::Row;
+use crate::app::AppError;
+
+/// The case directories found so far: the row of each case name (its last complete
+/// occurrence, or its last one), its recipe, and every place it was found.
+#[derive(Default)]
+pub(super) struct Gathered {
+    pub by_name: BTreeMap<String, Row>,
+    pub recipes: BTreeMap<String, serde_json::Value>,
+    pub found: BTreeMap<String, Found>,
+}
+
+/// Where one case name was found: each directory with its study, state and study-wide
+/// overrides, and the one the table shows.
+#[derive(Default)]
+pub(super) struct Found {
+    places: Vec<(PathBuf, Option<String>, &'static str, String)>,
+    shown: usize,
+}
+
+impl Found {
+    /// A note when the places disagree (other states or overrides): which one the table
+    /// shows, so that a newer attempt is never dropped without a word.
+    pub fn note(&self) -> Option<String> {
+        let first = self.places.first()?;
+        let differ = self
+            .places
+            .iter()
+            .any(|(_, _, word, set)| (*word, set) != (first.2, &first.3));
+        differ.then(|| {
+            let all: Vec<String> = self
+                .places
+                .iter()
+                .map(|(p, _, word, set)| format!("`{}` ({word}, --set {set})", p.display()))
+                .collect();
+            format!(
+                "case found in {}: the table shows `{}`",
+                all.join(" and "),
+                self.places[self.shown].0.display()
+            )
+        })
+    }
+}
+
+impl Gathered {
+    /// Take the case in `p`: refused when its name is already a case of another study.
+    pub fn add(
+        &mut self,
+        p: PathBuf,
+        row: Row,
+        recipe: Option<serde_json::Value>,
+    ) -> Result<(), AppError> {
+        let study = recipe.as_ref().and_then(study_of);
+        let found = self.found.entry(row.case.clone()).or_default();
+        if let (Some(now), Some((other, Some(was), ..))) = (&study, found.places.first()) {
+            if was != now {
+                return Err(AppError::Input(format!(
+                    "case `{}` is in `{}` as a case of {was} and in `{}` as a case of {now}: one table holds one study's cases; collect the two studies separately",
+                    row.case,
+                    other.display(),
+                    p.display()
+                )));
+            }
+        }
+        let set = recipe
+            .as_ref()
+            .map_or("(unrecorded)".to_string(), |r| r["set"].to_string());
+        found.places.push((p, study, row.state.word(), set));
+        if self
+            .by_name
+            .get(&row.case)
+            .is_some_and(|r| r.complete && !row.complete)
+        {
+            return Ok(());
+        }
+        found.shown = found.places.len() - 1;
+        // A directory without a readable `done.json` (missing, running, unreadable)
+        // records no recipe but says nothing about the study's case list either.
+        if let Some(recipe) = recipe {
+            self.recipes.insert(row.case.clone(), recipe);
+        }
+        self.by_name.insert(row.case.clone(), row);
+        Ok(())
+    }
+}
+
+/// The study a case's recipe names, by its file's name and its case names (not the file's
+/// full path: shards of one study may run from copies of it in different places); `None`
+/// for a recipe that names neither (an older chute's).
+fn study_of(recipe: &serde_json::Value) -> Option<String> {
+    let file = recipe["study_file"].as_str().map(|f| {
+        let name = Path::new(f)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned());
+        name.unwrap_or_else(|| f.to_string())
+    });
+    let names = recipe["case_names"].as_array().map(|names| {
+        let names: Vec<&str> = names.iter().filter_map(|n| n.as_str()).collect();
+        names.join(", ")
+    });
+    match (file, names) {
+        (Some(f), Some(n)) => Some(format!("study `{f}` (cases {n})")),
+        (Some(f), None) => Some(format!("study `{f}`")),
+        (None, Some(n)) => Some(format!("the study of cases {n}")),
+        (None, None) => None,
+    }
+}
+
+/// A note when the cases were recorded under different studies or study-wide overrides
+/// (cases named in the order of `rows`).
+pub(super) fn mixed_recipes(rows: &[Row], recipes: &BTreeMap<String, serde_json::Value>) -> Option<String> {
+    let mut groups: BTreeMap<String, Vec<&str>> = BTreeMap::new();
+    for r in rows {
+        let (case, Some(recipe)) = (&r.case, recipes.get(&r.case).filter(|r| !r.is_null())) else {
+            continue;
+        };
+        let text = format!(
+            "{}, --set {}",
+            study_of(recipe).unwrap_or_else(|| "no recorded study".into()),
+            recipe["set"]
+        );
+        groups.entry(text).or_default().push(case);
+    }
+    (groups.len() > 1).then(|| {
+        let parts: Vec<String> = groups
+            .iter()
+            .map(|(recipe, cases)| format!("{} with {recipe}", cases.join(", ")))
+            .collect();
+        format!(
+            "the table mixes cases run under different studies or study-wide --set overrides: {}",
+            parts.join("; ")
+        )
+    })
+}
