@@ -192,6 +192,24 @@ impl Study {
         Ok(st)
     }
 
+    /// [`Study::load`] of a study file a case recorded (`collect` reads it back): it and its
+    /// base scenario must be plain files, so that one replaced by a FIFO since is named
+    /// instead of waited on (a study given on the command line may be a pipe; this one
+    /// has no writer).
+    pub fn load_recorded(path: &Path) -> Result<Study, AppError> {
+        let plain = |p: &Path, what: &str| match std::fs::metadata(p) {
+            Ok(m) if !m.is_file() => Err(input(format!(
+                "{what} `{}` is not a plain file (a FIFO, a device, a directory?)",
+                p.display()
+            ))),
+            _ => Ok(()),
+        };
+        plain(path, "study file")?;
+        let st = Study::load(path)?;
+        plain(&st.base, "base scenario")?;
+        Ok(st)
+    }
+
     /// Parse study text; `base` resolves against `dir`.
     pub fn from_str(text: &str, file: &str, dir: &Path) -> Result<Study, AppError> {
         let f: StudyFile = toml::from_str(text).map_err(|e| {

@@ -88,7 +88,7 @@ pub(super) fn cases<'a>(
         ));
     }
     for (file, (least, count, names)) in files {
-        match Study::load(&file) {
+        match Study::load_recorded(&file) {
             Ok(st) => {
                 if (least, count) != (st.cases.len(), st.cases.len()) {
                     let recorded = match least == count {

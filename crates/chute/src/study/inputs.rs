@@ -163,7 +163,7 @@ impl<'a> Checker<'a> {
                 let st = self
                     .studies
                     .entry(PathBuf::from(file))
-                    .or_insert_with(|| Study::load(file.as_ref()).map_err(|e| e.to_string()));
+                    .or_insert_with(|| Study::load_recorded(file.as_ref()).map_err(|e| e.to_string()));
                 let st = st.as_ref().map_err(|e| unknown(e.clone()))?;
                 let case = st.cases.iter().find(|c| c.name == name).ok_or_else(|| {
                     Stale::Changed(format!("study file `{file}` no longer has this case"))
@@ -174,6 +174,12 @@ impl<'a> Checker<'a> {
                 let base = recipe["base"]
                     .as_str()
                     .ok_or_else(|| unknown("its done.json records no base scenario".into()))?;
+                if std::fs::metadata(base).is_ok_and(|m| !m.is_file()) {
+                    // A FIFO put there since has no writer: named, not waited on.
+                    return Err(unknown(format!(
+                        "base scenario `{base}` is not a plain file (a FIFO, a device, a directory?)"
+                    )));
+                }
                 let st = Study {
                     name: done["study"].as_str().unwrap_or_default().to_string(),
                     description: None,

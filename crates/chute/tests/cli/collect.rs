@@ -501,3 +501,32 @@ fn a_case_found_twice_with_other_inputs_is_named_with_the_one_shown() {
         "{note}"
     );
 }
+
+/// The study file a case recorded, replaced by a FIFO since, is named, not waited on:
+/// `collect` ends with the case's inputs `unknown` and the reason.
+#[test]
+fn a_recorded_study_file_that_became_a_fifo_is_named_not_waited_on() {
+    let tmp = tempfile::tempdir().unwrap();
+    let base = repo().join("scenarios/report-rod-200n.toml");
+    let text = std::fs::read_to_string(repo().join("studies/table1.toml"))
+        .unwrap()
+        .replace(
+            "base = \"../scenarios/report-rod-200n.toml\"",
+            &format!("base = \"{}\"", base.display()),
+        );
+    std::fs::write(tmp.path().join("t.toml"), text).unwrap();
+    let o = chute(
+        tmp.path(),
+        &["study", "t.toml", "--out", "s", "--set", "time.duration_s=0.02"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::remove_file(tmp.path().join("t.toml")).unwrap();
+    let s = std::process::Command::new("mkfifo")
+        .arg(tmp.path().join("t.toml"))
+        .status()
+        .unwrap();
+    assert!(s.success());
+    let o = chute_within(tmp.path(), &["collect", "s", "--out", "m"], 60);
+    let err = stderr(&o);
+    assert!(err.contains("t.toml` is not a plain file"), "{err}");
+}
