@@ -582,7 +582,14 @@ fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {
     let outcome = crate::converge::run_converge(&opts)?;
     print!("{}", outcome.report.to_markdown());
     let dir = opts.out_dir.display();
-    eprintln!("wrote {dir}/convergence.json, convergence.md and convergence.png");
+    for w in &outcome.warnings {
+        eprintln!("warning: {w}");
+    }
+    let png = match outcome.warnings.is_empty() {
+        true => " and convergence.png",
+        false => "",
+    };
+    eprintln!("wrote {dir}/convergence.json, convergence.md{png}");
     if outcome.pending > 0 {
         let why = match opts.shard {
             Some(_) => "other shards); re-run without --shard to complete the estimates",

@@ -44,8 +44,10 @@ pub struct ConvergeOutcome {
     pub report: ConvergenceReport,
     /// Levels that failed or stopped early (`key=value: message`).
     pub failures: Vec<String>,
-    /// Levels not run yet (other shards).
+    /// Levels not run yet (other shards, or a study stopped before them).
     pub pending: usize,
+    /// What was not written (a picture on a full disk), as sentences.
+    pub warnings: Vec<String>,
 }
 
 /// The default output directory: `runs/<scenario name>-converge`.
@@ -81,7 +83,17 @@ pub fn run_converge_with(
         force: opts.force,
         verbose: opts.verbose,
     };
-    study::run_study_with(&plan.study, &study_opts, runner)?;
+    let ran = study::run_study_with(&plan.study, &study_opts, runner)?;
+    // Why a level this invocation selected was not run (its directory unusable, a full
+    // disk), when it was not for a stop or another shard.
+    let not_run = |case: &str| {
+        ran.cases.iter().find_map(|(name, st)| match st {
+            study::CaseStatus::Failed(m) if name == case && !m.contains("was stopped") => {
+                Some(m.clone())
+            }
+            _ => None,
+        })
+    };
     let mut studies = Vec::new();
     let (mut failures, mut pending) = (Vec::new(), 0);
     for ladder in &plan.ladders {
@@ -93,7 +105,12 @@ pub fn run_converge_with(
         for (l, r) in ladder.levels.iter().zip(&results) {
             match r.status.as_str() {
                 "complete" => {}
-                "not run" => pending += 1,
+                "not run" => match not_run(&l.case) {
+                    Some(m) => {
+                        failures.push(format!("{}={} ({}): {m}", ladder.key, l.text, l.case))
+                    }
+                    None => pending += 1,
+                },
                 s => failures.push(format!(
                     "{}={} ({}): {s}: {}",
                     ladder.key,
@@ -110,20 +127,25 @@ pub fn run_converge_with(
         set: opts.set.clone(),
         studies,
     };
-    write_reports(&opts.out_dir, &report)?;
+    let warnings = write_reports(&opts.out_dir, &report)?;
     Ok(ConvergeOutcome {
         report,
         failures,
         pending,
+        warnings,
     })
 }
 
-fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<(), AppError> {
+/// Write the JSON and Markdown reports (an error when they cannot be), and the picture (a
+/// warning when it cannot be, as a run's pictures: the numbers are in the reports).
+fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<Vec<String>, AppError> {
     let json = out.join("convergence.json");
     study::write_atomic(&json, report.to_json().as_bytes())?;
     let md = out.join("convergence.md");
     study::write_atomic(&md, report.to_markdown().as_bytes())?;
     let png = out.join("convergence.png");
-    plot::convergence_plot(&png, &report.studies)
-        .map_err(|e| AppError::RunFailed(format!("{}: {e}", png.display())))
+    Ok(match plot::convergence_plot(&png, &report.studies) {
+        Ok(()) => Vec::new(),
+        Err(e) => vec![format!("{} was not written: {e}", png.display())],
+    })
 }

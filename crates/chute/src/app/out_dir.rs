@@ -84,6 +84,7 @@ pub(crate) fn remove_created(dir: &Path, top: Option<&Path>) {
 /// it has files, an earlier chute run that `allow_existing` (`--force`, a resume) lets this
 /// one replace.
 pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<Prepared, AppError> {
+    refuse_inside_run(dir)?;
     let created = first_missing(dir);
     ensure_dir(dir)?;
     let lock = match RunLock::acquire(dir) {
@@ -162,6 +163,15 @@ fn refuse_non_directory(dir: &Path) -> Result<(), AppError> {
 /// A fresh run may write `dir` when it is empty, or, with `force`, when it holds an earlier
 /// chute run (whose files are then cleared); never over files chute did not write.
 pub fn check_fresh_dir(dir: &Path, force: bool) -> Result<(), AppError> {
+    // Before anything is cleared: a run could not write its frames there.
+    let frames = dir.join(crate::output::vtk::FRAMES_DIR);
+    let kind = std::fs::symlink_metadata(&frames).map(|m| m.file_type());
+    if kind.is_ok_and(|t| !t.is_dir() && !t.is_symlink()) {
+        return Err(AppError::Input(format!(
+            "`{}` is not a directory: a run writes its frames there; move it, or choose another --out DIR",
+            frames.display()
+        )));
+    }
     if run_files::is_empty(dir) {
         return Ok(());
     }
@@ -194,4 +204,22 @@ pub(super) fn hold(dir: &Path) -> Result<Option<RunLock>, AppError> {
         return Ok(None);
     }
     Ok(Some(RunLock::acquire(dir)?))
+}
+
+/// Refuse an output directory that lies inside a run directory (`RUN/frames/x`, `RUN/sub`):
+/// its files would sit among a run's, which `--force` and `resume` treat as the run's.
+pub fn refuse_inside_run(out: &Path) -> Result<(), AppError> {
+    let abs = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
+    let inside = abs
+        .ancestors()
+        .skip(1)
+        .find(|a| a.join(run_files::RESOLVED_SCENARIO).is_file());
+    match inside {
+        Some(run) => Err(AppError::Input(format!(
+            "`{}` lies inside the run directory `{}`: chute writes each run, study and table in a directory of its own",
+            out.display(),
+            run.display()
+        ))),
+        None => Ok(()),
+    }
 }

@@ -209,9 +209,14 @@ pub fn unresumable(dir: &Path, e: &crate::checkpoint::CheckpointError) -> AppErr
             .ok()
             .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
             .is_some_and(|j| j["complete"] == true);
+    // A study case run again by hand is no longer its study's: say how to keep it one.
+    let case = match dir.join(crate::study::DONE_FILE).is_file() {
+        true => " (it is a study case: to keep it one, run its study again with the longer duration instead)",
+        false => "",
+    };
     let why = match (missing, complete) {
         (true, true) => format!(
-            "the run is complete and kept no checkpoint (a run keeps one after it ends only when written with --checkpoint-every S, and only once it reached its first sync point, every {} steps); to run it longer, start it again with a longer duration: `{again} --set time.duration_s=T`",
+            "the run is complete and kept no checkpoint (a run keeps one after it ends only when written with --checkpoint-every S, and only once it reached its first sync point, every {} steps); to run it longer, start it again with a longer duration: `{again} --set time.duration_s=T`{case}",
             crate::runner::SYNC_STEPS
         ),
         (true, false) => format!(

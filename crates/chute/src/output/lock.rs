@@ -177,7 +177,7 @@ fn lock_file(dir: &Path) -> Result<File, LockError> {
             std::fs::remove_file(&path).map_err(unwritable)?;
             continue;
         }
-        match file.try_lock() {
+        match try_lock_briefly(&file) {
             Ok(()) => {}
             Err(std::fs::TryLockError::WouldBlock) => {
                 return Err(LockError::Busy {
@@ -200,6 +200,21 @@ fn lock_file(dir: &Path) -> Result<File, LockError> {
         dir: dir.to_path_buf(),
         holder: "other processes taking and releasing it repeatedly".into(),
     })
+}
+
+/// Lock `file`, trying again for a moment while it is held: a reader asking whether the
+/// directory is in use (`collect`, `view`: a shared lock taken and dropped at once) must not
+/// make a writer starting at that instant give up.
+fn try_lock_briefly(file: &File) -> Result<(), std::fs::TryLockError> {
+    for _ in 0..10 {
+        match file.try_lock() {
+            Err(std::fs::TryLockError::WouldBlock) => {
+                std::thread::sleep(std::time::Duration::from_millis(10))
+            }
+            other => return other,
+        }
+    }
+    file.try_lock()
 }
 
 /// Whether the file has other names (hard links) besides this one.

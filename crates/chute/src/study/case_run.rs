@@ -130,9 +130,10 @@ fn claim(dir: &Path) -> Result<RunLock, String> {
     let lock = RunLock::acquire(dir).map_err(|e| release(e.to_string()))?;
     let done = dir.join(DONE_FILE);
     match std::fs::remove_file(&done) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-            Err(format!("its marker `{}` cannot be removed: {e}", done.display()))
-        }
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(format!(
+            "its marker `{}` cannot be removed: {e}",
+            done.display()
+        )),
         _ => Ok(lock),
     }
 }

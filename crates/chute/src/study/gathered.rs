@@ -115,7 +115,10 @@ fn study_of(recipe: &serde_json::Value) -> Option<String> {
 
 /// A note when the cases were recorded under different studies or study-wide overrides
 /// (cases named in the order of `rows`).
-pub(super) fn mixed_recipes(rows: &[Row], recipes: &BTreeMap<String, serde_json::Value>) -> Option<String> {
+pub(super) fn mixed_recipes(
+    rows: &[Row],
+    recipes: &BTreeMap<String, serde_json::Value>,
+) -> Option<String> {
     let mut groups: BTreeMap<String, Vec<&str>> = BTreeMap::new();
     for r in rows {
         let (case, Some(recipe)) = (&r.case, recipes.get(&r.case).filter(|r| !r.is_null())) else {

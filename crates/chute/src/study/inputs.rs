@@ -160,10 +160,9 @@ impl<'a> Checker<'a> {
                 st.scenario(case, set)
             }
             (None, Some(file)) => {
-                let st = self
-                    .studies
-                    .entry(PathBuf::from(file))
-                    .or_insert_with(|| Study::load_recorded(file.as_ref()).map_err(|e| e.to_string()));
+                let st = self.studies.entry(PathBuf::from(file)).or_insert_with(|| {
+                    Study::load_recorded(file.as_ref()).map_err(|e| e.to_string())
+                });
                 let st = st.as_ref().map_err(|e| unknown(e.clone()))?;
                 let case = st.cases.iter().find(|c| c.name == name).ok_or_else(|| {
                     Stale::Changed(format!("study file `{file}` no longer has this case"))

@@ -360,7 +360,6 @@ pub fn gather(
     })
 }
 
-
 /// Refuse a directory that holds a single run at its top level: study files written there
 /// would mix a study into a run (or a case) directory.
 pub(crate) fn refuse_run_dir(dir: &Path) -> Result<(), AppError> {
@@ -381,19 +380,7 @@ pub(crate) fn refuse_run_dir(dir: &Path) -> Result<(), AppError> {
 /// files, which `--force` and `resume` treat as the run's).
 pub(crate) fn refuse_run_dir_out(out: &Path) -> Result<(), AppError> {
     refuse_run_dir(out)?;
-    let abs = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
-    match abs
-        .ancestors()
-        .skip(1)
-        .find(|a| a.join(RESOLVED_SCENARIO).is_file())
-    {
-        Some(run) => Err(AppError::Input(format!(
-            "`{}` lies inside the run directory `{}`: a study's tables and cases go in a directory of their own",
-            out.display(),
-            run.display()
-        ))),
-        None => Ok(()),
-    }
+    crate::app::out_dir::refuse_inside_run(out)
 }
 
 /// Write `study.csv` and `study.md` into `out` (refused when `out` is, or lies inside, a run

@@ -349,15 +349,21 @@ fn a_fifo_named_like_a_run_file_is_named_not_waited_on() {
     assert!(err.contains(".chute.lock is not a plain file"), "{err}");
 }
 
-/// A study's tables never go among a run's files: `collect --out` and `study --out` inside a
-/// run directory (a case of the study, or its `frames`) are refused, status 2, writing nothing.
+/// A study's tables and runs never go among a run's files: `collect --out`, `study --out` and
+/// `run --out` inside a run directory (a case of the study, or its `frames`) are refused,
+/// status 2, writing nothing.
 #[test]
 fn tables_are_never_written_inside_a_run_directory() {
     let tmp = table1_study_in("s");
     let study = repo().join("studies/table1.toml").display().to_string();
+    let rod = repo()
+        .join("scenarios/report-rod-20n.toml")
+        .display()
+        .to_string();
     for args in [
         &["collect", "s", "--out", "s/20N/frames"][..],
         &["study", &study, "--out", "s/20N/inner"],
+        &["run", &rod, "--out", "s/20N/frames/x"],
     ] {
         let o = chute(tmp.path(), args);
         let err = stderr(&o);
@@ -366,6 +372,7 @@ fn tables_are_never_written_inside_a_run_directory() {
     }
     assert!(!tmp.path().join("s/20N/frames/study.csv").exists());
     assert!(!tmp.path().join("s/20N/inner").exists());
+    assert!(!tmp.path().join("s/20N/frames/x").exists());
 }
 
 /// A case's `summary.json` replaced by another case's (or edited) is not read as its result:
@@ -451,7 +458,14 @@ fn an_unusable_case_directory_does_not_stop_the_study() {
     let study = repo().join("studies/table1.toml").display().to_string();
     let o = chute(
         tmp.path(),
-        &["study", &study, "--out", "s", "--set", "time.duration_s=0.02"],
+        &[
+            "study",
+            &study,
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
     );
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(3), "{err}");
@@ -480,7 +494,14 @@ fn a_case_found_twice_with_other_inputs_is_named_with_the_one_shown() {
     let study = repo().join("studies/table1.toml").display().to_string();
     let o = chute(
         tmp.path(),
-        &["study", &study, "--out", "t", "--set", "time.duration_s=0.03"],
+        &[
+            "study",
+            &study,
+            "--out",
+            "t",
+            "--set",
+            "time.duration_s=0.03",
+        ],
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     // The newer attempt of 20N stopped early.
@@ -517,7 +538,14 @@ fn a_recorded_study_file_that_became_a_fifo_is_named_not_waited_on() {
     std::fs::write(tmp.path().join("t.toml"), text).unwrap();
     let o = chute(
         tmp.path(),
-        &["study", "t.toml", "--out", "s", "--set", "time.duration_s=0.02"],
+        &[
+            "study",
+            "t.toml",
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     std::fs::remove_file(tmp.path().join("t.toml")).unwrap();

@@ -394,3 +394,39 @@ fn a_ladder_rerun_into_another_ladders_directory_does_not_drop_a_level() {
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(err.contains("nodes-81"), "{err}");
 }
+
+/// A picture that cannot be written is a warning, as for a run (the numbers are in the
+/// reports), and a level whose directory cannot be used is reported with its reason, not as
+/// "stopped first".
+#[test]
+fn an_unwritable_picture_warns_and_an_unusable_level_says_why() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod();
+    let args = [
+        rod.as_str(),
+        "--vary",
+        "canopy.nodes=11,21,41",
+        "--set",
+        "time.duration_s=0.02",
+        "--out",
+        "cv",
+    ];
+    std::fs::create_dir_all(tmp.path().join("cv/convergence.png")).unwrap();
+    std::fs::write(tmp.path().join("cv/nodes-41"), "a file of the user's").unwrap();
+    let o = converge(tmp.path(), &args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("convergence.png was not written"), "{err}");
+    assert!(
+        err.contains("`cv/nodes-41` is a file, not a directory"),
+        "{err}"
+    );
+    assert!(!err.contains("stopped first"), "{err}");
+    assert!(tmp.path().join("cv/convergence.md").is_file());
+    // The level's place freed: the ladder completes, the picture still warned of.
+    std::fs::remove_file(tmp.path().join("cv/nodes-41")).unwrap();
+    let o = converge(tmp.path(), &args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(err.contains("convergence.png was not written"), "{err}");
+}

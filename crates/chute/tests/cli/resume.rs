@@ -384,3 +384,18 @@ fn a_hard_linked_copy_gets_its_own_lock() {
         "pid=1\nhost=elsewhere\n"
     );
 }
+
+/// A `frames` that is a file where a run would write its frames is refused (status 2) before
+/// `--force` clears the earlier run, which is left whole.
+#[test]
+fn force_over_a_frames_file_is_refused_before_clearing() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let r = tmp.path().join("r");
+    std::fs::remove_dir_all(r.join("frames")).unwrap();
+    std::fs::write(r.join("frames"), "not a directory").unwrap();
+    let before = files(&r);
+    let o = run(tmp.path(), "r", &["--force"]);
+    refused(&o, &["`r/frames` is not a directory"]);
+    assert!(before == files(&r), "the earlier run was changed");
+}
