@@ -439,12 +439,17 @@ pub fn main(args: &BenchArgs) -> Result<(), AppError> {
     if !args.json {
         println!("{}", header());
     }
-    for c in &cases {
+    for (i, c) in cases.iter().enumerate() {
+        // Progress on stderr: a --json run prints nothing else until the end.
+        eprintln!("bench: case {} ({} of {}) …", c.name, i + 1, cases.len());
         let r = run_child(&exe, c, args)?;
         if !args.json {
             println!("{}", row(&r));
         }
         results.push(r);
+    }
+    if !args.json {
+        println!("\n{}", table::LEGEND);
     }
     if args.json {
         println!(

@@ -49,6 +49,14 @@ pub(super) fn header() -> String {
     )
 }
 
+/// What the columns of [`header`] mean, printed under the table.
+pub(super) const LEGEND: &str =
+    "columns: nnz = stored nonzeros of the Jacobian; ms/step = wall time per time step; \
+it/st = Newton iterations (linear solves) per step; ms/it = wall time per iteration; \
+fac/st = numeric factorisations per step; ev/st = residual evaluations (element passes) per step; \
+asm% / fac% / sol% = shares of the time in assembly, factorisation and triangular solves; \
+RSS MiB = peak resident memory of the case's process";
+
 pub(super) fn row(r: &CaseResult) -> String {
     format!(
         "{:<16} {:>6} {:>7} {:>9} {:>9.3} {:>6.2} {:>8.3} {:>6.2} {:>6.2} {:>5.1} {:>5.1} {:>5.1} {:>8.1}",

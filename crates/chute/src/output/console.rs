@@ -122,10 +122,17 @@ pub fn key_results(s: &Summary) -> Vec<(&'static str, String)> {
     rows.push((
         "force balance",
         format!(
-            "|drag_z − W|/W = {} (drag_z {}, W {})",
+            "|drag_z − W|/W = {} (drag_z {}, W {}{})",
             quantity(100.0 * s.force_balance_error, "%"),
             quantity(s.mean_drag_z_n, "N"),
-            quantity(s.total_weight_n, "N")
+            quantity(s.total_weight_n, "N"),
+            s.canopy_weight_n
+                .filter(|w| w.is_finite() && *w > 0.0)
+                .map_or(String::new(), |w| format!(
+                    ": the load and lines {} and the canopy {}",
+                    quantity(s.total_weight_n - w, "N"),
+                    quantity(w, "N")
+                ))
         ),
     ));
     rows

@@ -37,6 +37,8 @@ pub struct RunInfo {
     pub solver: Option<SolverCounters>,
     /// Warnings raised by the run loop (they precede the metric warnings in the summary).
     pub warnings: Vec<String>,
+    /// The canopy's own weight within W (N): the rest is the load and the lines.
+    pub canopy_weight_n: Option<f64>,
 }
 
 /// How a run stepped in time: its settings and the steps it took (fields of
@@ -112,6 +114,10 @@ pub struct Summary {
     /// Total weight W of the system (N).
     #[serde(deserialize_with = "null_as_nan")]
     pub total_weight_n: f64,
+    /// The canopy's own weight within W (N), so that W is not read as the load alone; null
+    /// in summaries of an older chute.
+    #[serde(default)]
+    pub canopy_weight_n: Option<f64>,
     /// Mean drag along z over the final window (N).
     #[serde(deserialize_with = "null_as_nan")]
     pub mean_drag_z_n: f64,
@@ -197,6 +203,7 @@ impl Summary {
             max_extended_height_m: m.max_extended_height_m,
             final_extended_height_m: m.final_extended_height_m,
             total_weight_n: m.total_weight_n,
+            canopy_weight_n: run.canopy_weight_n,
             mean_drag_z_n: m.mean_drag_z_n,
             drag_area_m2: m.drag_area_m2,
             force_balance_error: m.force_balance_error,

@@ -312,6 +312,7 @@ impl Flight {
             stepping: self.dt.stepping(cfg),
             solver,
             warnings,
+            canopy_weight_n: Some(built.canopy_weight_n),
         }
     }
 }

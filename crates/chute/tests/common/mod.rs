@@ -293,7 +293,7 @@ pub const SOLVER_FIELDS: [&str; 22] = [
 ];
 
 /// Every field documented in docs/outputs.md §summary.json.
-pub const SUMMARY_FIELDS: [&str; 51] = [
+pub const SUMMARY_FIELDS: [&str; 52] = [
     "summary_version",
     "scenario_name",
     "complete",
@@ -308,6 +308,7 @@ pub const SUMMARY_FIELDS: [&str; 51] = [
     "max_extended_height_m",
     "final_extended_height_m",
     "total_weight_n",
+    "canopy_weight_n",
     "mean_drag_z_n",
     "drag_area_m2",
     "force_balance_error",

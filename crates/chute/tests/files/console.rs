@@ -24,6 +24,7 @@ fn summary() -> Summary {
         max_extended_height_m: 1.987654,
         final_extended_height_m: 1.5,
         total_weight_n: 109.2,
+        canopy_weight_n: Some(9.2),
         mean_drag_z_n: 108.91234,
         drag_area_m2: Some(4.7654321),
         force_balance_error: 0.0026527,
@@ -62,7 +63,7 @@ fn key_results_come_first_in_four_significant_figures() {
         "  time to terminal   3.220 s",
         "  drag area C_D·A    4.765 m²",
         "  extended height    1.500 m at the end, 1.988 m at most",
-        "  force balance      |drag_z − W|/W = 0.2653 % (drag_z 108.9 N, W 109.2 N)",
+        "  force balance      |drag_z − W|/W = 0.2653 % (drag_z 108.9 N, W 109.2 N: the load and lines 100.0 N and the canopy 9.200 N)",
     ];
     assert_eq!(&lines[2..8], &expect, "{text}");
     let rest = lines[8..].join("\n");

@@ -211,6 +211,7 @@ fn run_info() -> RunInfo {
         },
         solver: Some(distinct_counters()),
         warnings: vec!["from the run loop".into()],
+        canopy_weight_n: Some(1.5),
     }
 }
 
