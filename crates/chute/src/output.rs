@@ -16,6 +16,7 @@ pub mod run_files;
 pub mod scene3d;
 pub mod summary;
 pub mod timeseries;
+pub mod trash;
 pub mod viewer;
 pub mod vtk;
 

@@ -25,6 +25,9 @@ pub const LOCK: &str = ".chute.lock";
 /// Space set aside while a run writes, freed so that its record can still be written when
 /// the file system fills up ([`super::lock`]).
 pub const RESERVE: &str = ".chute.reserve";
+/// Where an earlier run's files wait while they are removed, all or none
+/// ([`super::trash::Trash`]); only there while a process clears the directory.
+pub const TRASH: &str = ".chute.old";
 
 /// What a registered file is to the code that clears a directory.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -135,6 +138,10 @@ pub const RUN_FILES: &[RunFile] = &[
         role: Role::Holder,
         ..exact(RESERVE)
     },
+    RunFile {
+        role: Role::Holder,
+        ..exact(TRASH)
+    },
 ];
 
 impl RunFile {
@@ -223,7 +230,34 @@ pub fn is_empty(dir: &Path) -> bool {
 /// Remove every file an earlier run wrote into `dir` (and `frames/` once it is empty);
 /// anything else, and the holder's lock and reserve, is kept.
 pub fn clear(dir: &Path) -> io::Result<()> {
-    clear_where(dir, |n| is_run_file(n) && !is_holder_file(n), is_frame_file)
+    let mut gone = matching(dir, |n| is_run_file(n) && !is_holder_file(n))?;
+    let frames = dir.join(FRAMES_DIR);
+    // Not through a symbolic link: the directory it points to is not the run's.
+    let frames_dir = std::fs::symlink_metadata(&frames).is_ok_and(|m| m.is_dir());
+    if frames_dir {
+        gone.extend(matching(&frames, is_frame_file)?);
+    }
+    // All or nothing: an earlier run stays whole when one of its files cannot be removed.
+    super::trash::Trash::take_all(dir, &gone)?.empty();
+    if frames_dir {
+        // Kept when it holds something chute did not write.
+        let _ = std::fs::remove_dir(&frames);
+    }
+    Ok(())
+}
+
+/// The plain files of `dir` whose names satisfy `gone`.
+fn matching(dir: &Path, gone: impl Fn(&str) -> bool) -> io::Result<Vec<std::path::PathBuf>> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let name = entry.file_name();
+        let Some(name) = name.to_str() else { continue };
+        if entry.file_type()?.is_file() && gone(name) {
+            out.push(entry.path());
+        }
+    }
+    Ok(out)
 }
 
 /// Remove the run files at the top of `dir` except `keep` (and the holder's): what a run

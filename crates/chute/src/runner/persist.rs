@@ -25,14 +25,32 @@ impl Run {
         for (f, h) in built.model.forces.iter_mut().zip(&c.histories) {
             f.restore_history(h).map_err(|e| bad(e.to_string()))?;
         }
-        // The time series first: it is cut back by a new file renamed over the old one, so a
-        // failure (a full disk) changes nothing; the frames after the checkpoint, checked
-        // removable by `check_resumable`, go after it.
-        let ts_path = out_dir.join("timeseries.csv");
-        let rows = checkpoint::truncate_timeseries(&ts_path, c.ts_rows).map_err(|e| match e {
-            checkpoint::CheckpointError::Io { path, source } => RunError::Io { path, source },
-            e => bad(e.to_string()),
+        // All or nothing: the frames after the checkpoint are moved aside (put back if one
+        // cannot be), then the time series is cut back by a new file renamed over the old
+        // one (the frames put back if that fails, a full disk), and only then are the moved
+        // frames removed: a resume that fails here leaves the stopped run as it was.
+        let later = crate::output::vtk::later_frames(out_dir, c.frame_times.len())
+            .map_err(io_err(out_dir))?;
+        let moved = crate::output::trash::Trash::take_all(out_dir, &later).map_err(|e| {
+            RunError::Io {
+                path: out_dir.join(crate::output::vtk::FRAMES_DIR),
+                source: e,
+            }
         })?;
+        let ts_path = out_dir.join("timeseries.csv");
+        let rows = match checkpoint::truncate_timeseries(&ts_path, c.ts_rows) {
+            Ok(rows) => rows,
+            Err(e) => {
+                moved.restore();
+                return Err(match e {
+                    checkpoint::CheckpointError::Io { path, source } => {
+                        RunError::Io { path, source }
+                    }
+                    e => bad(e.to_string()),
+                });
+            }
+        };
+        moved.empty();
         let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
         let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk, Some(c.t))?;

@@ -286,3 +286,46 @@ fn a_resume_without_room_changes_nothing_and_exits_1() {
         assert!(after.get(name) == Some(bytes), "{name} changed: {err}");
     }
 }
+
+/// An earlier run one of whose files cannot be removed (its `frames/` on a read-only mount)
+/// is left whole by `run --force` and by a resume that would remove its later frames: every
+/// file keeps its bytes, each command fails naming a frame, and the run can still be viewed.
+#[test]
+fn a_run_with_a_file_that_cannot_be_removed_is_left_whole() {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    // Its checkpoint is at the sync point t = 0.128 s (the first after 0.1 s), so the frames
+    // at 0.15 and 0.2 s come after it: a resume removes them.
+    let run = quoted_rod_run("r", "0.2", &["--checkpoint-every", "0.1"]);
+    let force = quoted_rod_run("r", "0.1", &["--force"]);
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
+    let script = format!(
+        "{run} && cp -a r before && mount --bind r/frames r/frames && \
+         mount -o remount,bind,ro r/frames && {force} 2> err; echo $? > code; \
+         {bin} resume r --quiet --set time.duration_s=0.3 2> err2; echo $? > code2",
+        bin = bin.display()
+    );
+    let o = in_small_tmpfs(tmp.path(), &script);
+    for (code, err) in [("code", "err"), ("code2", "err2")] {
+        let code = std::fs::read_to_string(tmp.path().join(code))
+            .unwrap_or_else(|_| panic!("no run: {}", String::from_utf8_lossy(&o.stderr)));
+        let err = std::fs::read_to_string(tmp.path().join(err)).unwrap();
+        assert_eq!(code.trim(), "1", "{err}");
+        assert!(err.contains("frames/frame_0000"), "{err}");
+        let (before, after) = (
+            files(&tmp.path().join("before")),
+            files(&tmp.path().join("r")),
+        );
+        for (name, bytes) in &before {
+            // The record says the last attempt failed, and with what.
+            if name != "run.json" && name != "scenario.resolved.toml" {
+                assert!(after.get(name) == Some(bytes), "{name} changed: {err}");
+            }
+        }
+        assert_eq!(before.len(), after.len(), "{err}");
+    }
+    let o = chute(tmp.path(), &["view", "r"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}

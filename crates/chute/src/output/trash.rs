@@ -1,0 +1,100 @@
+//! Removing an earlier run's files all or nothing: each is first moved (renamed) into the
+//! hidden [`TRASH`] directory of the run directory, and only when every one has moved is
+//! the trash emptied. A file that cannot be moved (immutable, on a read-only mount, a mount
+//! point) stops the clearing with every file moved so far put back, so the earlier run stays
+//! whole and the error names that file (docs/reliability.md §5).
+
+use std::io;
+use std::path::{Path, PathBuf};
+
+use super::run_files::TRASH;
+
+/// Files moved aside from a run directory, until [`Trash::empty`] removes them or
+/// [`Trash::restore`] puts them back.
+#[derive(Debug)]
+pub struct Trash {
+    dir: PathBuf,
+    moved: Vec<(PathBuf, PathBuf)>,
+}
+
+impl Trash {
+    /// Move every one of `paths` (files of `run_dir` or of its `frames/`) aside, or none: on
+    /// the first failure the moved ones go back and the error names the file.
+    pub fn take_all(run_dir: &Path, paths: &[PathBuf]) -> io::Result<Trash> {
+        let dir = run_dir.join(TRASH);
+        // One left by a killed process: its files were the earlier run's, already judged
+        // removable.
+        if std::fs::symlink_metadata(&dir).is_ok() {
+            remove_all(&dir)?;
+        }
+        let mut trash = Trash {
+            dir,
+            moved: Vec::new(),
+        };
+        if paths.is_empty() {
+            return Ok(trash);
+        }
+        std::fs::create_dir(&trash.dir).map_err(|e| named(&trash.dir, e))?;
+        for (i, p) in paths.iter().enumerate() {
+            let to = trash.dir.join(i.to_string());
+            if let Err(e) = std::fs::rename(p, &to) {
+                trash.restore();
+                return Err(named(p, e));
+            }
+            trash.moved.push((p.clone(), to));
+        }
+        Ok(trash)
+    }
+
+    /// Put every moved file back where it was (best effort: a file that cannot go back stays
+    /// in the trash, which the next clearing of the directory empties).
+    pub fn restore(mut self) {
+        for (from, to) in self.moved.drain(..).rev() {
+            let _ = std::fs::rename(&to, &from);
+        }
+        let _ = std::fs::remove_dir(&self.dir);
+    }
+
+    /// Remove the moved files for good (best effort: what stays is hidden in the trash,
+    /// which the next clearing empties).
+    pub fn empty(self) {
+        let _ = remove_all(&self.dir);
+    }
+}
+
+/// Remove `dir` and its files, not following links.
+fn remove_all(dir: &Path) -> io::Result<()> {
+    match std::fs::remove_dir_all(dir) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(named(dir, e)),
+        _ => Ok(()),
+    }
+}
+
+/// `e` with the file it concerns.
+fn named(path: &Path, e: io::Error) -> io::Error {
+    io::Error::new(e.kind(), format!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn all_or_nothing() {
+        let tmp = tempfile::tempdir().unwrap();
+        let d = tmp.path();
+        std::fs::write(d.join("a"), "a").unwrap();
+        std::fs::write(d.join("b"), "b").unwrap();
+        // The second path does not exist: nothing is moved, and the error names it.
+        let e = Trash::take_all(d, &[d.join("a"), d.join("missing"), d.join("b")]).unwrap_err();
+        assert!(e.to_string().contains("missing"), "{e}");
+        assert!(d.join("a").is_file() && d.join("b").is_file());
+        assert!(!d.join(TRASH).exists());
+        let t = Trash::take_all(d, &[d.join("a"), d.join("b")]).unwrap();
+        assert!(!d.join("a").exists() && !d.join("b").exists());
+        t.restore();
+        assert_eq!(std::fs::read_to_string(d.join("b")).unwrap(), "b");
+        Trash::take_all(d, &[d.join("a"), d.join("b")]).unwrap().empty();
+        assert!(!d.join("a").exists() && !d.join(TRASH).exists());
+    }
+}
