@@ -146,6 +146,15 @@ fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<Vec<String>, 
     let png = out.join("convergence.png");
     Ok(match plot::convergence_plot(&png, &report.studies) {
         Ok(()) => Vec::new(),
-        Err(e) => vec![format!("{} was not written: {e}", png.display())],
+        Err(e) => {
+            // An earlier ladder's picture must not stand beside these reports.
+            let gone = std::fs::symlink_metadata(&png).is_ok_and(|m| m.is_file())
+                && std::fs::remove_file(&png).is_ok();
+            let earlier = match gone {
+                true => " (the earlier picture was removed)",
+                false => "",
+            };
+            vec![format!("{} was not written: {e}{earlier}", png.display())]
+        }
     })
 }

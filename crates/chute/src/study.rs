@@ -216,12 +216,22 @@ impl Study {
             let (line, col) = e.span().map_or((1, 1), |s| line_col(text, s.start));
             input(format!("{file}:{line}:{col}: {}", e.message().trim()))
         })?;
-        let name = f.name.unwrap_or_else(|| {
-            Path::new(file)
+        // Its name is a directory name (`runs/<name>` by default): given, it must be one as
+        // it is; taken from the file's name, it is made one.
+        let dir_name = |n: &str| !n.is_empty() && safe_name(n) == n && !n.starts_with('.');
+        let name = match f.name {
+            Some(n) if !dir_name(&n) => {
+                return Err(input(format!(
+                    "{file}: study name `{n}` is not a directory name (it names the output directory runs/<name>): use letters, digits, '-', '_' or '.', not starting with '.'"
+                )))
+            }
+            Some(n) => n,
+            None => Path::new(file)
                 .file_stem()
-                .map_or("study".into(), |s| s.to_string_lossy().into_owned())
-        });
-        let name = safe_name(&name);
+                .map(|s| safe_name(&s.to_string_lossy()))
+                .filter(|n| dir_name(n))
+                .unwrap_or_else(|| "study".into()),
+        };
         let mut cases = match (&f.grid, f.case.is_empty()) {
             (Some(_), false) => {
                 return Err(input(format!(
@@ -251,6 +261,12 @@ impl Study {
             if !ok {
                 return Err(input(format!(
                     "{file}: case name `{}` names a directory: use letters, digits, '-', '_' or '.'",
+                    c.name
+                )));
+            }
+            if ["study.csv", "study.md"].contains(&c.name.as_str()) {
+                return Err(input(format!(
+                    "{file}: case name `{}` is the name of the study's table, which goes beside the cases",
                     c.name
                 )));
             }

@@ -209,7 +209,8 @@ pub(super) fn hold(dir: &Path) -> Result<Option<RunLock>, AppError> {
 /// Refuse an output directory that lies inside a run directory (`RUN/frames/x`, `RUN/sub`):
 /// its files would sit among a run's, which `--force` and `resume` treat as the run's.
 pub fn refuse_inside_run(out: &Path) -> Result<(), AppError> {
-    let abs = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
+    // Through links: `link/x` with `link` pointing into a run is inside that run.
+    let abs = resolved(out);
     let inside = abs
         .ancestors()
         .skip(1)
@@ -222,4 +223,16 @@ pub fn refuse_inside_run(out: &Path) -> Result<(), AppError> {
         ))),
         None => Ok(()),
     }
+}
+
+/// `path` with its existing part's links resolved (the rest need not exist yet).
+fn resolved(path: &Path) -> PathBuf {
+    let abs = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    for base in abs.ancestors() {
+        if let Ok(real) = base.canonicalize() {
+            let rest = abs.strip_prefix(base).unwrap_or(Path::new(""));
+            return real.join(rest);
+        }
+    }
+    abs
 }

@@ -94,7 +94,9 @@ mod tests {
         assert!(!d.join("a").exists() && !d.join("b").exists());
         t.restore();
         assert_eq!(std::fs::read_to_string(d.join("b")).unwrap(), "b");
-        Trash::take_all(d, &[d.join("a"), d.join("b")]).unwrap().empty();
+        Trash::take_all(d, &[d.join("a"), d.join("b")])
+            .unwrap()
+            .empty();
         assert!(!d.join("a").exists() && !d.join(TRASH).exists());
     }
 }

@@ -31,12 +31,11 @@ impl Run {
         // frames removed: a resume that fails here leaves the stopped run as it was.
         let later = crate::output::vtk::later_frames(out_dir, c.frame_times.len())
             .map_err(io_err(out_dir))?;
-        let moved = crate::output::trash::Trash::take_all(out_dir, &later).map_err(|e| {
-            RunError::Io {
+        let moved =
+            crate::output::trash::Trash::take_all(out_dir, &later).map_err(|e| RunError::Io {
                 path: out_dir.join(crate::output::vtk::FRAMES_DIR),
                 source: e,
-            }
-        })?;
+            })?;
         let ts_path = out_dir.join("timeseries.csv");
         let rows = match checkpoint::truncate_timeseries(&ts_path, c.ts_rows) {
             Ok(rows) => rows,

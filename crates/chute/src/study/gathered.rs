@@ -15,6 +15,8 @@ pub(super) struct Gathered {
     pub by_name: BTreeMap<String, Row>,
     pub recipes: BTreeMap<String, serde_json::Value>,
     pub found: BTreeMap<String, Found>,
+    /// Directories left out of the table, and why (a copy of a case under another name).
+    pub left_out: Vec<String>,
 }
 
 /// Where one case name was found: each directory with its study, state and study-wide
@@ -57,6 +59,17 @@ impl Gathered {
         row: Row,
         recipe: Option<serde_json::Value>,
     ) -> Result<(), AppError> {
+        // A case's directory is named after it: a record of case `a` in `a.old` is a copy
+        // (a backup), which must not stand for the case.
+        let named = p.file_name().map(|n| n.to_string_lossy().into_owned());
+        if recipe.is_some() && named.as_deref() != Some(row.case.as_str()) {
+            self.left_out.push(format!(
+                "`{}` holds a record of case `{}` but is not named after it (a copy?): left out of the table",
+                p.display(),
+                row.case
+            ));
+            return Ok(());
+        }
         let study = recipe.as_ref().and_then(study_of);
         let found = self.found.entry(row.case.clone()).or_default();
         if let (Some(now), Some((other, Some(was), ..))) = (&study, found.places.first()) {

@@ -196,7 +196,8 @@ impl<'a> Checker<'a> {
         };
         // A base scenario that no longer loads is other inputs than the ones recorded.
         let scenario = scenario.map_err(|e| Stale::Changed(e.to_string()))?;
-        digest(&scenario).map_err(|e| Stale::Changed(e.to_string()))
+        // An input file that cannot be read says nothing about whether it changed.
+        digest(&scenario).map_err(|e| Stale::Unknown(e.to_string()))
     }
 }
 

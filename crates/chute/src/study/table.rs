@@ -301,6 +301,7 @@ pub fn gather(
         mut by_name,
         recipes,
         found,
+        left_out,
     } = g;
     let list = super::expected::cases(invocation.map(|(st, _)| st), recipes.values());
     if invocation.is_some() {
@@ -351,6 +352,7 @@ pub fn gather(
     let notes = super::gathered::mixed_recipes(&rows, &recipes)
         .into_iter()
         .chain(found.values().filter_map(|f| f.note()))
+        .chain(left_out)
         .collect();
     Ok(Table {
         override_keys,
@@ -392,12 +394,38 @@ pub fn write_table(table: &Table, out: &Path) -> Result<(), AppError> {
     write_atomic(&out.join("study.md"), table.to_markdown().as_bytes())
 }
 
+/// Refuse `--out` that holds cases of its own but is not among `dirs`: its table is that
+/// study's, which `collect` of other directories would replace.
+fn refuse_other_study_out(dirs: &[PathBuf], out: &Path) -> Result<(), AppError> {
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    if dirs.iter().any(|d| same(d, out)) {
+        return Ok(());
+    }
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return Ok(());
+    };
+    let holds_cases = entries
+        .filter_map(Result::ok)
+        .any(|e| e.path().join(DONE_FILE).is_file());
+    match holds_cases {
+        true => Err(AppError::Input(format!(
+            "`{}` holds the cases of a study of its own, whose table this would replace: give it as a DIR to collect it too, or choose another --out",
+            out.display()
+        ))),
+        false => Ok(()),
+    }
+}
+
 /// `chute collect`: [`gather`] the cases of `dirs` and [`write_table`] into `out`. Input
 /// errors (exit 2), before anything is written: a run directory among `dirs`, or no case.
 pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
     for d in dirs {
         refuse_run_dir(d)?;
     }
+    refuse_other_study_out(dirs, out)?;
     let table = gather(dirs, None)?;
     if table.rows.is_empty() {
         let shown: Vec<String> = dirs.iter().map(|d| format!("`{}`", d.display())).collect();

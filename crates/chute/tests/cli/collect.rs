@@ -373,6 +373,11 @@ fn tables_are_never_written_inside_a_run_directory() {
     assert!(!tmp.path().join("s/20N/frames/study.csv").exists());
     assert!(!tmp.path().join("s/20N/inner").exists());
     assert!(!tmp.path().join("s/20N/frames/x").exists());
+    // Nor through a link that leads into one.
+    std::os::unix::fs::symlink(tmp.path().join("s/20N/frames"), tmp.path().join("lnk")).unwrap();
+    let o = chute(tmp.path(), &["run", &rod, "--out", "lnk/x"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("lies inside the run directory"));
 }
 
 /// A case's `summary.json` replaced by another case's (or edited) is not read as its result:
@@ -557,4 +562,56 @@ fn a_recorded_study_file_that_became_a_fifo_is_named_not_waited_on() {
     let o = chute_within(tmp.path(), &["collect", "s", "--out", "m"], 60);
     let err = stderr(&o);
     assert!(err.contains("t.toml` is not a plain file"), "{err}");
+}
+
+/// A copy of a case's directory under another name (`20N.old`, a backup) holds a record of
+/// that case: it is left out of the table with a note, and never stands for the case.
+#[test]
+fn a_copy_of_a_case_under_another_name_does_not_stand_for_it() {
+    let tmp = table1_study_in("s");
+    let s = tmp.path().join("s");
+    let o = std::process::Command::new("cp")
+        .args(["-a", "20N", "20N.old"])
+        .current_dir(&s)
+        .status()
+        .unwrap();
+    assert!(o.success());
+    std::fs::write(s.join("20N.old/summary.json"), "{}").unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("`s/20N.old` holds a record of case `20N` but is not named after it"),
+        "{err}"
+    );
+    let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
+    assert_eq!(table.lines().count(), 4, "{table}");
+}
+
+/// `collect A --out B` where B holds a study of its own would replace B's table with A's:
+/// refused (status 2), B's table untouched.
+#[test]
+fn collect_never_replaces_another_studys_table() {
+    let tmp = table1_study_in("s");
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            &study,
+            "--out",
+            "b",
+            "--set",
+            "time.duration_s=0.03",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let before = std::fs::read(tmp.path().join("b/study.csv")).unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "b"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("holds the cases of a study of its own"));
+    assert_eq!(
+        std::fs::read(tmp.path().join("b/study.csv")).unwrap(),
+        before
+    );
 }

@@ -444,6 +444,17 @@ fn study_file_errors() {
         "base = \"b.toml\"\n[[case]]\nname = \"a/b\"\n",
         "case name `a/b`",
     );
+    // A case where the table goes, and study names that are no directory of their own.
+    check(
+        "base = \"b.toml\"\n[[case]]\nname = \"study.csv\"\n",
+        "the name of the study's table",
+    );
+    for name in ["", " ", "a/b", "..", ".hidden"] {
+        check(
+            &format!("name = \"{name}\"\nbase = \"b.toml\"\n[[case]]\nname = \"x\"\n"),
+            &format!("study name `{name}` is not a directory name"),
+        );
+    }
     check(
         "base = \"b.toml\"\n[grid]\n\"load.weight_n\" = 3\n",
         "non-empty array",
