@@ -189,25 +189,28 @@ impl Study {
         let dir = crate::scenario::source_dir(path);
         let mut st = Study::from_str(&text, &path.display().to_string(), &dir)?;
         st.file = Some(std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));
+        // Read once per case: a FIFO or a device there would be waited on, or read forever.
+        if std::fs::metadata(&st.base).is_ok_and(|m| !m.is_file()) {
+            return Err(input(format!(
+                "{}: base scenario `{}` is not a plain file (a FIFO, a device, a directory?)",
+                path.display(),
+                st.base.display()
+            )));
+        }
         Ok(st)
     }
 
-    /// [`Study::load`] of a study file a case recorded (`collect` reads it back): it and its
-    /// base scenario must be plain files, so that one replaced by a FIFO since is named
-    /// instead of waited on (a study given on the command line may be a pipe; this one
-    /// has no writer).
+    /// [`Study::load`] of a study file a case recorded (`collect` reads it back): it must be a
+    /// plain file, so that one replaced by a FIFO since is named instead of waited on (a
+    /// study given on the command line may be a pipe; this one has no writer).
     pub fn load_recorded(path: &Path) -> Result<Study, AppError> {
-        let plain = |p: &Path, what: &str| match std::fs::metadata(p) {
-            Ok(m) if !m.is_file() => Err(input(format!(
-                "{what} `{}` is not a plain file (a FIFO, a device, a directory?)",
-                p.display()
-            ))),
-            _ => Ok(()),
-        };
-        plain(path, "study file")?;
-        let st = Study::load(path)?;
-        plain(&st.base, "base scenario")?;
-        Ok(st)
+        if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+            return Err(input(format!(
+                "study file `{}` is not a plain file (a FIFO, a device, a directory?)",
+                path.display()
+            )));
+        }
+        Study::load(path)
     }
 
     /// Parse study text; `base` resolves against `dir`.

@@ -118,10 +118,10 @@ pub fn open_own(path: &Path) -> io::Result<fs::File> {
     #[cfg(not(unix))]
     let file = fs::File::open(path)?;
     if !file.metadata()?.is_file() {
-        return Err(io::Error::other(format!(
-            "{} is not a plain file (a FIFO, a device, a directory?): chute only reads its own files there",
-            path.display()
-        )));
+        // The caller names the file.
+        return Err(io::Error::other(
+            "not a plain file (a FIFO, a device, a directory?): chute only reads its own files there",
+        ));
     }
     Ok(file)
 }

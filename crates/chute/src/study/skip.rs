@@ -18,9 +18,10 @@ pub(super) fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static 
                 Some(dir) if !has_summary(dir) => {
                     (false, Some("its summary.json is missing or unreadable"))
                 }
-                Some(dir) if super::table::summary_replaced(dir, &d).is_some() => {
-                    (false, Some("its summary.json is not the one its run wrote"))
-                }
+                Some(dir) if super::table::summary_replaced(dir, &d).is_some() => (
+                    false,
+                    Some("its summary.json is not verifiably the one its run wrote"),
+                ),
                 Some(_) => (true, None),
                 None => (false, Some("its summary.json is missing or unreadable")),
             },

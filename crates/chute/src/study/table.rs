@@ -176,8 +176,18 @@ fn unfinished_row(case_dir: &Path, done: Result<Option<serde_json::Value>, Strin
 /// Why `case_dir`'s `summary.json` is not the one its run wrote, as the digest `done`
 /// records shows (`None`: it is, or the record is of an older chute without the digest).
 pub(super) fn summary_replaced(case_dir: &Path, done: &serde_json::Value) -> Option<String> {
-    let recorded = done["summary_digest"].as_str()?;
     let path = case_dir.join(SUMMARY);
+    let Some(recorded) = done["summary_digest"].as_str() else {
+        // Recorded complete without the digest of its summary (an older chute, or an
+        // edited record): the summary cannot be told from another case's.
+        return (done["status"] == "complete").then(|| {
+            format!(
+                "`{}` records no digest of its summary (an older chute wrote it, or it was edited), so `{}` cannot be verified: run the study again",
+                case_dir.join(DONE_FILE).display(),
+                path.display()
+            )
+        });
+    };
     // One that cannot be read is reported as such elsewhere.
     let now = super::inputs::bytes_digest(&crate::output::atomic::read_own(&path).ok()?);
     (now != recorded).then(|| {

@@ -395,11 +395,21 @@ fn a_summary_swapped_between_cases_is_not_taken_as_the_case_result() {
     );
     let err = table1_study_again(tmp.path());
     assert!(
-        err.contains("case 20N: its summary.json is not the one its run wrote; re-running"),
+        err.contains(
+            "case 20N: its summary.json is not verifiably the one its run wrote; re-running"
+        ),
         "{err}"
     );
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // A record without the digest (edited, or an older chute's) cannot vouch for its summary.
+    let done = s.join("200N/done.json");
+    let mut j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+    j.as_object_mut().unwrap().remove("summary_digest");
+    std::fs::write(&done, j.to_string()).unwrap();
+    let err = incomplete_collect(tmp.path());
+    assert!(err.contains("records no digest of its summary"), "{err}");
 }
 
 /// A case directory holding a run without its study's record (a run the user put there, or
