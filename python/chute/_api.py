@@ -12,7 +12,7 @@ import numpy as np
 
 from . import _native
 from ._native import RunError, ScenarioError
-from ._overrides import overrides
+from ._overrides import existing, overrides
 from ._progress import ProgressBar, cases_label
 
 __all__ = ["Frames", "Result", "run", "study", "validate"]
@@ -149,7 +149,7 @@ def run(path, set=None, out=None, progress=False, force=False, viewer=True):
     bar = ProgressBar() if progress else None
     try:
         complete, message = _native.run(
-            os.fspath(path), overrides(set), out_dir, force, viewer, bar
+            existing(path), overrides(set), out_dir, force, viewer, bar
         )
     except (ScenarioError, OSError):
         raise
@@ -234,7 +234,9 @@ def study(path, jobs=None, out=None, set=None, force=False, as_frame=False, prog
     study_dir = tmp.name if tmp is not None else os.fspath(out)
     bar = ProgressBar(label=cases_label) if progress else None
     try:
-        cases = _native.study(os.fspath(path), study_dir, jobs, overrides(set), force, bar)
+        cases = _native.study(
+            existing(path, "study file"), study_dir, jobs, overrides(set), force, bar
+        )
         rows = [_case_row(study_dir, *c) for c in cases]
     finally:
         if bar is not None:

@@ -1,9 +1,20 @@
 """Scenario overrides: Python values to the `KEY=VALUE` texts of `chute run --set`."""
 
+import errno
 import math
+import os
 from collections.abc import Mapping
 
-__all__ = ["overrides"]
+__all__ = ["existing", "overrides"]
+
+
+def existing(path, what="scenario file"):
+    """``os.fspath(path)``, or :class:`FileNotFoundError` (Python's own error for a missing
+    file, with the path) when nothing is there."""
+    text = os.fspath(path)
+    if not os.path.exists(text):
+        raise FileNotFoundError(errno.ENOENT, f"{what} not found", text)
+    return text
 
 
 def _toml(value, nested=False):

@@ -1,10 +1,8 @@
 """chute.Simulation: a run stepped from Python."""
 
-import os
-
 from . import _native
 from ._native import RunError
-from ._overrides import overrides
+from ._overrides import existing, overrides
 
 __all__ = ["Simulation"]
 
@@ -22,7 +20,7 @@ class Simulation:
     """
 
     def __init__(self, path, set=None):
-        self._sim = _native.Simulation(os.fspath(path), overrides(set))
+        self._sim = _native.Simulation(existing(path), overrides(set))
 
     def step(self, n=1):
         """Take up to ``n`` steps (fewer at the end of the run) and return how many were

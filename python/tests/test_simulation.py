@@ -31,7 +31,9 @@ def test_stepping_to_the_end_equals_run(path, set):
     assert f.times[-1] == sim.time
     assert np.array_equal(sim.positions, f.positions[-1])
     assert np.array_equal(sim.velocities, f.velocities[-1])
-    assert summary_without_wall_time(sim.summary()) == summary_without_wall_time(r.summary)
+    assert summary_without_wall_time(sim.summary()) == summary_without_wall_time(
+        r.summary, snapshots=False
+    )
 
 
 def test_arrays_are_float64_and_int64_copies_of_the_right_shape():
@@ -94,5 +96,7 @@ def test_a_simulation_lands_like_run():
     assert sim.finished and sim.step() == 0
     assert sim.stop_reason == "ground" == r.summary["stop_reason"]
     assert sim.time == r.summary["simulated_time_s"] < 2.0
-    assert summary_without_wall_time(sim.summary()) == summary_without_wall_time(r.summary)
+    assert summary_without_wall_time(sim.summary()) == summary_without_wall_time(
+        r.summary, snapshots=False
+    )
     assert sim.summary()["complete"] and "landing_velocity_mps" in sim.summary()

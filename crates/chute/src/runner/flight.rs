@@ -38,6 +38,9 @@ pub(super) struct Flight {
     pub snaps: Vec<f64>,
     /// Index of the next snapshot due in `snaps`.
     pub snap_idx: usize,
+    /// Whether the flight draws its snapshots (a run does; a [`super::session::Session`]
+    /// only ends its steps on their times, and so never warns of one not drawn).
+    pub draws_snapshots: bool,
     /// Index of the next sync point (its time is `next_sync · dt.sync_dt`).
     pub next_sync: u64,
     /// Observation buffers.
@@ -89,6 +92,7 @@ impl Flight {
             next_frame: 0.0,
             snaps,
             snap_idx: 0,
+            draws_snapshots: true,
             next_sync: 1,
             obs: Observer::new(built),
             dec: DecimatedSeries::default(),
@@ -221,7 +225,7 @@ impl Flight {
     pub fn final_warnings(&self, t: f64) -> Vec<String> {
         let mut warnings = self.warnings.clone();
         let missed = &self.snaps[self.snap_idx..];
-        if !missed.is_empty() {
+        if self.draws_snapshots && !missed.is_empty() {
             // One warning for all of them: a short run with the default snapshot times would
             // otherwise repeat the same sentence.
             let times: Vec<String> = missed.iter().map(|t| format!("{t} s")).collect();

@@ -49,6 +49,7 @@ impl Session {
     pub fn new(built: Built, cfg: RunConfig) -> Result<Self, RunError> {
         let stepper = super::advance::new_stepper(&built.model, &cfg)?;
         let mut flight = Flight::new(&built, &cfg)?;
+        flight.draws_snapshots = false;
         let s0 = flight.obs.sample(&built, &built.state, 0, cfg.dt_s);
         flight.dec.push(&s0);
         flight.take_due(built.state.t, &cfg);
