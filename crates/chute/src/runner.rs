@@ -524,9 +524,25 @@ fn progress_bar(cfg: &RunConfig) -> Option<indicatif::ProgressBar> {
     let bar = indicatif::ProgressBar::new(1000);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
-            "{bar:40} {percent:>3}% [{elapsed_precise} < {eta}] {msg}",
+            "{bar:40} {percent:>3}% [{elapsed_precise} < {mean_eta}] {msg}",
         )
+        .map(|st| st.with_key("mean_eta", mean_eta))
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     Some(bar)
+}
+
+/// The time left at the run's mean pace so far (wall time per simulated time since the
+/// start). indicatif's own estimate follows the latest steps, which swings by orders of
+/// magnitude across an opening (a step there costs 100× one at terminal speed); the mean
+/// is steadier and, as the hard part comes early, errs long.
+fn mean_eta(state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write) {
+    let done = state.fraction() as f64;
+    let elapsed = state.elapsed().as_secs_f64();
+    if done <= 0.0 || elapsed <= 0.0 {
+        let _ = write!(w, "?");
+        return;
+    }
+    let left = (elapsed * (1.0 - done) / done).round() as u64;
+    let _ = write!(w, "{}:{:02}:{:02}", left / 3600, left / 60 % 60, left % 60);
 }
