@@ -287,15 +287,27 @@ fn tolerance_text(tol: f64) -> String {
     }
 }
 
-/// Render the checks as a fixed-width table.
+/// Render the checks as a table whose columns are as wide as their widest cell.
 pub fn table(checks: &[Check]) -> String {
+    let width = |head: &str, cell: &dyn Fn(&Check) -> &str| {
+        checks
+            .iter()
+            .map(|c| cell(c).chars().count())
+            .chain([head.chars().count()])
+            .max()
+            .unwrap_or(0)
+    };
+    let (wc, wq) = (
+        width("case", &|c| c.name.as_str()),
+        width("quantity", &|c| c.quantity.as_str()),
+    );
     let mut s = format!(
-        "{:<28} {:<56} {:>13} {:>13} {:>9} {:>8}  {:<4}  {}\n",
+        "{:<wc$}  {:<wq$}  {:>13} {:>13} {:>9} {:>8}  {:<4}  {}\n",
         "case", "quantity", "reference", "simulated", "rel.err", "tol", "pass", "source"
     );
     for c in checks {
         s += &format!(
-            "{:<28} {:<40} {:>13.6e} {:>13.6e} {:>9.2e} {:>8}  {:<4}  {}\n",
+            "{:<wc$}  {:<wq$}  {:>13.6e} {:>13.6e} {:>9.2e} {:>8}  {:<4}  {}\n",
             c.name,
             c.quantity,
             c.reference,
@@ -309,4 +321,33 @@ pub fn table(checks: &[Check]) -> String {
     let failed = checks.iter().filter(|c| !c.pass).count();
     s += &format!("{} passed, {} failed\n", checks.len() - failed, failed);
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every row's columns start where the header's do, whatever the lengths of the case
+    /// names and quantities (Unicode included).
+    #[test]
+    fn the_table_columns_line_up() {
+        let checks = [
+            Check::new("a", "short", 1.0, "src", 1.0, 1e-6),
+            Check::new(
+                "a-much-longer-case",
+                "a quantity, ω dt = 0.2 (m)",
+                2.0,
+                "s",
+                2.1,
+                1e-2,
+            ),
+        ];
+        let text = table(&checks);
+        let lines: Vec<&str> = text.lines().collect();
+        let at = |l: &str, word: &str| l.find(word).map(|b| l[..b].chars().count());
+        let pass = at(lines[0], "pass").unwrap();
+        assert_eq!(at(lines[1], "ok"), Some(pass), "{text}");
+        assert_eq!(at(lines[2], "FAIL"), Some(pass), "{text}");
+        assert_eq!(lines[3], "1 passed, 1 failed");
+    }
 }
