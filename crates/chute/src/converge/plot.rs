@@ -28,8 +28,13 @@ pub fn convergence_plot(path: &Path, studies: &[StudyReport]) -> Result<(), Plot
         .map(|st| st.reported().count())
         .max()
         .unwrap_or(0);
-    let size = (PANEL.0 * cols as u32, PANEL.1 * studies.len() as u32);
+    let size = (
+        PANEL.0 * cols as u32,
+        PANEL.1 * studies.len() as u32 + LEGEND_HEIGHT,
+    );
     render_atomic(path, size, |root| {
+        let (root, strip) = root.split_vertically(size.1 - LEGEND_HEIGHT);
+        draw_legend(&strip)?;
         let panels = root.split_evenly((studies.len(), cols));
         for (r, st) in studies.iter().enumerate() {
             for (c, q) in st.reported().enumerate() {
@@ -43,6 +48,43 @@ pub fn convergence_plot(path: &Path, studies: &[StudyReport]) -> Result<(), Plot
 }
 
 type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// Height of the legend strip under the panels (px).
+const LEGEND_HEIGHT: u32 = 28;
+
+/// What the marks of every panel mean, once, in a strip under them.
+fn draw_legend(strip: &Area<'_>) -> Result<(), PlotError> {
+    let font = ("sans-serif", 14).into_font().color(&BLACK);
+    let y = LEGEND_HEIGHT as i32 / 2;
+    let mut x = 20;
+    let text = |x: &mut i32, t: &str| -> Result<(), PlotError> {
+        strip
+            .draw(&Text::new(t.to_string(), (*x + 16, y - 7), font.clone()))
+            .map_err(de)?;
+        *x += 16 + 8 * t.chars().count() as i32 + 30;
+        Ok(())
+    };
+    strip
+        .draw(&Circle::new((x + 5, y), 5, BLUE.filled()))
+        .map_err(de)?;
+    text(&mut x, "a level in the fit")?;
+    strip
+        .draw(&Circle::new((x + 5, y), 5, BLUE.stroke_width(2)))
+        .map_err(de)?;
+    text(&mut x, "a level left out of the fit")?;
+    strip
+        .draw(&Cross::new((x + 5, y), 6, RED.stroke_width(2)))
+        .map_err(de)?;
+    text(&mut x, "Richardson extrapolation to h → 0 (dashed)")?;
+    strip
+        .draw(&Rectangle::new(
+            [(x, y - 6), (x + 12, y + 6)],
+            RED.mix(0.15).filled(),
+        ))
+        .map_err(de)?;
+    text(&mut x, "GCI band of the finest level in the fit")?;
+    Ok(())
+}
 
 fn panel(
     area: &Area<'_>,
