@@ -1,18 +1,20 @@
 """chute.run, chute.study and chute.validate, and the Result of a run."""
 
+from __future__ import annotations
+
 import csv
 import functools
 import json
 import os
 import pathlib
 import tempfile
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from . import _native
 from ._native import RunError, ScenarioError
-from ._overrides import existing, overrides
+from ._overrides import Overrides, PathLike, existing, overrides
 from ._progress import ProgressBar, cases_label
 
 __all__ = ["Frames", "Result", "run", "study", "validate"]
@@ -44,18 +46,18 @@ class Result:
     collected (or on :meth:`cleanup`); copy what you need, or pass ``out``.
     """
 
-    def __init__(self, out_dir, tmp=None):
+    def __init__(self, out_dir: PathLike, tmp: tempfile.TemporaryDirectory | None = None):
         self.out_dir = pathlib.Path(out_dir)
         self._tmp = tmp  # keeps the temporary directory alive as long as the Result
 
     @functools.cached_property
-    def summary(self):
+    def summary(self) -> dict[str, Any]:
         """``summary.json`` as a dict (keys documented in docs/outputs.md)."""
         with open(self.out_dir / "summary.json", encoding="utf-8") as f:
             return json.load(f)
 
     @functools.cached_property
-    def timeseries(self):
+    def timeseries(self) -> dict[str, np.ndarray]:
         """``timeseries.csv`` as a dict of 1-D numpy arrays keyed by column name (one entry
         per accepted step, plus the initial state); float64, ``newton_iterations`` int64.
         The values are those of the file exactly (it prints every digit)."""
@@ -70,22 +72,22 @@ class Result:
         return columns
 
     @functools.cached_property
-    def frames(self):
+    def frames(self) -> Frames:
         """The frames as a :class:`Frames` (times and an array of positions per frame)."""
         return Frames(*_native.read_frames(str(self.out_dir)))
 
     @property
-    def complete(self):
+    def complete(self) -> bool:
         """Whether the run reached ``time.duration_s``."""
         return bool(self.summary["complete"])
 
-    def cleanup(self):
+    def cleanup(self) -> None:
         """Remove the temporary output directory now (runs with ``out=None`` only)."""
         if self._tmp is not None:
             self._tmp.cleanup()
             self._tmp = None
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         try:
             s = self.summary
         except OSError:
@@ -114,7 +116,14 @@ def _output_dir(out, force):
     return out, None
 
 
-def run(path, set=None, out=None, progress=False, force=False, viewer=True):
+def run(
+    path: PathLike,
+    set: Overrides = None,
+    out: PathLike | None = None,
+    progress: bool = False,
+    force: bool = False,
+    viewer: bool = True,
+) -> Result:
     """Run a scenario as ``chute run`` does and return its :class:`Result`.
 
     Parameters
@@ -202,7 +211,15 @@ def _case_row(study_dir, name, status, message):
     return row
 
 
-def study(path, jobs=None, out=None, set=None, force=False, as_frame=False, progress=False):
+def study(
+    path: PathLike,
+    jobs: int | None = None,
+    out: PathLike | None = None,
+    set: Overrides = None,
+    force: bool = False,
+    as_frame: bool = False,
+    progress: bool = False,
+) -> Any:
     """Run a study file as ``chute study`` does and return one row per case.
 
     Every case is validated before any runs; then ``jobs`` cases run in parallel (default
@@ -251,7 +268,7 @@ def study(path, jobs=None, out=None, set=None, force=False, as_frame=False, prog
     return rows
 
 
-def validate(quick=True, case=None):
+def validate(quick: bool = True, case: str | None = None) -> list[dict[str, Any]]:
     """Run the verification suite (``chute validate``) and return its checks.
 
     ``quick`` runs the short versions (under a minute on 2 cores); ``case`` selects the

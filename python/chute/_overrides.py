@@ -1,14 +1,22 @@
 """Scenario overrides: Python values to the `KEY=VALUE` texts of `chute run --set`."""
 
+from __future__ import annotations
+
 import errno
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from typing import Any, Union
 
-__all__ = ["existing", "overrides"]
+__all__ = ["Overrides", "PathLike", "existing", "overrides"]
+
+#: A file or directory path, as ``open`` takes it.
+PathLike = Union[str, "os.PathLike[str]"]
+#: Scenario overrides: ``{"load.weight_n": 500}`` or ``["load.weight_n=500"]``, or None.
+Overrides = Union[Mapping[str, Any], Sequence[str], None]
 
 
-def existing(path, what="scenario file"):
+def existing(path: PathLike, what: str = "scenario file") -> str:
     """``os.fspath(path)``, or :class:`FileNotFoundError` (Python's own error for a missing
     file, with the path) when nothing is there."""
     text = os.fspath(path)
@@ -49,7 +57,7 @@ def _toml(value, nested=False):
     )
 
 
-def overrides(set):
+def overrides(set: Overrides) -> list[str]:
     """The `--set` texts of `set`: a mapping of dotted keys to values
     (``{"load.weight_n": 500}``), or an iterable of ``"KEY=VALUE"`` texts, or None."""
     if set is None:

@@ -93,3 +93,22 @@ def test_a_failed_run_raises_run_error_with_the_partial_result():
         sim.run()
     assert sim.finished and sim.stop_reason == r.summary["stop_reason"]
     assert str(e2.value) == r.summary["stop_reason"] and e2.value.result is None
+
+
+def test_the_package_is_typed():
+    """The installed package says it is typed (PEP 561: ``py.typed``, a stub for the compiled
+    part), and the public functions carry their types."""
+    import importlib.resources
+    import inspect
+
+    files = importlib.resources.files("chute")
+    assert files.joinpath("py.typed").is_file()
+    assert files.joinpath("_native.pyi").is_file()
+    for f in (chute.run, chute.study, chute.validate, chute.Simulation.__init__):
+        sig = inspect.signature(f)
+        assert sig.return_annotation is not inspect.Signature.empty or f is chute.Simulation.__init__
+        assert all(
+            p.annotation is not inspect.Parameter.empty
+            for name, p in sig.parameters.items()
+            if name != "self"
+        ), f
