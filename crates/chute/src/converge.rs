@@ -84,6 +84,12 @@ pub fn run_converge_with(
         verbose: opts.verbose,
     };
     let ran = study::run_study_with(&plan.study, &study_opts, runner)?;
+    // The inputs each level has in this ladder, to tell its recorded run from another's.
+    let digest = |case: &str| {
+        let c = plan.study.cases.iter().find(|c| c.name == case)?;
+        let s = plan.study.scenario(c, &opts.set).ok()?;
+        study::inputs::digest(&s).ok()
+    };
     // Why a level this invocation selected was not run (its directory unusable, a full
     // disk), when it was not for a stop or another shard.
     let not_run = |case: &str| {
@@ -100,7 +106,7 @@ pub fn run_converge_with(
         let results: Vec<analyse::LevelResult> = ladder
             .levels
             .iter()
-            .map(|l| analyse::read_level(&opts.out_dir.join(&l.case)))
+            .map(|l| analyse::read_level(&opts.out_dir.join(&l.case), digest(&l.case).as_deref()))
             .collect();
         for (l, r) in ladder.levels.iter().zip(&results) {
             match r.status.as_str() {

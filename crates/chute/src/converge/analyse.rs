@@ -99,8 +99,23 @@ fn read_json(path: &Path) -> Option<serde_json::Value> {
 }
 
 /// Read `dir/done.json` and `dir/summary.json`.
-pub fn read_level(dir: &Path) -> LevelResult {
+pub fn read_level(dir: &Path, inputs: Option<&str>) -> LevelResult {
     let done = read_json(&dir.join(DONE_FILE));
+    // A level recorded for other inputs (an earlier ladder's, under other `--set`) is not a
+    // level of this ladder: it is not run yet, whatever it holds.
+    let recorded = done.as_ref().and_then(|d| d["inputs"].as_str());
+    if let (Some(want), Some(_)) = (inputs, &done) {
+        if recorded != Some(want) {
+            return LevelResult {
+                status: "not run".into(),
+                message: Some(
+                    "its directory holds a run of other inputs (an earlier ladder's): run this ladder without --shard, or the missing shard".into(),
+                ),
+                values: vec![None; QUANTITIES.len()],
+                wall_time_s: None,
+            };
+        }
+    }
     let summary = read_json(&dir.join("summary.json"));
     let status = done
         .as_ref()

@@ -216,6 +216,8 @@ pub fn is_holder_file(name: &str) -> bool {
 pub fn is_run_dir(dir: &Path) -> bool {
     dir.join(RESOLVED_SCENARIO).is_file()
         || super::record::RunRecord::read(dir).is_ok_and(|r| r.is_some())
+        // A clearing that was killed: what is left is chute's.
+        || dir.join(TRASH).is_dir()
 }
 
 /// Whether `dir` has nothing in it but the files of the process holding it (or does not
@@ -237,6 +239,15 @@ pub fn clear(dir: &Path) -> io::Result<()> {
     if frames_dir {
         gone.extend(matching(&frames, is_frame_file)?);
     }
+    // The record first (a clearing killed part-way never leaves one saying `complete` over
+    // a run missing files) and the resolved scenario last (what is left stays a chute run
+    // directory, which `--force` may clear again).
+    let rank = |p: &std::path::PathBuf| match p.file_name().and_then(|n| n.to_str()) {
+        Some(RUN_RECORD) => 0,
+        Some(RESOLVED_SCENARIO) => 2,
+        _ => 1,
+    };
+    gone.sort_by_key(rank);
     // All or nothing: an earlier run stays whole when one of its files cannot be removed.
     super::trash::Trash::take_all(dir, &gone)?.empty();
     if frames_dir {

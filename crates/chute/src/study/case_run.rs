@@ -52,6 +52,14 @@ pub(super) fn run_case(
             return Ok(CaseStatus::Failed(why));
         }
     };
+    if unrecorded && !opts.force && holds_finished_run(&dir, digest) {
+        // A run of exactly this case that finished without its study recording it (a case
+        // killed, then completed by `chute resume`): recorded, not thrown away.
+        let m = marker(study, case, opts, digest, &dir, ("complete", None), None);
+        write_atomic(&done, format!("{m:#}\n").as_bytes())?;
+        say("its directory holds a finished run of it that the study had not recorded; recorded, skipped");
+        return Ok(CaseStatus::Skipped);
+    }
     match (stale, opts.force) {
         (Some(why), false) => say(&format!("{why}; re-running")),
         // Not silently: the run there may be one the user put there, not a case of this study.
@@ -80,25 +88,62 @@ pub(super) fn run_case(
         CaseStatus::Incomplete(m) => ("incomplete", Some(m.clone())),
         CaseStatus::Failed(m) => ("failed", Some(m.clone())),
     };
+    let wall = Some(started.elapsed().as_secs_f64());
+    let m = marker(
+        study,
+        case,
+        opts,
+        digest,
+        &dir,
+        (word, message.clone()),
+        wall,
+    );
+    write_atomic(&done, format!("{m:#}\n").as_bytes())?;
+    say(&format!(
+        "{word}{}",
+        message.map_or(String::new(), |m| format!(": {m}"))
+    ));
+    Ok(status)
+}
+
+/// The `done.json` of `case` run into `dir`: how it ended (`status`, its message), the wall
+/// time (`None`: not known, for a run recorded after the fact), and what identifies it.
+fn marker(
+    study: &Study,
+    case: &Case,
+    opts: &StudyOptions,
+    digest: &str,
+    dir: &Path,
+    (word, message): (&str, Option<String>),
+    wall_time_s: Option<f64>,
+) -> serde_json::Value {
     let overrides: Vec<[String; 2]> = case.set.iter().filter_map(|s| split_override(s)).collect();
-    let marker = serde_json::json!({
+    serde_json::json!({
         "study": study.name,
         "case": case.name,
         "index": case.index,
         "overrides": overrides,
         "status": word,
         "message": message,
-        "wall_time_s": started.elapsed().as_secs_f64(),
+        "wall_time_s": wall_time_s,
         "inputs": digest,
-        "summary_digest": summary_digest(&dir),
+        "summary_digest": summary_digest(dir),
         "recipe": expected::recipe(study, &opts.set, case),
-    });
-    write_atomic(&done, format!("{marker:#}\n").as_bytes())?;
-    say(&format!(
-        "{word}{}",
-        message.map_or(String::new(), |m| format!(": {m}"))
-    ));
-    Ok(status)
+    })
+}
+
+/// Whether `dir` holds a complete run (its record says so and its summary reads) of exactly
+/// the inputs `digest` (its resolved scenario, loaded again, has them).
+fn holds_finished_run(dir: &Path, digest: &str) -> bool {
+    use crate::output::record::{RunRecord, Status};
+    use crate::output::run_files::{RESOLVED_SCENARIO, SUMMARY};
+    let complete = matches!(RunRecord::read(dir), Ok(Some(r)) if r.status == Status::Complete);
+    let summary = super::table::read_json(&dir.join(SUMMARY)).is_some();
+    let same = || {
+        let s = Scenario::load(&dir.join(RESOLVED_SCENARIO), &[]).ok()?;
+        super::inputs::digest(&s).ok()
+    };
+    complete && summary && same().as_deref() == Some(digest)
 }
 
 /// Make `dir` the case's and hold it, with its earlier marker removed (so that a run stopped

@@ -429,6 +429,27 @@ fn refuse_other_study_out(dirs: &[PathBuf], out: &Path) -> Result<(), AppError> 
     }
 }
 
+/// Refuse to run study `name` into `out` when `out` holds cases another study recorded
+/// (by its name in their `done.json`): this study would replace those of the same names and
+/// the directory's table (a ladder run again under its scenario's name is the same study).
+pub(crate) fn refuse_other_studys_out(out: &Path, name: &str) -> Result<(), AppError> {
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return Ok(());
+    };
+    for e in entries.filter_map(Result::ok) {
+        let done = e.path().join(DONE_FILE);
+        let other = read_json(&done).and_then(|d| d["study"].as_str().map(str::to_string));
+        if let Some(other) = other.filter(|o| o != name) {
+            return Err(AppError::Input(format!(
+                "`{}` holds the cases of study `{other}` (`{}`), which study `{name}` would replace with its table: choose another --out",
+                out.display(),
+                done.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// `chute collect`: [`gather`] the cases of `dirs` and [`write_table`] into `out`. Input
 /// errors (exit 2), before anything is written: a run directory among `dirs`, or no case.
 pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {

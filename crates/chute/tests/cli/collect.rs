@@ -418,7 +418,25 @@ fn a_summary_swapped_between_cases_is_not_taken_as_the_case_result() {
 #[test]
 fn a_study_says_when_it_replaces_a_run_it_did_not_record() {
     let tmp = table1_study_in("s");
-    std::fs::remove_file(tmp.path().join("s/20N/done.json")).unwrap();
+    // A run of the user's own (other inputs) where the case goes.
+    let rod = repo()
+        .join("scenarios/report-rod-200n.toml")
+        .display()
+        .to_string();
+    let o = chute(
+        tmp.path(),
+        &[
+            "run",
+            &rod,
+            "--out",
+            "s/20N",
+            "--force",
+            "--no-viewer",
+            "--set",
+            "time.duration_s=0.01",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let err = table1_study_again(tmp.path());
     assert!(
         err.contains(
@@ -426,6 +444,26 @@ fn a_study_says_when_it_replaces_a_run_it_did_not_record() {
         ),
         "{err}"
     );
+}
+
+/// A finished run of exactly a case's inputs that its study did not record (the case was
+/// killed, then completed by `chute resume`) is recorded by the next study, not thrown away.
+#[test]
+fn a_finished_unrecorded_run_of_the_case_is_recorded_not_rerun() {
+    let tmp = table1_study_in("s");
+    let summary = std::fs::read(tmp.path().join("s/20N/summary.json")).unwrap();
+    std::fs::remove_file(tmp.path().join("s/20N/done.json")).unwrap();
+    let err = table1_study_again(tmp.path());
+    assert!(
+        err.contains("case 20N: its directory holds a finished run of it that the study had not recorded; recorded, skipped"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read(tmp.path().join("s/20N/summary.json")).unwrap(),
+        summary
+    );
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
 /// Two studies that share a case name are two cases one table cannot hold: `collect` of both
@@ -623,5 +661,37 @@ fn collect_never_replaces_another_studys_table() {
     assert_eq!(
         std::fs::read(tmp.path().join("b/study.csv")).unwrap(),
         before
+    );
+}
+
+/// A study run into another study's directory would replace that study's cases of the same
+/// names and its table: refused (status 2) before any case runs, the directory unchanged.
+#[test]
+fn a_study_never_runs_into_another_studys_directory() {
+    let tmp = table1_study_in("s");
+    let base = repo().join("scenarios/report-rod-200n.toml");
+    let other = format!(
+        "name = \"other\"\nbase = \"{}\"\n[[case]]\nname = \"20N\"\nset = [\"load.weight_n=999\"]\n",
+        base.display()
+    );
+    std::fs::write(tmp.path().join("other.toml"), other).unwrap();
+    let before = files(&tmp.path().join("s"));
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            "other.toml",
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("holds the cases of study `table1`"), "{err}");
+    assert!(
+        before == files(&tmp.path().join("s")),
+        "the other study changed"
     );
 }

@@ -430,3 +430,38 @@ fn an_unwritable_picture_warns_and_an_unusable_level_says_why() {
     assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(err.contains("convergence.png was not written"), "{err}");
 }
+
+/// A shard of a ladder reads the other shards' levels from the directory: one left there by
+/// an earlier ladder of other inputs (another `--set`) is not this ladder's level, so it is
+/// `not run` and out of the fit, never taken as `complete`.
+#[test]
+fn a_shard_never_takes_an_earlier_ladders_level_as_its_own() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod();
+    let ladder = |extra: &[&str]| {
+        let mut a = vec![
+            rod.as_str(),
+            "--vary",
+            "canopy.nodes=11,21,41",
+            "--set",
+            "time.duration_s=0.02",
+            "--out",
+            "cv",
+        ];
+        a.extend(extra);
+        let o = converge(tmp.path(), &a);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    ladder(&["--set", "fluid.drag_coefficient=1.5"]);
+    ladder(&["--shard", "0/2"]);
+    let report = json(&tmp.path().join("cv/convergence.json"));
+    let levels = report["studies"][0]["levels"].as_array().unwrap();
+    let middle = levels.iter().find(|l| l["case"] == "nodes-21").unwrap();
+    assert_eq!(middle["status"], "not run", "{middle}");
+    assert_eq!(middle["used"], false, "{middle}");
+}

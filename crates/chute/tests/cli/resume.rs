@@ -399,3 +399,17 @@ fn force_over_a_frames_file_is_refused_before_clearing() {
     refused(&o, &["`r/frames` is not a directory"]);
     assert!(before == files(&r), "the earlier run was changed");
 }
+
+/// A clearing killed after it moved the earlier run's files aside leaves only chute's
+/// `.chute.old`: the directory is still chute's, and `--force` clears it and runs.
+#[test]
+fn a_killed_clearing_leaves_a_directory_force_can_still_replace() {
+    let tmp = tempfile::tempdir().unwrap();
+    let r = tmp.path().join("r");
+    std::fs::create_dir_all(r.join(".chute.old")).unwrap();
+    std::fs::create_dir_all(r.join("frames")).unwrap();
+    std::fs::write(r.join(".chute.old/0"), "the earlier run.json").unwrap();
+    ok(&run(tmp.path(), "r", &["--force", "--no-viewer"]));
+    assert!(!r.join(".chute.old").exists());
+    assert!(r.join("summary.json").is_file());
+}
