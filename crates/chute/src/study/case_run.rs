@@ -98,7 +98,12 @@ pub(super) fn run_case(
         (word, message.clone()),
         wall,
     );
-    write_atomic(&done, format!("{m:#}\n").as_bytes())?;
+    if let Err(e) = write_atomic(&done, format!("{m:#}\n").as_bytes()) {
+        // The study goes on to the other cases and its table; this one is not recorded.
+        let why = format!("ran ({word}) but its record could not be written: {e}");
+        say(&why);
+        return Ok(CaseStatus::Failed(why));
+    }
     say(&format!(
         "{word}{}",
         message.map_or(String::new(), |m| format!(": {m}"))

@@ -53,7 +53,9 @@ pub(super) fn cases<'a>(
     let mut files: BTreeMap<PathBuf, (usize, usize, Option<Vec<String>>)> = BTreeMap::new();
     let mut named: BTreeMap<Vec<String>, ()> = BTreeMap::new();
     let mut without = 0;
+    let mut any = false;
     for r in recipes {
+        any = true;
         let count = r["case_count"].as_u64().map_or(0, |n| n as usize);
         let names = r["case_names"].as_array().map(|names| {
             names
@@ -81,6 +83,13 @@ pub(super) fn cases<'a>(
             // with, so the table cannot be called complete.
             (None, None) => without += 1,
         }
+    }
+    if !any {
+        // Only directories without a readable record (killed, running): nothing says how
+        // many cases their study has.
+        list.unknown.push(
+            "no case found records its study's case list (none has a readable done.json): the full list is unknown, and the table shows only the directories found".into(),
+        );
     }
     if without > 0 {
         list.unknown.push(format!(

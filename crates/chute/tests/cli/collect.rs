@@ -695,3 +695,20 @@ fn a_study_never_runs_into_another_studys_directory() {
         "the other study changed"
     );
 }
+
+/// Directories none of which has a readable record cannot say how many cases their study
+/// has: `collect` says the list is unknown (status 3) instead of calling the directories
+/// found the whole study.
+#[test]
+fn collect_of_cases_none_of_which_is_recorded_says_the_list_is_unknown() {
+    let tmp = table1_study_in("s");
+    for case in ["20N", "200N"] {
+        std::fs::remove_file(tmp.path().join("s").join(case).join("done.json")).unwrap();
+    }
+    std::fs::remove_dir_all(tmp.path().join("s/2000N")).unwrap();
+    let err = incomplete_collect(tmp.path());
+    assert!(
+        err.contains("no case found records its study's case list"),
+        "{err}"
+    );
+}
