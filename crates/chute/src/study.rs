@@ -463,7 +463,7 @@ pub fn run_study_with(
         })
         .collect::<Result<Vec<_>, AppError>>()?;
     table::refuse_run_dir_out(&opts.out_dir)?;
-    table::refuse_other_studys_out(&opts.out_dir, &study.name)?;
+    table::refuse_other_studys_out(&opts.out_dir, study)?;
     app::ensure_dir(&opts.out_dir)?;
     let jobs = opts
         .jobs

@@ -28,10 +28,17 @@ impl ConvergenceReport {
     /// The Markdown report: per varied key, the levels and the estimates.
     pub fn to_markdown(&self) -> String {
         let mut md = format!("# Convergence of `{}`\n\n", self.scenario);
-        if !self.set.is_empty() {
+        // A `--set` of a varied key holds on no level: each level sets its own value.
+        let varied = |o: &&String| {
+            let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k.trim());
+            self.studies.iter().any(|st| st.key == key)
+        };
+        let on_every: Vec<&String> = self.set.iter().filter(|o| !varied(o)).collect();
+        if !on_every.is_empty() {
+            let texts: Vec<&str> = on_every.iter().map(|s| s.as_str()).collect();
             md.push_str(&format!(
                 "Overrides on every level: `{}`.\n\n",
-                self.set.join("`, `")
+                texts.join("`, `")
             ));
         }
         for st in &self.studies {

@@ -25,40 +25,60 @@ pub(super) fn run_case(
 ) -> Result<CaseStatus, AppError> {
     let dir = opts.out_dir.join(&case.name);
     let done = dir.join(DONE_FILE);
-    let (current, stale) = skip::recorded_run(&done, digest);
     let say = |what: &str| {
         if opts.verbose {
             eprintln!("case {}: {what}", case.name);
         }
     };
-    if current && !opts.force {
-        adopt(study, case, opts, &dir);
+    let skipped = || {
         say("already complete, skipped");
-        return Ok(CaseStatus::Skipped);
-    }
-    if crate::runner::STOP.load(std::sync::atomic::Ordering::SeqCst) {
+        Ok(CaseStatus::Skipped)
+    };
+    // A first look, without the lock: a stop begins no case that is not already done.
+    let (current, _) = skip::recorded_run(&done, digest);
+    let current = current && !opts.force;
+    if !current && crate::runner::STOP.load(std::sync::atomic::Ordering::SeqCst) {
         // Stopped (Ctrl-C, SIGTERM) before this case began: it is not run, and gets no
         // directory that would show it as an interrupted run.
         let why = "not run: the study was stopped before this case began";
         say(why);
         return Ok(CaseStatus::Failed(why.into()));
     }
-    let unrecorded = !done.exists() && crate::output::run_files::is_run_dir(&dir);
-    let _lock = match claim(&dir) {
+    let _lock = match hold(&dir) {
         Ok(lock) => lock,
+        // Held by the process that is finishing it, say: its record stands.
+        Err(_) if current => return skipped(),
         Err(why) => {
             let why = format!("not run: {why}");
             say(&why);
             return Ok(CaseStatus::Failed(why));
         }
     };
+    // Judged again under the lock: another study may have finished the case meanwhile.
+    let (current, stale) = skip::recorded_run(&done, digest);
+    if current && !opts.force {
+        adopt(study, case, opts, &dir);
+        return skipped();
+    }
+    let unrecorded = !done.exists() && crate::output::run_files::is_run_dir(&dir);
     if unrecorded && !opts.force && holds_finished_run(&dir, digest) {
         // A run of exactly this case that finished without its study recording it (a case
         // killed, then completed by `chute resume`): recorded, not thrown away.
         let m = marker(study, case, opts, digest, &dir, ("complete", None), None);
-        write_atomic(&done, format!("{m:#}\n").as_bytes())?;
-        say("its directory holds a finished run of it that the study had not recorded; recorded, skipped");
-        return Ok(CaseStatus::Skipped);
+        return Ok(match write_atomic(&done, format!("{m:#}\n").as_bytes()) {
+            Ok(()) => {
+                say("its directory holds a finished run of it that the study had not recorded; recorded, skipped");
+                CaseStatus::Skipped
+            }
+            Err(e) => CaseStatus::Failed(format!("its finished run could not be recorded: {e}")),
+        });
+    }
+    // The marker goes first, so that a run stopped from here on is never taken as complete;
+    // the runner (force) then clears everything else the earlier run wrote.
+    if let Err(e) = remove_marker(&done) {
+        let why = format!("not run: {e}");
+        say(&why);
+        return Ok(CaseStatus::Failed(why));
     }
     match (stale, opts.force) {
         (Some(why), false) => say(&format!("{why}; re-running")),
@@ -77,6 +97,7 @@ pub(super) fn run_case(
         resume: None,
         viewer: false,
     };
+    let earlier = summary_digest(&dir);
     let started = std::time::Instant::now();
     let status = match runner(scenario, &run_opts) {
         Ok(o) if o.complete => CaseStatus::Complete,
@@ -89,7 +110,7 @@ pub(super) fn run_case(
         CaseStatus::Failed(m) => ("failed", Some(m.clone())),
     };
     let wall = Some(started.elapsed().as_secs_f64());
-    let m = marker(
+    let mut m = marker(
         study,
         case,
         opts,
@@ -98,6 +119,11 @@ pub(super) fn run_case(
         (word, message.clone()),
         wall,
     );
+    if word != "complete" && earlier.is_some() && summary_digest(&dir) == earlier {
+        // The run failed before it replaced the earlier one: the summary there is not this
+        // run's, and its numbers must not stand in this case's row.
+        m["summary_digest"] = serde_json::Value::Null;
+    }
     if let Err(e) = write_atomic(&done, format!("{m:#}\n").as_bytes()) {
         // The study goes on to the other cases and its table; this one is not recorded.
         let why = format!("ran ({word}) but its record could not be written: {e}");
@@ -137,25 +163,38 @@ fn marker(
     })
 }
 
-/// Whether `dir` holds a complete run (its record says so and its summary reads) of exactly
-/// the inputs `digest` (its resolved scenario, loaded again, has them).
+/// Whether `dir` holds a complete run of exactly the inputs `digest`: its record says
+/// complete, every input file it recorded still has the bytes it ran with, its resolved
+/// scenario (loaded again) has the digest, and its summary is of that scenario.
 fn holds_finished_run(dir: &Path, digest: &str) -> bool {
     use crate::output::record::{RunRecord, Status};
     use crate::output::run_files::{RESOLVED_SCENARIO, SUMMARY};
-    let complete = matches!(RunRecord::read(dir), Ok(Some(r)) if r.status == Status::Complete);
-    let summary = super::table::read_json(&dir.join(SUMMARY)).is_some();
-    let same = || {
-        let s = Scenario::load(&dir.join(RESOLVED_SCENARIO), &[]).ok()?;
-        super::inputs::digest(&s).ok()
+    let Ok(Some(record)) = RunRecord::read(dir) else {
+        return false;
     };
-    complete && summary && same().as_deref() == Some(digest)
+    let inputs_kept = record
+        .inputs
+        .iter()
+        .all(|f| super::inputs::file_digest(&f.path).is_ok_and(|now| now == f.digest));
+    let Some(s) = Scenario::load(&dir.join(RESOLVED_SCENARIO), &[]).ok() else {
+        return false;
+    };
+    let summary = super::table::read_json(&dir.join(SUMMARY));
+    let of_it = summary.is_some_and(|j| j["scenario_name"] == s.name.as_str());
+    let all_listed = s
+        .input_files()
+        .iter()
+        .all(|(k, _)| record.inputs.iter().any(|r| r.key == *k));
+    record.status == Status::Complete
+        && inputs_kept
+        && all_listed
+        && of_it
+        && super::inputs::digest(&s).is_ok_and(|d| d == digest)
 }
 
-/// Make `dir` the case's and hold it, with its earlier marker removed (so that a run stopped
-/// from here on is never taken as complete; the runner then clears everything else the
-/// earlier run wrote), or say why the case cannot be run there. A case that is not run
-/// leaves no directory that looks like one.
-fn claim(dir: &Path) -> Result<RunLock, String> {
+/// Make `dir` the case's and hold it, or say why the case cannot be run there. A case that
+/// is not run leaves no directory that looks like one.
+fn hold(dir: &Path) -> Result<RunLock, String> {
     let d = dir.display();
     let meta = std::fs::symlink_metadata(dir);
     if meta.as_ref().is_ok_and(|m| m.file_type().is_symlink()) {
@@ -171,31 +210,30 @@ fn claim(dir: &Path) -> Result<RunLock, String> {
     }
     let created = crate::app::out_dir::first_missing(dir);
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create `{d}`: {e}"))?;
-    let release = |why: String| {
-        crate::app::out_dir::remove_created(dir, created.as_deref());
-        why
-    };
     // Held by another process (a re-queued array task), not writable (a full disk), a linked
     // `frames`: this case is not run and the study goes on.
-    let lock = RunLock::acquire(dir).map_err(|e| release(e.to_string()))?;
-    let done = dir.join(DONE_FILE);
-    match std::fs::remove_file(&done) {
+    RunLock::acquire(dir).map_err(|e| {
+        crate::app::out_dir::remove_created(dir, created.as_deref());
+        e.to_string()
+    })
+}
+
+/// Remove the case's marker `done` (there may be none).
+fn remove_marker(done: &Path) -> Result<(), String> {
+    match std::fs::remove_file(done) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(format!(
             "its marker `{}` cannot be removed: {e}",
             done.display()
         )),
-        _ => Ok(lock),
+        _ => Ok(()),
     }
 }
 
 /// A skipped case is this study's now: its marker's recipe (the study's case list) and index
 /// become this study's, so that `collect` knows every case of the study that ran last
-/// (a ladder re-run into the same directory with other levels). Left as it is when another
-/// process holds the directory or the marker cannot be rewritten: the case's result stands.
+/// (a ladder re-run into the same directory with other levels). The caller holds the
+/// directory; a marker that cannot be rewritten is left as it is: the case's result stands.
 fn adopt(study: &Study, case: &Case, opts: &StudyOptions, dir: &Path) {
-    let Ok(_lock) = RunLock::acquire(dir) else {
-        return;
-    };
     let done: PathBuf = dir.join(DONE_FILE);
     let Some(mut marker) = super::table::read_json(&done) else {
         return;

@@ -35,12 +35,17 @@ pub(super) fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static 
     }
 }
 
-/// Whether `dir`'s record says a run is going that no process holds (killed).
+/// Whether `dir`'s record says a run is going that no process holds (killed). A study that
+/// holds the directory itself (judging the case under its lock) is not that run.
 fn abandoned(dir: &Path) -> bool {
-    matches!(
-        crate::output::record::DirState::of(dir),
-        Ok(crate::output::record::DirState::Abandoned)
-    )
+    use crate::output::record::{DirState, RunRecord, Status};
+    match DirState::of(dir) {
+        Ok(DirState::Abandoned) => true,
+        Ok(DirState::Running) if crate::output::lock::RunLock::held_here(dir) => {
+            matches!(RunRecord::read(dir), Ok(Some(r)) if r.status == Status::Running)
+        }
+        _ => false,
+    }
 }
 
 /// Whether `dir` holds a `summary.json` that parses.

@@ -252,7 +252,14 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde
                 .collect()
         })
         .unwrap_or_default();
-    let values = summary.as_ref().ok().and_then(Option::as_ref);
+    // A run that did not finish shows what its own summary measured, and nothing when the
+    // summary there is not its own (it failed before replacing an earlier run's).
+    let own = done["status"] == "complete" || !done["summary_digest"].is_null();
+    let values = summary
+        .as_ref()
+        .ok()
+        .and_then(Option::as_ref)
+        .filter(|_| own);
     let metrics = METRIC_COLUMNS
         .iter()
         .map(|k| (k.to_string(), metric_text(values.and_then(|s| s.get(*k)))))
@@ -429,21 +436,34 @@ fn refuse_other_study_out(dirs: &[PathBuf], out: &Path) -> Result<(), AppError> 
     }
 }
 
-/// Refuse to run study `name` into `out` when `out` holds cases another study recorded
-/// (by its name in their `done.json`): this study would replace those of the same names and
-/// the directory's table (a ladder run again under its scenario's name is the same study).
-pub(crate) fn refuse_other_studys_out(out: &Path, name: &str) -> Result<(), AppError> {
+/// Refuse to run `study` into `out` when `out` holds cases another study recorded (another
+/// name, or the same name from another study file): this one would replace those of the
+/// same names and the directory's table (a ladder run again under its scenario's name is
+/// the same study).
+pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), AppError> {
     let Ok(entries) = std::fs::read_dir(out) else {
         return Ok(());
     };
+    let file = study
+        .file
+        .as_ref()
+        .map(|f| f.to_string_lossy().into_owned());
     for e in entries.filter_map(Result::ok) {
         let done = e.path().join(DONE_FILE);
-        let other = read_json(&done).and_then(|d| d["study"].as_str().map(str::to_string));
-        if let Some(other) = other.filter(|o| o != name) {
+        let Some(d) = read_json(&done) else { continue };
+        let other = d["study"].as_str().unwrap_or_default();
+        let other_file = d["recipe"]["study_file"].as_str();
+        let same_file = match (other_file, &file) {
+            (Some(a), Some(b)) => a == b,
+            _ => true,
+        };
+        if other != study.name || !same_file {
+            let from = other_file.map_or(String::new(), |f| format!(" of `{f}`"));
             return Err(AppError::Input(format!(
-                "`{}` holds the cases of study `{other}` (`{}`), which study `{name}` would replace with its table: choose another --out",
+                "`{}` holds the cases of study `{other}`{from} (`{}`), which study `{}` would replace with its table: choose another --out",
                 out.display(),
-                done.display()
+                done.display(),
+                study.name
             )));
         }
     }

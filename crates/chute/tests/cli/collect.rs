@@ -694,6 +694,31 @@ fn a_study_never_runs_into_another_studys_directory() {
         before == files(&tmp.path().join("s")),
         "the other study changed"
     );
+    // The same name from another study file (two `table1.toml` in different folders).
+    std::fs::create_dir(tmp.path().join("copy")).unwrap();
+    let text = std::fs::read_to_string(repo().join("studies/table1.toml"))
+        .unwrap()
+        .replace(
+            "../scenarios/",
+            &format!("{}/", repo().join("scenarios").display()),
+        );
+    std::fs::write(tmp.path().join("copy/table1.toml"), text).unwrap();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            "copy/table1.toml",
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        before == files(&tmp.path().join("s")),
+        "the other study changed"
+    );
 }
 
 /// Directories none of which has a readable record cannot say how many cases their study
@@ -709,6 +734,40 @@ fn collect_of_cases_none_of_which_is_recorded_says_the_list_is_unknown() {
     let err = incomplete_collect(tmp.path());
     assert!(
         err.contains("no case found records its study's case list"),
+        "{err}"
+    );
+}
+
+/// An unrecorded run is taken as the case only when it is exactly the case's: not when its
+/// summary is another case's (copied in), nor when the mesh it ran with has changed since.
+#[test]
+fn an_unrecorded_run_of_other_inputs_or_another_summary_is_not_taken() {
+    let tmp = table1_study_in("s");
+    let s = tmp.path().join("s");
+    std::fs::remove_file(s.join("200N/done.json")).unwrap();
+    std::fs::copy(s.join("2000N/summary.json"), s.join("200N/summary.json")).unwrap();
+    let err = table1_study_again(tmp.path());
+    assert!(
+        err.contains("case 200N: `s/200N` holds a run this study did not record (no done.json); replacing it"),
+        "{err}"
+    );
+    // A mesh case: its run finished, its record lost, then the mesh file changed.
+    let mesh = tmp.path().join("canopy.txt");
+    std::fs::write(&mesh, crate::integrity::hex_mesh(1.0)).unwrap();
+    let study = format!(
+        "name = \"hex\"\nbase = \"{}\"\n[[case]]\nname = \"a\"\nset = [\"canopy.mesh_file={}\", \"time.duration_s=0.05\"]\n",
+        repo().join("scenarios/dismech-hex-n6.toml").display(),
+        mesh.display()
+    );
+    std::fs::write(tmp.path().join("hex.toml"), study).unwrap();
+    let run = || chute(tmp.path(), &["study", "hex.toml", "--out", "h"]);
+    assert_eq!(run().status.code(), Some(0));
+    std::fs::remove_file(tmp.path().join("h/a/done.json")).unwrap();
+    std::fs::write(&mesh, crate::integrity::hex_mesh(1.2)).unwrap();
+    let o = run();
+    let err = stderr(&o);
+    assert!(
+        err.contains("replacing it") && !err.contains("recorded, skipped"),
         "{err}"
     );
 }

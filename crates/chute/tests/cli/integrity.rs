@@ -361,7 +361,7 @@ fn resume_keeps_no_viewer() {
 }
 
 /// The bundled DisMech hexagon with every node coordinate × `scale`.
-fn hex_mesh(scale: f64) -> String {
+pub(crate) fn hex_mesh(scale: f64) -> String {
     let text =
         std::fs::read_to_string(repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt"))
             .unwrap();
