@@ -121,6 +121,8 @@ pub fn read_level(dir: &Path, inputs: Option<&str>) -> LevelResult {
         .as_ref()
         .and_then(|d| d["status"].as_str().map(str::to_string))
         .unwrap_or_else(|| "not run".into());
+    // A level its ladder did not record (no `done.json`) has no numbers of this ladder.
+    let summary = summary.filter(|_| done.is_some());
     let values = QUANTITIES
         .iter()
         .map(|q| {

@@ -464,4 +464,49 @@ fn a_shard_never_takes_an_earlier_ladders_level_as_its_own() {
     let middle = levels.iter().find(|l| l["case"] == "nodes-21").unwrap();
     assert_eq!(middle["status"], "not run", "{middle}");
     assert_eq!(middle["used"], false, "{middle}");
+    let vt = &report["studies"][0]["quantities"]["terminal_velocity_mps"]["results"];
+    assert!(vt[1].is_null(), "the other ladder's number shown: {vt}");
+    // Nor when that level's record is gone: its summary is no number of this ladder.
+    std::fs::remove_file(tmp.path().join("cv/nodes-21/done.json")).unwrap();
+    ladder(&["--shard", "0/2"]);
+    let report = json(&tmp.path().join("cv/convergence.json"));
+    let vt = &report["studies"][0]["quantities"]["terminal_velocity_mps"]["results"];
+    assert!(vt[1].is_null(), "an unrecorded level's number shown: {vt}");
+}
+
+/// A `--set` of the varied key holds on no level (each level sets its own value): the report
+/// does not list it among the overrides on every level.
+#[test]
+fn the_report_never_lists_a_varied_key_as_set_on_every_level() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod();
+    let o = converge(
+        tmp.path(),
+        &[
+            rod.as_str(),
+            "--vary",
+            "canopy.nodes=11,21,41",
+            "--set",
+            "canopy.nodes=5",
+            "--set",
+            "time.duration_s=0.02",
+            "--out",
+            "cv",
+        ],
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let md = std::fs::read_to_string(tmp.path().join("cv/convergence.md")).unwrap();
+    let line = md
+        .lines()
+        .find(|l| l.starts_with("Overrides on every level"))
+        .unwrap();
+    assert!(
+        line.contains("time.duration_s=0.02") && !line.contains("canopy.nodes"),
+        "{line}"
+    );
 }
