@@ -76,7 +76,45 @@ pub fn warnings(s: &Scenario) -> Vec<String> {
         .chain(regularisation)
         .chain(super::limits::mach_warning(s))
         .chain(snapshot_collisions(&s.output.snapshots_s))
+        .chain(large_circle(s))
         .collect()
+}
+
+/// Triangles above which a generated circle canopy is large enough to warn of: about
+/// 100 000 nodes, 300 000 DOFs with mid-edge bending, whose model takes tens of seconds to
+/// build and whose steps take seconds each on a laptop (the bundled canopies: ≤ 11 000).
+pub const LARGE_SHELL_TRIANGLES: f64 = 2.0e5;
+
+/// A warning when a generated circle (refined so that its rim holds every load site) has
+/// more than [`LARGE_SHELL_TRIANGLES`] triangles, saying what makes it so.
+fn large_circle(s: &Scenario) -> Option<String> {
+    let cn = &s.canopy;
+    let rim = matches!(s.load.sites, super::Sites::Named(super::SiteSet::Rim));
+    let generated = s.model.kind == ModelKind::Shell
+        && cn.shape == super::CanopyShape::Circle
+        && cn.radius_m > 0.0
+        && cn.edge_length_m > 0.0;
+    if !generated {
+        return None;
+    }
+    let rings = |sites| crate::mesh::generate::circle_rings(cn.radius_m, cn.edge_length_m, sites);
+    let n = rings(if rim { s.load.rim_site_count } else { 1 });
+    let triangles = 6.0 * (n as f64).powi(2);
+    if triangles <= LARGE_SHELL_TRIANGLES {
+        return None;
+    }
+    let why = match (rim, n > rings(1)) {
+        (true, true) => format!(
+            "load.rim_site_count = {} refines it so that the rim holds a node at every site (a count that divides the rim's {} nodes keeps the mesh as canopy.edge_length_m makes it)",
+            s.load.rim_site_count,
+            6 * rings(1)
+        ),
+        _ => format!("canopy.edge_length_m = {} m makes it", short(cn.edge_length_m)),
+    };
+    Some(format!(
+        "the circle canopy will have {n} rings, {} triangles: {why}; building the model and every step will take long (the bundled canopies have at most 11 000)",
+        short(triangles)
+    ))
 }
 
 /// Snapshot times whose files have one name (they are named to the millisecond): the later

@@ -101,6 +101,26 @@ fn supersonic_air_speeds_are_refused_and_fast_ones_warned() {
         .any(|w| w.contains("Mach")));
 }
 
+/// A canopy large enough to take long, but within the limit, is warned of naming what makes
+/// it so; no bundled scenario is.
+#[test]
+fn a_large_circle_canopy_is_warned_of_naming_its_cause() {
+    let warned = |set: &str| {
+        let s = load("round-parachute.toml", &[set]).unwrap();
+        chute::scenario::plausibility::warnings(&s)
+            .into_iter()
+            .find(|w| w.contains("triangles"))
+    };
+    let w = warned("load.rim_site_count=1000").expect("warned");
+    assert!(
+        w.contains("500 rings") && w.contains("load.rim_site_count = 1000"),
+        "{w}"
+    );
+    let w = warned("canopy.edge_length_m=0.005").expect("warned");
+    assert!(w.contains("canopy.edge_length_m = 0.005 m makes it"), "{w}");
+    assert_eq!(warned("load.rim_site_count=12"), None);
+}
+
 #[test]
 fn rim_sites_that_refine_the_circle_past_the_limit_are_refused_before_building() {
     // 10 000 sites need 5000 rings (1.5e8 triangles); refused by the loader itself, so no
