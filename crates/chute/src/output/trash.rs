@@ -23,8 +23,14 @@ impl Trash {
     pub fn take_all(run_dir: &Path, paths: &[PathBuf]) -> io::Result<Trash> {
         let dir = run_dir.join(TRASH);
         // One left by a killed process: its files were the earlier run's, already judged
-        // removable.
+        // removable. Anything else of that name is the user's and stays.
         if std::fs::symlink_metadata(&dir).is_ok() {
+            if !ours(&dir) {
+                return Err(named(
+                    &dir,
+                    io::Error::other("holds files chute did not put there; move it"),
+                ));
+            }
             remove_all(&dir)?;
         }
         let mut trash = Trash {
@@ -60,6 +66,19 @@ impl Trash {
     pub fn empty(self) {
         let _ = remove_all(&self.dir);
     }
+}
+
+/// Whether `dir` is a trash chute left: a real directory holding only its numbered files.
+fn ours(dir: &Path) -> bool {
+    let real = std::fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir());
+    real && std::fs::read_dir(dir).is_ok_and(|it| {
+        it.filter_map(Result::ok).all(|e| {
+            e.file_type().is_ok_and(|t| t.is_file())
+                && e.file_name()
+                    .to_str()
+                    .is_some_and(|n| n.parse::<usize>().is_ok())
+        })
+    })
 }
 
 /// Remove `dir` and its files, not following links.
@@ -98,5 +117,12 @@ mod tests {
             .unwrap()
             .empty();
         assert!(!d.join("a").exists() && !d.join(TRASH).exists());
+        // A directory of that name that is not chute's is kept, and the clearing refused.
+        std::fs::create_dir(d.join(TRASH)).unwrap();
+        std::fs::write(d.join(TRASH).join("mine.txt"), "x").unwrap();
+        std::fs::write(d.join("c"), "c").unwrap();
+        let e = Trash::take_all(d, &[d.join("c")]).unwrap_err();
+        assert!(e.to_string().contains("chute did not put there"), "{e}");
+        assert!(d.join(TRASH).join("mine.txt").is_file() && d.join("c").is_file());
     }
 }
