@@ -3,6 +3,22 @@
 //! known, makes the table incomplete (status 3), and the message says which and why.
 use crate::common::*;
 
+/// `chute study studies/table1.toml --out OUT` of 0.02 s flights in `dir`, as it ended.
+fn table1_study(dir: &std::path::Path, out: &str) -> std::process::Output {
+    let study = repo().join("studies/table1.toml").display().to_string();
+    chute(
+        dir,
+        &[
+            "study",
+            &study,
+            "--out",
+            out,
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    )
+}
+
 /// Report Table I as a study of 0.02 s flights in `out` of a new temporary directory.
 fn table1_study_in(out: &str) -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
@@ -256,18 +272,7 @@ fn a_study_does_not_write_through_a_linked_case_directory() {
     std::fs::write(elsewhere.join("keep.txt"), "mine\n").unwrap();
     std::fs::create_dir(tmp.path().join("s")).unwrap();
     std::os::unix::fs::symlink(&elsewhere, tmp.path().join("s/200N")).unwrap();
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            &study,
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
+    let o = table1_study(tmp.path(), "s");
     let err = stderr(&o);
     assert_ne!(o.status.code(), Some(0), "{err}");
     assert!(
@@ -302,18 +307,7 @@ fn a_study_tables_only_its_own_cases() {
         ],
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            &study,
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
+    let o = table1_study(tmp.path(), "s");
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let table = std::fs::read_to_string(tmp.path().join("s/study.csv")).unwrap();
     assert_eq!(table.lines().count(), 4, "{table}");
@@ -508,18 +502,7 @@ fn an_unusable_case_directory_does_not_stop_the_study() {
     std::fs::create_dir(tmp.path().join("s")).unwrap();
     std::fs::write(tmp.path().join("s/200N"), "a file of the user's").unwrap();
     std::fs::create_dir_all(tmp.path().join("s/2000N/done.json")).unwrap();
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            &study,
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
+    let o = table1_study(tmp.path(), "s");
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(err.contains("case 20N: complete"), "{err}");
