@@ -23,6 +23,24 @@ fn converge(cwd: &Path, args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// `chute converge` of the rod over `levels` of `canopy.nodes`, 0.02 s flights, into `cv`
+/// of `dir`, with `extra` arguments.
+fn short_ladder(dir: &Path, levels: &str, extra: &[&str]) -> Output {
+    let rod = rod();
+    let vary = format!("canopy.nodes={levels}");
+    let mut a = vec![
+        rod.as_str(),
+        "--vary",
+        vary.as_str(),
+        "--set",
+        "time.duration_s=0.02",
+        "--out",
+        "cv",
+    ];
+    a.extend(extra);
+    converge(dir, &a)
+}
+
 fn json(path: &Path) -> serde_json::Value {
     serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
 }
@@ -364,31 +382,19 @@ fn drop_ladder_estimates_landing_velocity_and_flight_time() {
 #[test]
 fn a_ladder_rerun_into_another_ladders_directory_does_not_drop_a_level() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod();
     let ladder = |levels: &str, shard: Option<&str>| {
-        let mut a = vec![
-            rod.as_str(),
-            "--vary",
-            levels,
-            "--set",
-            "time.duration_s=0.02",
-            "--out",
-            "cv",
-        ];
-        if let Some(s) = shard {
-            a.extend(["--shard", s]);
-        }
-        let o = converge(tmp.path(), &a);
+        let extra: Vec<&str> = shard.map_or(Vec::new(), |s| vec!["--shard", s]);
+        let o = short_ladder(tmp.path(), levels, &extra);
         assert!(
             o.status.code().is_some_and(|c| c == 0 || c == 3),
             "{}",
             String::from_utf8_lossy(&o.stderr)
         );
     };
-    ladder("canopy.nodes=11,21,41", None);
+    ladder("11,21,41", None);
     // The next ladder as an array of three shards, the third of which never runs.
-    ladder("canopy.nodes=21,41,81", Some("0/3"));
-    ladder("canopy.nodes=21,41,81", Some("1/3"));
+    ladder("21,41,81", Some("0/3"));
+    ladder("21,41,81", Some("1/3"));
     let o = crate::common::chute(tmp.path(), &["collect", "cv", "--out", "t"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(3), "{err}");
@@ -401,19 +407,9 @@ fn a_ladder_rerun_into_another_ladders_directory_does_not_drop_a_level() {
 #[test]
 fn an_unwritable_picture_warns_and_an_unusable_level_says_why() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod();
-    let args = [
-        rod.as_str(),
-        "--vary",
-        "canopy.nodes=11,21,41",
-        "--set",
-        "time.duration_s=0.02",
-        "--out",
-        "cv",
-    ];
     std::fs::create_dir_all(tmp.path().join("cv/convergence.png")).unwrap();
     std::fs::write(tmp.path().join("cv/nodes-41"), "a file of the user's").unwrap();
-    let o = converge(tmp.path(), &args);
+    let o = short_ladder(tmp.path(), "11,21,41", &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(err.contains("convergence.png was not written"), "{err}");
@@ -425,7 +421,7 @@ fn an_unwritable_picture_warns_and_an_unusable_level_says_why() {
     assert!(tmp.path().join("cv/convergence.md").is_file());
     // The level's place freed: the ladder completes, the picture still warned of.
     std::fs::remove_file(tmp.path().join("cv/nodes-41")).unwrap();
-    let o = converge(tmp.path(), &args);
+    let o = short_ladder(tmp.path(), "11,21,41", &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(err.contains("convergence.png was not written"), "{err}");
@@ -437,19 +433,8 @@ fn an_unwritable_picture_warns_and_an_unusable_level_says_why() {
 #[test]
 fn a_shard_never_takes_an_earlier_ladders_level_as_its_own() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod();
     let ladder = |extra: &[&str]| {
-        let mut a = vec![
-            rod.as_str(),
-            "--vary",
-            "canopy.nodes=11,21,41",
-            "--set",
-            "time.duration_s=0.02",
-            "--out",
-            "cv",
-        ];
-        a.extend(extra);
-        let o = converge(tmp.path(), &a);
+        let o = short_ladder(tmp.path(), "11,21,41", extra);
         assert_eq!(
             o.status.code(),
             Some(0),
@@ -479,21 +464,7 @@ fn a_shard_never_takes_an_earlier_ladders_level_as_its_own() {
 #[test]
 fn the_report_never_lists_a_varied_key_as_set_on_every_level() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod();
-    let o = converge(
-        tmp.path(),
-        &[
-            rod.as_str(),
-            "--vary",
-            "canopy.nodes=11,21,41",
-            "--set",
-            "canopy.nodes=5",
-            "--set",
-            "time.duration_s=0.02",
-            "--out",
-            "cv",
-        ],
-    );
+    let o = short_ladder(tmp.path(), "11,21,41", &["--set", "canopy.nodes=5"]);
     assert_eq!(
         o.status.code(),
         Some(0),
