@@ -1,8 +1,9 @@
-//! Removing an earlier run's files all or nothing: each is first moved (renamed) into the
-//! hidden [`TRASH`] directory of the run directory, and only when every one has moved is
-//! the trash emptied. A file that cannot be moved (immutable, on a read-only mount, a mount
-//! point) stops the clearing with every file moved so far put back, so the earlier run stays
-//! whole and the error names that file (docs/reliability.md §5).
+//! Removing an earlier run's files all or nothing: each is first moved (renamed) into a
+//! hidden [`TRASH`] directory beside it (the run directory's, or `frames/`'s: a rename never
+//! crosses a file system, and `frames/` may be a mount of its own), and only when every one
+//! has moved are the trashes emptied. A file that cannot be moved (immutable, on a read-only
+//! mount, a mount point) stops the clearing with every file moved so far put back, so the
+//! earlier run stays whole and the error names that file (docs/reliability.md §5).
 
 use std::io;
 use std::path::{Path, PathBuf};
@@ -13,7 +14,7 @@ use super::run_files::TRASH;
 /// [`Trash::restore`] puts them back.
 #[derive(Debug)]
 pub struct Trash {
-    dir: PathBuf,
+    dirs: Vec<PathBuf>,
     moved: Vec<(PathBuf, PathBuf)>,
 }
 
@@ -21,29 +22,34 @@ impl Trash {
     /// Move every one of `paths` (files of `run_dir` or of its `frames/`) aside, or none: on
     /// the first failure the moved ones go back and the error names the file.
     pub fn take_all(run_dir: &Path, paths: &[PathBuf]) -> io::Result<Trash> {
-        let dir = run_dir.join(TRASH);
-        // One left by a killed process: its files were the earlier run's, already judged
+        // Ones left by a killed process: their files were the earlier run's, already judged
         // removable. Anything else of that name is the user's and stays.
-        if std::fs::symlink_metadata(&dir).is_ok() {
-            if !ours(&dir) {
-                return Err(named(
-                    &dir,
-                    io::Error::other("holds files chute did not put there; move it"),
-                ));
+        for dir in [
+            run_dir.join(TRASH),
+            run_dir.join(super::vtk::FRAMES_DIR).join(TRASH),
+        ] {
+            if std::fs::symlink_metadata(&dir).is_ok() {
+                if !ours(&dir) {
+                    return Err(named(
+                        &dir,
+                        io::Error::other("holds files chute did not put there; move it"),
+                    ));
+                }
+                remove_all(&dir)?;
             }
-            remove_all(&dir)?;
         }
         let mut trash = Trash {
-            dir,
+            dirs: Vec::new(),
             moved: Vec::new(),
         };
-        if paths.is_empty() {
-            return Ok(trash);
-        }
-        std::fs::create_dir(&trash.dir).map_err(|e| named(&trash.dir, e))?;
         for (i, p) in paths.iter().enumerate() {
-            let to = trash.dir.join(i.to_string());
-            if let Err(e) = std::fs::rename(p, &to) {
+            let dir = p.parent().unwrap_or(run_dir).join(TRASH);
+            let made = match trash.dirs.contains(&dir) {
+                true => Ok(()),
+                false => std::fs::create_dir(&dir).map(|()| trash.dirs.push(dir.clone())),
+            };
+            let to = dir.join(i.to_string());
+            if let Err(e) = made.and_then(|()| std::fs::rename(p, &to)) {
                 trash.restore();
                 return Err(named(p, e));
             }
@@ -53,18 +59,22 @@ impl Trash {
     }
 
     /// Put every moved file back where it was (best effort: a file that cannot go back stays
-    /// in the trash, which the next clearing of the directory empties).
+    /// in a trash, which the next clearing of the directory empties).
     pub fn restore(mut self) {
         for (from, to) in self.moved.drain(..).rev() {
             let _ = std::fs::rename(&to, &from);
         }
-        let _ = std::fs::remove_dir(&self.dir);
+        for dir in &self.dirs {
+            let _ = std::fs::remove_dir(dir);
+        }
     }
 
-    /// Remove the moved files for good (best effort: what stays is hidden in the trash,
-    /// which the next clearing empties).
+    /// Remove the moved files for good (best effort: what stays is hidden in a trash, which
+    /// the next clearing empties).
     pub fn empty(self) {
-        let _ = remove_all(&self.dir);
+        for dir in &self.dirs {
+            let _ = remove_all(dir);
+        }
     }
 }
 

@@ -436,29 +436,29 @@ fn refuse_other_study_out(dirs: &[PathBuf], out: &Path) -> Result<(), AppError> 
     }
 }
 
-/// Refuse to run `study` into `out` when `out` holds cases another study recorded (another
-/// name, or the same name from another study file): this one would replace those of the
-/// same names and the directory's table (a ladder run again under its scenario's name is
-/// the same study).
+/// Refuse to run `study` into `out` when `out` holds cases another study recorded: another
+/// name, or the same name from another file (its study file, or for a study made in code its
+/// base scenario, still there and not this one's: a link or a moved copy is the same study).
+/// This one would replace those of the same names and the directory's table.
 pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), AppError> {
     let Ok(entries) = std::fs::read_dir(out) else {
         return Ok(());
     };
-    let file = study
-        .file
-        .as_ref()
-        .map(|f| f.to_string_lossy().into_owned());
+    let (mine, key) = match &study.file {
+        Some(f) => (f.clone(), "study_file"),
+        None => (study.base.clone(), "base"),
+    };
+    let another = |recorded: &str| {
+        let (a, b) = (Path::new(recorded).canonicalize(), mine.canonicalize());
+        matches!((a, b), (Ok(a), Ok(b)) if a != b)
+    };
     for e in entries.filter_map(Result::ok) {
         let done = e.path().join(DONE_FILE);
         let Some(d) = read_json(&done) else { continue };
         let other = d["study"].as_str().unwrap_or_default();
-        let other_file = d["recipe"]["study_file"].as_str();
-        let same_file = match (other_file, &file) {
-            (Some(a), Some(b)) => a == b,
-            _ => true,
-        };
-        if other != study.name || !same_file {
-            let from = other_file.map_or(String::new(), |f| format!(" of `{f}`"));
+        let from = d["recipe"][key].as_str();
+        if other != study.name || from.is_some_and(another) {
+            let from = from.map_or(String::new(), |f| format!(" of `{f}`"));
             return Err(AppError::Input(format!(
                 "`{}` holds the cases of study `{other}`{from} (`{}`), which study `{}` would replace with its table: choose another --out",
                 out.display(),

@@ -702,6 +702,20 @@ fn a_study_never_runs_into_another_studys_directory() {
         before == files(&tmp.path().join("s")),
         "the other study changed"
     );
+    // The same study file reached through a link is the same study.
+    std::os::unix::fs::symlink(repo().join("studies"), tmp.path().join("linked")).unwrap();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            "linked/table1.toml",
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
 /// Directories none of which has a readable record cannot say how many cases their study

@@ -481,3 +481,38 @@ fn the_report_never_lists_a_varied_key_as_set_on_every_level() {
         "{line}"
     );
 }
+
+/// A ladder of another scenario file with the same name is another study: converging it into
+/// the first ladder's directory is refused (status 2), the first ladder unchanged.
+#[test]
+fn a_ladder_of_another_scenario_file_never_replaces_one_of_the_same_name() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = short_ladder(tmp.path(), "11,21,41", &[]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let copy = tmp.path().join("copy.toml");
+    let text = std::fs::read_to_string(rod())
+        .unwrap()
+        .replace("weight_n = 200.0", "weight_n = 300.0");
+    std::fs::write(&copy, text).unwrap();
+    let copy = copy.display().to_string();
+    let o = converge(
+        tmp.path(),
+        &[
+            &copy,
+            "--vary",
+            "canopy.nodes=11,21,41",
+            "--set",
+            "time.duration_s=0.02",
+            "--out",
+            "cv",
+        ],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("holds the cases of study"), "{err}");
+}
