@@ -204,11 +204,14 @@ pub fn unresumable(dir: &Path, e: &crate::checkpoint::CheckpointError) -> AppErr
     }
     let again = format!("chute run {d}/{RESOLVED_SCENARIO} --out {d} --force");
     let missing = matches!(e, CheckpointError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound);
-    let complete = matches!(DirState::of(dir), Ok(DirState::Ended(Status::Complete, _)))
+    let half_cleared = crate::output::run_files::clearing_interrupted(dir);
+    let recorded_complete = matches!(DirState::of(dir), Ok(DirState::Ended(Status::Complete, _)))
         || crate::output::atomic::read_own_string(&dir.join(SUMMARY))
             .ok()
             .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
             .is_some_and(|j| j["complete"] == true);
+    // A `--force` killed while it moved the run aside left part of it: not complete.
+    let complete = recorded_complete && !half_cleared;
     // A study case run again by hand is no longer its study's: say how to keep it one.
     let case = match dir.join(crate::study::DONE_FILE).is_file() {
         true => " (it is a study case: to keep it one, run its study again with the longer duration instead)",

@@ -101,6 +101,11 @@ impl DirState {
         if is_locked(dir) {
             return Ok(DirState::Running);
         }
+        // Killed while replacing its earlier run: whatever its record says, part of that
+        // run is gone.
+        if super::run_files::clearing_interrupted(dir) {
+            return Ok(DirState::Abandoned);
+        }
         Ok(match RunRecord::read(dir)? {
             None => DirState::Unrecorded,
             Some(r) if r.status == Status::Running => DirState::Abandoned,

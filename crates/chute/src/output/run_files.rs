@@ -216,10 +216,22 @@ pub fn is_holder_file(name: &str) -> bool {
 pub fn is_run_dir(dir: &Path) -> bool {
     dir.join(RESOLVED_SCENARIO).is_file()
         || super::record::RunRecord::read(dir).is_ok_and(|r| r.is_some())
-        // A clearing that was killed: what is left is chute's (its moved files are numbered).
-        || std::fs::read_dir(dir.join(TRASH)).is_ok_and(|mut it| {
-            it.any(|e| e.is_ok_and(|e| e.file_name().to_str().is_some_and(|n| n.parse::<usize>().is_ok())))
+        // A clearing that was killed: what is left is chute's.
+        || clearing_interrupted(dir)
+}
+
+/// Whether a process replacing the run in `dir` (`--force`) was killed while it moved the
+/// earlier run's files aside: `dir`'s trash holds some of them (they are numbered).
+pub fn clearing_interrupted(dir: &Path) -> bool {
+    std::fs::read_dir(dir.join(TRASH)).is_ok_and(|mut it| {
+        it.any(|e| {
+            e.is_ok_and(|e| {
+                e.file_name()
+                    .to_str()
+                    .is_some_and(|n| n.parse::<usize>().is_ok())
+            })
         })
+    })
 }
 
 /// Whether `dir` has nothing in it but the files of the process holding it (or does not

@@ -413,3 +413,25 @@ fn a_killed_clearing_leaves_a_directory_force_can_still_replace() {
     assert!(!r.join(".chute.old").exists());
     assert!(r.join("summary.json").is_file());
 }
+
+/// A directory whose `--force` clearing was killed after its record was moved aside is not
+/// a complete run: `view` notes an unfinished run, and resume does not call it complete.
+#[test]
+fn a_half_cleared_run_is_not_described_as_complete() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let r = tmp.path().join("r");
+    std::fs::create_dir(r.join(".chute.old")).unwrap();
+    std::fs::rename(r.join("run.json"), r.join(".chute.old/0")).unwrap();
+    std::fs::remove_file(r.join("checkpoint.bin")).unwrap();
+    let o = chute(tmp.path(), &["view", "r"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("unfinished run"), "{}", stderr(&o));
+    let o = chute(tmp.path(), &["resume", "r"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        !stderr(&o).contains("the run is complete"),
+        "{}",
+        stderr(&o)
+    );
+}
