@@ -100,13 +100,12 @@ pub(crate) fn render_atomic(
         draw(&root)?;
         root.present().map_err(de)
     })();
-    match result {
-        Ok(()) => Ok(std::fs::rename(&tmp, path)?),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
+    // The temporary never outlives a failure, of the drawing or of the rename.
+    let result = result.and_then(|()| Ok(std::fs::rename(&tmp, path)?));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
     }
+    result
 }
 
 /// (min, max) of the finite values, padded by 5 % (or a small absolute pad when flat).

@@ -435,3 +435,27 @@ fn a_half_cleared_run_is_not_described_as_complete() {
         stderr(&o)
     );
 }
+
+/// A picture that cannot take its place (a directory of its name) is warned of and leaves no
+/// temporary behind.
+#[test]
+fn a_picture_that_cannot_be_renamed_leaves_no_temporary() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let r = tmp.path().join("r");
+    std::fs::remove_file(r.join("velocity.png")).unwrap();
+    std::fs::create_dir(r.join("velocity.png")).unwrap();
+    std::fs::write(r.join("velocity.png/mine"), "x").unwrap();
+    ok(&run(tmp.path(), "r", &["--force", "--no-viewer"]));
+    let summary = std::fs::read_to_string(r.join("summary.json")).unwrap();
+    assert!(
+        summary.contains("velocity.png was not written"),
+        "{summary}"
+    );
+    let left: Vec<String> = std::fs::read_dir(&r)
+        .unwrap()
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".tmp.png"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}
