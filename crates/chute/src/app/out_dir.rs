@@ -57,8 +57,10 @@ impl Prepared {
 /// The outermost of `dir` and its ancestors that does not exist yet (what creating `dir`
 /// will create).
 pub(crate) fn first_missing(dir: &Path) -> Option<PathBuf> {
+    // `a/b/.` is `a/b`: its parents are those of `a/b` (components drop the `.`).
+    let dir: PathBuf = dir.components().collect();
     let mut missing = None;
-    let mut p = Some(dir);
+    let mut p = Some(dir.as_path());
     while let Some(d) = p.filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
         missing = Some(d.to_path_buf());
         p = d.parent();
@@ -70,7 +72,8 @@ pub(crate) fn first_missing(dir: &Path) -> Option<PathBuf> {
 /// each only while empty; nothing when `top` is `None`.
 pub(crate) fn remove_created(dir: &Path, top: Option<&Path>) {
     let Some(top) = top else { return };
-    let mut d = Some(dir);
+    let dir: PathBuf = dir.components().collect();
+    let mut d = Some(dir.as_path());
     while let Some(cur) = d {
         if std::fs::remove_dir(cur).is_err() || cur == top {
             break;
@@ -109,7 +112,9 @@ pub fn prepare_out_dir(dir: &Path, allow_existing: bool) -> Result<Prepared, App
 /// created or written in (read-only), is bad input (exit 2) saying so, before any work starts.
 pub fn ensure_dir(dir: &Path) -> Result<(), AppError> {
     refuse_non_directory(dir)?;
-    std::fs::create_dir_all(dir).map_err(|e| {
+    // `a/b/.` is `a/b` (create_dir_all would make `a` and then fail on `a/b/.`).
+    let whole: PathBuf = dir.components().collect();
+    std::fs::create_dir_all(&whole).map_err(|e| {
         AppError::Input(format!(
             "cannot create output directory `{}`: {e}",
             dir.display()
@@ -235,4 +240,22 @@ fn resolved(path: &Path) -> PathBuf {
         }
     }
     abs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `a1/b1/.` names `a1/b1`: what a command created for it is removed again, `a1` too.
+    #[test]
+    fn created_directories_are_removed_whatever_the_spelling() {
+        let tmp = tempfile::tempdir().unwrap();
+        let out = tmp.path().join("a1/b1/.");
+        let top = first_missing(&out);
+        assert_eq!(top.as_deref(), Some(tmp.path().join("a1").as_path()));
+        ensure_dir(&out).unwrap();
+        assert!(tmp.path().join("a1/b1").is_dir());
+        remove_created(&out, top.as_deref());
+        assert!(!tmp.path().join("a1").exists());
+    }
 }
