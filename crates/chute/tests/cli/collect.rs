@@ -4,7 +4,7 @@
 use crate::common::*;
 
 /// `chute study studies/table1.toml --out OUT` of 0.02 s flights in `dir`, as it ended.
-fn table1_study(dir: &std::path::Path, out: &str) -> std::process::Output {
+pub(crate) fn table1_study(dir: &std::path::Path, out: &str) -> std::process::Output {
     let study = repo().join("studies/table1.toml").display().to_string();
     chute(
         dir,
@@ -20,7 +20,7 @@ fn table1_study(dir: &std::path::Path, out: &str) -> std::process::Output {
 }
 
 /// Report Table I as a study of 0.02 s flights in `out` of a new temporary directory.
-fn table1_study_in(out: &str) -> tempfile::TempDir {
+pub(crate) fn table1_study_in(out: &str) -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
     let study = repo().join("studies/table1.toml").display().to_string();
     let set = ["--set", "time.duration_s=0.02"];
@@ -34,7 +34,7 @@ fn table1_study_in(out: &str) -> tempfile::TempDir {
 
 /// Table I's study again into `s` of `dir` (as [`table1_study_in`] ran it): its stderr, after
 /// checking it succeeded.
-fn table1_study_again(dir: &std::path::Path) -> String {
+pub(crate) fn table1_study_again(dir: &std::path::Path) -> String {
     let study = repo().join("studies/table1.toml").display().to_string();
     let set = ["--set", "time.duration_s=0.02"];
     let o = chute(dir, &[&["study", &study, "--out", "s"][..], &set].concat());
@@ -45,7 +45,7 @@ fn table1_study_again(dir: &std::path::Path) -> String {
 
 /// `chute collect s --out m` in `dir`, which must call the table incomplete (status 3): its
 /// stderr.
-fn incomplete_collect(dir: &std::path::Path) -> String {
+pub(crate) fn incomplete_collect(dir: &std::path::Path) -> String {
     let o = chute(dir, &["collect", "s", "--out", "m"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(3), "{err}");
@@ -169,22 +169,6 @@ fn an_unreadable_record_is_named_and_the_case_list_still_known() {
     );
 }
 
-/// `chute study` skips a case only when its summary reads too: a "complete" case whose
-/// `summary.json` was removed is run again, not skipped into an `unreadable` row.
-#[test]
-fn a_study_reruns_a_complete_case_without_its_summary() {
-    let tmp = table1_study_in("s");
-    std::fs::remove_file(tmp.path().join("s/200N/summary.json")).unwrap();
-    let err = table1_study_again(tmp.path());
-    assert!(
-        err.contains("case 200N: its summary.json is missing or unreadable; re-running"),
-        "{err}"
-    );
-    assert!(tmp.path().join("s/200N/summary.json").is_file());
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-}
-
 /// A study file whose path is not UTF-8 runs its cases and writes its table (its recorded
 /// path is lossy text), instead of panicking when each case records its recipe; `collect`
 /// then knows the table is whole from the case names the cases recorded.
@@ -260,58 +244,6 @@ fn a_slurm_variable_that_is_not_utf8_is_refused() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("SLURM_ARRAY_TASK_ID"), "{}", stderr(&o));
-}
-
-/// A case directory that is a link (to a run elsewhere) is not run through: the case is
-/// "not run", and the run the link points to is untouched.
-#[test]
-fn a_study_does_not_write_through_a_linked_case_directory() {
-    let tmp = tempfile::tempdir().unwrap();
-    let elsewhere = tmp.path().join("elsewhere");
-    std::fs::create_dir(&elsewhere).unwrap();
-    std::fs::write(elsewhere.join("keep.txt"), "mine\n").unwrap();
-    std::fs::create_dir(tmp.path().join("s")).unwrap();
-    std::os::unix::fs::symlink(&elsewhere, tmp.path().join("s/200N")).unwrap();
-    let o = table1_study(tmp.path(), "s");
-    let err = stderr(&o);
-    assert_ne!(o.status.code(), Some(0), "{err}");
-    assert!(
-        err.contains("200N") && err.contains("symbolic link"),
-        "{err}"
-    );
-    let left: Vec<_> = std::fs::read_dir(&elsewhere).unwrap().collect();
-    assert_eq!(left.len(), 1, "the linked directory was written to");
-}
-
-/// A study written into a directory that also holds other runs tables its own cases only.
-#[test]
-fn a_study_tables_only_its_own_cases() {
-    let tmp = tempfile::tempdir().unwrap();
-    let rod = repo()
-        .join("scenarios/report-rod-200n.toml")
-        .display()
-        .to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "run",
-            &rod,
-            "--quiet",
-            "--no-viewer",
-            "--out",
-            "s/other",
-            "--set",
-            "time.duration_s=0.02",
-            "--set",
-            "canopy.nodes=21",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let o = table1_study(tmp.path(), "s");
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let table = std::fs::read_to_string(tmp.path().join("s/study.csv")).unwrap();
-    assert_eq!(table.lines().count(), 4, "{table}");
-    assert!(!table.contains("other"), "{table}");
 }
 
 /// A FIFO named like one of chute's files (a run's lock, a case's marker) is not one of them:
@@ -406,60 +338,6 @@ fn a_summary_swapped_between_cases_is_not_taken_as_the_case_result() {
     assert!(err.contains("records no digest of its summary"), "{err}");
 }
 
-/// A case directory holding a run without its study's record (a run the user put there, or
-/// a case killed before its marker) is replaced, and the study says so instead of doing it
-/// silently.
-#[test]
-fn a_study_says_when_it_replaces_a_run_it_did_not_record() {
-    let tmp = table1_study_in("s");
-    // A run of the user's own (other inputs) where the case goes.
-    let rod = repo()
-        .join("scenarios/report-rod-200n.toml")
-        .display()
-        .to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "run",
-            &rod,
-            "--out",
-            "s/20N",
-            "--force",
-            "--no-viewer",
-            "--set",
-            "time.duration_s=0.01",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let err = table1_study_again(tmp.path());
-    assert!(
-        err.contains(
-            "case 20N: `s/20N` holds a run this study did not record (no done.json); replacing it"
-        ),
-        "{err}"
-    );
-}
-
-/// A finished run of exactly a case's inputs that its study did not record (the case was
-/// killed, then completed by `chute resume`) is recorded by the next study, not thrown away.
-#[test]
-fn a_finished_unrecorded_run_of_the_case_is_recorded_not_rerun() {
-    let tmp = table1_study_in("s");
-    let summary = std::fs::read(tmp.path().join("s/20N/summary.json")).unwrap();
-    std::fs::remove_file(tmp.path().join("s/20N/done.json")).unwrap();
-    let err = table1_study_again(tmp.path());
-    assert!(
-        err.contains("case 20N: its directory holds a finished run of it that the study had not recorded; recorded, skipped"),
-        "{err}"
-    );
-    assert_eq!(
-        std::fs::read(tmp.path().join("s/20N/summary.json")).unwrap(),
-        summary
-    );
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-}
-
 /// Two studies that share a case name are two cases one table cannot hold: `collect` of both
 /// is refused (status 2) naming the case, both directories and both studies, instead of one
 /// case silently replacing the other.
@@ -491,34 +369,6 @@ fn two_studies_sharing_a_case_name_are_not_mixed() {
         assert!(err.contains(want), "want `{want}` in: {err}");
     }
     assert!(!tmp.path().join("m").exists());
-}
-
-/// A case whose directory cannot be used (a file in its place, a marker that is a
-/// directory) is "not run", named with the reason, and the study goes on: the other cases
-/// run and the table is written (status 3), instead of the whole study stopping.
-#[test]
-fn an_unusable_case_directory_does_not_stop_the_study() {
-    let tmp = tempfile::tempdir().unwrap();
-    std::fs::create_dir(tmp.path().join("s")).unwrap();
-    std::fs::write(tmp.path().join("s/200N"), "a file of the user's").unwrap();
-    std::fs::create_dir_all(tmp.path().join("s/2000N/done.json")).unwrap();
-    let o = table1_study(tmp.path(), "s");
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(err.contains("case 20N: complete"), "{err}");
-    assert!(
-        err.contains("case 200N: not run: `s/200N` is a file, not a directory"),
-        "{err}"
-    );
-    assert!(
-        err.contains("case 2000N: not run: its marker `s/2000N/done.json` cannot be removed"),
-        "{err}"
-    );
-    assert!(tmp.path().join("s/study.csv").is_file());
-    assert_eq!(
-        std::fs::read_to_string(tmp.path().join("s/200N")).unwrap(),
-        "a file of the user's"
-    );
 }
 
 /// A case found in two directories with other states or study-wide overrides is never
@@ -647,77 +497,6 @@ fn collect_never_replaces_another_studys_table() {
     );
 }
 
-/// A study run into another study's directory would replace that study's cases of the same
-/// names and its table: refused (status 2) before any case runs, the directory unchanged.
-#[test]
-fn a_study_never_runs_into_another_studys_directory() {
-    let tmp = table1_study_in("s");
-    let base = repo().join("scenarios/report-rod-200n.toml");
-    let other = format!(
-        "name = \"other\"\nbase = \"{}\"\n[[case]]\nname = \"20N\"\nset = [\"load.weight_n=999\"]\n",
-        base.display()
-    );
-    std::fs::write(tmp.path().join("other.toml"), other).unwrap();
-    let before = files(&tmp.path().join("s"));
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            "other.toml",
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("holds the cases of study `table1`"), "{err}");
-    assert!(
-        before == files(&tmp.path().join("s")),
-        "the other study changed"
-    );
-    // The same name from another study file (two `table1.toml` in different folders).
-    std::fs::create_dir(tmp.path().join("copy")).unwrap();
-    let text = std::fs::read_to_string(repo().join("studies/table1.toml"))
-        .unwrap()
-        .replace(
-            "../scenarios/",
-            &format!("{}/", repo().join("scenarios").display()),
-        );
-    std::fs::write(tmp.path().join("copy/table1.toml"), text).unwrap();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            "copy/table1.toml",
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        before == files(&tmp.path().join("s")),
-        "the other study changed"
-    );
-    // The same study file reached through a link is the same study.
-    std::os::unix::fs::symlink(repo().join("studies"), tmp.path().join("linked")).unwrap();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            "linked/table1.toml",
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-}
-
 /// Directories none of which has a readable record cannot say how many cases their study
 /// has: `collect` says the list is unknown (status 3) instead of calling the directories
 /// found the whole study.
@@ -731,40 +510,6 @@ fn collect_of_cases_none_of_which_is_recorded_says_the_list_is_unknown() {
     let err = incomplete_collect(tmp.path());
     assert!(
         err.contains("no case found records its study's case list"),
-        "{err}"
-    );
-}
-
-/// An unrecorded run is taken as the case only when it is exactly the case's: not when its
-/// summary is another case's (copied in), nor when the mesh it ran with has changed since.
-#[test]
-fn an_unrecorded_run_of_other_inputs_or_another_summary_is_not_taken() {
-    let tmp = table1_study_in("s");
-    let s = tmp.path().join("s");
-    std::fs::remove_file(s.join("200N/done.json")).unwrap();
-    std::fs::copy(s.join("2000N/summary.json"), s.join("200N/summary.json")).unwrap();
-    let err = table1_study_again(tmp.path());
-    assert!(
-        err.contains("case 200N: `s/200N` holds a run this study did not record (no done.json); replacing it"),
-        "{err}"
-    );
-    // A mesh case: its run finished, its record lost, then the mesh file changed.
-    let mesh = tmp.path().join("canopy.txt");
-    std::fs::write(&mesh, crate::integrity::hex_mesh(1.0)).unwrap();
-    let study = format!(
-        "name = \"hex\"\nbase = \"{}\"\n[[case]]\nname = \"a\"\nset = [\"canopy.mesh_file={}\", \"time.duration_s=0.05\"]\n",
-        repo().join("scenarios/dismech-hex-n6.toml").display(),
-        mesh.display()
-    );
-    std::fs::write(tmp.path().join("hex.toml"), study).unwrap();
-    let run = || chute(tmp.path(), &["study", "hex.toml", "--out", "h"]);
-    assert_eq!(run().status.code(), Some(0));
-    std::fs::remove_file(tmp.path().join("h/a/done.json")).unwrap();
-    std::fs::write(&mesh, crate::integrity::hex_mesh(1.2)).unwrap();
-    let o = run();
-    let err = stderr(&o);
-    assert!(
-        err.contains("replacing it") && !err.contains("recorded, skipped"),
         "{err}"
     );
 }

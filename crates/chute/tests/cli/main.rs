@@ -16,5 +16,6 @@ mod recovery;
 mod reliability;
 mod resume;
 mod shell_laws;
+mod study_dirs;
 mod study_inputs;
 mod validate;
