@@ -12,6 +12,9 @@ use crate::app::{self, AppError, RunOptions};
 use crate::scenario::Scenario;
 use crate::study::{self, Shard, Study, StudyOptions};
 
+mod view;
+use view::cmd_view;
+
 /// Parachute flight simulator for flexible canopies (DER rods and discrete shells).
 #[derive(Debug, Parser)]
 #[command(name = "chute", version, about)]
@@ -438,45 +441,6 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
     drop(lock);
     result?;
     marked
-}
-
-fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
-    use crate::output::run_dir::RunDirError;
-    if !a.run_dir.is_dir() {
-        return Err(AppError::Input(format!(
-            "`{}` is not a directory (give a run directory written by `chute run`)",
-            a.run_dir.display()
-        )));
-    }
-    let unfinished = crate::output::record::DirState::of(&a.run_dir)
-        .ok()
-        .and_then(|s| s.unfinished());
-    // `view` writes into the directory: it waits its turn like any writer.
-    let _lock = crate::output::lock::RunLock::acquire(&a.run_dir)?;
-    // A directory that cannot be shown says why its run did not finish, when it knows.
-    let because = |e: String| match &unfinished {
-        Some(why) => format!("{e} (its run did not finish: {why})"),
-        None => e,
-    };
-    let r = crate::output::viewer::write_viewer(&a.run_dir).map_err(|e| match e {
-        RunDirError::Io { path, source } => AppError::Io { path, source },
-        e @ RunDirError::Format { .. } => AppError::Input(because(e.to_string())),
-    })?;
-    println!(
-        "wrote {} ({} bytes: {} of {} frames, {} triangles)",
-        r.path.display(),
-        r.bytes,
-        r.frames_embedded,
-        r.frames_total,
-        r.triangles
-    );
-    if let Some(why) = unfinished {
-        eprintln!(
-            "note: `{}` holds an unfinished run: {why}",
-            a.run_dir.display()
-        );
-    }
-    Ok(())
 }
 
 fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {
