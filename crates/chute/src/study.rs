@@ -190,27 +190,20 @@ impl Study {
         let mut st = Study::from_str(&text, &path.display().to_string(), &dir)?;
         st.file = Some(std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));
         // Read once per case: a FIFO or a device there would be waited on, or read forever.
-        if std::fs::metadata(&st.base).is_ok_and(|m| !m.is_file()) {
-            return Err(input(format!(
-                "{}: base scenario `{}` is not a plain file (a FIFO, a device, a directory?)",
-                path.display(),
-                st.base.display()
-            )));
+        match crate::output::atomic::not_plain(&st.base, "base scenario") {
+            Some(why) => Err(input(format!("{}: {why}", path.display()))),
+            None => Ok(st),
         }
-        Ok(st)
     }
 
     /// [`Study::load`] of a study file a case recorded (`collect` reads it back): it must be a
     /// plain file, so that one replaced by a FIFO since is named instead of waited on (a
     /// study given on the command line may be a pipe; this one has no writer).
     pub fn load_recorded(path: &Path) -> Result<Study, AppError> {
-        if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
-            return Err(input(format!(
-                "study file `{}` is not a plain file (a FIFO, a device, a directory?)",
-                path.display()
-            )));
+        match crate::output::atomic::not_plain(path, "study file") {
+            Some(why) => Err(input(why)),
+            None => Study::load(path),
         }
-        Study::load(path)
     }
 
     /// Parse study text; `base` resolves against `dir`.

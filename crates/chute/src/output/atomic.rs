@@ -126,6 +126,20 @@ pub fn open_own(path: &Path) -> io::Result<fs::File> {
     Ok(file)
 }
 
+/// A sentence naming `path` (`what`: "study file") when something other than a plain file
+/// is there: an input chute reads whole, where a FIFO would be waited on and a device read
+/// forever. `None` for a plain file, or nothing at all (its reader says so).
+pub fn not_plain(path: &Path, what: &str) -> Option<String> {
+    std::fs::metadata(path)
+        .is_ok_and(|m| !m.is_file())
+        .then(|| {
+            format!(
+                "{what} `{}` is not a plain file (a FIFO, a device, a directory?)",
+                path.display()
+            )
+        })
+}
+
 /// The bytes of a file chute wrote ([`open_own`]).
 pub fn read_own(path: &Path) -> io::Result<Vec<u8>> {
     use std::io::Read;

@@ -223,15 +223,8 @@ pub fn is_run_dir(dir: &Path) -> bool {
 /// Whether a process replacing the run in `dir` (`--force`) was killed while it moved the
 /// earlier run's files aside: `dir`'s trash holds some of them (they are numbered).
 pub fn clearing_interrupted(dir: &Path) -> bool {
-    std::fs::read_dir(dir.join(TRASH)).is_ok_and(|mut it| {
-        it.any(|e| {
-            e.is_ok_and(|e| {
-                e.file_name()
-                    .to_str()
-                    .is_some_and(|n| n.parse::<usize>().is_ok())
-            })
-        })
-    })
+    std::fs::read_dir(dir.join(TRASH))
+        .is_ok_and(|mut it| it.any(|e| e.is_ok_and(|e| super::trash::is_moved(&e.file_name()))))
 }
 
 /// Whether `dir` has nothing in it but the files of the process holding it (or does not

@@ -78,16 +78,17 @@ impl Trash {
     }
 }
 
+/// Whether `name` is that of a file [`Trash::take_all`] moved (they are numbered).
+pub fn is_moved(name: &std::ffi::OsStr) -> bool {
+    name.to_str().is_some_and(|n| n.parse::<usize>().is_ok())
+}
+
 /// Whether `dir` is a trash chute left: a real directory holding only its numbered files.
 fn ours(dir: &Path) -> bool {
     let real = std::fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir());
     real && std::fs::read_dir(dir).is_ok_and(|it| {
-        it.filter_map(Result::ok).all(|e| {
-            e.file_type().is_ok_and(|t| t.is_file())
-                && e.file_name()
-                    .to_str()
-                    .is_some_and(|n| n.parse::<usize>().is_ok())
-        })
+        it.filter_map(Result::ok)
+            .all(|e| e.file_type().is_ok_and(|t| t.is_file()) && is_moved(&e.file_name()))
     })
 }
 

@@ -173,11 +173,10 @@ impl<'a> Checker<'a> {
                 let base = recipe["base"]
                     .as_str()
                     .ok_or_else(|| unknown("its done.json records no base scenario".into()))?;
-                if std::fs::metadata(base).is_ok_and(|m| !m.is_file()) {
-                    // A FIFO put there since has no writer: named, not waited on.
-                    return Err(unknown(format!(
-                        "base scenario `{base}` is not a plain file (a FIFO, a device, a directory?)"
-                    )));
+                // A FIFO put there since has no writer: named, not waited on.
+                if let Some(why) = crate::output::atomic::not_plain(base.as_ref(), "base scenario")
+                {
+                    return Err(unknown(why));
                 }
                 let st = Study {
                     name: done["study"].as_str().unwrap_or_default().to_string(),

@@ -5,18 +5,24 @@ use crate::common::*;
 
 /// `chute study studies/table1.toml --out OUT` of 0.02 s flights in `dir`, as it ended.
 pub(crate) fn table1_study(dir: &std::path::Path, out: &str) -> std::process::Output {
+    table1_study_of(dir, out, "0.02")
+}
+
+/// [`table1_study`] of flights of `duration` s.
+fn table1_study_of(dir: &std::path::Path, out: &str, duration: &str) -> std::process::Output {
     let study = repo().join("studies/table1.toml").display().to_string();
-    chute(
-        dir,
-        &[
-            "study",
-            &study,
-            "--out",
-            out,
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    )
+    let set = format!("time.duration_s={duration}");
+    chute(dir, &["study", &study, "--out", out, "--set", &set])
+}
+
+/// Write `dir/other.toml`: a study `other` whose one case is named `20N` like Table I's.
+pub(crate) fn write_other_study(dir: &std::path::Path) {
+    let base = repo().join("scenarios/report-rod-200n.toml");
+    let other = format!(
+        "name = \"other\"\nbase = \"{}\"\n[[case]]\nname = \"20N\"\nset = [\"load.weight_n=999\"]\n",
+        base.display()
+    );
+    std::fs::write(dir.join("other.toml"), other).unwrap();
 }
 
 /// Report Table I as a study of 0.02 s flights in `out` of a new temporary directory.
@@ -254,11 +260,7 @@ fn a_fifo_named_like_a_run_file_is_named_not_waited_on() {
     let fifo = |p: &str| {
         let path = tmp.path().join(p);
         let _ = std::fs::remove_file(&path);
-        let s = std::process::Command::new("mkfifo")
-            .arg(&path)
-            .status()
-            .unwrap();
-        assert!(s.success());
+        tool(tmp.path(), "mkfifo", &[path.as_os_str()]);
     };
     fifo("s/20N/.chute.lock");
     fifo("s/200N/done.json");
@@ -344,12 +346,7 @@ fn a_summary_swapped_between_cases_is_not_taken_as_the_case_result() {
 #[test]
 fn two_studies_sharing_a_case_name_are_not_mixed() {
     let tmp = table1_study_in("s");
-    let base = repo().join("scenarios/report-rod-200n.toml");
-    let other = format!(
-        "name = \"other\"\nbase = \"{}\"\n[[case]]\nname = \"20N\"\nset = [\"load.weight_n=999\"]\n",
-        base.display()
-    );
-    std::fs::write(tmp.path().join("other.toml"), other).unwrap();
+    write_other_study(tmp.path());
     let o = chute(
         tmp.path(),
         &[
@@ -377,18 +374,7 @@ fn two_studies_sharing_a_case_name_are_not_mixed() {
 #[test]
 fn a_case_found_twice_with_other_inputs_is_named_with_the_one_shown() {
     let tmp = table1_study_in("s");
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            &study,
-            "--out",
-            "t",
-            "--set",
-            "time.duration_s=0.03",
-        ],
-    );
+    let o = table1_study_of(tmp.path(), "t", "0.03");
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     // The newer attempt of 20N stopped early.
     let done = tmp.path().join("t/20N/done.json");
@@ -435,11 +421,7 @@ fn a_recorded_study_file_that_became_a_fifo_is_named_not_waited_on() {
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     std::fs::remove_file(tmp.path().join("t.toml")).unwrap();
-    let s = std::process::Command::new("mkfifo")
-        .arg(tmp.path().join("t.toml"))
-        .status()
-        .unwrap();
-    assert!(s.success());
+    tool(tmp.path(), "mkfifo", &["t.toml".as_ref()]);
     let o = chute_within(tmp.path(), &["collect", "s", "--out", "m"], 60);
     let err = stderr(&o);
     assert!(err.contains("t.toml` is not a plain file"), "{err}");
@@ -451,12 +433,11 @@ fn a_recorded_study_file_that_became_a_fifo_is_named_not_waited_on() {
 fn a_copy_of_a_case_under_another_name_does_not_stand_for_it() {
     let tmp = table1_study_in("s");
     let s = tmp.path().join("s");
-    let o = std::process::Command::new("cp")
-        .args(["-a", "20N", "20N.old"])
-        .current_dir(&s)
-        .status()
-        .unwrap();
-    assert!(o.success());
+    tool(
+        &s,
+        "cp",
+        &["-a".as_ref(), "20N".as_ref(), "20N.old".as_ref()],
+    );
     std::fs::write(s.join("20N.old/summary.json"), "{}").unwrap();
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
     let err = stderr(&o);
@@ -474,18 +455,7 @@ fn a_copy_of_a_case_under_another_name_does_not_stand_for_it() {
 #[test]
 fn collect_never_replaces_another_studys_table() {
     let tmp = table1_study_in("s");
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            &study,
-            "--out",
-            "b",
-            "--set",
-            "time.duration_s=0.03",
-        ],
-    );
+    let o = table1_study_of(tmp.path(), "b", "0.03");
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let before = std::fs::read(tmp.path().join("b/study.csv")).unwrap();
     let o = chute(tmp.path(), &["collect", "s", "--out", "b"]);

@@ -260,12 +260,11 @@ fn a_hard_linked_copy_is_resumed_and_rerun_without_changing_the_original() {
     let tmp = tempfile::tempdir().unwrap();
     ok(&run(tmp.path(), "r", &CHECKPOINTED));
     let cp = |to: &str| {
-        let s = std::process::Command::new("cp")
-            .args(["-al", "r", to])
-            .current_dir(tmp.path())
-            .status()
-            .unwrap();
-        assert!(s.success());
+        tool(
+            tmp.path(),
+            "cp",
+            &["-al".as_ref(), "r".as_ref(), to.as_ref()],
+        )
     };
     cp("linked");
     cp("linked2");
@@ -369,12 +368,11 @@ fn a_hard_linked_copy_gets_its_own_lock() {
     ok(&run(tmp.path(), "r", &CHECKPOINTED));
     let lock = tmp.path().join("r/.chute.lock");
     std::fs::write(&lock, "pid=1\nhost=elsewhere\n").unwrap();
-    let s = std::process::Command::new("cp")
-        .args(["-al", "r", "copy"])
-        .current_dir(tmp.path())
-        .status()
-        .unwrap();
-    assert!(s.success());
+    tool(
+        tmp.path(),
+        "cp",
+        &["-al".as_ref(), "r".as_ref(), "copy".as_ref()],
+    );
     // The original's lock file held by a process of its own (as a live run would).
     let held = std::fs::File::open(&lock).unwrap();
     held.lock().unwrap();

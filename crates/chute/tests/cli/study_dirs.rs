@@ -2,8 +2,31 @@
 //! judged under its lock and run only in a directory that is its own; a run the study did not
 //! record is taken only when it is exactly the case's, and another study's directory is never
 //! run into.
-use crate::collect::{table1_study, table1_study_again, table1_study_in};
+use crate::collect::{table1_study, table1_study_again, table1_study_in, write_other_study};
 use crate::common::*;
+
+/// A user's own short rod run into `out` of `dir` (`--force` over what is there), not a case
+/// of any study.
+fn users_run(dir: &std::path::Path, out: &str) {
+    let rod = repo().join("scenarios/report-rod-200n.toml");
+    let rod = rod.to_str().unwrap();
+    let set = ["--set", "time.duration_s=0.01", "--set", "canopy.nodes=21"];
+    let args = [
+        &[
+            "run",
+            rod,
+            "--quiet",
+            "--no-viewer",
+            "--force",
+            "--out",
+            out,
+        ][..],
+        &set,
+    ]
+    .concat();
+    let o = chute(dir, &args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
 
 /// `chute study` skips a case only when its summary reads too: a "complete" case whose
 /// `summary.json` was removed is run again, not skipped into an `unreadable` row.
@@ -46,26 +69,8 @@ fn a_study_does_not_write_through_a_linked_case_directory() {
 #[test]
 fn a_study_tables_only_its_own_cases() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = repo()
-        .join("scenarios/report-rod-200n.toml")
-        .display()
-        .to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "run",
-            &rod,
-            "--quiet",
-            "--no-viewer",
-            "--out",
-            "s/other",
-            "--set",
-            "time.duration_s=0.02",
-            "--set",
-            "canopy.nodes=21",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    users_run(tmp.path(), "s/other");
+
     let o = table1_study(tmp.path(), "s");
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let table = std::fs::read_to_string(tmp.path().join("s/study.csv")).unwrap();
@@ -80,24 +85,8 @@ fn a_study_tables_only_its_own_cases() {
 fn a_study_says_when_it_replaces_a_run_it_did_not_record() {
     let tmp = table1_study_in("s");
     // A run of the user's own (other inputs) where the case goes.
-    let rod = repo()
-        .join("scenarios/report-rod-200n.toml")
-        .display()
-        .to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "run",
-            &rod,
-            "--out",
-            "s/20N",
-            "--force",
-            "--no-viewer",
-            "--set",
-            "time.duration_s=0.01",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    users_run(tmp.path(), "s/20N");
+
     let err = table1_study_again(tmp.path());
     assert!(
         err.contains(
@@ -160,12 +149,7 @@ fn an_unusable_case_directory_does_not_stop_the_study() {
 #[test]
 fn a_study_never_runs_into_another_studys_directory() {
     let tmp = table1_study_in("s");
-    let base = repo().join("scenarios/report-rod-200n.toml");
-    let other = format!(
-        "name = \"other\"\nbase = \"{}\"\n[[case]]\nname = \"20N\"\nset = [\"load.weight_n=999\"]\n",
-        base.display()
-    );
-    std::fs::write(tmp.path().join("other.toml"), other).unwrap();
+    write_other_study(tmp.path());
     let before = files(&tmp.path().join("s"));
     let o = chute(
         tmp.path(),

@@ -50,6 +50,16 @@ pub fn chute_within(cwd: &Path, args: &[&str], secs: u64) -> Output {
         .unwrap_or_else(|_| panic!("`chute {}` still runs after {secs} s", args.join(" ")))
 }
 
+/// Run the system tool `program ARGS` in `cwd` (`cp -al`, `mkfifo`) and check it succeeded.
+pub fn tool(cwd: &Path, program: &str, args: &[&std::ffi::OsStr]) {
+    let s = Command::new(program)
+        .args(args)
+        .current_dir(cwd)
+        .status()
+        .unwrap_or_else(|e| panic!("{program}: {e}"));
+    assert!(s.success(), "{program} {args:?}: {s}");
+}
+
 /// The process's stderr as text.
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
