@@ -5,7 +5,7 @@
 pub(crate) mod out_dir;
 mod resume;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::output::record::{InputFile, RunRecord, Status};
 use crate::scenario::{Scenario, ScenarioError};
@@ -245,7 +245,7 @@ pub fn run_watched(
     let mut built = crate::build::build(s)?;
     check_ground(s, &built)?;
     let scenario_toml = s.to_toml();
-    let (resume, record) = match &opts.resume {
+    let (resume, record, cleared) = match &opts.resume {
         Some(from) => {
             let c = resume::load_checkpoint(from, dir, &scenario_toml)?;
             // Judged before anything in the directory changes: a refused resume leaves it
@@ -262,26 +262,16 @@ pub fn run_watched(
                 Some(r) => r,
                 None => fresh_record(s, opts)?,
             };
-            (Some(c), record)
+            (Some(c), record, None)
         }
         None => {
             check_fresh_dir(dir, opts.force)?;
             let record = fresh_record(s, opts)?;
-            crate::output::run_files::clear(dir).map_err(|e| AppError::io(dir, e))?;
-            (None, record)
+            let cleared = crate::output::run_files::clear(dir).map_err(|e| AppError::io(dir, e))?;
+            (None, record, Some(cleared))
         }
     };
-    let running = record.with_status(Status::Running, None);
-    let path = dir.join(crate::output::run_files::RUN_RECORD);
-    running.write(dir).map_err(|e| AppError::io(&path, e))?;
-    let resolved = dir.join(crate::output::run_files::RESOLVED_SCENARIO);
-    if let Err(e) = crate::output::atomic::write_atomic(&resolved, scenario_toml.as_bytes()) {
-        // The record says why the run never started (a full disk), not `running`.
-        crate::output::lock::free_reserve(dir);
-        let why = format!("{}: {e}", resolved.display());
-        let _ = record.with_status(Status::Failed, Some(why)).write(dir);
-        return Err(AppError::io(&resolved, e));
-    }
+    begin(dir, &record, &scenario_toml, cleared)?;
     let cfg = run_config(s, opts.progress);
     let ctl = crate::runner::RunControl {
         stop: watch.stop,
@@ -298,6 +288,7 @@ pub fn run_watched(
         Ok(r) => record.with_status(Status::Incomplete, r.stop_reason.clone()),
         Err(e) => record.with_status(Status::Failed, Some(e.to_string())),
     };
+    let path = dir.join(crate::output::run_files::RUN_RECORD);
     let recorded = ended.write(dir).map_err(|e| AppError::io(&path, e));
     let r = result.map_err(|e| match e {
         crate::runner::RunError::Io { path, source } => AppError::Io { path, source },
@@ -314,6 +305,43 @@ pub fn run_watched(
         complete: r.complete,
         message,
     })
+}
+
+/// Write the record of a run starting (`running`) and its resolved scenario. When either
+/// cannot be written (a full disk), an earlier run moved aside (`cleared`) is put back as it
+/// was; a resumed run's record says why it never went on.
+fn begin(
+    dir: &Path,
+    record: &RunRecord,
+    scenario_toml: &str,
+    cleared: Option<crate::output::run_files::Cleared>,
+) -> Result<(), AppError> {
+    use crate::output::run_files::{RESOLVED_SCENARIO, RUN_RECORD};
+    let (path, resolved) = (dir.join(RUN_RECORD), dir.join(RESOLVED_SCENARIO));
+    let written = record
+        .with_status(Status::Running, None)
+        .write(dir)
+        .map_err(|e| (&path, e))
+        .and_then(|()| {
+            crate::output::atomic::write_atomic(&resolved, scenario_toml.as_bytes())
+                .map_err(|e| (&resolved, e))
+        });
+    let Err((file, e)) = written else {
+        cleared.map(crate::output::run_files::Cleared::commit);
+        return Ok(());
+    };
+    crate::output::lock::free_reserve(dir);
+    match cleared {
+        Some(earlier) => {
+            let _ = std::fs::remove_file(&path);
+            earlier.restore();
+        }
+        None => {
+            let why = format!("{}: {e}", file.display());
+            let _ = record.with_status(Status::Failed, Some(why)).write(dir);
+        }
+    }
+    Err(AppError::io(file, e))
 }
 
 /// The record of a run starting now: every input file by digest, and its options.

@@ -122,6 +122,15 @@ pub enum RunError {
     },
 }
 
+impl From<crate::output::atomic::FileError> for RunError {
+    fn from(e: crate::output::atomic::FileError) -> Self {
+        RunError::Io {
+            path: e.path,
+            source: e.source,
+        }
+    }
+}
+
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
     move |source| RunError::Io {
         path: path.to_path_buf(),
@@ -328,7 +337,7 @@ impl Run {
         let ts = TimeSeriesWriter::create(&ts_path).map_err(io_err(&ts_path))?;
         // With --force over an earlier run: its frames and checkpoint must not be mistaken for
         // this run's (resuming needs matching rows and frames).
-        let vtk = VtkSeries::resume(out_dir, &[]).map_err(io_err(out_dir))?;
+        let vtk = VtkSeries::resume(out_dir, &[])?;
         persist::remove_stale_outputs(out_dir)?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk, None)?;
         let s0 = run.flight.obs.sample(built, &built.state, 0, cfg.dt_s);
@@ -362,16 +371,14 @@ impl Run {
             }
             obs.drag(b, &s.q, &s.v, s.t);
             self.vtk.set_wrinkles(b.wrinkles(&s.q));
-            self.vtk
-                .write_frame(
-                    s.t,
-                    &obs.pos,
-                    &obs.vel,
-                    &b.triangles,
-                    &b.segments,
-                    &obs.tri_drag,
-                )
-                .map_err(io_err(out_dir))?;
+            self.vtk.write_frame(
+                s.t,
+                &obs.pos,
+                &obs.vel,
+                &b.triangles,
+                &b.segments,
+                &obs.tri_drag,
+            )?;
         }
         for t in due.snaps {
             let roles = node_roles(b);

@@ -18,6 +18,11 @@ pub(crate) struct RawMesh {
     pub rod_lines: Vec<usize>,
 }
 
+/// Largest coordinate of a mesh node (m). Meshes are in metres and no parachute spans a
+/// kilometre: a larger coordinate is a unit mistake or a stray node, refused at its line
+/// instead of surfacing later as an implausible mass or terminal speed.
+pub const MAX_COORDINATE_M: f64 = 1e3;
+
 /// Relative area below which a triangle is degenerate (as in the engine's `TriMesh`).
 const ZERO_AREA_TOL: f64 = 1e-12;
 
@@ -44,6 +49,15 @@ impl RawMesh {
             .map_err(|_| self.line_error(line, format!("bad number `{tok}`")))?;
         if !x.is_finite() {
             return Err(self.line_error(line, format!("non-finite coordinate `{tok}`")));
+        }
+        if x.abs() > MAX_COORDINATE_M {
+            return Err(self.line_error(
+                line,
+                format!(
+                    "coordinate `{tok}` m is beyond ±{MAX_COORDINATE_M} m: meshes are in metres \
+                     (a unit mistake or a stray node?)"
+                ),
+            ));
         }
         Ok(x)
     }

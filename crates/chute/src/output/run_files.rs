@@ -236,9 +236,35 @@ pub fn is_empty(dir: &Path) -> bool {
     })
 }
 
-/// Remove every file an earlier run wrote into `dir` (and `frames/` once it is empty);
-/// anything else, and the holder's lock and reserve, is kept.
-pub fn clear(dir: &Path) -> io::Result<()> {
+/// An earlier run's files moved aside by [`clear`]: removed for good by [`Cleared::commit`]
+/// once the new run has its record, or put back by [`Cleared::restore`] when it cannot get
+/// one, so that a run that cannot start leaves the earlier one as it was.
+#[derive(Debug)]
+pub struct Cleared {
+    trash: super::trash::Trash,
+    /// `frames/`, removed on commit when it is then empty.
+    frames: Option<std::path::PathBuf>,
+}
+
+impl Cleared {
+    /// Remove the earlier run's files (and `frames/` when nothing else is in it).
+    pub fn commit(self) {
+        self.trash.empty();
+        if let Some(frames) = self.frames {
+            // Kept when it holds something chute did not write.
+            let _ = std::fs::remove_dir(&frames);
+        }
+    }
+
+    /// Put the earlier run's files back.
+    pub fn restore(self) {
+        self.trash.restore();
+    }
+}
+
+/// Move aside every file an earlier run wrote into `dir`, all or none; anything else, and
+/// the holder's lock and reserve, is kept.
+pub fn clear(dir: &Path) -> io::Result<Cleared> {
     let mut gone = matching(dir, |n| is_run_file(n) && !is_holder_file(n))?;
     let frames = dir.join(FRAMES_DIR);
     // Not through a symbolic link: the directory it points to is not the run's.
@@ -256,12 +282,10 @@ pub fn clear(dir: &Path) -> io::Result<()> {
     };
     gone.sort_by_key(rank);
     // All or nothing: an earlier run stays whole when one of its files cannot be removed.
-    super::trash::Trash::take_all(dir, &gone)?.empty();
-    if frames_dir {
-        // Kept when it holds something chute did not write.
-        let _ = std::fs::remove_dir(&frames);
-    }
-    Ok(())
+    Ok(Cleared {
+        trash: super::trash::Trash::take_all(dir, &gone)?,
+        frames: frames_dir.then_some(frames),
+    })
 }
 
 /// The plain files of `dir` whose names satisfy `gone`.

@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::io;
 use std::path::{Path, PathBuf};
 
+use super::atomic::{at, FileError};
 use super::write_atomic;
 
 /// VTK cell type of a 3-node triangle.
@@ -119,8 +120,9 @@ pub fn later_frames(out_dir: &Path, kept: usize) -> io::Result<Vec<PathBuf>> {
 
 impl VtkSeries {
     /// Prepare `out_dir/frames/` (created if missing). Nothing else is written yet.
-    pub fn new(out_dir: &Path) -> io::Result<Self> {
-        std::fs::create_dir_all(out_dir.join(FRAMES_DIR))?;
+    pub fn new(out_dir: &Path) -> Result<Self, FileError> {
+        let frames = out_dir.join(FRAMES_DIR);
+        std::fs::create_dir_all(&frames).map_err(at(&frames))?;
         Ok(Self {
             out_dir: out_dir.to_path_buf(),
             entries: Vec::new(),
@@ -133,17 +135,19 @@ impl VtkSeries {
     /// `out_dir/frames/` (resume from a checkpoint). Frame files numbered from `times.len()`
     /// on are left from an interrupted run; they are removed so the directory only ever holds
     /// frames the PVD lists (later frames are rewritten with the same names).
-    pub fn resume(out_dir: &Path, times: &[f64]) -> io::Result<Self> {
+    pub fn resume(out_dir: &Path, times: &[f64]) -> Result<Self, FileError> {
         let mut me = Self::new(out_dir)?;
         me.entries = times
             .iter()
             .enumerate()
             .map(|(i, &t)| (t, frame_name(i)))
             .collect();
-        for path in later_frames(out_dir, times.len())? {
-            std::fs::remove_file(path)?;
+        let frames = out_dir.join(FRAMES_DIR);
+        for path in later_frames(out_dir, times.len()).map_err(at(&frames))? {
+            std::fs::remove_file(&path).map_err(at(&path))?;
         }
-        write_atomic(&out_dir.join(PVD_NAME), me.pvd_string().as_bytes())?;
+        let pvd = out_dir.join(PVD_NAME);
+        write_atomic(&pvd, me.pvd_string().as_bytes()).map_err(at(&pvd))?;
         Ok(me)
     }
 
@@ -180,7 +184,7 @@ impl VtkSeries {
         triangles: &[[usize; 3]],
         segments: &[[usize; 2]],
         triangle_drag: &[[f64; 3]],
-    ) -> io::Result<PathBuf> {
+    ) -> Result<PathBuf, FileError> {
         // Moved out for the call: `write` borrows `self` mutably.
         let roles = std::mem::take(&mut self.roles);
         let wrinkles = self.wrinkles.take();
@@ -200,13 +204,14 @@ impl VtkSeries {
     }
 
     /// Same as [`write_frame`](Self::write_frame), taking a [`Frame`].
-    pub fn write(&mut self, f: &Frame<'_>) -> io::Result<PathBuf> {
-        validate(f)?;
+    pub fn write(&mut self, f: &Frame<'_>) -> Result<PathBuf, FileError> {
         let name = frame_name(self.entries.len());
         let path = self.out_dir.join(&name);
-        write_atomic(&path, vtu_string(f).as_bytes())?;
+        validate(f).map_err(at(&path))?;
+        write_atomic(&path, vtu_string(f).as_bytes()).map_err(at(&path))?;
         self.entries.push((f.t_s, name));
-        write_atomic(&self.out_dir.join(PVD_NAME), self.pvd_string().as_bytes())?;
+        let pvd = self.out_dir.join(PVD_NAME);
+        write_atomic(&pvd, self.pvd_string().as_bytes()).map_err(at(&pvd))?;
         Ok(path)
     }
 

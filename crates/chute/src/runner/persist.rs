@@ -51,7 +51,7 @@ impl Run {
         };
         moved.empty();
         let ts = TimeSeriesWriter::append_to(&ts_path, c.ts_rows).map_err(io_err(&ts_path))?;
-        let vtk = VtkSeries::resume(out_dir, &c.frame_times).map_err(io_err(out_dir))?;
+        let vtk = VtkSeries::resume(out_dir, &c.frame_times)?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk, Some(c.t))?;
         built.state = engine::State {
             q: c.q.clone(),

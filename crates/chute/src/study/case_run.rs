@@ -73,6 +73,17 @@ pub(super) fn run_case(
             Err(e) => CaseStatus::Failed(format!("its finished run could not be recorded: {e}")),
         });
     }
+    if unrecorded && !opts.force && ended(&dir) {
+        // A run that ended and is not exactly this case's may be one the user put there:
+        // never replaced without being asked.
+        let why = format!(
+            "not run: `{}` holds a run this study did not record (no {DONE_FILE}) and that is \
+             not this case's; --force replaces it",
+            dir.display()
+        );
+        say(&why);
+        return Ok(CaseStatus::Failed(why));
+    }
     // The marker goes first, so that a run stopped from here on is never taken as complete;
     // the runner (force) then clears everything else the earlier run wrote.
     if let Err(e) = remove_marker(&done) {
@@ -82,7 +93,8 @@ pub(super) fn run_case(
     }
     match (stale, opts.force) {
         (Some(why), false) => say(&format!("{why}; re-running")),
-        // Not silently: the run there may be one the user put there, not a case of this study.
+        // Not silently: an unfinished run (a case killed before its marker), or any run
+        // under --force.
         _ if unrecorded => say(&format!(
             "`{}` holds a run this study did not record (no {DONE_FILE}); replacing it",
             dir.display()
@@ -190,6 +202,13 @@ fn holds_finished_run(dir: &Path, digest: &str) -> bool {
         && all_listed
         && of_it
         && super::inputs::digest(&s).is_ok_and(|d| d == digest)
+}
+
+/// Whether `dir`'s run record says its run ended (complete, stopped early or failed to
+/// write), not killed while running: the run of a user, not a case killed before its marker.
+fn ended(dir: &Path) -> bool {
+    use crate::output::record::{RunRecord, Status};
+    matches!(RunRecord::read(dir), Ok(Some(r)) if r.status != Status::Running)
 }
 
 /// Make `dir` the case's and hold it, or say why the case cannot be run there. A case that

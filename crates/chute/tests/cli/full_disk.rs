@@ -1,6 +1,7 @@
 //! Runs and studies on a full file system (docs/reliability.md §5), in a 1 MiB tmpfs of a
 //! private mount namespace (root only; `CHUTE_NO_TMPFS=1` skips these tests): whole rows, a
-//! record of why, nothing left by what did not run, and no output missing without a word.
+//! record of why naming the file, nothing left by what did not run, and no output missing
+//! without a word.
 use crate::common::*;
 use crate::integrity::rod_run;
 
@@ -75,8 +76,11 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
     let record: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
     assert_eq!(record["status"], "failed", "{record}");
+    // Naming the file that could not be written (a frame, the collection, the time series),
+    // not only the directory.
+    let reason = record["reason"].as_str().unwrap();
     assert!(
-        record["reason"].as_str().unwrap().contains("No space left"),
+        reason.contains("No space left") && reason.contains("small/d/"),
         "{record}"
     );
     // What was written can still be read.
@@ -328,4 +332,59 @@ fn a_run_with_a_file_that_cannot_be_removed_is_left_whole() {
     }
     let o = chute(tmp.path(), &["view", "r"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// `run --force` over an earlier run on a disk with room for the lock but not for the new
+/// run's record or resolved scenario fails naming that file (status 1) and puts the earlier
+/// run back whole: never an emptied directory. The room left is stepped across the sizes
+/// where the record, then the resolved scenario, no longer fit (tmpfs pages); each run either
+/// ran, or failed leaving the earlier run byte for byte.
+#[test]
+fn a_forced_run_that_cannot_write_its_record_leaves_the_earlier_run_whole() {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let lefts = [60, 64, 68, 72, 76, 80];
+    let steps: Vec<String> = lefts
+        .iter()
+        .map(|left| {
+            format!(
+                "rm -rf small/r small/fill && cp -a before small/r && \
+                 dd if=/dev/zero of=small/fill bs=1k count=$(( $(df -k --output=avail small | tail -1) - {left} )) 2>/dev/null; \
+                 {force} 2> out/err{left}; echo $? > out/code{left}; rm -rf out/r{left}; cp -a small/r out/r{left}",
+                force = quoted_rod_run("small/r", "0.1", &["--force", "--set", "load.weight_n=150"])
+            )
+        })
+        .collect();
+    let script = format!(
+        "mkdir -p small out && mount -t tmpfs -o size=2m tmpfs small && {run} && cp -a small/r before && {steps}",
+        run = quoted_rod_run("small/r", "0.1", &[]),
+        steps = steps.join(" ; ")
+    );
+    let o = in_small_tmpfs(tmp.path(), &script);
+    let before = files(&tmp.path().join("before"));
+    let mut refused = Vec::new();
+    for left in lefts {
+        let code = std::fs::read_to_string(tmp.path().join(format!("out/code{left}")))
+            .unwrap_or_else(|_| panic!("no run: {}", String::from_utf8_lossy(&o.stderr)));
+        let err = std::fs::read_to_string(tmp.path().join(format!("out/err{left}"))).unwrap();
+        let after = files(&tmp.path().join(format!("out/r{left}")));
+        match code.trim() {
+            "0" => assert_ne!(after, before, "{left} KiB: ran but left the earlier run"),
+            "1" => {
+                assert_eq!(after, before, "{left} KiB: {err}");
+                for name in ["run.json", "scenario.resolved.toml"] {
+                    if err.contains(&format!("small/r/{name}: No space left")) {
+                        refused.push(name);
+                    }
+                }
+            }
+            c => panic!("{left} KiB: status {c}: {err}"),
+        }
+    }
+    assert!(
+        refused.contains(&"run.json") || refused.contains(&"scenario.resolved.toml"),
+        "no step reached the record's write: {refused:?}"
+    );
 }

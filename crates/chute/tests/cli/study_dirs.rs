@@ -78,22 +78,49 @@ fn a_study_tables_only_its_own_cases() {
     assert!(!table.contains("other"), "{table}");
 }
 
-/// A case directory holding a run without its study's record (a run the user put there, or
-/// a case killed before its marker) is replaced, and the study says so instead of doing it
-/// silently.
+/// A case directory holding a run that ended without its study's record (a run the user put
+/// there) is not replaced unless asked (`--force`); the study says so, runs the other cases,
+/// and calls itself incomplete (status 3).
 #[test]
-fn a_study_says_when_it_replaces_a_run_it_did_not_record() {
+fn a_study_replaces_a_run_it_did_not_record_only_when_forced() {
     let tmp = table1_study_in("s");
     // A run of the user's own (other inputs) where the case goes.
     users_run(tmp.path(), "s/20N");
-
-    let err = table1_study_again(tmp.path());
+    let summary = || std::fs::read(tmp.path().join("s/20N/summary.json")).unwrap();
+    let users = summary();
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let again = |force: &[&str]| {
+        let args = [
+            &[
+                "study",
+                &study,
+                "--out",
+                "s",
+                "--set",
+                "time.duration_s=0.02",
+            ][..],
+            force,
+        ];
+        chute(tmp.path(), &args.concat())
+    };
+    let o = again(&[]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("case 20N: not run: `s/20N` holds a run this study did not record (no done.json) and that is not this case's; --force replaces it"),
+        "{err}"
+    );
+    assert_eq!(summary(), users, "the user's run was touched");
+    let o = again(&["--force"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(
         err.contains(
             "case 20N: `s/20N` holds a run this study did not record (no done.json); replacing it"
         ),
         "{err}"
     );
+    assert_ne!(summary(), users);
 }
 
 /// A finished run of exactly a case's inputs that its study did not record (the case was
@@ -218,10 +245,23 @@ fn an_unrecorded_run_of_other_inputs_or_another_summary_is_not_taken() {
     let s = tmp.path().join("s");
     std::fs::remove_file(s.join("200N/done.json")).unwrap();
     std::fs::copy(s.join("2000N/summary.json"), s.join("200N/summary.json")).unwrap();
-    let err = table1_study_again(tmp.path());
+    let study = repo().join("studies/table1.toml").display().to_string();
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            &study,
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(3));
     assert!(
-        err.contains("case 200N: `s/200N` holds a run this study did not record (no done.json); replacing it"),
-        "{err}"
+        stderr(&o).contains("case 200N: not run: `s/200N` holds a run this study did not record"),
+        "{}",
+        stderr(&o)
     );
     // A mesh case: its run finished, its record lost, then the mesh file changed.
     let mesh = tmp.path().join("canopy.txt");
@@ -239,7 +279,7 @@ fn an_unrecorded_run_of_other_inputs_or_another_summary_is_not_taken() {
     let o = run();
     let err = stderr(&o);
     assert!(
-        err.contains("replacing it") && !err.contains("recorded, skipped"),
+        err.contains("not this case's; --force replaces it") && !err.contains("recorded, skipped"),
         "{err}"
     );
 }

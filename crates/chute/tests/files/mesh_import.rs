@@ -97,6 +97,11 @@ fn malformed_dismech_files_name_file_and_line() {
             "m.txt:3: non-finite coordinate `inf`",
         ),
         (
+            // A stray node, blamed on its line, not later on a drag or mass key.
+            "*Nodes\n0 0 0\n1 0 1e30\n".into(),
+            "m.txt:3: coordinate `1e30` m is beyond ±1000 m",
+        ),
+        (
             "*Nodes\n0 0 0\n1 0\n".into(),
             "m.txt:3: expected 3 coordinates, found 2 fields",
         ),
