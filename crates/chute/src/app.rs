@@ -327,7 +327,9 @@ fn begin(
                 .map_err(|e| (&resolved, e))
         });
     let Err((file, e)) = written else {
-        cleared.map(crate::output::run_files::Cleared::commit);
+        if let Some(earlier) = cleared {
+            earlier.commit();
+        }
         return Ok(());
     };
     crate::output::lock::free_reserve(dir);
