@@ -17,7 +17,8 @@ pyo3::create_exception!(
     ScenarioError,
     PyValueError,
     "Bad input: a scenario, an override, a study file or an output directory. The message is \
-     the one `chute` prints after `error: `; it names the key and where its value came from."
+     the one `chute` prints after `error: `, an override named as the entry of `set` it came \
+     from; it names the key and where its value came from."
 );
 pyo3::create_exception!(
     chute,
@@ -31,7 +32,7 @@ pyo3::create_exception!(
 /// `ScenarioError`, a failed run (status 3) `RunError`, a file that could not be read or
 /// written `OSError`; the message is the command line's.
 pub fn app_err(e: AppError) -> PyErr {
-    let msg = e.to_string();
+    let msg = python_words(&e.to_string());
     match e {
         AppError::Scenario(_) | AppError::Build(_) | AppError::Input(_) => {
             ScenarioError::new_err(msg)
@@ -39,6 +40,30 @@ pub fn app_err(e: AppError) -> PyErr {
         AppError::RunFailed(_) | AppError::ValidationFailed { .. } => RunError::new_err(msg),
         AppError::Io { .. } => PyOSError::new_err(msg),
     }
+}
+
+/// The command line's message in the words of the Python call: an override is an entry of
+/// `set` (`set["load.weight_n"] = -5`, not `--set load.weight_n=-5`), and `--force` is
+/// `force=True`.
+pub fn python_words(msg: &str) -> String {
+    let mut out = String::with_capacity(msg.len());
+    let mut rest = msg;
+    while let Some(i) = rest.find("`--set ") {
+        out.push_str(&rest[..i]);
+        let arg = &rest[i + "`--set ".len()..];
+        let Some(end) = arg.find('`') else {
+            out.push_str(&rest[i..]);
+            rest = "";
+            break;
+        };
+        match arg[..end].split_once('=') {
+            Some((key, value)) => out.push_str(&format!("`set[\"{key}\"] = {value}`")),
+            None => out.push_str(&format!("`set` entry `{}`", &arg[..end])),
+        }
+        rest = &arg[end + 1..];
+    }
+    out.push_str(rest);
+    out.replace("--force", "force=True")
 }
 
 fn run_dir_err(e: RunDirError) -> PyErr {
