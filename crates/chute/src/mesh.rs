@@ -11,6 +11,8 @@ pub mod obj;
 pub mod unstructured;
 mod validate;
 
+pub use validate::MAX_COORDINATE_M;
+
 use engine::shell::{MeshError, TriMesh};
 use std::collections::BTreeMap;
 use thiserror::Error;

@@ -22,3 +22,87 @@ fn scenarios_md_key_tables_match_the_declarations() {
         diff.map_or(text.lines().count().min(want.lines().count()) + 1, |i| i + 1)
     );
 }
+
+/// Every value the docs state for a named constant or solver default, as the scanner reads
+/// them: `` `name = V` ``, or `` `name` `` (or `` `Type::name` ``) followed by at most a symbol
+/// (`η`) and `=`, `(` or `,` before the number V. Returns (page, value text) pairs.
+fn statements(name: &str) -> Vec<(String, String)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs");
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(&dir).expect("docs/") {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "md") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).unwrap().replace('\n', " ");
+        let page = path.file_name().unwrap().to_string_lossy().to_string();
+        // Backticked segments: odd pieces of a split on '`'.
+        let pieces: Vec<&str> = text.split('`').collect();
+        for (i, seg) in pieces.iter().enumerate().filter(|(i, _)| i % 2 == 1) {
+            let (head, inside) = seg.split_once('=').unwrap_or((seg, ""));
+            let head = head.trim();
+            if head != name && !head.ends_with(&format!("::{name}")) {
+                continue;
+            }
+            let after = if inside.is_empty() {
+                // `name` then a symbol and a separator, outside the backticks.
+                let rest = pieces.get(i + 1).copied().unwrap_or("").trim_start();
+                let rest = rest
+                    .split_once(' ')
+                    .filter(|(sym, _)| {
+                        sym.chars().count() == 1 && !sym.starts_with(['(', ',', '='])
+                    })
+                    .map_or(rest, |(_, r)| r.trim_start());
+                match rest.chars().next() {
+                    Some('=' | '(' | ',') => rest[1..].trim_start().to_string(),
+                    _ => continue,
+                }
+            } else {
+                inside.trim().to_string()
+            };
+            let number: String = after
+                .chars()
+                .take_while(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | '-' | '+'))
+                .collect();
+            if !number.is_empty() {
+                out.push((page.clone(), number));
+            }
+        }
+    }
+    out
+}
+
+/// The solver defaults and limits the docs name carry the code's values: a page that states
+/// one differently (or a default changed without its page) fails here. Each is stated at
+/// least once, so the scanner is known to find them.
+#[test]
+fn documented_defaults_and_limits_match_the_code() {
+    let r = engine::NewtonOptions::recommended();
+    let constants: [(&str, f64); 9] = [
+        ("reuse_contraction", r.reuse_contraction),
+        ("held_iterations", r.held_iterations as f64),
+        ("anderson_depth", r.anderson_depth as f64),
+        ("divergence_limit", r.divergence_limit),
+        ("accuracy_fraction", r.accuracy_fraction),
+        ("accuracy_floor", r.accuracy_floor),
+        (
+            "GROW_AFTER",
+            f64::from(engine::stepper::step_size::GROW_AFTER),
+        ),
+        ("HOLD_BAND", engine::stepper::step_size::HOLD_BAND),
+        ("MAX_COORDINATE_M", chute::mesh::MAX_COORDINATE_M),
+    ];
+    for (name, value) in constants {
+        let stated = statements(name);
+        assert!(!stated.is_empty(), "no page states `{name}` (= {value})");
+        for (page, text) in stated {
+            let v: f64 = text
+                .parse()
+                .unwrap_or_else(|_| panic!("docs/{page}: `{name}` stated as `{text}`"));
+            assert_eq!(
+                v, value,
+                "docs/{page} states `{name}` = {text}, the code {value}"
+            );
+        }
+    }
+}
