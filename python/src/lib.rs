@@ -49,6 +49,7 @@ fn run(
         checkpoint_every_s: None,
         resume: None,
         viewer,
+        case_of: None,
     };
     let stop = AtomicBool::new(false);
     let sim_time = AtomicU64::new(0f64.to_bits());

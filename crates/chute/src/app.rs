@@ -28,6 +28,9 @@ pub struct RunOptions {
     /// Whether the command writes `viewer.html` after the run; recorded in `run.json` so
     /// that `chute resume` does as the run did.
     pub viewer: bool,
+    /// The study case the run is made for (`study/case`), recorded in `run.json` so that a
+    /// study knows a run of its case whose marker it lost from a run someone else put there.
+    pub case_of: Option<String>,
 }
 
 /// What a run produced.
@@ -367,6 +370,7 @@ fn fresh_record(s: &Scenario, opts: &RunOptions) -> Result<RunRecord, AppError> 
         reason: None,
         inputs,
         viewer: opts.viewer,
+        case_of: opts.case_of.clone(),
     })
 }
 

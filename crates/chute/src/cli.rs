@@ -304,6 +304,7 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
         checkpoint_every_s,
         resume: None,
         viewer: !a.no_viewer,
+        case_of: None,
     };
     let report = Report {
         json: a.json,
@@ -424,6 +425,7 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
         checkpoint_every_s,
         resume: Some(dir.clone()),
         viewer: !a.no_viewer && recorded.is_none_or(|r| r.viewer),
+        case_of: None,
     };
     let report = Report {
         json: a.json,

@@ -50,6 +50,9 @@ pub struct RunRecord {
     pub inputs: Vec<InputFile>,
     /// Whether the run writes `viewer.html` (`--no-viewer` recorded for `chute resume`).
     pub viewer: bool,
+    /// The study case it was made for (`study/case`); absent for a run of its own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub case_of: Option<String>,
 }
 
 impl RunRecord {

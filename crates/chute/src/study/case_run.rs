@@ -73,13 +73,14 @@ pub(super) fn run_case(
             Err(e) => CaseStatus::Failed(format!("its finished run could not be recorded: {e}")),
         });
     }
-    if unrecorded && !opts.force && ended(&dir) {
-        // A run that ended and is not exactly this case's may be one the user put there:
-        // never replaced without being asked.
+    if unrecorded && !opts.force && !made_for(&dir, &case_id(study, case)) {
+        // A run not made for this case (its record names no case of this study, or there is
+        // none) may be one the user put there: never replaced without being asked.
         let why = format!(
-            "not run: `{}` holds a run this study did not record (no {DONE_FILE}) and that is \
-             not this case's; --force replaces it",
-            dir.display()
+            "not run: `{}` holds a run that was not made for this case (no {DONE_FILE}, and its \
+             run.json names no case {}); --force replaces it",
+            dir.display(),
+            case_id(study, case)
         );
         say(&why);
         return Ok(CaseStatus::Failed(why));
@@ -93,8 +94,7 @@ pub(super) fn run_case(
     }
     match (stale, opts.force) {
         (Some(why), false) => say(&format!("{why}; re-running")),
-        // Not silently: an unfinished run (a case killed before its marker), or any run
-        // under --force.
+        // Not silently: a run of this case that lost its marker, or any run under --force.
         _ if unrecorded => say(&format!(
             "`{}` holds a run this study did not record (no {DONE_FILE}); replacing it",
             dir.display()
@@ -108,6 +108,7 @@ pub(super) fn run_case(
         checkpoint_every_s: None,
         resume: None,
         viewer: false,
+        case_of: Some(case_id(study, case)),
     };
     let earlier = summary_digest(&dir);
     let started = std::time::Instant::now();
@@ -204,11 +205,18 @@ fn holds_finished_run(dir: &Path, digest: &str) -> bool {
         && super::inputs::digest(&s).is_ok_and(|d| d == digest)
 }
 
-/// Whether `dir`'s run record says its run ended (complete, stopped early or failed to
-/// write), not killed while running: the run of a user, not a case killed before its marker.
-fn ended(dir: &Path) -> bool {
-    use crate::output::record::{RunRecord, Status};
-    matches!(RunRecord::read(dir), Ok(Some(r)) if r.status != Status::Running)
+/// How a case's runs name it in their record (`run.json`'s `case_of`): `study/case`.
+fn case_id(study: &Study, case: &Case) -> String {
+    format!("{}/{}", study.name, case.name)
+}
+
+/// Whether the run in `dir` was made for the case `id` (an earlier run of it whose marker
+/// was lost: a study killed between removing the marker and writing the new one), or is
+/// being replaced by a clearing that was killed (its record is then moved aside).
+fn made_for(dir: &Path, id: &str) -> bool {
+    use crate::output::record::RunRecord;
+    let recorded = matches!(RunRecord::read(dir), Ok(Some(r)) if r.case_of.as_deref() == Some(id));
+    recorded || crate::output::run_files::clearing_interrupted(dir)
 }
 
 /// Make `dir` the case's and hold it, or say why the case cannot be run there. A case that

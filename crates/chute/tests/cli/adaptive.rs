@@ -18,6 +18,7 @@ fn opts(dir: &Path) -> RunOptions {
         checkpoint_every_s: None,
         resume: None,
         viewer: false,
+        case_of: None,
     }
 }
 

@@ -107,9 +107,18 @@ fn a_study_replaces_a_run_it_did_not_record_only_when_forced() {
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(
-        err.contains("case 20N: not run: `s/20N` holds a run this study did not record (no done.json) and that is not this case's; --force replaces it"),
+        err.contains("case 20N: not run: `s/20N` holds a run that was not made for this case (no done.json, and its run.json names no case table1/20N); --force replaces it"),
         "{err}"
     );
+    assert_eq!(summary(), users, "the user's run was touched");
+    // Nor when its record is damaged (or missing, from an older chute).
+    let record = tmp.path().join("s/20N/run.json");
+    std::fs::write(&record, "{").unwrap();
+    let o = again(&[]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert_eq!(summary(), users, "the user's run was touched");
+    std::fs::remove_file(&record).unwrap();
+    assert_eq!(again(&[]).status.code(), Some(3));
     assert_eq!(summary(), users, "the user's run was touched");
     let o = again(&["--force"]);
     let err = stderr(&o);
@@ -237,31 +246,21 @@ fn a_study_never_runs_into_another_studys_directory() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
-/// An unrecorded run is taken as the case only when it is exactly the case's: not when its
-/// summary is another case's (copied in), nor when the mesh it ran with has changed since.
+/// An unrecorded run made for the case is taken as the case only when it is exactly the
+/// case's: not when its summary is another case's (copied in), nor when the mesh it ran with
+/// has changed since; it is then replaced.
 #[test]
 fn an_unrecorded_run_of_other_inputs_or_another_summary_is_not_taken() {
     let tmp = table1_study_in("s");
     let s = tmp.path().join("s");
     std::fs::remove_file(s.join("200N/done.json")).unwrap();
     std::fs::copy(s.join("2000N/summary.json"), s.join("200N/summary.json")).unwrap();
-    let study = repo().join("studies/table1.toml").display().to_string();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            &study,
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(3));
+    // The run there was made for the case (its record says so): a study killed after it
+    // removed the marker. Replaced, not refused.
+    let err = table1_study_again(tmp.path());
     assert!(
-        stderr(&o).contains("case 200N: not run: `s/200N` holds a run this study did not record"),
-        "{}",
-        stderr(&o)
+        err.contains("case 200N: `s/200N` holds a run this study did not record (no done.json); replacing it"),
+        "{err}"
     );
     // A mesh case: its run finished, its record lost, then the mesh file changed.
     let mesh = tmp.path().join("canopy.txt");
@@ -279,7 +278,7 @@ fn an_unrecorded_run_of_other_inputs_or_another_summary_is_not_taken() {
     let o = run();
     let err = stderr(&o);
     assert!(
-        err.contains("not this case's; --force replaces it") && !err.contains("recorded, skipped"),
+        err.contains("replacing it") && !err.contains("recorded, skipped"),
         "{err}"
     );
 }

@@ -245,6 +245,7 @@ fn resume_rejects_a_different_scenario_and_a_missing_checkpoint() {
         checkpoint_every_s: Some(0.05),
         resume: resume.then(|| dir.clone()),
         viewer: false,
+        case_of: None,
     };
     let e = app_run(&rod(0.1, &[]), &opts(true)).unwrap_err();
     assert_eq!(e.exit_code(), 2);
