@@ -177,6 +177,12 @@ pub fn check_fresh_dir(dir: &Path, force: bool) -> Result<(), AppError> {
             frames.display()
         )));
     }
+    if let Some(taken) = run_files::directory_named_like_a_run_file(dir) {
+        return Err(AppError::Input(format!(
+            "`{}` is a directory: a run writes a file of that name; move it, or choose another --out DIR",
+            taken.display()
+        )));
+    }
     if run_files::is_empty(dir) {
         return Ok(());
     }

@@ -206,6 +206,31 @@ fn is_frame_file(name: &str) -> bool {
     RUN_FILES.iter().any(|f| f.in_frames && f.matches(name)) || is_frame_temporary(name)
 }
 
+/// The first directory in `dir` (or its `frames/`) named like a file a run writes there
+/// (`canopy.pvd/`, `frames/frame_000001.vtu/`): the run could not write that file, so it is
+/// refused before an earlier run is cleared.
+pub fn directory_named_like_a_run_file(dir: &Path) -> Option<std::path::PathBuf> {
+    let dirs = |d: &Path, named: &dyn Fn(&str) -> bool| {
+        std::fs::read_dir(d)
+            .ok()?
+            .filter_map(Result::ok)
+            .find_map(|e| {
+                let is_dir = e.file_type().is_ok_and(|t| t.is_dir());
+                let name = e.file_name();
+                (is_dir && name.to_str().is_some_and(named)).then(|| e.path())
+            })
+    };
+    let top = |n: &str| top_entry(n).is_some_and(|f| f.role != Role::Holder);
+    let frames = dir.join(FRAMES_DIR);
+    let frame = |n: &str| RUN_FILES.iter().any(|f| f.in_frames && f.matches(n));
+    dirs(dir, &top).or_else(|| {
+        std::fs::symlink_metadata(&frames)
+            .is_ok_and(|m| m.is_dir())
+            .then(|| dirs(&frames, &frame))
+            .flatten()
+    })
+}
+
 /// Whether `name` belongs to the process holding the directory rather than to a run.
 pub fn is_holder_file(name: &str) -> bool {
     top_entry(name).is_some_and(|f| f.role == Role::Holder)

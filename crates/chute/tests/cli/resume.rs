@@ -398,6 +398,37 @@ fn force_over_a_frames_file_is_refused_before_clearing() {
     assert!(before == files(&r), "the earlier run was changed");
 }
 
+/// A directory where a run writes one of its files (`canopy.pvd/`, a frame's name) is refused
+/// (status 2) before `--force` clears the earlier run, which is left whole.
+#[test]
+fn force_over_a_directory_named_like_a_run_file_is_refused_before_clearing() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let r = tmp.path().join("r");
+    for taken in ["canopy.pvd", "frames/frame_000001.vtu"] {
+        let path = r.join(taken);
+        let kept = std::fs::read(&path).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        std::fs::create_dir(&path).unwrap();
+        let before = std::fs::read_dir(&r).unwrap().count();
+        let o = run(tmp.path(), "r", &["--force"]);
+        refused(
+            &o,
+            &[&format!(
+                "`r/{taken}` is a directory: a run writes a file of that name"
+            )],
+        );
+        assert_eq!(
+            before,
+            std::fs::read_dir(&r).unwrap().count(),
+            "the earlier run was changed"
+        );
+        assert!(r.join("summary.json").is_file());
+        std::fs::remove_dir(&path).unwrap();
+        std::fs::write(&path, kept).unwrap();
+    }
+}
+
 /// A clearing killed after it moved the earlier run's files aside leaves only chute's
 /// `.chute.old`: the directory is still chute's, and `--force` clears it and runs.
 #[test]
