@@ -478,7 +478,7 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
     }
     refuse_other_study_out(dirs, out)?;
     let table = gather(dirs, None)?;
-    if table.rows.is_empty() {
+    if table.rows.is_empty() || !dirs.iter().any(|d| holds_a_case(d)) {
         let shown: Vec<String> = dirs.iter().map(|d| format!("`{}`", d.display())).collect();
         return Err(AppError::Input(format!(
             "no cases found in {}: a study's output directory holds one directory per case, each with a {DONE_FILE}",
@@ -578,4 +578,18 @@ impl Table {
         }
         md
     }
+}
+
+/// Whether `dir` holds a study's case: a directory with a `done.json`, or whose run records
+/// the case it was made for (a case killed before its marker). Plain runs are no case.
+fn holds_a_case(dir: &Path) -> bool {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return false;
+    };
+    entries.filter_map(Result::ok).any(|e| {
+        let p = e.path();
+        p.join(DONE_FILE).exists()
+            || crate::output::record::RunRecord::read(&p)
+                .is_ok_and(|r| r.is_some_and(|r| r.case_of.is_some()))
+    })
 }

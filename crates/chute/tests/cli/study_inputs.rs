@@ -114,4 +114,18 @@ fn collect_on_empty_and_run_directories_exits_2_writing_nothing() {
         files(&tmp.path().join("r")) == before,
         "nothing written into the run directory"
     );
+    // A folder of plain runs (none a study's case) holds no cases either.
+    std::fs::create_dir(tmp.path().join("runs")).unwrap();
+    std::fs::rename(tmp.path().join("r"), tmp.path().join("runs/r")).unwrap();
+    let o = chute(tmp.path(), &["collect", "runs"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("no cases found in `runs`"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        std::fs::read_dir(tmp.path().join("runs")).unwrap().count(),
+        1
+    );
 }
