@@ -170,10 +170,15 @@ impl Scenario {
     /// Read, override and validate a scenario file. Relative paths inside it (`mesh_file`)
     /// resolve against the file's directory.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Scenario, ScenarioError> {
-        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::Read {
+        let read = |reason: String| ScenarioError::Read {
             path: path.to_path_buf(),
-            reason: e.to_string(),
-        })?;
+            reason,
+        };
+        // Not a FIFO or a device: read whole, it could block or never end.
+        if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+            return Err(read("it is not a plain file (a FIFO, a device?)".into()));
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| read(e.to_string()))?;
         let file = path.display().to_string();
         parse::parse_scenario(&text, &file, &parse::base_dir(path), overrides)
     }

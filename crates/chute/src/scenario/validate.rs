@@ -355,6 +355,12 @@ fn mesh(c: &mut Checker, s: &Scenario) {
             format!("\"{}\"", p.display()),
             "it is a directory; give the mesh file in it (`.txt` DisMech or `.obj` Wavefront)",
         );
+    } else if p.exists() && !p.is_file() {
+        c.fail(
+            key,
+            format!("\"{}\"", p.display()),
+            "it is not a plain file (a FIFO, a device?); give the mesh file (`.txt` DisMech or `.obj` Wavefront)",
+        );
     } else if !p.is_file() {
         let e = ScenarioError::MeshMissing {
             key: key.into(),

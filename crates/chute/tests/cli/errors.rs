@@ -151,6 +151,19 @@ fn missing_file_and_bad_overrides_exit_2() {
         2,
         &["cannot read scenario file `nope.toml`"],
     );
+    // A device as the scenario or the mesh is named as such, not read forever.
+    assert_error(
+        &chute(dir.path(), &["check", "/dev/zero"]),
+        2,
+        &["cannot read scenario file `/dev/zero`: it is not a plain file"],
+    );
+    let hex = repo().join("scenarios/dismech-hex-n6.toml");
+    let mesh = "canopy.mesh_file=\"/dev/zero\"";
+    assert_error(
+        &chute(dir.path(), &["check", hex.to_str().unwrap(), "--set", mesh]),
+        2,
+        &["= \"/dev/zero\" is invalid: it is not a plain file"],
+    );
     std::fs::write(dir.path().join("s.toml"), HEAD).unwrap();
     assert_errors(
         dir.path(),
