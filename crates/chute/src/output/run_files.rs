@@ -208,7 +208,8 @@ fn is_frame_file(name: &str) -> bool {
 
 /// The first directory in `dir` (or its `frames/`) named like a file a run writes there
 /// (`canopy.pvd/`, `frames/frame_000001.vtu/`): the run could not write that file, so it is
-/// refused before an earlier run is cleared.
+/// refused before an earlier run is cleared (not for a picture or the viewer, whose failure
+/// is a warning).
 pub fn directory_named_like_a_run_file(dir: &Path) -> Option<std::path::PathBuf> {
     let dirs = |d: &Path, named: &dyn Fn(&str) -> bool| {
         std::fs::read_dir(d)
@@ -220,7 +221,9 @@ pub fn directory_named_like_a_run_file(dir: &Path) -> Option<std::path::PathBuf>
                 (is_dir && name.to_str().is_some_and(named)).then(|| e.path())
             })
     };
-    let top = |n: &str| top_entry(n).is_some_and(|f| f.role != Role::Holder);
+    // Pictures and the viewer are optional: one that cannot be written is a warning.
+    let optional = |n: &str| n.ends_with(".png") || n.ends_with(".html");
+    let top = |n: &str| top_entry(n).is_some_and(|f| f.role != Role::Holder) && !optional(n);
     let frames = dir.join(FRAMES_DIR);
     let frame = |n: &str| RUN_FILES.iter().any(|f| f.in_frames && f.matches(n));
     dirs(dir, &top).or_else(|| {
