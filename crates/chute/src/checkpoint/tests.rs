@@ -175,3 +175,34 @@ fn a_short_time_series_does_not_match_the_checkpoint() {
         "{msg}"
     );
 }
+
+/// The counters are self-describing: a counter the writer did not have (absent from its
+/// JSON) reads as 0, so adding one needs no new format; one this build does not know is
+/// refused.
+#[test]
+fn counters_missing_from_a_checkpoint_read_as_zero() {
+    let c = sample();
+    let full = serde_json::to_string(&c.solver.unwrap()).unwrap();
+    let mut j: serde_json::Value = serde_json::from_str(&full).unwrap();
+    j.as_object_mut().unwrap().remove("iterations");
+    let older = j.to_string();
+    let bytes = c.encode();
+    let at = bytes
+        .windows(full.len())
+        .rposition(|w| w == full.as_bytes())
+        .expect("the counters' JSON in the file");
+    // Rebuild the file with the shorter JSON and its length.
+    let mut body = bytes[..at - 8].to_vec();
+    body.extend_from_slice(&(older.len() as u64).to_le_bytes());
+    body.extend_from_slice(older.as_bytes());
+    body.extend_from_slice(&bytes[at + full.len()..bytes.len() - 8]);
+    let read = Checkpoint::decode(&reseal(body, FORMAT_VERSION)).unwrap();
+    let want = SolverCounters {
+        iterations: 0,
+        ..c.solver.unwrap()
+    };
+    assert_eq!(read.solver, Some(want));
+    assert_ne!(c.solver.unwrap().iterations, 0, "the sample must set it");
+    let unknown = full.replacen('{', "{\"no_such_counter\":1,", 1);
+    assert!(serde_json::from_str::<SolverCounters>(&unknown).is_err());
+}

@@ -285,7 +285,7 @@ impl Flight {
     /// The solver counters of the whole run so far, the stepper's `counters` (since the
     /// flight's start or resume) included; `None` when the part before a resume is unknown.
     pub fn solver(&self, counters: &SolverCounters) -> Option<SolverCounters> {
-        self.solver_before.map(|before| before.plus(counters))
+        self.solver_before.map(|before| before.merge(counters))
     }
 
     /// The run record of the summary: how it ended and what it cost.

@@ -219,9 +219,9 @@ pub struct StageCounts {
 }
 
 impl Counters {
-    /// These counters plus `other`'s (a run resumed from a checkpoint adds the counters of
-    /// the part before it).
-    pub fn plus(&self, other: &Self) -> Self {
+    /// These counters merged with `other`'s, field by field (a run resumed from a checkpoint
+    /// adds the counters of the part before it).
+    pub fn merge(&self, other: &Self) -> Self {
         let st = |a: StageCounts, b: StageCounts| StageCounts {
             runs: a.runs + b.runs,
             converged: a.converged + b.converged,
@@ -267,7 +267,9 @@ impl StageCounts {
 /// time (`std::time::Instant` around each phase, well under 0.1 % of a step).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+// Self-describing (JSON names every field): a counter that a file's writer did not have reads
+// as 0, so adding one needs no new checkpoint format; an unknown one is refused.
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct Counters {
     /// Element evaluation plus scatter of forces (and Jacobian values when wanted) (s).
     pub assembly_s: f64,
