@@ -177,12 +177,7 @@ pub fn check_fresh_dir(dir: &Path, force: bool) -> Result<(), AppError> {
             frames.display()
         )));
     }
-    if let Some(taken) = run_files::directory_named_like_a_run_file(dir) {
-        return Err(AppError::Input(format!(
-            "`{}` is a directory: a run writes a file of that name; move it, or choose another --out DIR",
-            taken.display()
-        )));
-    }
+    refuse_directory_named_like_a_run_file(dir)?;
     if run_files::is_empty(dir) {
         return Ok(());
     }
@@ -196,6 +191,18 @@ pub fn check_fresh_dir(dir: &Path, force: bool) -> Result<(), AppError> {
         return Err(not_a_run_dir(dir));
     }
     Ok(())
+}
+
+/// A directory where a run (or a resume) would write one of its data files is refused
+/// before anything in `dir` changes.
+pub fn refuse_directory_named_like_a_run_file(dir: &Path) -> Result<(), AppError> {
+    match run_files::directory_named_like_a_run_file(dir) {
+        Some(taken) => Err(AppError::Input(format!(
+            "`{}` is a directory: a run writes a file of that name; move it, or choose another --out DIR",
+            taken.display()
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// `--force` is refused on a non-empty directory chute did not write: it would delete or

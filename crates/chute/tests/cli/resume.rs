@@ -399,7 +399,7 @@ fn force_over_a_frames_file_is_refused_before_clearing() {
 }
 
 /// A directory where a run writes one of its files (`canopy.pvd/`, a frame's name) is refused
-/// (status 2) before `--force` clears the earlier run, which is left whole.
+/// (status 2) before `--force` clears the earlier run or a resume cuts it back: it is left whole.
 #[test]
 fn force_over_a_directory_named_like_a_run_file_is_refused_before_clearing() {
     let tmp = tempfile::tempdir().unwrap();
@@ -424,6 +424,11 @@ fn force_over_a_directory_named_like_a_run_file_is_refused_before_clearing() {
             "the earlier run was changed"
         );
         assert!(r.join("summary.json").is_file());
+        // Nor does a resume cut its time series back first.
+        let series = std::fs::read(r.join("timeseries.csv")).unwrap();
+        let o = chute(tmp.path(), &["resume", "r", "--quiet"]);
+        refused(&o, &[&format!("`r/{taken}` is a directory")]);
+        assert_eq!(series, std::fs::read(r.join("timeseries.csv")).unwrap());
         std::fs::remove_dir(&path).unwrap();
         std::fs::write(&path, kept).unwrap();
     }
