@@ -6,6 +6,7 @@ mod case_run;
 mod expected;
 mod gathered;
 pub mod inputs;
+mod owner;
 mod resumed;
 mod skip;
 mod table;
@@ -456,8 +457,9 @@ pub fn run_study_with(
         })
         .collect::<Result<Vec<_>, AppError>>()?;
     table::refuse_run_dir_out(&opts.out_dir)?;
-    table::refuse_other_studys_out(&opts.out_dir, study)?;
+    owner::refuse_other_studys_out(&opts.out_dir, study)?;
     app::ensure_dir(&opts.out_dir)?;
+    owner::claim(&opts.out_dir, study)?;
     let jobs = opts
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))

@@ -141,6 +141,14 @@ fn read_json_strict(path: &Path) -> Result<Option<serde_json::Value>, String> {
 fn unfinished_row(case_dir: &Path, done: Result<Option<serde_json::Value>, String>) -> Option<Row> {
     use crate::output::record::DirState;
     let case = case_dir.file_name()?.to_string_lossy().into_owned();
+    let own_run = || {
+        crate::output::record::RunRecord::read(case_dir)
+            .is_ok_and(|r| r.is_some_and(|r| r.case_of.is_none()))
+    };
+    if matches!(done, Ok(None)) && own_run() {
+        // A run of its own beside the cases (its record names no study case): no case.
+        return None;
+    }
     let state = match done {
         Err(why) => CaseState::Unreadable(why),
         Ok(_) => match DirState::of(case_dir) {
@@ -434,40 +442,6 @@ fn refuse_other_study_out(dirs: &[PathBuf], out: &Path) -> Result<(), AppError> 
         ))),
         false => Ok(()),
     }
-}
-
-/// Refuse to run `study` into `out` when `out` holds cases another study recorded: another
-/// name, or the same name from another file (its study file, or for a study made in code its
-/// base scenario, still there and not this one's: a link or a moved copy is the same study).
-/// This one would replace those of the same names and the directory's table.
-pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), AppError> {
-    let Ok(entries) = std::fs::read_dir(out) else {
-        return Ok(());
-    };
-    let (mine, key) = match &study.file {
-        Some(f) => (f.clone(), "study_file"),
-        None => (study.base.clone(), "base"),
-    };
-    let another = |recorded: &str| {
-        let (a, b) = (Path::new(recorded).canonicalize(), mine.canonicalize());
-        matches!((a, b), (Ok(a), Ok(b)) if a != b)
-    };
-    for e in entries.filter_map(Result::ok) {
-        let done = e.path().join(DONE_FILE);
-        let Some(d) = read_json(&done) else { continue };
-        let other = d["study"].as_str().unwrap_or_default();
-        let from = d["recipe"][key].as_str();
-        if other != study.name || from.is_some_and(another) {
-            let from = from.map_or(String::new(), |f| format!(" of `{f}`"));
-            return Err(AppError::Input(format!(
-                "`{}` holds the cases of study `{other}`{from} (`{}`), which study `{}` would replace with its table: choose another --out",
-                out.display(),
-                done.display(),
-                study.name
-            )));
-        }
-    }
-    Ok(())
 }
 
 /// `chute collect`: [`gather`] the cases of `dirs` and [`write_table`] into `out`. Input

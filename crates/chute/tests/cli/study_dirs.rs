@@ -230,6 +230,26 @@ fn a_study_never_runs_into_another_studys_directory() {
         before == files(&tmp.path().join("s")),
         "the other study changed"
     );
+    // Nor when no case of it has finished yet (killed, or still running its first cases):
+    // the directory's owner record says whose it is.
+    for case in ["20N", "200N", "2000N"] {
+        std::fs::remove_file(tmp.path().join("s").join(case).join("done.json")).unwrap();
+    }
+    assert!(tmp.path().join("s/.chute-study.json").is_file());
+    let o = chute(
+        tmp.path(),
+        &[
+            "study",
+            "copy/table1.toml",
+            "--out",
+            "s",
+            "--set",
+            "time.duration_s=0.02",
+        ],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("(`s/.chute-study.json`)"), "{err}");
     // The same study file reached through a link is the same study.
     std::os::unix::fs::symlink(repo().join("studies"), tmp.path().join("linked")).unwrap();
     let o = chute(
@@ -281,4 +301,21 @@ fn an_unrecorded_run_of_other_inputs_or_another_summary_is_not_taken() {
         err.contains("replacing it") && !err.contains("recorded, skipped"),
         "{err}"
     );
+}
+
+/// A run of its own beside a study's cases (its run.json names no case) is no case of the
+/// study: `collect` neither lists it nor counts it.
+#[test]
+fn a_run_of_its_own_beside_the_cases_is_not_a_case() {
+    let tmp = table1_study_in("s");
+    users_run(tmp.path(), "s/myrun");
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
+    assert!(
+        !table.contains("myrun") && !err.contains("myrun"),
+        "{table}{err}"
+    );
+    assert_eq!(table.lines().count(), 4, "{table}");
 }
