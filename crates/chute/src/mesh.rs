@@ -78,12 +78,36 @@ pub enum MeshFileError {
     },
 }
 
+/// Largest mesh file read (bytes): a mesh within the model's limits (2·10⁶ triangles) is a
+/// few hundred MB of text; a larger file is refused before it is read into memory.
+pub const MAX_MESH_BYTES: u64 = 1 << 30;
+
+/// Why a mesh file of `len` bytes is not read ([`MAX_MESH_BYTES`]).
+pub fn too_large(len: u64) -> Option<String> {
+    (len > MAX_MESH_BYTES).then(|| {
+        format!(
+            "the file is {:.1} GiB; a mesh file is at most {} GiB (2·10⁶ triangles is far less)",
+            len as f64 / (1u64 << 30) as f64,
+            MAX_MESH_BYTES >> 30
+        )
+    })
+}
+
 /// Read `path` (lossy UTF-8) and hand its text and display name to `parse`.
 fn read_with(
     path: &std::path::Path,
     parse: fn(&str, &str) -> Result<CanopyMesh, MeshFileError>,
 ) -> Result<CanopyMesh, MeshFileError> {
     let name = path.display().to_string();
+    if let Some(message) = std::fs::metadata(path)
+        .ok()
+        .and_then(|m| too_large(m.len()))
+    {
+        return Err(MeshFileError::File {
+            path: name,
+            message,
+        });
+    }
     let bytes = std::fs::read(path).map_err(|source| MeshFileError::Io {
         path: name.clone(),
         source,

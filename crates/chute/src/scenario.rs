@@ -143,6 +143,10 @@ pub struct AdaptiveSettings {
     pub error_filter: bool,
 }
 
+/// Largest scenario file read (bytes, 16 MiB): scenarios are short text files; a larger one
+/// is refused before it is read into memory.
+pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
+
 impl Scenario {
     /// The adaptive settings, or `None` for a fixed step. The loader fills every absent key
     /// when `time.adaptive = true`; the same defaults apply here to hand-built structs.
@@ -177,6 +181,13 @@ impl Scenario {
         // Not a FIFO or a device: read whole, it could block or never end.
         if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
             return Err(read("it is not a plain file (a FIFO, a device?)".into()));
+        }
+        if let Some(len) = std::fs::metadata(path).ok().map(|m| m.len()) {
+            if len > MAX_SCENARIO_BYTES {
+                return Err(read(format!(
+                    "it is {len} bytes; a scenario is a text file of at most {MAX_SCENARIO_BYTES} bytes"
+                )));
+            }
         }
         let text = std::fs::read_to_string(path).map_err(|e| read(e.to_string()))?;
         let file = path.display().to_string();

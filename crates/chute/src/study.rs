@@ -185,8 +185,24 @@ fn grid_cases(grid: &toml::Table) -> Result<Vec<Case>, AppError> {
 impl Study {
     /// Read and check a study file (not yet its cases' scenarios: see [`Study::scenario`]).
     pub fn load(path: &Path) -> Result<Study, AppError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| input(format!("cannot read study file `{}`: {e}", path.display())))?;
+        let cannot = |why: String| {
+            input(format!(
+                "cannot read study file `{}`: {why}",
+                path.display()
+            ))
+        };
+        let max = crate::scenario::MAX_SCENARIO_BYTES;
+        match std::fs::metadata(path) {
+            Ok(m) if !m.is_file() => return Err(cannot("it is not a plain file".into())),
+            Ok(m) if m.len() > max => {
+                return Err(cannot(format!(
+                    "it is {} bytes; a study file is at most {max}",
+                    m.len()
+                )))
+            }
+            _ => {}
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| cannot(e.to_string()))?;
         let dir = crate::scenario::source_dir(path);
         let mut st = Study::from_str(&text, &path.display().to_string(), &dir)?;
         st.file = Some(std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));

@@ -355,6 +355,11 @@ fn mesh(c: &mut Checker, s: &Scenario) {
             format!("\"{}\"", p.display()),
             "it is a directory; give the mesh file in it (`.txt` DisMech or `.obj` Wavefront)",
         );
+    } else if let Some(why) = std::fs::metadata(&p)
+        .ok()
+        .and_then(|m| crate::mesh::too_large(m.len()))
+    {
+        c.fail(key, format!("\"{}\"", p.display()), &why);
     } else if p.exists() && !p.is_file() {
         c.fail(
             key,

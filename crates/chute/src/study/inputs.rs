@@ -75,6 +75,11 @@ pub fn digest(s: &Scenario) -> Result<String, AppError> {
 
 /// The digest of one file's bytes, as `fnv1a64:<16 hex digits>`.
 pub fn file_digest(path: &std::path::Path) -> std::io::Result<String> {
+    // Not read into memory when larger than any input chute reads (a file replaced since).
+    let len = std::fs::metadata(path)?.len();
+    if let Some(why) = crate::mesh::too_large(len) {
+        return Err(std::io::Error::new(std::io::ErrorKind::InvalidData, why));
+    }
     Ok(bytes_digest(&std::fs::read(path)?))
 }
 

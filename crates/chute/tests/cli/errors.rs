@@ -164,6 +164,26 @@ fn missing_file_and_bad_overrides_exit_2() {
         2,
         &["= \"/dev/zero\" is invalid: it is not a plain file"],
     );
+    // A file far larger than any scenario or mesh is refused, not read into memory (sparse
+    // files: they take no room).
+    let big = std::fs::File::create(dir.path().join("big.toml")).unwrap();
+    big.set_len(20 << 20).unwrap();
+    assert_error(
+        &chute(dir.path(), &["check", "big.toml"]),
+        2,
+        &["it is 20971520 bytes; a scenario is a text file of at most 16777216 bytes"],
+    );
+    let mesh = std::fs::File::create(dir.path().join("big.txt")).unwrap();
+    mesh.set_len(2 << 30).unwrap();
+    let set = format!(
+        "canopy.mesh_file=\"{}\"",
+        dir.path().join("big.txt").display()
+    );
+    assert_error(
+        &chute(dir.path(), &["check", hex.to_str().unwrap(), "--set", &set]),
+        2,
+        &["the file is 2.0 GiB; a mesh file is at most 1 GiB"],
+    );
     std::fs::write(dir.path().join("s.toml"), HEAD).unwrap();
     assert_errors(
         dir.path(),
