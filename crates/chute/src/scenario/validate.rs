@@ -355,7 +355,7 @@ fn mesh(c: &mut Checker, s: &Scenario) {
             format!("\"{}\"", p.display()),
             "it is a directory; give the mesh file in it (`.txt` DisMech or `.obj` Wavefront)",
         );
-    } else if let Some(why) = std::fs::metadata(&p)
+    } else if let Some(why) = std::fs::metadata(p)
         .ok()
         .and_then(|m| crate::mesh::too_large(m.len()))
     {
