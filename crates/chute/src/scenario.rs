@@ -143,6 +143,27 @@ pub struct AdaptiveSettings {
     pub error_filter: bool,
 }
 
+/// The text of the scenario file `path`, read up to [`MAX_SCENARIO_BYTES`]: a device is
+/// refused (`/dev/zero` never ends), a pipe read (`chute check <(…)`) but never past the limit.
+fn read_bounded(path: &Path) -> Result<String, String> {
+    use std::io::Read;
+    use std::os::unix::fs::FileTypeExt;
+    let kind = std::fs::metadata(path).map(|m| m.file_type());
+    if kind.is_ok_and(|t| t.is_char_device() || t.is_block_device() || t.is_socket()) {
+        return Err("it is a device, not a scenario file".into());
+    }
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_SCENARIO_BYTES + 1).read_to_string(&mut text))
+        .map_err(|e| e.to_string())?;
+    if text.len() as u64 > MAX_SCENARIO_BYTES {
+        return Err(format!(
+            "it is longer than {MAX_SCENARIO_BYTES} bytes, the most a scenario file may hold"
+        ));
+    }
+    Ok(text)
+}
+
 /// Largest scenario file read (bytes, 16 MiB): scenarios are short text files; a larger one
 /// is refused before it is read into memory.
 pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
@@ -178,18 +199,7 @@ impl Scenario {
             path: path.to_path_buf(),
             reason,
         };
-        // Not a FIFO or a device: read whole, it could block or never end.
-        if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
-            return Err(read("it is not a plain file (a FIFO, a device?)".into()));
-        }
-        if let Some(len) = std::fs::metadata(path).ok().map(|m| m.len()) {
-            if len > MAX_SCENARIO_BYTES {
-                return Err(read(format!(
-                    "it is {len} bytes; a scenario is a text file of at most {MAX_SCENARIO_BYTES} bytes"
-                )));
-            }
-        }
-        let text = std::fs::read_to_string(path).map_err(|e| read(e.to_string()))?;
+        let text = read_bounded(path).map_err(read)?;
         let file = path.display().to_string();
         parse::parse_scenario(&text, &file, &parse::base_dir(path), overrides)
     }

@@ -155,7 +155,7 @@ fn missing_file_and_bad_overrides_exit_2() {
     assert_error(
         &chute(dir.path(), &["check", "/dev/zero"]),
         2,
-        &["cannot read scenario file `/dev/zero`: it is not a plain file"],
+        &["cannot read scenario file `/dev/zero`: it is a device, not a scenario file"],
     );
     let hex = repo().join("scenarios/dismech-hex-n6.toml");
     let mesh = "canopy.mesh_file=\"/dev/zero\"";
@@ -171,7 +171,7 @@ fn missing_file_and_bad_overrides_exit_2() {
     assert_error(
         &chute(dir.path(), &["check", "big.toml"]),
         2,
-        &["it is 20971520 bytes; a scenario is a text file of at most 16777216 bytes"],
+        &["it is longer than 16777216 bytes, the most a scenario file may hold"],
     );
     let mesh = std::fs::File::create(dir.path().join("big.txt")).unwrap();
     mesh.set_len(2 << 30).unwrap();
