@@ -272,9 +272,14 @@ impl Study {
         for c in &mut cases {
             let ok = !c.name.is_empty() && safe_name(&c.name) == c.name && !c.name.starts_with('.');
             if !ok {
+                // Each case is run in `OUT/<name>`: a name that is not one plain directory
+                // name (empty, a path, hidden) would write elsewhere.
+                let what = match c.name.is_empty() {
+                    true => "a case name is empty".to_string(),
+                    false => format!("case name `{}` is not a plain directory name", c.name),
+                };
                 return Err(input(format!(
-                    "{file}: case name `{}` names a directory: use letters, digits, '-', '_' or '.'",
-                    c.name
+                    "{file}: {what}: use letters, digits, '-', '_' or '.', not starting with '.'"
                 )));
             }
             if ["study.csv", "study.md"].contains(&c.name.as_str()) {

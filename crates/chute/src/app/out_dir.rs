@@ -190,6 +190,12 @@ pub fn check_fresh_dir(dir: &Path, force: bool) -> Result<(), AppError> {
     if !run_files::is_run_dir(dir) {
         return Err(not_a_run_dir(dir));
     }
+    if let Some(trash) = crate::output::trash::users_trash(dir) {
+        return Err(AppError::Input(format!(
+            "`{}` holds files chute did not put there, where --force sets an earlier run's files aside; move it",
+            trash.display()
+        )));
+    }
     Ok(())
 }
 

@@ -83,6 +83,17 @@ pub fn is_moved(name: &std::ffi::OsStr) -> bool {
     name.to_str().is_some_and(|n| n.parse::<usize>().is_ok())
 }
 
+/// A `.chute.old` in `run_dir` (or its `frames/`) that chute did not leave: the user's,
+/// which clearing the directory would not touch (refused before anything changes).
+pub fn users_trash(run_dir: &Path) -> Option<PathBuf> {
+    [
+        run_dir.join(TRASH),
+        run_dir.join(super::vtk::FRAMES_DIR).join(TRASH),
+    ]
+    .into_iter()
+    .find(|d| std::fs::symlink_metadata(d).is_ok() && !ours(d))
+}
+
 /// Whether `dir` is a trash chute left: a real directory holding only its numbered files.
 fn ours(dir: &Path) -> bool {
     let real = std::fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir());

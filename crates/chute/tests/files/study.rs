@@ -137,7 +137,17 @@ fn list_study_runs_every_case_and_tabulates() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     top.sort();
-    assert_eq!(top, ["2000N", "200N", "20N", "study.csv", "study.md"]);
+    assert_eq!(
+        top,
+        [
+            ".chute-study.json",
+            "2000N",
+            "200N",
+            "20N",
+            "study.csv",
+            "study.md"
+        ]
+    );
 }
 
 #[test]
@@ -442,7 +452,11 @@ fn study_file_errors() {
     );
     check(
         "base = \"b.toml\"\n[[case]]\nname = \"a/b\"\n",
-        "case name `a/b`",
+        "case name `a/b` is not a plain directory name",
+    );
+    check(
+        "base = \"b.toml\"\n[[case]]\nname = \"\"\n",
+        "a case name is empty",
     );
     // A case where the table goes, and study names that are no directory of their own.
     check(
