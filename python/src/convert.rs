@@ -9,8 +9,7 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
-use chute::app::AppError;
-use chute::output::run_dir::{self, RunDirError};
+use chute::api::{self, AppError, RunDirError};
 
 pyo3::create_exception!(
     chute,
@@ -93,12 +92,12 @@ pub fn index_rows<'py, const K: usize, T: Copy + Into<u64>>(
 
 /// The frames of a run directory (see `read_frames` in lib.rs).
 pub fn frames<'py>(py: Python<'py>, dir: &Path) -> PyResult<Bound<'py, PyTuple>> {
-    let list = run_dir::read_pvd(dir).map_err(run_dir_err)?;
+    let list = api::frame_list(dir).map_err(run_dir_err)?;
     let mut times = Vec::with_capacity(list.len());
     let (mut pos, mut vel) = (Vec::new(), Vec::new());
-    let mut mesh = run_dir::FrameMesh::default();
+    let mut mesh = api::FrameMesh::default();
     for (k, (t, path)) in list.iter().enumerate() {
-        let (m, st) = run_dir::read_frame(path).map_err(run_dir_err)?;
+        let (m, st) = api::read_frame(path).map_err(run_dir_err)?;
         if k == 0 {
             mesh = m;
         } else if m.n_nodes != mesh.n_nodes {

@@ -16,9 +16,9 @@ use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 
 use pyo3::prelude::*;
 
-use chute::app::{self, RunOptions, Watch};
-use chute::scenario::Scenario;
-use chute::study::{run_study_with, CaseStatus, Study, StudyOptions};
+use chute::api::Scenario;
+use chute::api::{self, RunOptions, Watch};
+use chute::api::{CaseStatus, StudyOptions};
 pub use convert::{RunError, ScenarioError};
 
 /// Run scenario `path` with overrides `set` (`KEY=VALUE` texts) into the existing or new
@@ -39,9 +39,9 @@ fn run(
     viewer: bool,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<(bool, Option<String>)> {
-    let s = Scenario::load(&path, &set).map_err(|e| convert::app_err(e.into()))?;
+    let s = api::load(&path, &set).map_err(convert::app_err)?;
     // Held until the viewer is written: one process writes a run directory at a time.
-    let prepared = app::prepare_out_dir(&out, force).map_err(convert::app_err)?;
+    let prepared = api::prepare_out_dir(&out, force).map_err(convert::app_err)?;
     let opts = RunOptions {
         out_dir: out.clone(),
         force,
@@ -64,10 +64,10 @@ fn run(
             .map(drop),
         None => Ok(()),
     };
-    let outcome = watch::watched(py, &stop, || app::run_watched(&s, &opts, watch), tick)?;
+    let outcome = watch::watched(py, &stop, || api::run(&s, &opts, watch), tick)?;
     if viewer && outcome.is_ok() {
         // As `chute run`: a viewer that cannot be written is a warning, not a failure.
-        if let Err(e) = chute::output::viewer::write_viewer(&out) {
+        if let Err(e) = api::write_viewer(&out) {
             let msg = format!("viewer.html not written: {e}");
             PyErr::warn(
                 py,
@@ -99,12 +99,12 @@ fn study(
     force: bool,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Vec<(String, String, Option<String>)>> {
-    let st = Study::load(&path).map_err(convert::app_err)?;
+    let st = api::load_study(&path).map_err(convert::app_err)?;
     if jobs == Some(0) {
         return Err(ScenarioError::new_err("jobs must be at least 1"));
     }
     let to_run = (st.cases.iter())
-        .filter(|c| force || !chute::study::case_is_current(&st, c, &set, &out))
+        .filter(|c| force || !api::case_is_current(&st, c, &set, &out))
         .count();
     let opts = StudyOptions {
         out_dir: out,
@@ -121,7 +121,7 @@ fn study(
             stop: &stop,
             sim_time: None,
         };
-        let r = app::run_watched(s, o, watch);
+        let r = api::run(s, o, watch);
         finished.fetch_add(1, Ordering::Relaxed);
         r
     };
@@ -131,7 +131,7 @@ fn study(
             .map(drop),
         None => Ok(()),
     };
-    let report = watch::watched(py, &stop, || run_study_with(&st, &opts, &runner), tick)?
+    let report = watch::watched(py, &stop, || api::study(&st, &opts, &runner), tick)?
         .map_err(convert::app_err)?;
     Ok(report
         .cases
@@ -154,12 +154,12 @@ fn study(
 #[pyfunction]
 #[pyo3(signature = (quick=true, case=None))]
 fn validate(py: Python<'_>, quick: bool, case: Option<String>) -> PyResult<String> {
-    let args = chute::verify::ValidateArgs {
+    let args = api::ValidateArgs {
         quick,
         case,
         ..Default::default()
     };
-    let checks = watch::watched_detached(py, move || chute::verify::run_suite(&args))?;
+    let checks = watch::watched_detached(py, move || api::validate(&args))?;
     serde_json::to_string(&checks).map_err(|e| RunError::new_err(format!("JSON: {e}")))
 }
 

@@ -1,12 +1,10 @@
-//! `chute._native.Simulation`: a run stepped from Python (`chute::runner::Session`).
+//! `chute._native.Simulation`: a run stepped from Python (`chute::api::Session`).
 
 use std::path::{Path, PathBuf};
 
 use pyo3::prelude::*;
 
-use chute::app::AppError;
-use chute::runner::Session;
-use chute::scenario::Scenario;
+use chute::api::{AppError, Session};
 
 use crate::convert::{self, app_err, RunError};
 
@@ -18,10 +16,7 @@ pub struct Simulation {
 }
 
 fn session(path: &Path, set: &[String]) -> Result<Session, AppError> {
-    let s = Scenario::load(path, set)?;
-    let built = chute::build::build(&s)?;
-    Session::new(built, chute::app::run_config(&s, false))
-        .map_err(|e| AppError::RunFailed(e.to_string()))
+    chute::api::session(&chute::api::load(path, set)?)
 }
 
 #[pymethods]

@@ -2,6 +2,7 @@
 //! layers fit together (scenario → builders → engine → observers → outputs, and how a
 //! scenario key flows) is described in docs/architecture.md §Application.
 
+pub mod api;
 pub mod app;
 pub mod bench;
 pub mod build;

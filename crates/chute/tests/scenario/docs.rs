@@ -106,3 +106,29 @@ fn documented_defaults_and_limits_match_the_code() {
         }
     }
 }
+
+/// The Python bindings reach chute through its front door only (`chute::api`), so that the
+/// internals can change without them (docs/architecture.md §Application).
+#[test]
+fn the_python_bindings_use_only_the_front_door() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../python/src");
+    let mut files = 0;
+    for entry in std::fs::read_dir(&dir).expect("python/src") {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        files += 1;
+        for (i, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            for (at, _) in code.match_indices("chute::") {
+                assert!(
+                    code[at..].starts_with("chute::api"),
+                    "{}:{}: `{}` reaches past chute::api",
+                    path.display(),
+                    i + 1,
+                    line.trim()
+                );
+            }
+        }
+    }
+    assert!(files >= 3, "no binding sources found in {}", dir.display());
+}

@@ -1,0 +1,79 @@
+//! The front door: chute's commands as functions, with their options, outputs and errors.
+//! A program driving chute (the Python bindings, a script's own Rust) calls only this module:
+//! load a scenario, run it into a directory or step it in a loop of its own, run a study,
+//! validate, write the viewer, read a run's frames. Every error is an [`AppError`], whose
+//! class is the command line's exit status (docs/cli.md §Exit codes). The other modules are
+//! chute's internals, public for the command line and the tests, not a stable interface
+//! (docs/architecture.md §Application).
+
+use std::path::{Path, PathBuf};
+
+pub use crate::app::{AppError, Prepared, RunOptions, RunOutcome, Watch};
+pub use crate::output::run_dir::{FrameMesh, FrameState, RunDirError};
+pub use crate::output::viewer::ViewerReport;
+pub use crate::runner::Session;
+pub use crate::scenario::{Scenario, ScenarioError};
+pub use crate::study::{Case, CaseStatus, Runner, Study, StudyOptions, StudyReport};
+pub use crate::verify::{Check, ValidateArgs};
+
+/// Read scenario `path` with `set` overrides (`KEY=VALUE`, as `chute run --set`), validated.
+pub fn load(path: &Path, set: &[String]) -> Result<Scenario, AppError> {
+    Ok(Scenario::load(path, set)?)
+}
+
+/// Make `out` a run's directory and hold it (its lock) until the returned guard is dropped:
+/// created when missing; with `force`, an earlier chute run there may be replaced.
+pub fn prepare_out_dir(out: &Path, force: bool) -> Result<Prepared, AppError> {
+    crate::app::prepare_out_dir(out, force)
+}
+
+/// Run `s` into `opts.out_dir` as `chute run` does (its outputs, docs/outputs.md), watched by
+/// the caller: `watch.stop` ends it at the next step (saving what it has), and
+/// `watch.sim_time` follows its simulated time.
+pub fn run(s: &Scenario, opts: &RunOptions, watch: Watch<'_>) -> Result<RunOutcome, AppError> {
+    crate::app::run_watched(s, opts, watch)
+}
+
+/// A run of `s` that the caller steps ([`Session::step`]), writing nothing.
+pub fn session(s: &Scenario) -> Result<Session, AppError> {
+    let built = crate::build::build(s)?;
+    Session::new(built, crate::app::run_config(s, false))
+        .map_err(|e| AppError::RunFailed(e.to_string()))
+}
+
+/// Read study file `path` (docs/cli.md §`chute study`).
+pub fn load_study(path: &Path) -> Result<Study, AppError> {
+    Study::load(path)
+}
+
+/// Whether `case` of `study` has a finished run of the inputs it would run now in `out`
+/// (`chute study` would skip it).
+pub fn case_is_current(study: &Study, case: &Case, set: &[String], out: &Path) -> bool {
+    crate::study::case_is_current(study, case, set, out)
+}
+
+/// Run `study`'s cases with `runner` (usually [`run`] with the caller's watch), then write
+/// its table, as `chute study` does.
+pub fn study(study: &Study, opts: &StudyOptions, runner: &Runner) -> Result<StudyReport, AppError> {
+    crate::study::run_study_with(study, opts, runner)
+}
+
+/// The verification suite (`chute validate`): every check with its reference and verdict.
+pub fn validate(args: &ValidateArgs) -> Vec<Check> {
+    crate::verify::run_suite(args)
+}
+
+/// Write (or rewrite) the run directory's `viewer.html` (`chute view`).
+pub fn write_viewer(dir: &Path) -> Result<ViewerReport, RunDirError> {
+    crate::output::viewer::write_viewer(dir)
+}
+
+/// The frames `dir`'s `canopy.pvd` lists: `(time, frame file)` in order.
+pub fn frame_list(dir: &Path) -> Result<Vec<(f64, PathBuf)>, RunDirError> {
+    crate::output::run_dir::read_pvd(dir)
+}
+
+/// One frame file: its mesh (nodes, triangles, segments) and state (positions, velocities).
+pub fn read_frame(path: &Path) -> Result<(FrameMesh, FrameState), RunDirError> {
+    crate::output::run_dir::read_frame(path)
+}
