@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! chute: parachute scenarios, builders, metrics, outputs and the command line. How the
 //! layers fit together (scenario → builders → engine → observers → outputs, and how a
 //! scenario key flows) is described in docs/architecture.md §Application.
