@@ -58,6 +58,15 @@ fn run(c: &Cols, w: f64) -> Metrics {
 
 /// v(t) = −v_t tanh(g t / v_t): the exact free fall with quadratic drag from rest. The time to
 /// enter the ±2 % band is (v_t/g)·atanh(0.98).
+/// One of `m`'s warnings contains `what`.
+fn assert_warned(m: &Metrics, what: &str) {
+    assert!(
+        m.warnings.iter().any(|s| s.contains(what)),
+        "no {what:?} in {:?}",
+        m.warnings
+    );
+}
+
 #[test]
 fn tanh_transient_matches_closed_form() {
     let (v_t, w) = (5.0, 80.0);
@@ -164,11 +173,7 @@ fn constant_descent_exact_values() {
     assert!((m.horizontal_velocity_mps[1] + 0.1).abs() < 1e-12);
     assert!((m.window_start_s - 3.2).abs() < 1e-12 && (m.window_end_s - 4.0).abs() < 1e-12);
     // 10 % force imbalance in a steady descent is worth a warning.
-    assert!(
-        m.warnings.iter().any(|s| s.contains("drag_z differs")),
-        "{:?}",
-        m.warnings
-    );
+    assert_warned(&m, "drag_z differs");
     // Extended height 2 + sin 3t on [0, 4]: max 3 at t = π/6 (a sample within 0.005 s).
     assert!((m.max_extended_height_m - 3.0).abs() < 1e-3);
     assert!((m.final_extended_height_m - (2.0 + 12.0_f64.sin())).abs() < 1e-12);
@@ -190,11 +195,7 @@ fn oscillation_is_not_terminal() {
     assert!(m.terminal_velocity_std_mps > 0.2);
     assert!(!m.reached_terminal);
     assert_eq!(m.time_to_terminal_s, None);
-    assert!(
-        m.warnings.iter().any(|s| s.contains("not reached")),
-        "{:?}",
-        m.warnings
-    );
+    assert_warned(&m, "not reached");
 }
 
 /// A slow ramp with std below 1 % but a 2 % change across the window: the trend test alone
@@ -209,7 +210,7 @@ fn slow_drift_is_rejected_by_trend() {
     assert!(m.terminal_velocity_std_mps < 0.01 * v_t);
     assert!((m.terminal_velocity_trend_mps.abs() / v_t - 0.02).abs() < 1e-3);
     assert!(!m.reached_terminal);
-    assert!(m.warnings.iter().any(|s| s.contains("not reached")));
+    assert_warned(&m, "not reached");
 }
 
 #[test]
@@ -218,17 +219,9 @@ fn too_short_and_low_reynolds_are_flagged() {
     let m = run(&c, 1.0);
     assert!(m.window_samples < metrics::MIN_WINDOW_SAMPLES);
     assert!(!m.reached_terminal);
-    assert!(
-        m.warnings.iter().any(|s| s.contains("too short")),
-        "{:?}",
-        m.warnings
-    );
+    assert_warned(&m, "too short");
     // Re = 1.225 · 1e-3 · 2 / 1.81e-5 ≈ 135 < 1000 with quadratic drag.
-    assert!(
-        m.warnings.iter().any(|s| s.contains("Reynolds")),
-        "{:?}",
-        m.warnings
-    );
+    assert_warned(&m, "Reynolds");
 }
 
 #[test]
@@ -236,7 +229,7 @@ fn ascending_is_not_terminal() {
     let c = Cols::new(2.0, 0.01, |_| 3.0, |_| -1.0);
     let m = run(&c, 1.0);
     assert!(!m.reached_terminal);
-    assert!(m.warnings.iter().any(|s| s.contains("not descending")));
+    assert_warned(&m, "not descending");
 }
 
 /// The window statistics are time-weighted: non-uniform sampling of the same signal (as after

@@ -2,8 +2,6 @@
 //! descent, the payload-mode summary fields follow their definitions, and a drop through the
 //! 1976 standard atmosphere ends on the ground with the landing interpolated and the
 //! equivalent sea-level rate scaled by √(ρ/ρ_SL).
-use std::path::Path;
-
 use chute::scenario::Scenario;
 
 use crate::common::{repo, run_complete};
@@ -18,8 +16,11 @@ fn rod_scenario(set: &[&str]) -> Scenario {
     Scenario::load(&repo().join("scenarios/report-rod-200n.toml"), &all).unwrap()
 }
 
-fn run(s: &Scenario, dir: &Path) -> (f64, serde_json::Value) {
-    let (b, j) = run_complete(s, dir);
+/// [`rod_scenario`] with `set`, run to its end in a scratch directory: the planform area and
+/// summary.json.
+fn run(set: &[&str]) -> (f64, serde_json::Value) {
+    let dir = tempfile::tempdir().unwrap();
+    let (b, j) = run_complete(&rod_scenario(set), dir.path());
     (b.planform_area_m2, j)
 }
 
@@ -33,13 +34,11 @@ fn f(j: &serde_json::Value, k: &str) -> f64 {
 /// A symmetric fall has no swing, and the nominal coefficient is drag area / S₀.
 #[test]
 fn payload_lines_carry_the_payload_in_steady_descent() {
-    let dir = tempfile::tempdir().unwrap();
-    let s = rod_scenario(&[
+    let (s0, j) = run(&[
         "load.mode=\"payload\"",
         "lines.length_m=4.0",
         "time.duration_s=6",
     ]);
-    let (s0, j) = run(&s, dir.path());
     assert_eq!(j["reached_terminal"], true, "{j}");
     let steady = f(&j, "peak_line_tension_n") / f(&j, "load_factor");
     assert!(
@@ -72,15 +71,13 @@ fn payload_lines_carry_the_payload_in_steady_descent() {
 /// order.
 #[test]
 fn a_drop_through_the_standard_atmosphere_lands_on_the_ground() {
-    let dir = tempfile::tempdir().unwrap();
-    let s = rod_scenario(&[
+    let (s0, j) = run(&[
         "canopy.nodes=21",
         "time.duration_s=20",
         "atmosphere.model=\"isa1976\"",
         "atmosphere.altitude_m=1000",
         "atmosphere.ground_altitude_m=970",
     ]);
-    let (s0, j) = run(&s, dir.path());
     assert_eq!(j["stop_reason"], "ground", "{j}");
     let t = f(&j, "flight_time_s");
     let sim = f(&j, "simulated_time_s");

@@ -247,25 +247,25 @@ fn resume_rejects_a_different_scenario_and_a_missing_checkpoint() {
         viewer: false,
         case_of: None,
     };
-    let e = app_run(&rod(0.1, &[]), &opts(true)).unwrap_err();
-    assert_eq!(e.exit_code(), 2);
-    assert!(e.to_string().contains("checkpoint.bin"), "{e}");
+    // Each refusal is bad input (exit 2) saying what differs.
+    let refused = |e: chute::app::AppError, want: &str| {
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains(want), "{e}");
+    };
+    refused(
+        app_run(&rod(0.1, &[]), &opts(true)).unwrap_err(),
+        "checkpoint.bin",
+    );
     app_run(&rod(0.1, &[]), &opts(false)).unwrap();
-    let e = app_run(&rod(0.1, &["load.weight_n=20"]), &opts(true)).unwrap_err();
-    assert_eq!(e.exit_code(), 2);
     // The key is named with its section.
-    assert!(
-        e.to_string()
-            .contains("`load.weight_n` = 200.0 (checkpoint) vs 20.0 (now)"),
-        "{e}"
+    refused(
+        app_run(&rod(0.1, &["load.weight_n=20"]), &opts(true)).unwrap_err(),
+        "`load.weight_n` = 200.0 (checkpoint) vs 20.0 (now)",
     );
     // A shorter duration is refused, naming both.
-    let e = app_run(&rod(0.05, &[]), &opts(true)).unwrap_err();
-    assert_eq!(e.exit_code(), 2);
-    assert!(
-        e.to_string()
-            .contains("0.05 s is shorter than the recorded run's 0.1 s"),
-        "{e}"
+    refused(
+        app_run(&rod(0.05, &[]), &opts(true)).unwrap_err(),
+        "0.05 s is shorter than the recorded run's 0.1 s",
     );
     // A longer duration is allowed.
     let o = app_run(&rod(0.15, &[]), &opts(true)).unwrap();

@@ -26,14 +26,24 @@ fn json(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
 }
 
+/// `file` with the overrides `set`, run to its end in a scratch directory: the scenario, the
+/// built model at the end and summary.json.
+fn complete_run(file: &str, set: &[&str]) -> (Scenario, Built, serde_json::Value) {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scenario(file, set);
+    let (b, r) = run(&s, dir.path());
+    assert!(r.complete, "{:?}", r.stop_reason);
+    let j = json(dir.path());
+    (s, b, j)
+}
+
 /// Rod canopy with isotropic node drag: drag does not depend on the shape, so at steady
 /// descent Σ ½ ρ C_D A_k v² = W_total exactly and v_t = √(2 W_total / (ρ C_D Σ A_k)), with
 /// Σ A_k = span × width. Tolerance 0.5 %: the residual transient e^{−2 g t/v_t} after 4 s is
 /// below 1e-5 and Newton's tolerance is ~1e-9 of the weight.
 #[test]
 fn rod_canopy_falls_at_the_isotropic_drag_terminal_speed() {
-    let dir = tempfile::tempdir().unwrap();
-    let s = scenario(
+    let (s, b, j) = complete_run(
         "report-rod-200n.toml",
         &[
             "canopy.nodes=21",
@@ -42,9 +52,6 @@ fn rod_canopy_falls_at_the_isotropic_drag_terminal_speed() {
             "output.frame_interval_s=1",
         ],
     );
-    let (b, r) = run(&s, dir.path());
-    assert!(r.complete, "{:?}", r.stop_reason);
-    let j = json(dir.path());
     let w = b.total_weight_n;
     let area = s.canopy.span_m * s.canopy.width_m;
     let v_ref = (2.0 * w / (s.fluid.density_kg_m3 * s.fluid.drag_coefficient * area)).sqrt();
@@ -59,8 +66,7 @@ fn rod_canopy_falls_at_the_isotropic_drag_terminal_speed() {
 /// residual oscillation.
 #[test]
 fn shell_canopy_drag_balances_weight_without_spin_or_drift() {
-    let dir = tempfile::tempdir().unwrap();
-    let s = scenario(
+    let (_, b, j) = complete_run(
         "report-shell-4-sites.toml",
         &[
             "shell.membrane=springs",
@@ -71,9 +77,6 @@ fn shell_canopy_drag_balances_weight_without_spin_or_drift() {
             "output.frame_interval_s=1",
         ],
     );
-    let (b, r) = run(&s, dir.path());
-    assert!(r.complete, "{:?}", r.stop_reason);
-    let j = json(dir.path());
     assert!(j["force_balance_error"].as_f64().unwrap() < 1e-2, "{j}");
     let v = j["terminal_velocity_mps"].as_f64().unwrap();
     assert!(v < -1.0, "{j}");

@@ -144,31 +144,24 @@ fn guidance_is_checked() {
         Scenario::from_str_with_name(&s.to_toml(), "r.toml", &[]).unwrap(),
         s
     );
-    refused(
-        &with(&ground, &["guidance.target_m=[1, 2, 3]"]),
-        "guidance.target_m",
-        "two numbers",
-    );
-    refused(
-        &with(&ground, &["guidance.max_pull_m=2.9"]),
-        "guidance.max_pull_m",
-        "10 %",
-    );
-    refused(
-        &with(&ground, &["guidance.max_pull_m=-1"]),
-        "guidance.max_pull_m",
-        "must be positive",
-    );
-    refused(
-        &with(&ground, &["guidance.ramp_s=2"]),
-        "guidance.ramp_s",
-        "update_s",
-    );
-    refused(
-        &with(&ground, &["guidance.pull_side=sideways"]),
-        "guidance.pull_side",
-        "shape",
-    );
+    // One bad entry at a time: (override, the key named, what the message says).
+    for (set, key, want) in [
+        (
+            "guidance.target_m=[1, 2, 3]",
+            "guidance.target_m",
+            "two numbers",
+        ),
+        ("guidance.max_pull_m=2.9", "guidance.max_pull_m", "10 %"),
+        (
+            "guidance.max_pull_m=-1",
+            "guidance.max_pull_m",
+            "must be positive",
+        ),
+        ("guidance.ramp_s=2", "guidance.ramp_s", "update_s"),
+        ("guidance.pull_side=sideways", "guidance.pull_side", "shape"),
+    ] {
+        refused(&with(&ground, &[set]), key, want);
+    }
     // `shape` has no measured response for a hexagon; `away` is accepted there.
     let hexagon = [
         "canopy.shape=hexagon",

@@ -27,6 +27,14 @@ fn at_line(e: &ScenarioError, line: usize) {
     );
 }
 
+/// `e`'s message contains every one of `parts`.
+fn says(e: &ScenarioError, parts: &[&str]) {
+    let msg = e.to_string();
+    for part in parts {
+        assert!(msg.contains(part), "no {part:?} in: {msg}");
+    }
+}
+
 #[test]
 fn missing_file_names_the_path() {
     let e = Scenario::load(Path::new("/no/such/dir/scen.toml"), &[]).unwrap_err();
@@ -67,17 +75,10 @@ fn unknown_key_suggests_the_closest() {
     );
     // The right key in the wrong section.
     let e = err("[canopy]\ndensity_kg_m3 = 1000\n");
-    assert!(
-        e.to_string()
-            .contains("did you mean `material.density_kg_m3`?"),
-        "{e}"
-    );
+    says(&e, &["did you mean `material.density_kg_m3`?"]);
     // A misspelt section.
     let e = err("[canopee]\nspan_m = 6\n");
-    assert!(
-        e.to_string().contains("unknown key `canopee`") && e.to_string().contains("[canopy]"),
-        "{e}"
-    );
+    says(&e, &["unknown key `canopee`", "[canopy]"]);
     // Nothing close: no suggestion.
     let e = err("[canopy]\nzzzzzzzzzzzz = 1\n");
     assert!(
@@ -106,21 +107,15 @@ fn wrong_type_names_key_expected_type_and_line() {
         "{e:?}"
     );
     at_line(&e, 5);
-    assert!(e.to_string().contains("found the string \"six\""), "{e}");
+    says(&e, &["found the string \"six\""]);
     let e = err("[canopy]\nnodes = 6.5\n");
-    assert!(
-        e.to_string().contains("`canopy.nodes`") && e.to_string().contains("an integer"),
-        "{e}"
-    );
+    says(&e, &["`canopy.nodes`", "an integer"]);
     let e = err("[fluid]\nwind_mps = [1, 2]\n");
-    assert!(e.to_string().contains("three numbers"), "{e}");
+    says(&e, &["three numbers"]);
     let e = err_with("canopy = 3\n[model]\nkind = \"rod\"\n", &[]);
-    assert!(
-        e.to_string().contains("`canopy`") && e.to_string().contains("a table"),
-        "{e}"
-    );
+    says(&e, &["`canopy`", "a table"]);
     let e = err("[load]\nsites = [[1, \"a\"]]\n");
-    assert!(e.to_string().contains("`load.sites`"), "{e}");
+    says(&e, &["`load.sites`"]);
 }
 
 #[test]
@@ -144,37 +139,26 @@ fn non_positive_physical_quantities_say_why() {
             "{body}: {e:?}"
         );
         at_line(&e, line);
-        assert!(e.to_string().contains("must be positive"), "{e}");
+        says(&e, &["must be positive"]);
     }
     let e = err("[canopy]\nnodes = -3\n");
-    assert!(
-        e.to_string().contains("must be between 3 and 100000"),
-        "{e}"
-    );
+    says(&e, &["must be between 3 and 100000"]);
     let e = err("[material]\npoisson_ratio = 0.7\n");
-    assert!(e.to_string().contains("(−1, 0.5]"), "{e}");
+    says(&e, &["(−1, 0.5]"]);
     let e = err("[canopy]\nthickness_m = 2\n");
-    assert!(e.to_string().contains("is it in metres"), "{e}");
+    says(&e, &["is it in metres"]);
     let e = err("[time]\ndt_s = 20\n");
-    assert!(e.to_string().contains("longer than time.duration_s"), "{e}");
+    says(&e, &["longer than time.duration_s"]);
     // Snapshots after the end are skipped with a warning (so short test runs of a bundled
     // scenario need no override); negative ones are errors.
     let e = err("[output]\nsnapshots_s = [1, -1]\n");
-    assert!(
-        e.to_string().contains("`output.snapshots_s`")
-            && e.to_string().contains("must not be negative"),
-        "{e}"
-    );
+    says(&e, &["`output.snapshots_s`", "must not be negative"]);
 }
 
 #[test]
 fn rod_needs_enough_nodes() {
     let e = err_with("[model]\nkind = \"rod\"\n[canopy]\nnodes = 2\n", &[]);
-    assert!(
-        e.to_string()
-            .contains("`canopy.nodes` (t.toml:4) = 2 is invalid"),
-        "{e}"
-    );
+    says(&e, &["`canopy.nodes` (t.toml:4) = 2 is invalid"]);
 }
 
 #[test]
@@ -188,10 +172,7 @@ fn nan_and_infinity_are_refused() {
         at_line(&e, 5);
     }
     let e = err("[fluid]\nwind_mps = [0, nan, 0]\n");
-    assert!(
-        e.to_string().contains("`fluid.wind_mps`") && e.to_string().contains("finite"),
-        "{e}"
-    );
+    says(&e, &["`fluid.wind_mps`", "finite"]);
 }
 
 #[test]
@@ -202,29 +183,25 @@ fn out_of_set_values_list_the_allowed_ones() {
         "`model.kind` (t.toml:2) = \"membrane\" is not allowed; allowed values: \"rod\", \"shell\""
     );
     let e = err("[fluid]\ndrag = \"cubic\"\n");
-    assert!(e.to_string().contains("\"quadratic\", \"linear\""), "{e}");
+    says(&e, &["\"quadratic\", \"linear\""]);
     // Allowed in general, but not for this model.
     let e = err_with(
         "[model]\nkind = \"rod\"\n[load]\nsites = \"corners\"\n",
         &[],
     );
-    assert!(
-        e.to_string()
-            .contains("not allowed for a rod canopy; allowed values: \"ends\", \"center\""),
-        "{e}"
+    says(
+        &e,
+        &["not allowed for a rod canopy; allowed values: \"ends\", \"center\""],
     );
     let e = err_with(
         "[model]\nkind = \"rod\"\n[canopy]\nshape = \"circle\"\n",
         &[],
     );
-    assert!(e.to_string().contains("for a rod model"), "{e}");
+    says(&e, &["for a rod model"]);
     let e = err("[canopy]\nshape = \"circle\"\n[load]\nsites = \"corners\"\n");
-    assert!(e.to_string().contains("\"rim\", \"center\""), "{e}");
+    says(&e, &["\"rim\", \"center\""]);
     let e = err("[load]\nmode = \"node_mass_scale\"\n");
-    assert!(
-        e.to_string().contains("`load.mode`") && e.to_string().contains("mesh"),
-        "{e}"
-    );
+    says(&e, &["`load.mode`", "mesh"]);
 }
 
 #[test]
@@ -238,20 +215,17 @@ fn load_sites_outside_the_canopy() {
         "{e:?}"
     );
     at_line(&e, 5);
-    assert!(
-        e.to_string().contains("(3.01, 0)") && e.to_string().contains("rectangle"),
-        "{e}"
-    );
+    says(&e, &["(3.01, 0)", "rectangle"]);
     // Hexagon of circumradius 1 with a corner on +x: the corner is inside, (0, 0.9) is beyond
     // the apothem √3/2 ≈ 0.866.
     let hex = "[canopy]\nshape = \"hexagon\"\nradius_m = 1\n";
     let ok = format!("{HEAD}{hex}[load]\nsites = [[1, 0], [0, 0.866]]\n");
     Scenario::from_str_with_name(&ok, "t.toml", &[]).unwrap();
     let e = err(&format!("{hex}[load]\nsites = [[0, 0.9]]\n"));
-    assert!(e.to_string().contains("hexagon"), "{e}");
+    says(&e, &["hexagon"]);
     let circle = "[canopy]\nshape = \"circle\"\nradius_m = 1\n";
     let e = err(&format!("{circle}[load]\nsites = [[0.8, 0.8]]\n"));
-    assert!(e.to_string().contains("circle of radius 1 m"), "{e}");
+    says(&e, &["circle of radius 1 m"]);
 }
 
 #[test]
@@ -269,10 +243,9 @@ fn mesh_file_must_exist_and_be_given() {
         "{e:?}"
     );
     let e = err("[canopy]\nmesh_file = \"m.txt\"\n");
-    assert!(
-        e.to_string()
-            .contains("is invalid: only used with `canopy.shape = \"mesh\"`"),
-        "{e}"
+    says(
+        &e,
+        &["is invalid: only used with `canopy.shape = \"mesh\"`"],
     );
 }
 
@@ -292,7 +265,7 @@ fn relative_mesh_paths_resolve_against_the_scenario_file() {
     assert_eq!(s.canopy.mesh_file.unwrap(), dir.path().join("meshes/m.txt"));
     std::fs::write(dir.path().join("meshes/m.stl"), "").unwrap();
     let e = Scenario::load(&file, &["canopy.mesh_file=../meshes/m.stl".into()]).unwrap_err();
-    assert!(e.to_string().contains("`.obj`"), "{e}");
+    says(&e, &["`.obj`"]);
 }
 
 #[test]
@@ -302,16 +275,9 @@ fn missing_required_keys() {
         matches!(&e, ScenarioError::Missing { key, .. } if key == "model.kind"),
         "{e:?}"
     );
-    assert!(
-        e.to_string().contains("missing required key `model.kind`"),
-        "{e}"
-    );
+    says(&e, &["missing required key `model.kind`"]);
     let e = err("[fluid]\ndrag = \"linear\"\n");
-    assert!(
-        e.to_string()
-            .contains("fluid.linear_drag_coefficient_n_s_m"),
-        "{e}"
-    );
+    says(&e, &["fluid.linear_drag_coefficient_n_s_m"]);
 }
 
 #[test]
@@ -345,28 +311,19 @@ fn override_errors_say_they_came_from_set() {
         "unknown key `canopy.spam_m` (from `--set canopy.spam_m=1`); did you mean `canopy.span_m`?"
     );
     let e = err_with(HEAD, &["fluid.drag=cubic"]);
-    assert!(
-        e.to_string().contains("from `--set fluid.drag=cubic`")
-            && e.to_string().contains("\"linear\""),
-        "{e}"
-    );
+    says(&e, &["from `--set fluid.drag=cubic`", "\"linear\""]);
     let e = err_with(HEAD, &["canopy.nodes=many"]);
-    assert!(
-        e.to_string()
-            .contains("`canopy.nodes` (from `--set canopy.nodes=many`) must be an integer"),
-        "{e}"
+    says(
+        &e,
+        &["`canopy.nodes` (from `--set canopy.nodes=many`) must be an integer"],
     );
     let e = err_with(HEAD, &["canopy.span_m"]);
     assert!(matches!(&e, ScenarioError::BadOverride { .. }), "{e:?}");
-    assert!(e.to_string().contains("expected KEY=VALUE"), "{e}");
+    says(&e, &["expected KEY=VALUE"]);
     let e = err_with(HEAD, &["=3"]);
-    assert!(e.to_string().contains("key before `=` is empty"), "{e}");
+    says(&e, &["key before `=` is empty"]);
     let e = err_with(HEAD, &["load.sites=[[9, 0]]"]);
-    assert!(
-        e.to_string().contains("from `--set load.sites=[[9, 0]]`")
-            && e.to_string().contains("outside"),
-        "{e}"
-    );
+    says(&e, &["from `--set load.sites=[[9, 0]]`", "outside"]);
 }
 
 /// Every error about a key names it in its message.
@@ -402,7 +359,7 @@ fn adaptive_keys_are_checked() {
         "{e:?}"
     );
     at_line(&e, 5);
-    assert!(e.to_string().contains("a boolean (true or false)"), "{e}");
+    says(&e, &["a boolean (true or false)"]);
     let cases: &[(&str, &str, usize, &str)] = &[
         (
             "[time]\nerror_tolerance_m = 1e-5\n",
@@ -457,10 +414,7 @@ fn adaptive_keys_are_checked() {
         assert!(e.to_string().contains(why), "{body}: {e}");
     }
     let e = err("[time]\nadaptive = true\ndt_max_s = nan\n");
-    assert!(
-        e.to_string().contains("`time.dt_max_s` (t.toml:6)") && e.to_string().contains("finite"),
-        "{e}"
-    );
+    says(&e, &["`time.dt_max_s` (t.toml:6)", "finite"]);
     // A bad default follows from a bad first step: the first step is reported.
     let e = err("[time]\nadaptive = true\ndt_s = -1\n");
     assert!(
@@ -469,15 +423,13 @@ fn adaptive_keys_are_checked() {
     );
     // Overrides name their origin.
     let e = err_with(HEAD, &["time.adaptive=true", "time.error_tolerance_m=-1"]);
-    assert!(
-        e.to_string()
-            .contains("`time.error_tolerance_m` (from `--set time.error_tolerance_m=-1`)"),
-        "{e}"
+    says(
+        &e,
+        &["`time.error_tolerance_m` (from `--set time.error_tolerance_m=-1`)"],
     );
     let e = err_with(HEAD, &["time.adaptive=maybe"]);
-    assert!(
-        e.to_string()
-            .contains("`time.adaptive` (from `--set time.adaptive=maybe`) must be a boolean"),
-        "{e}"
+    says(
+        &e,
+        &["`time.adaptive` (from `--set time.adaptive=maybe`) must be a boolean"],
     );
 }

@@ -6,6 +6,8 @@ use engine::shell::{install, MidedgeBending, PlateBending, ShellMaterial, TriMes
 use engine::{DofLayout, Force, Model};
 use nalgebra::Vector3;
 
+use crate::mesh::alternating_faces;
+
 /// A fluid with a wind of a few m/s in every direction (drag acts on `v − U∞`).
 pub fn windy() -> Fluid {
     Fluid {
@@ -33,18 +35,7 @@ pub fn leaky() -> Fabric {
 /// An `n × n`-node grid of side `side` (m) in the plane z = 0, cells split along
 /// alternating diagonals: `(triangles, q)`.
 pub fn grid(n: usize, side: f64) -> (Vec<[usize; 3]>, Vec<f64>) {
-    let id = |i: usize, j: usize| j * n + i;
-    let mut faces = Vec::new();
-    for j in 0..n - 1 {
-        for i in 0..n - 1 {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (i + j) % 2 == 0 {
-                faces.extend([[a, b, c], [a, c, d]]);
-            } else {
-                faces.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
+    let faces = alternating_faces(n);
     let h = side / (n - 1) as f64;
     let q = (0..n * n)
         .flat_map(|k| [(k % n) as f64 * h, (k / n) as f64 * h, 0.0])

@@ -9,9 +9,13 @@
 //! of magnitude, a missing term (∂n̂/∂x, a factor 2) fails by O(1).
 mod fixtures;
 mod membranes;
+#[path = "../common/mesh.rs"]
+mod mesh;
 mod rods;
 
-use engine::aero::{InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
+use engine::aero::{
+    Fabric, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
+};
 use engine::conformance::Case;
 use engine::force::Force;
 use engine::force_conformance;
@@ -34,186 +38,160 @@ force_conformance!(
     .perturb(2.0)
     .velocities(10.0)
 );
-force_conformance!(
-    node_drag,
+
+/// Node drag on 4 of 5 free nodes, displaced by up to 2 m.
+fn node_drag_case(air: Fluid) -> Case {
     Case::new(
-        NodeDrag::new(&[0, 1, 2, 4], &[0.4, 1.1, 0.1, 0.7], 1.75, &windy()),
-        vec![0.0; 15]
+        NodeDrag::new(&[0, 1, 2, 4], &[0.4, 1.1, 0.1, 0.7], 1.75, &air),
+        vec![0.0; 15],
     )
     .perturb(2.0)
     .velocities(10.0)
     .trials(20)
-);
-force_conformance!(triangle_drag, {
+}
+
+/// The drag laws on triangles of the 3 × 3 grid.
+#[derive(Clone, Copy)]
+enum Law {
+    Triangle,
+    Pressure,
+    Inflation,
+}
+
+/// `force`, made permeable with `fabric` if any.
+fn through<F: Force + 'static>(
+    force: F,
+    fabric: Option<Fabric>,
+    with_fabric: fn(F, Fabric) -> F,
+) -> Box<dyn Force> {
+    Box::new(match fabric {
+        Some(fabric) => with_fabric(force, fabric),
+        None => force,
+    })
+}
+
+/// `law` on the 3 × 3 grid of side 2 m in `air`, through `fabric` if any: nodes by up to
+/// 0.4 m, velocities up to 10 m/s, 20 draws.
+fn grid_drag_case(law: Law, air: Fluid, fabric: Option<Fabric>) -> Case {
     let (tris, q) = grid(3, 2.0);
-    Case::new(TriangleDrag::new(&tris, 1.75, 0.5, &windy()), q)
+    let force = match law {
+        Law::Triangle => through(
+            TriangleDrag::new(&tris, 1.75, 0.5, &air),
+            fabric,
+            TriangleDrag::with_fabric,
+        ),
+        Law::Pressure => through(
+            PressureDrag::new(&tris, &q, 1.75, &air),
+            fabric,
+            PressureDrag::with_fabric,
+        ),
+        Law::Inflation => through(
+            InflationPressure::new(&tris, &q, 1.4, &air),
+            fabric,
+            InflationPressure::with_fabric,
+        ),
+    };
+    Case::boxed(force, q)
         .perturb(0.4)
         .velocities(10.0)
         .trials(20)
-});
-// One triangle sees the flow at normal speed s: exactly edge-on (s = 0), grazing, and on
-// either side of a reversal. The law is smooth there (F ∝ (N·u)³ N/(A³|u|_ε)).
-force_conformance!(triangle_drag_edge_on_and_reversing, {
-    let (tris, q) = grid(3, 2.0);
-    let t = tris[3];
-    Case::new(TriangleDrag::new(&tris, 1.75, 0.5, &windy()), q)
-        .perturb(0.4)
-        .velocities(5.0)
-        .adjust(move |rng, q, v| {
-            let s = pick(rng, &[0.0, 1e-6, -1e-6, 1e-3, -1e-3, 0.3, -0.3]);
-            set_mean_normal_speed(q, v, t, windy().wind, s);
-        })
-        .trials(14)
-});
-force_conformance!(pressure_drag, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(PressureDrag::new(&tris, &q, 1.75, &windy()), q)
-        .perturb(0.4)
-        .velocities(10.0)
-        .trials(20)
-});
-// Inflation pressure: triangles tilted and stretched, flow from every side (σ is fixed at
-// rest, so the draws also reach panels whose inside faces away from the flow).
-force_conformance!(inflation_pressure, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(InflationPressure::new(&tris, &q, 1.4, &windy()), q)
-        .perturb(0.4)
-        .velocities(10.0)
-        .trials(20)
-});
-force_conformance!(inflation_pressure_permeable_stratified, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(
-        InflationPressure::new(&tris, &q, 1.4, &stratified()).with_fabric(leaky()),
-        q,
-    )
-    .perturb(0.4)
-    .velocities(10.0)
-    .trials(20)
-});
-force_conformance!(inflation_pressure_stratified, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(InflationPressure::new(&tris, &q, 1.4, &stratified()), q)
-        .perturb(0.4)
-        .velocities(10.0)
-        .trials(20)
-});
-// Every node of one triangle at normal speed ±s: |s| s has a kink in its second derivative
-// at 0, so central differences are exact only while h·|∂s/∂dof| < |s|; |s| ≥ 1e-3 with
-// h = 1e-6 keeps that.
-force_conformance!(pressure_drag_reversing, {
-    let (tris, q) = grid(3, 2.0);
-    let t = tris[5];
-    Case::new(PressureDrag::new(&tris, &q, 1.75, &windy()), q)
-        .perturb(0.4)
-        .velocities(5.0)
-        .adjust(move |rng, q, v| {
-            let s = pick(rng, &[1e-2, -1e-2, 1e-3, -1e-3]);
-            set_node_normal_speeds(q, v, t, windy().wind, s);
-        })
-        .trials(8)
-});
+}
+
+/// [`grid_drag_case`] with velocities up to 5 m/s, then one triangle's normal flow set to one
+/// of `speeds` (m/s) in each of `trials` draws. The triangle law sees the flow through the
+/// triangle's mean velocity (triangle 3), pressure drag at each node (triangle 5).
+fn reversing_case(
+    law: Law,
+    air: Fluid,
+    fabric: Option<Fabric>,
+    speeds: &'static [f64],
+    trials: usize,
+) -> Case {
+    let (tris, _) = grid(3, 2.0);
+    let wind = air.wind;
+    let case = grid_drag_case(law, air, fabric).velocities(5.0);
+    let case = match law {
+        Law::Triangle => case.adjust(move |rng, q, v| {
+            set_mean_normal_speed(q, v, tris[3], wind, pick(rng, speeds));
+        }),
+        Law::Pressure => case.adjust(move |rng, q, v| {
+            set_node_normal_speeds(q, v, tris[5], wind, pick(rng, speeds));
+        }),
+        Law::Inflation => panic!("no reversing case for inflation pressure"),
+    };
+    case.trials(trials)
+}
+
+/// One `force_conformance!` per row `name: law, air, fabric` of the drag matrix.
+macro_rules! drag_matrix {
+    ($($name:ident: $law:ident, $air:ident, $fabric:expr;)*) => {
+        $(force_conformance!($name, grid_drag_case(Law::$law, $air(), $fabric));)*
+    };
+}
 
 // Height-dependent air (drag at each element's own height, exact ∂ρ/∂z) and permeable
 // fabric (the leakage split by the implicit function theorem), on the same draws.
+force_conformance!(node_drag, node_drag_case(windy()));
+force_conformance!(node_drag_stratified, node_drag_case(stratified()));
+drag_matrix! {
+    triangle_drag: Triangle, windy, None;
+    pressure_drag: Pressure, windy, None;
+    // Inflation pressure: triangles tilted and stretched, flow from every side (σ is fixed
+    // at rest, so the draws also reach panels whose inside faces away from the flow).
+    inflation_pressure: Inflation, windy, None;
+    inflation_pressure_permeable_stratified: Inflation, stratified, Some(leaky());
+    inflation_pressure_stratified: Inflation, stratified, None;
+    // The 1976 atmosphere varies too gently (ρ′/ρ ≈ 1e-4 /m) for a check relative to the
+    // largest Jacobian entry to see its ∂ρ/∂z term above round-off; its gradients are
+    // checked against differences of ρ(z) and μ(z) in `physics::atmosphere`.
+    triangle_drag_stratified: Triangle, stratified, None;
+    triangle_drag_permeable: Triangle, windy, Some(leaky());
+    triangle_drag_permeable_stratified: Triangle, stratified, Some(leaky());
+    pressure_drag_stratified: Pressure, stratified, None;
+    pressure_drag_permeable: Pressure, windy, Some(leaky());
+    pressure_drag_permeable_stratified: Pressure, stratified, Some(leaky());
+}
+
+// One triangle sees the flow at normal speed s: exactly edge-on (s = 0), grazing, and on
+// either side of a reversal. The law is smooth there (F ∝ (N·u)³ N/(A³|u|_ε)).
 force_conformance!(
-    node_drag_stratified,
-    Case::new(
-        NodeDrag::new(&[0, 1, 2, 4], &[0.4, 1.1, 0.1, 0.7], 1.75, &stratified()),
-        vec![0.0; 15]
+    triangle_drag_edge_on_and_reversing,
+    reversing_case(
+        Law::Triangle,
+        windy(),
+        None,
+        &[0.0, 1e-6, -1e-6, 1e-3, -1e-3, 0.3, -0.3],
+        14
     )
-    .perturb(2.0)
-    .velocities(10.0)
-    .trials(20)
 );
-// The 1976 atmosphere varies too gently (ρ′/ρ ≈ 1e-4 /m) for a check relative to the
-// largest Jacobian entry to see its ∂ρ/∂z term above round-off; its gradients are checked
-// against differences of ρ(z) and μ(z) in `physics::atmosphere`.
-force_conformance!(triangle_drag_stratified, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(TriangleDrag::new(&tris, 1.75, 0.5, &stratified()), q)
-        .perturb(0.4)
-        .velocities(10.0)
-        .trials(20)
-});
-force_conformance!(triangle_drag_permeable, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(
-        TriangleDrag::new(&tris, 1.75, 0.5, &windy()).with_fabric(leaky()),
-        q,
-    )
-    .perturb(0.4)
-    .velocities(10.0)
-    .trials(20)
-});
-force_conformance!(triangle_drag_permeable_stratified, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(
-        TriangleDrag::new(&tris, 1.75, 0.5, &stratified()).with_fabric(leaky()),
-        q,
-    )
-    .perturb(0.4)
-    .velocities(10.0)
-    .trials(20)
-});
 // Through a reversal of the normal flow the leaky law is C¹ (φ ≈ κ s³ near s = 0).
-force_conformance!(triangle_drag_permeable_reversing, {
-    let (tris, q) = grid(3, 2.0);
-    let t = tris[3];
-    Case::new(
-        TriangleDrag::new(&tris, 1.75, 0.5, &stratified()).with_fabric(leaky()),
-        q,
+force_conformance!(
+    triangle_drag_permeable_reversing,
+    reversing_case(
+        Law::Triangle,
+        stratified(),
+        Some(leaky()),
+        &[0.0, 1e-3, -1e-3, 0.3, -0.3, 4.0, -4.0],
+        14
     )
-    .perturb(0.4)
-    .velocities(5.0)
-    .adjust(move |rng, q, v| {
-        let s = pick(rng, &[0.0, 1e-3, -1e-3, 0.3, -0.3, 4.0, -4.0]);
-        set_mean_normal_speed(q, v, t, windy().wind, s);
-    })
-    .trials(14)
-});
-force_conformance!(pressure_drag_stratified, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(PressureDrag::new(&tris, &q, 1.75, &stratified()), q)
-        .perturb(0.4)
-        .velocities(10.0)
-        .trials(20)
-});
-force_conformance!(pressure_drag_permeable, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(
-        PressureDrag::new(&tris, &q, 1.75, &windy()).with_fabric(leaky()),
-        q,
+);
+// Every node of one triangle at normal speed ±s: |s| s has a kink in its second derivative
+// at 0, so central differences are exact only while h·|∂s/∂dof| < |s|; |s| ≥ 1e-3 with
+// h = 1e-6 keeps that.
+force_conformance!(
+    pressure_drag_reversing,
+    reversing_case(Law::Pressure, windy(), None, &[1e-2, -1e-2, 1e-3, -1e-3], 8)
+);
+force_conformance!(
+    pressure_drag_permeable_reversing,
+    reversing_case(
+        Law::Pressure,
+        stratified(),
+        Some(leaky()),
+        &[1e-2, -1e-2, 1e-3, -1e-3],
+        8
     )
-    .perturb(0.4)
-    .velocities(10.0)
-    .trials(20)
-});
-force_conformance!(pressure_drag_permeable_stratified, {
-    let (tris, q) = grid(3, 2.0);
-    Case::new(
-        PressureDrag::new(&tris, &q, 1.75, &stratified()).with_fabric(leaky()),
-        q,
-    )
-    .perturb(0.4)
-    .velocities(10.0)
-    .trials(20)
-});
-force_conformance!(pressure_drag_permeable_reversing, {
-    let (tris, q) = grid(3, 2.0);
-    let t = tris[5];
-    Case::new(
-        PressureDrag::new(&tris, &q, 1.75, &stratified()).with_fabric(leaky()),
-        q,
-    )
-    .perturb(0.4)
-    .velocities(5.0)
-    .adjust(move |rng, q, v| {
-        let s = pick(rng, &[1e-2, -1e-2, 1e-3, -1e-3]);
-        set_node_normal_speeds(q, v, t, windy().wind, s);
-    })
-    .trials(8)
-});
+);
 
 // Rods: the three-rod network with a joint, nodes displaced by up to 0.3 m, twists up to
 // ±3 rad, committed at one random configuration (frames time-parallel transported there,

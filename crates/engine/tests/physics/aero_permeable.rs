@@ -47,16 +47,25 @@ fn expected() -> f64 {
     u_p + (2.0 * LOADING / (air.density * CD)).sqrt()
 }
 
+/// The steady speed `v` of the plate under `law` is [`expected`] to 1e-6 (relative).
+fn assert_expected_speed(law: &str, v: f64) {
+    let e = expected();
+    eprintln!(
+        "{law}: v = {v:.9} m/s, expected {e:.9} m/s, rel. err {:.2e}",
+        v / e - 1.0
+    );
+    assert!(
+        (v / e - 1.0).abs() < 1e-6,
+        "{law}: v = {v} m/s, expected {e} m/s"
+    );
+}
+
 #[test]
 fn permeable_plate_with_triangle_drag_descends_at_leakage_plus_drag_speed() {
     let v =
         steady_speed(|t, _, f| Box::new(TriangleDrag::new(t, CD, CD_T, f).with_fabric(fabric())));
+    assert_expected_speed("triangle drag", v);
     let e = expected();
-    eprintln!(
-        "triangle drag: v = {v:.9} m/s, expected {e:.9} m/s, rel. err {:.2e}",
-        v / e - 1.0
-    );
-    assert!((v / e - 1.0).abs() < 1e-6);
     // The leakage is a real effect here: 24 % faster than the impermeable plate.
     assert!(e > 1.2 * (2.0 * LOADING / (1.225 * CD)).sqrt());
 }
@@ -64,22 +73,12 @@ fn permeable_plate_with_triangle_drag_descends_at_leakage_plus_drag_speed() {
 #[test]
 fn permeable_plate_with_pressure_drag_descends_at_leakage_plus_drag_speed() {
     let v = steady_speed(|t, q, f| Box::new(PressureDrag::new(t, q, CD, f).with_fabric(fabric())));
-    let e = expected();
-    eprintln!(
-        "pressure drag: v = {v:.9} m/s, expected {e:.9} m/s, rel. err {:.2e}",
-        v / e - 1.0
-    );
-    assert!((v / e - 1.0).abs() < 1e-6);
+    assert_expected_speed("pressure drag", v);
 }
 
 #[test]
 fn permeable_plate_with_inflation_pressure_descends_at_leakage_plus_drag_speed() {
     let v =
         steady_speed(|t, q, f| Box::new(InflationPressure::new(t, q, CD, f).with_fabric(fabric())));
-    let e = expected();
-    eprintln!(
-        "inflation pressure: v = {v:.9} m/s, expected {e:.9} m/s, rel. err {:.2e}",
-        v / e - 1.0
-    );
-    assert!((v / e - 1.0).abs() < 1e-6);
+    assert_expected_speed("inflation pressure", v);
 }

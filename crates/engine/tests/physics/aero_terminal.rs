@@ -35,22 +35,21 @@ fn check_body(body: Body) {
     assert!((v_end / VT - 1.0).abs() < 1e-3, "{body:?}: v_end {v_end}");
 }
 
-#[test]
-fn flat_sheet_with_triangle_drag_follows_tanh_law() {
-    check_body(Body::SheetTriangle);
+/// One test per body, `test_name: body`, each running [`check_body`].
+macro_rules! tanh_law_tests {
+    ($($name:ident: $body:ident;)*) => {
+        $(
+            #[test]
+            fn $name() {
+                check_body(Body::$body);
+            }
+        )*
+    };
 }
 
-#[test]
-fn flat_sheet_with_pressure_drag_follows_tanh_law() {
-    check_body(Body::SheetPressure);
-}
-
-#[test]
-fn flat_sheet_with_inflation_pressure_follows_tanh_law() {
-    check_body(Body::SheetInflation);
-}
-
-#[test]
-fn straight_strip_with_node_drag_follows_tanh_law() {
-    check_body(Body::StripNodes);
+tanh_law_tests! {
+    flat_sheet_with_triangle_drag_follows_tanh_law: SheetTriangle;
+    flat_sheet_with_pressure_drag_follows_tanh_law: SheetPressure;
+    flat_sheet_with_inflation_pressure_follows_tanh_law: SheetInflation;
+    straight_strip_with_node_drag_follows_tanh_law: StripNodes;
 }

@@ -9,6 +9,8 @@ mod aero_stratified;
 mod aero_terminal;
 mod aero_wind;
 mod atmosphere;
+#[path = "../common/mesh.rs"]
+mod mesh;
 mod rod_cantilever;
 mod rod_frames;
 mod rod_network;

@@ -7,6 +7,8 @@ use engine::Force;
 use nalgebra::{Matrix2, Matrix3, Rotation3, Unit, Vector3};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
+use crate::mesh::alternating_faces;
+
 /// An `n × n`-node unit square in z = 0 with interior nodes jittered by up to 30 % of the
 /// spacing and cells split along alternating diagonals: `(faces, q, interior nodes)`.
 pub fn irregular_square(n: usize, seed: u64) -> (Vec<[usize; 3]>, Vec<f64>, Vec<usize>) {
@@ -29,18 +31,7 @@ pub fn irregular_square(n: usize, seed: u64) -> (Vec<[usize; 3]>, Vec<f64>, Vec<
             }
         }
     }
-    let mut faces = Vec::new();
-    for j in 0..n - 1 {
-        for i in 0..n - 1 {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (i + j) % 2 == 0 {
-                faces.extend([[a, b, c], [a, c, d]]);
-            } else {
-                faces.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
-    (faces, q, interior)
+    (alternating_faces(n), q, interior)
 }
 
 /// `q` mapped by `x ↦ R F x` (F acting in the plane, R a random rotation) and the in-plane

@@ -4,6 +4,7 @@
 //! a checkpointed history.
 mod aero_newton;
 mod backward_euler;
+mod common;
 mod error_control;
 mod error_filter;
 mod factor_precision;

@@ -2,20 +2,16 @@
 //! `η` of backward Euler's local error (plus the floor's displacement `h² ε a_ref`) of the
 //! strictly converged step from the same state (docs/engine.md §Newton tolerance).
 
-use engine::aero::{Fluid, TriangleDrag};
 use engine::{ImplicitEuler, Model, NewtonOptions, State};
-use rand::{rngs::StdRng, Rng, SeedableRng};
+
+use crate::common::thrown_sheet_with_drag;
 
 const G: f64 = 9.81;
 
 /// The thrown crumpled sheet under triangle drag: drag ≈ 100 N against ≈ 10 N of weight, so
 /// the accelerations (and the local error) are large and the test has room to act.
 fn model() -> (Model, State) {
-    let mut rng = StdRng::seed_from_u64(11);
-    let (mut model, state, s) =
-        engine::reference::sheet::thrown_crumpled_sheet(&mut || rng.random_range(-1.0..1.0));
-    model.add_force(TriangleDrag::new(&s.tris, 1.75, 0.5, &Fluid::air()));
-    (model, state)
+    thrown_sheet_with_drag(11)
 }
 
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {

@@ -4,32 +4,20 @@
 //! the *exact* implicit-Euler equations to the tolerance; we recompute that residual
 //! independently here.
 
-use engine::aero::{Fluid, TriangleDrag};
-use engine::fdcheck::dense_eval;
 use engine::{ImplicitEuler, Model, NewtonOptions, State};
-use rand::{rngs::StdRng, Rng, SeedableRng};
 
-/// `reference::sheet::thrown_crumpled_sheet` with triangle drag, thrown at ~10 m/s: drag
-/// (≈ 100 N) dominates the weight, so the skew part of J is as large as it gets here.
+use crate::common::{exact_residuals, thrown_sheet_with_drag};
+
+/// The thrown sheet (seed 7): drag (≈ 100 N) dominates the weight, so the skew part of J is
+/// as large as it gets here.
 fn model() -> (Model, State) {
-    let mut rng = StdRng::seed_from_u64(7);
-    let (mut model, state, s) =
-        engine::reference::sheet::thrown_crumpled_sheet(&mut || rng.random_range(-1.0..1.0));
-    model.add_force(TriangleDrag::new(&s.tris, 1.75, 0.5, &Fluid::air()));
-    (model, state)
+    thrown_sheet_with_drag(7)
 }
 
-/// `‖M (q − q_n − dt v_n)/dt² − F(q, (q − q_n)/dt)‖∞` (N), assembled independently (dense,
-/// force by force; no force depends on time).
+/// `‖M (q − q_n − dt v_n)/dt² − F(q, (q − q_n)/dt)‖∞` (N) over every DOF.
 fn exact_residual(model: &Model, prev: &State, q: &[f64], dt: f64) -> f64 {
-    let v: Vec<f64> = q.iter().zip(&prev.q).map(|(a, b)| (a - b) / dt).collect();
-    let mut f = vec![0.0; q.len()];
-    for force in &model.forces {
-        let (fi, _, _) = dense_eval(force.as_ref(), q, &v);
-        f.iter_mut().zip(&fi).for_each(|(a, b)| *a += b);
-    }
-    (0..q.len())
-        .map(|d| (model.mass[d] * (q[d] - prev.q[d] - dt * prev.v[d]) / (dt * dt) - f[d]).abs())
+    exact_residuals(model, prev, q, dt)
+        .into_iter()
         .fold(0.0, f64::max)
 }
 
