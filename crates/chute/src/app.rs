@@ -251,6 +251,7 @@ pub fn run_watched(
     let (resume, record, cleared) = match &opts.resume {
         Some(from) => {
             out_dir::refuse_directory_named_like_a_run_file(dir)?;
+            out_dir::refuse_users_trash(dir)?;
             let c = resume::load_checkpoint(from, dir, &scenario_toml)?;
             // Judged before anything in the directory changes: a refused resume leaves it
             // as it was.

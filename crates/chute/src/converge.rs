@@ -68,6 +68,12 @@ pub fn run_converge_with(
     opts: &ConvergeOptions,
     runner: &study::Runner,
 ) -> Result<ConvergeOutcome, AppError> {
+    // Read once per level: a pipe (`<(…)`) would be empty after the first, a FIFO waited on.
+    if let Some(why) = crate::output::atomic::not_plain(&opts.scenario, "scenario") {
+        return Err(AppError::Input(format!(
+            "{why}: a ladder reads its scenario once per level; give a file"
+        )));
+    }
     let name = crate::scenario::Scenario::load(&opts.scenario, &opts.set)?.name;
     let plan = plan::plan(
         &opts.scenario,

@@ -122,16 +122,12 @@ pub fn ensure_dir(dir: &Path) -> Result<(), AppError> {
     })?;
     // A file created and removed at once: the only sure test that the directory takes files
     // (permissions, a read-only mount, ACLs).
-    let probe = dir.join(format!(".chute-probe.{}", std::process::id()));
+    // A fresh random name, created exclusively (never through a link) and removed on drop.
     crate::output::atomic::signals_held(|| {
-        std::fs::OpenOptions::new()
-            .write(true)
-            .create(true)
-            .truncate(true)
-            .open(&probe)
-            .map(|_| {
-                let _ = std::fs::remove_file(&probe);
-            })
+        tempfile::Builder::new()
+            .prefix(".chute-probe.")
+            .tempfile_in(dir)
+            .map(drop)
     })
     .map_err(|e| {
         AppError::Input(format!(
@@ -190,13 +186,19 @@ pub fn check_fresh_dir(dir: &Path, force: bool) -> Result<(), AppError> {
     if !run_files::is_run_dir(dir) {
         return Err(not_a_run_dir(dir));
     }
-    if let Some(trash) = crate::output::trash::users_trash(dir) {
-        return Err(AppError::Input(format!(
-            "`{}` holds files chute did not put there, where --force sets an earlier run's files aside; move it",
+    refuse_users_trash(dir)
+}
+
+/// A `.chute.old` of the user's where chute sets an earlier run's files aside is refused
+/// before anything in `dir` changes.
+pub fn refuse_users_trash(dir: &Path) -> Result<(), AppError> {
+    match crate::output::trash::users_trash(dir) {
+        Some(trash) => Err(AppError::Input(format!(
+            "`{}` holds files chute did not put there, where chute sets an earlier run's files aside; move it",
             trash.display()
-        )));
+        ))),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// A directory where a run (or a resume) would write one of its data files is refused

@@ -69,27 +69,7 @@ fn write_atomic_now(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let name = path
         .file_name()
         .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "path has no file name"))?;
-    // A dot prefix hides the temporary from globs such as `frames/*.vtu`.
-    let mut prefix = std::ffi::OsString::from(".");
-    prefix.push(name);
-    prefix.push(".");
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    // tempfile creates 0600 files; ask for 0666 so the result honours the umask like any
-    // other file the user creates (0644 with the usual 022).
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(fs::Permissions::from_mode(0o666));
-    }
-    // tempfile appends the temporary's random name to its errors; the caller names the
-    // file it was writing, which is what a user can act on (so the writes go to the file
-    // itself, whose errors are the operating system's).
-    let mut tmp = builder.tempfile_in(dir).map_err(|e| {
-        let text = e.to_string();
-        let plain = text.split(" at path ").next().unwrap_or(&text).to_string();
-        io::Error::new(e.kind(), plain)
-    })?;
+    let mut tmp = temporary_beside(dir, name)?;
     tmp.as_file_mut().write_all(bytes)?;
     tmp.as_file().sync_all()?;
     tmp.persist(path).map_err(|e| e.error)?;
@@ -206,4 +186,30 @@ mod tests {
         assert_eq!(during, [true; 3]);
         assert!(STOP_SIGNALS.iter().all(|&s| !blocked(s)));
     }
+}
+
+/// A new temporary file in `dir` for a file named `name`: `.<name>.XXXXXX.tmp`, a random name
+/// created exclusively (never through a link), removed when dropped, with the permissions of
+/// a plain file under the umask.
+pub fn temporary_beside(dir: &Path, name: &std::ffi::OsStr) -> io::Result<tempfile::NamedTempFile> {
+    // A dot prefix hides the temporary from globs such as `frames/*.vtu`.
+    let mut prefix = std::ffi::OsString::from(".");
+    prefix.push(name);
+    prefix.push(".");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    // tempfile creates 0600 files; ask for 0666 so the result honours the umask like any
+    // other file the user creates (0644 with the usual 022).
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(fs::Permissions::from_mode(0o666));
+    }
+    // tempfile appends the temporary's random name to its errors; the caller names the
+    // file it was writing, which is what a user can act on.
+    builder.tempfile_in(dir).map_err(|e| {
+        let text = e.to_string();
+        let plain = text.split(" at path ").next().unwrap_or(&text).to_string();
+        io::Error::new(e.kind(), plain)
+    })
 }

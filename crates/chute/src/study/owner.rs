@@ -15,29 +15,43 @@ use crate::app::AppError;
 /// The owner record in a study's output directory.
 pub(crate) const OWNER_FILE: &str = ".chute-study.json";
 
-/// The study `out` would be claimed for: its name, and the file that identifies it.
-fn identity(study: &Study) -> serde_json::Value {
-    let text = |p: &Path| p.display().to_string();
+/// The file that identifies `study` (its study file, or for a study made in code its base
+/// scenario) and the key under which it is recorded.
+fn file_of(study: &Study) -> (&Path, &'static str) {
     match &study.file {
-        Some(f) => serde_json::json!({ "study": study.name, "study_file": text(f) }),
-        None => serde_json::json!({ "study": study.name, "base": text(&study.base) }),
+        Some(f) => (f, "study_file"),
+        None => (&study.base, "base"),
     }
 }
 
+/// The study `out` would be claimed for: its name, and the file that identifies it by path
+/// and by the digest of its bytes.
+fn identity(study: &Study) -> serde_json::Value {
+    let (file, key) = file_of(study);
+    let digest = super::inputs::file_digest(file).ok();
+    serde_json::json!({ "study": study.name, key: file.display().to_string(), "digest": digest })
+}
+
 /// Whether a recorded identity is another study than `study`: another name, or the same name
-/// from another file (both files still there and not the same: a link or a moved copy is
-/// the same study).
+/// from another file. The same file is the same path (through links), or the same bytes (a
+/// moved, copied or hard-linked study file); a recorded file that is gone, without a digest
+/// (an older record), is taken as this one.
 fn another(recorded: &serde_json::Value, study: &Study) -> bool {
-    let (mine, key) = match &study.file {
-        Some(f) => (f.clone(), "study_file"),
-        None => (study.base.clone(), "base"),
+    if recorded["study"].as_str() != Some(study.name.as_str()) {
+        return true;
+    }
+    let (mine, key) = file_of(study);
+    let Some(theirs) = recorded[key].as_str() else {
+        return false;
     };
-    let other_file = |r: &str| {
-        let (a, b) = (Path::new(r).canonicalize(), mine.canonicalize());
-        matches!((a, b), (Ok(a), Ok(b)) if a != b)
-    };
-    recorded["study"].as_str() != Some(study.name.as_str())
-        || recorded[key].as_str().is_some_and(other_file)
+    let same_path = matches!(
+        (Path::new(theirs).canonicalize(), mine.canonicalize()),
+        (Ok(a), Ok(b)) if a == b
+    );
+    let digest = recorded["digest"].as_str();
+    let same_bytes = digest.is_some_and(|d| super::inputs::file_digest(mine).is_ok_and(|m| m == d));
+    let gone_unknown = digest.is_none() && Path::new(theirs).canonicalize().is_err();
+    !(same_path || same_bytes || gone_unknown)
 }
 
 fn refused(out: &Path, recorded: &serde_json::Value, by: &Path, study: &Study) -> AppError {
@@ -57,14 +71,15 @@ fn refused(out: &Path, recorded: &serde_json::Value, by: &Path, study: &Study) -
 /// Refuse to run `study` into `out` when `out` holds cases another study recorded (their
 /// `done.json`): this one would replace those of the same names and the directory's table.
 pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), AppError> {
+    // A directory with its owner record is judged by it ([`claim`]), which knows the study
+    // file's bytes too; the cases' records are for directories of an older chute.
     let Ok(entries) = std::fs::read_dir(out) else {
         return Ok(());
     };
-    let key = if study.file.is_some() {
-        "study_file"
-    } else {
-        "base"
-    };
+    if std::fs::symlink_metadata(out.join(OWNER_FILE)).is_ok() {
+        return Ok(());
+    }
+    let (_, key) = file_of(study);
     for e in entries.filter_map(Result::ok) {
         let done = e.path().join(DONE_FILE);
         let Some(d) = read_json(&done) else { continue };
@@ -113,11 +128,13 @@ pub(crate) fn claim(out: &Path, study: &Study) -> Result<(), AppError> {
 /// it and hard-linked into place (atomic and exclusive), or created exclusively and written
 /// where the file system has no hard links.
 fn create_exclusive(dir: &Path, path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let tmp = dir.join(format!("{OWNER_FILE}.{}.tmp", std::process::id()));
+    // The temporary: a fresh random name created exclusively (never through a link), removed
+    // when dropped, so no other process can open it while it is linked into place.
     let written = crate::output::atomic::signals_held(|| {
-        let linked = std::fs::write(&tmp, bytes).and_then(|()| std::fs::hard_link(&tmp, path));
-        let _ = std::fs::remove_file(&tmp);
-        linked
+        let mut tmp = crate::output::atomic::temporary_beside(dir, OWNER_FILE.as_ref())?;
+        tmp.write_all(bytes)?;
+        tmp.as_file().sync_all()?;
+        std::fs::hard_link(tmp.path(), path)
     });
     match written {
         Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => {

@@ -141,12 +141,13 @@ fn read_json_strict(path: &Path) -> Result<Option<serde_json::Value>, String> {
 fn unfinished_row(case_dir: &Path, done: Result<Option<serde_json::Value>, String>) -> Option<Row> {
     use crate::output::record::DirState;
     let case = case_dir.file_name()?.to_string_lossy().into_owned();
-    let own_run = || {
+    let made_for_a_case = || {
         crate::output::record::RunRecord::read(case_dir)
-            .is_ok_and(|r| r.is_some_and(|r| r.case_of.is_none()))
+            .is_ok_and(|r| r.is_some_and(|r| r.case_of.is_some()))
     };
-    if matches!(done, Ok(None)) && own_run() {
-        // A run of its own beside the cases (its record names no study case): no case.
+    if matches!(done, Ok(None)) && !made_for_a_case() {
+        // A directory without a case record whose run was not made for a study case (a run of
+        // its own, one without a readable run.json): no case.
         return None;
     }
     let state = match done {

@@ -447,10 +447,19 @@ fn a_killed_clearing_leaves_a_directory_force_can_still_replace() {
     assert!(!r.join(".chute.old").exists());
     assert!(r.join("summary.json").is_file());
     // A `.chute.old` of the user's is in the way: bad input (status 2), the run kept whole.
+    ok(&run(
+        tmp.path(),
+        "r",
+        &[&CHECKPOINTED[..], &["--force"]].concat(),
+    ));
     std::fs::create_dir(r.join(".chute.old")).unwrap();
     std::fs::write(r.join(".chute.old/notes.txt"), "mine").unwrap();
     let before = files(&r);
     let o = run(tmp.path(), "r", &["--force", "--no-viewer"]);
+    refused(&o, &["`r/.chute.old` holds files chute did not put there"]);
+    assert!(before == files(&r), "the earlier run was changed");
+    // Nor does a resume touch the run (its record included).
+    let o = chute(tmp.path(), &["resume", "r", "--quiet"]);
     refused(&o, &["`r/.chute.old` holds files chute did not put there"]);
     assert!(before == files(&r), "the earlier run was changed");
 }

@@ -312,10 +312,61 @@ fn a_run_of_its_own_beside_the_cases_is_not_a_case() {
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(0), "{err}");
+    // Nor a directory of the user's that holds no run record at all.
+    std::fs::create_dir(tmp.path().join("s/notes")).unwrap();
+    std::fs::write(tmp.path().join("s/notes/summary.json"), "{}").unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
     let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
     assert!(
         !table.contains("myrun") && !err.contains("myrun"),
         "{table}{err}"
     );
+    assert!(
+        !table.contains("notes") && !err.contains("notes"),
+        "{table}{err}"
+    );
     assert_eq!(table.lines().count(), 4, "{table}");
+}
+
+/// The directory's owner record knows its study file by bytes too: a same-name study from
+/// another file is refused even once the first study's file was moved away, and that file,
+/// moved (or copied byte for byte), is still the same study.
+#[test]
+fn a_moved_study_file_keeps_its_directory_and_no_namesake_takes_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let base = repo().join("scenarios/report-rod-200n.toml");
+    let study = |weight: u32| {
+        format!(
+            "name = \"w\"\nbase = \"{}\"\n[[case]]\nname = \"a\"\nset = [\"load.weight_n={weight}\", \"time.duration_s=0.02\"]\n",
+            base.display()
+        )
+    };
+    for d in ["one", "two", "moved"] {
+        std::fs::create_dir(tmp.path().join(d)).unwrap();
+    }
+    std::fs::write(tmp.path().join("one/w.toml"), study(20)).unwrap();
+    std::fs::write(tmp.path().join("two/w.toml"), study(30)).unwrap();
+    let run = |file: &str| chute(tmp.path(), &["study", file, "--out", "out"]);
+    assert_eq!(run("one/w.toml").status.code(), Some(0));
+    std::fs::rename(
+        tmp.path().join("one/w.toml"),
+        tmp.path().join("moved/w.toml"),
+    )
+    .unwrap();
+    let o = run("two/w.toml");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("holds the cases of study `w`"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run("moved/w.toml");
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("already complete, skipped"),
+        "{}",
+        stderr(&o)
+    );
 }
