@@ -165,29 +165,6 @@ pub fn open_rows(path: &Path) -> io::Result<(fs::File, u64)> {
     Ok((file, whole as u64))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The mask of this thread has `sig` blocked.
-    fn blocked(sig: libc::c_int) -> bool {
-        // SAFETY: reading this thread's mask into a zeroed sigset_t.
-        unsafe {
-            let mut cur: libc::sigset_t = std::mem::zeroed();
-            libc::pthread_sigmask(libc::SIG_BLOCK, std::ptr::null(), &mut cur);
-            libc::sigismember(&cur, sig) == 1
-        }
-    }
-
-    #[test]
-    fn stop_signals_are_held_while_a_file_is_written_and_only_then() {
-        assert!(STOP_SIGNALS.iter().all(|&s| !blocked(s)));
-        let during = signals_held(|| STOP_SIGNALS.map(blocked));
-        assert_eq!(during, [true; 3]);
-        assert!(STOP_SIGNALS.iter().all(|&s| !blocked(s)));
-    }
-}
-
 /// A new temporary file in `dir` for a file named `name`: `.<name>.XXXXXX.tmp`, a random name
 /// created exclusively (never through a link), removed when dropped, with the permissions of
 /// a plain file under the umask.
@@ -212,4 +189,27 @@ pub fn temporary_beside(dir: &Path, name: &std::ffi::OsStr) -> io::Result<tempfi
         let plain = text.split(" at path ").next().unwrap_or(&text).to_string();
         io::Error::new(e.kind(), plain)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The mask of this thread has `sig` blocked.
+    fn blocked(sig: libc::c_int) -> bool {
+        // SAFETY: reading this thread's mask into a zeroed sigset_t.
+        unsafe {
+            let mut cur: libc::sigset_t = std::mem::zeroed();
+            libc::pthread_sigmask(libc::SIG_BLOCK, std::ptr::null(), &mut cur);
+            libc::sigismember(&cur, sig) == 1
+        }
+    }
+
+    #[test]
+    fn stop_signals_are_held_while_a_file_is_written_and_only_then() {
+        assert!(STOP_SIGNALS.iter().all(|&s| !blocked(s)));
+        let during = signals_held(|| STOP_SIGNALS.map(blocked));
+        assert_eq!(during, [true; 3]);
+        assert!(STOP_SIGNALS.iter().all(|&s| !blocked(s)));
+    }
 }
