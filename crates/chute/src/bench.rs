@@ -405,12 +405,12 @@ pub fn main(args: &BenchArgs) -> Result<(), AppError> {
     if args.elements {
         let costs = elements::measure()?;
         if args.json {
-            println!(
+            crate::out_line!(
                 "{}",
                 serde_json::to_string_pretty(&costs).expect("serialisable")
             );
         } else {
-            print!("{}", elements::table(&costs));
+            crate::out_text!("{}", elements::table(&costs));
         }
         return Ok(());
     }
@@ -427,7 +427,7 @@ pub fn main(args: &BenchArgs) -> Result<(), AppError> {
             c.steps = n;
         }
         let r = run_case(&c, args)?;
-        println!("{}", serde_json::to_string(&r).expect("serialisable"));
+        crate::out_line!("{}", serde_json::to_string(&r).expect("serialisable"));
         return Ok(());
     }
     // Bad `--set` values are reported here, once, rather than by every child.
@@ -437,22 +437,22 @@ pub fn main(args: &BenchArgs) -> Result<(), AppError> {
     let exe = std::env::current_exe().map_err(|e| AppError::io("current_exe", e))?;
     let mut results = Vec::new();
     if !args.json {
-        println!("{}", header());
+        crate::out_line!("{}", header());
     }
     for (i, c) in cases.iter().enumerate() {
         // Progress on stderr: a --json run prints nothing else until the end.
-        eprintln!("bench: case {} ({} of {}) …", c.name, i + 1, cases.len());
+        crate::err_line!("bench: case {} ({} of {}) …", c.name, i + 1, cases.len());
         let r = run_child(&exe, c, args)?;
         if !args.json {
-            println!("{}", row(&r));
+            crate::out_line!("{}", row(&r));
         }
         results.push(r);
     }
     if !args.json {
-        println!("\n{}", table::LEGEND);
+        crate::out_line!("\n{}", table::LEGEND);
     }
     if args.json {
-        println!(
+        crate::out_line!(
             "{}",
             serde_json::to_string_pretty(&results).expect("serialisable")
         );
@@ -506,7 +506,7 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
     args.newton.apply(&mut cfg.newton);
     let mem = |stage: &str| {
         if args.mem {
-            eprintln!("{stage}: {}", rss_mib());
+            crate::err_line!("{stage}: {}", rss_mib());
         }
     };
     mem("after build");
@@ -514,7 +514,7 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
         .map_err(|e| AppError::RunFailed(e.to_string()))?;
     if args.mem {
         let (l, s) = stepper.solver_memory_bytes();
-        eprintln!(
+        crate::err_line!(
             "after stepper: {} (L {} MiB, scratch {} MiB)",
             rss_mib(),
             l >> 20,
@@ -537,14 +537,14 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
         run(&mut built, &mut stepper, c.warmup - 1)?;
     }
     if args.mem {
-        eprintln!("after warm-up: {}\n{:?}", rss_mib(), stepper.counters());
+        crate::err_line!("after warm-up: {}\n{:?}", rss_mib(), stepper.counters());
     }
     if let Some(t) = args.units {
         driver
             .advance_to(&mut stepper, &mut built, t)
             .map_err(|e| AppError::RunFailed(format!("{e}")))?;
         let u = stepper.unit_costs(&built.model, &built.state, dt, 10);
-        eprintln!("{u:#?}");
+        crate::err_line!("{u:#?}");
     }
     let failures_before = driver.newton_failures();
     stepper.reset_counters();
@@ -556,7 +556,7 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
     let wall = t0.elapsed().as_secs_f64();
     let tm = *stepper.counters();
     if args.mem {
-        eprintln!("timed: {tm:?}");
+        crate::err_line!("timed: {tm:?}");
     }
     let n = c.steps.max(1) as f64;
     let share = |x: f64| if wall > 0.0 { x / wall } else { 0.0 };

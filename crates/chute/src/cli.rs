@@ -194,13 +194,21 @@ pub fn main() -> ExitCode {
     };
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| dispatch(cli)));
     let code = match result {
+        // The work is done, but its results did not all reach stdout (a full disk behind it).
+        Ok(Ok(())) if crate::output::console::stdout_error().is_some() => {
+            let why = crate::output::console::stdout_error().unwrap_or_default();
+            crate::err_line!("error: the results could not be written to stdout: {why}");
+            1
+        }
         Ok(Ok(())) => 0,
         Ok(Err(e)) => {
-            eprintln!("error: {e}");
+            crate::err_line!("error: {e}");
             e.exit_code()
         }
         Err(_) => {
-            eprintln!("error: internal error (a bug in chute; please report it with the input)");
+            crate::err_line!(
+                "error: internal error (a bug in chute; please report it with the input)"
+            );
             1
         }
     };
@@ -229,18 +237,18 @@ fn print_pairs(pairs: &[(String, String)]) {
         .max()
         .unwrap_or(0);
     for (k, v) in pairs {
-        println!("  {k:<w$}  {v}");
+        crate::out_line!("  {k:<w$}  {v}");
     }
 }
 
 fn cmd_check(a: &CheckArgs) -> Result<(), AppError> {
     let s = Scenario::load(&a.scenario, &a.set)?;
     if a.resolved {
-        print!("{}", s.to_toml());
+        crate::out_text!("{}", s.to_toml());
         return Ok(());
     }
     let derived = app::check(&s)?;
-    println!("scenario `{}` ({}) is valid", s.name, a.scenario.display());
+    crate::out_line!("scenario `{}` ({}) is valid", s.name, a.scenario.display());
     print_pairs(&derived);
     print_plausibility(&s);
     Ok(())
@@ -249,7 +257,7 @@ fn cmd_check(a: &CheckArgs) -> Result<(), AppError> {
 /// The scenario's plausibility warnings, on stderr.
 fn print_plausibility(s: &Scenario) {
     for w in crate::scenario::plausibility::warnings(s) {
-        eprintln!("warning: {w}");
+        crate::err_line!("warning: {w}");
     }
 }
 
@@ -263,10 +271,10 @@ fn install_stop_handler() {
             if crate::runner::STOP.swap(true, Ordering::SeqCst) {
                 std::process::exit(130);
             }
-            eprintln!("\nstopping: writing a checkpoint and partial outputs (signal again to abort)");
+            crate::err_line!("\nstopping: writing a checkpoint and partial outputs (signal again to abort)");
         });
         if let Err(e) = r {
-            eprintln!("warning: cannot catch Ctrl-C/SIGTERM ({e}); an interrupted run keeps only its last checkpoint");
+            crate::err_line!("warning: cannot catch Ctrl-C/SIGTERM ({e}); an interrupted run keeps only its last checkpoint");
         }
     });
 }
@@ -334,14 +342,14 @@ fn run_and_report(
     let outcome = app::run(s, opts)?;
     if opts.viewer {
         if let Err(e) = crate::output::viewer::write_viewer(out) {
-            eprintln!("warning: viewer.html not written: {e}");
+            crate::err_line!("warning: viewer.html not written: {e}");
         }
     }
     let summary_path = out.join(crate::output::run_files::SUMMARY);
     crate::output::console::print_run_report(out, &outcome.summary, r.json, r.quiet)
         .map_err(|e| AppError::io(summary_path, e))?;
     match (outcome.complete, &outcome.message) {
-        (true, Some(m)) => eprintln!("warning: {m}"),
+        (true, Some(m)) => crate::err_line!("warning: {m}"),
         (true, None) => {}
         (false, m) => {
             return Err(AppError::RunFailed(format!(
@@ -413,7 +421,7 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
     let checkpoint_every_s = checkpoint_interval(a.checkpoint_every.or(c.checkpoint_every_s))?;
     let recorded = crate::output::record::RunRecord::read(dir).map_err(AppError::Input)?;
     if recorded.is_none() {
-        eprintln!(
+        crate::err_line!(
             "warning: `{}` has no run.json (an older chute wrote it): its input files cannot be checked against the run's",
             dir.display()
         );
@@ -467,7 +475,7 @@ fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {
     };
     install_stop_handler();
     let report = study::run_study(&st, &opts)?;
-    print!("{}", report.table.to_markdown());
+    crate::out_text!("{}", report.table.to_markdown());
     warn_stale(&report.table);
     let failed = report.failures();
     if failed > 0 {
@@ -491,9 +499,9 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
     }
     let out = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
     let table = study::collect(&a.dirs, &out)?;
-    print!("{}", table.to_markdown());
+    crate::out_text!("{}", table.to_markdown());
     warn_stale(&table);
-    eprintln!(
+    crate::err_line!(
         "wrote {} and {}",
         out.join("study.csv").display(),
         out.join("study.md").display()
@@ -502,7 +510,7 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
     // result: it is written (to see what is there) but the command fails.
     let unfinished = table.unfinished();
     for line in &unfinished {
-        eprintln!("warning: {line}");
+        crate::err_line!("warning: {line}");
     }
     if !unfinished.is_empty() {
         let complete = table.rows.iter().filter(|r| r.complete).count();
@@ -518,7 +526,7 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
 /// `inputs` cell says `changed` or `unknown`).
 fn warn_stale(table: &study::Table) {
     for w in table.input_warnings() {
-        eprintln!("warning: {w}");
+        crate::err_line!("warning: {w}");
     }
 }
 
@@ -546,22 +554,22 @@ fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {
     };
     install_stop_handler();
     let outcome = crate::converge::run_converge(&opts)?;
-    print!("{}", outcome.report.to_markdown());
+    crate::out_text!("{}", outcome.report.to_markdown());
     let dir = opts.out_dir.display();
     for w in &outcome.warnings {
-        eprintln!("warning: {w}");
+        crate::err_line!("warning: {w}");
     }
     let png = match outcome.warnings.is_empty() {
         true => " and convergence.png",
         false => "",
     };
-    eprintln!("wrote {dir}/convergence.json, convergence.md{png}");
+    crate::err_line!("wrote {dir}/convergence.json, convergence.md{png}");
     if outcome.pending > 0 {
         let why = match opts.shard {
             Some(_) => "other shards); re-run without --shard to complete the estimates",
             None => "the run was stopped first); run the same command again to complete them",
         };
-        eprintln!("note: {} level(s) not run yet ({why}", outcome.pending);
+        crate::err_line!("note: {} level(s) not run yet ({why}", outcome.pending);
     }
     if !outcome.failures.is_empty() {
         return Err(AppError::RunFailed(format!(

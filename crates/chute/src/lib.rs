@@ -18,3 +18,37 @@ pub mod runner;
 pub mod scenario;
 pub mod study;
 pub mod verify;
+
+/// `eprintln!` that never panics: a message that cannot be written (stderr closed, or a full
+/// disk behind it) is dropped rather than turning into a crash of the command that wanted to
+/// say it.
+#[macro_export]
+macro_rules! err_line {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
+/// `print!` of a command's results on stdout that never panics: a write that fails (a full
+/// disk behind stdout) is remembered ([`output::console::stdout_failed`]) and makes the command
+/// exit with status 1 after its work is done, saying so.
+#[macro_export]
+macro_rules! out_text {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = write!(std::io::stdout(), $($arg)*) {
+            $crate::output::console::stdout_failed(e);
+        }
+    }};
+}
+
+/// [`out_text!`] with a newline (`println!`).
+#[macro_export]
+macro_rules! out_line {
+    () => { $crate::out_text!("\n") };
+    ($($arg:tt)*) => {{
+        $crate::out_text!($($arg)*);
+        $crate::out_text!("\n");
+    }};
+}

@@ -183,9 +183,9 @@ pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
     if args.json {
         let text = serde_json::to_string_pretty(&checks)
             .map_err(|e| AppError::RunFailed(format!("JSON: {e}")))?;
-        println!("{text}");
+        crate::out_line!("{text}");
     } else {
-        print!("{}", table(&checks));
+        crate::out_text!("{}", table(&checks));
     }
     match checks.iter().filter(|c| !c.pass).count() {
         0 => Ok(()),

@@ -26,7 +26,7 @@ pub(super) fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
         RunDirError::Io { path, source } => AppError::Io { path, source },
         e @ RunDirError::Format { .. } => AppError::Input(because(e.to_string())),
     })?;
-    println!(
+    crate::out_line!(
         "wrote {} ({} bytes: {} of {} frames, {} triangles)",
         r.path.display(),
         r.bytes,
@@ -35,7 +35,7 @@ pub(super) fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
         r.triangles
     );
     if let Some(why) = unfinished {
-        eprintln!(
+        crate::err_line!(
             "note: `{}` holds an unfinished run: {why}",
             a.run_dir.display()
         );

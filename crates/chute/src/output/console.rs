@@ -216,17 +216,33 @@ pub fn print_run_report(
     json: bool,
     quiet: bool,
 ) -> std::io::Result<()> {
-    use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
-    if json {
-        return stdout.write_all(&super::atomic::read_own(&dir.join("summary.json"))?);
-    }
-    if quiet {
+    let text = if json {
+        super::atomic::read_own_string(&dir.join("summary.json"))?
+    } else if quiet {
         return Ok(());
+    } else {
+        match serde_json::from_value::<Summary>(summary.clone()) {
+            Ok(s) => format_run_summary(&s, dir),
+            // Not expected (the run wrote this summary), but never hide the results.
+            Err(_) => format!("{summary:#}\n"),
+        }
+    };
+    // A stdout that cannot take it is the command's failure (exit 1), not summary.json's.
+    crate::out_text!("{text}");
+    Ok(())
+}
+
+/// The first error writing a command's results to stdout, if any ([`crate::out_text!`]).
+static STDOUT_ERROR: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
+
+/// Remember that writing to stdout failed with `e` (the first error is kept).
+pub fn stdout_failed(e: std::io::Error) {
+    if let Ok(mut first) = STDOUT_ERROR.lock() {
+        first.get_or_insert_with(|| e.to_string());
     }
-    match serde_json::from_value::<Summary>(summary.clone()) {
-        Ok(s) => stdout.write_all(format_run_summary(&s, dir).as_bytes()),
-        // Not expected (the run wrote this summary), but never hide the results.
-        Err(_) => writeln!(stdout, "{summary:#}"),
-    }
+}
+
+/// Why the command's results could not all be written to stdout, if they could not.
+pub fn stdout_error() -> Option<String> {
+    STDOUT_ERROR.lock().ok().and_then(|e| e.clone())
 }

@@ -103,9 +103,10 @@ impl Driver {
                 };
                 let c = stepper.counters();
                 let hist = stepper.residual_history();
-                eprintln!(
+                crate::err_line!(
                     "t={t:.5} {what} F{} E{} {hist:?}",
-                    c.factorizations, c.evaluations
+                    c.factorizations,
+                    c.evaluations
                 );
             }
             if let Outcome::Failed(e) = outcome {

@@ -27,7 +27,7 @@ pub(super) fn run_case(
     let done = dir.join(DONE_FILE);
     let say = |what: &str| {
         if opts.verbose {
-            eprintln!("case {}: {what}", case.name);
+            crate::err_line!("case {}: {what}", case.name);
         }
     };
     let skipped = || {

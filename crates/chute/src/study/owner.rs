@@ -99,7 +99,7 @@ pub(crate) fn claim(out: &Path, study: &Study) -> Result<(), AppError> {
         Ok(()) => return Ok(()),
         Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => {
             // A full disk, say: the cases then say for themselves why they cannot run.
-            eprintln!(
+            crate::err_line!(
                 "warning: {}: {e}: the directory is not recorded as this study's",
                 path.display()
             );

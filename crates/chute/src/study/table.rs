@@ -433,9 +433,12 @@ fn refuse_other_study_out(dirs: &[PathBuf], out: &Path) -> Result<(), AppError> 
     let Ok(entries) = std::fs::read_dir(out) else {
         return Ok(());
     };
-    let holds_cases = entries
-        .filter_map(Result::ok)
-        .any(|e| e.path().join(DONE_FILE).is_file());
+    // Its cases, or a study's owner record (a study whose first cases are still running).
+    let owned = std::fs::symlink_metadata(out.join(super::owner::OWNER_FILE)).is_ok();
+    let holds_cases = owned
+        || entries
+            .filter_map(Result::ok)
+            .any(|e| e.path().join(DONE_FILE).is_file());
     match holds_cases {
         true => Err(AppError::Input(format!(
             "`{}` holds the cases of a study of its own, whose table this would replace: give it as a DIR to collect it too, or choose another --out",

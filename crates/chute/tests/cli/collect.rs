@@ -465,6 +465,16 @@ fn collect_never_replaces_another_studys_table() {
         std::fs::read(tmp.path().join("b/study.csv")).unwrap(),
         before
     );
+    // Nor a study's directory that has no finished case yet, only its owner record.
+    std::fs::create_dir(tmp.path().join("c")).unwrap();
+    std::fs::copy(
+        tmp.path().join("b/.chute-study.json"),
+        tmp.path().join("c/.chute-study.json"),
+    )
+    .unwrap();
+    let o = chute(tmp.path(), &["collect", "s", "--out", "c"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!tmp.path().join("c/study.csv").exists());
 }
 
 /// Directories none of which has a readable record cannot say how many cases their study

@@ -519,3 +519,44 @@ fn an_output_directory_that_takes_no_files_is_refused_before_any_work() {
         assert!(!stderr(&o).contains("case "), "{}", stderr(&o));
     }
 }
+
+/// A stdout or stderr on a full disk (`/dev/full`) is no panic: the run's files are written,
+/// and results that could not reach stdout make the command exit 1 saying so; messages that
+/// cannot reach stderr are dropped and the study still writes its table.
+#[test]
+fn a_full_stdout_or_stderr_is_no_panic() {
+    use std::process::Stdio;
+    let tmp = tempfile::tempdir().unwrap();
+    let full = || {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap()
+    };
+    let rod = repo().join("scenarios/report-rod-200n.toml");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_chute"))
+        .current_dir(tmp.path())
+        .args(["run", rod.to_str().unwrap(), "--out", "r", "--no-viewer"])
+        .args(["--set", "time.duration_s=0.02", "--set", "canopy.nodes=21"])
+        .stdout(full())
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("the results could not be written to stdout"),
+        "{err}"
+    );
+    assert!(tmp.path().join("r/summary.json").is_file());
+    let study = repo().join("studies/table1.toml");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_chute"))
+        .current_dir(tmp.path())
+        .args(["study", study.to_str().unwrap(), "--out", "s"])
+        .args(["--set", "time.duration_s=0.02"])
+        .stdout(Stdio::null())
+        .stderr(full())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0));
+    assert!(tmp.path().join("s/study.csv").is_file());
+}
