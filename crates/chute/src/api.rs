@@ -8,6 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
+pub use crate::app::view::Viewed;
 pub use crate::app::{AppError, Prepared, RunOptions, RunOutcome, Watch};
 pub use crate::output::run_dir::{FrameMesh, FrameState, RunDirError};
 pub use crate::output::viewer::ViewerReport;
@@ -63,9 +64,15 @@ pub fn validate(args: &ValidateArgs) -> Vec<Check> {
     crate::verify::run_suite(args)
 }
 
-/// Write (or rewrite) the run directory's `viewer.html` (`chute view`).
+/// Write (or rewrite) the run directory's `viewer.html`, as a run does at its end.
 pub fn write_viewer(dir: &Path) -> Result<ViewerReport, RunDirError> {
     crate::output::viewer::write_viewer(dir)
+}
+
+/// `chute view`: [`write_viewer`] while holding the directory like any writer, with why its run
+/// did not finish when it did not.
+pub fn view(dir: &Path) -> Result<Viewed, AppError> {
+    crate::app::view::view(dir)
 }
 
 /// The frames `dir`'s `canopy.pvd` lists: `(time, frame file)` in order.

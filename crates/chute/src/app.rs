@@ -4,6 +4,7 @@
 
 pub(crate) mod out_dir;
 mod resume;
+pub mod view;
 
 use std::path::{Path, PathBuf};
 
