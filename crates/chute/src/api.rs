@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 
 pub use crate::app::view::Viewed;
-pub use crate::app::{AppError, Prepared, RunOptions, RunOutcome, Watch};
+pub use crate::app::{AppError, Prepared, Resumable, RunOptions, RunOutcome, Watch};
 pub use crate::output::run_dir::{FrameMesh, FrameState, RunDirError};
 pub use crate::output::viewer::ViewerReport;
 pub use crate::runner::Session;
@@ -33,6 +33,18 @@ pub fn prepare_out_dir(out: &Path, force: bool) -> Result<Prepared, AppError> {
 /// `watch.sim_time` follows its simulated time.
 pub fn run(s: &Scenario, opts: &RunOptions, watch: Watch<'_>) -> Result<RunOutcome, AppError> {
     crate::app::run_watched(s, opts, watch)
+}
+
+/// Make run directory `dir` ready to continue (`chute resume`), holding it: only
+/// `time.duration_s` may change in `set`; a checkpoint every `every` simulated seconds (`None`:
+/// as the run did); the viewer when `viewer` and the run wrote one. Run it with [`run`].
+pub fn prepare_resume(
+    dir: &Path,
+    set: &[String],
+    every: Option<f64>,
+    viewer: bool,
+) -> Result<Resumable, AppError> {
+    crate::app::resume::prepare(dir, set, every, viewer)
 }
 
 /// A run of `s` that the caller steps ([`Session::step`]), writing nothing.

@@ -3,7 +3,8 @@
 //! [`crate::study`].
 
 pub(crate) mod out_dir;
-mod resume;
+pub(crate) mod resume;
+pub use resume::Resumable;
 pub mod view;
 
 use std::path::{Path, PathBuf};

@@ -379,62 +379,21 @@ fn next_step(dir: &Path) -> String {
 
 fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
     let dir = &a.run_dir;
-    if !dir.is_dir() {
-        return Err(AppError::Input(format!(
-            "`{}` is not a directory (give a run directory written by `chute run`)",
-            dir.display()
-        )));
-    }
-    for arg in &a.set {
-        let (key, _) = crate::scenario::overrides::parse(arg)?;
-        if key != app::DURATION_KEY {
-            return Err(AppError::Input(format!(
-                "`--set {arg}`: a resumed run keeps its recorded scenario; only {} may change (to extend the run). Start a new run with `chute run` to change `{key}`",
-                app::DURATION_KEY
-            )));
-        }
-    }
-    let lock = crate::output::lock::RunLock::acquire(dir)?;
-    let c = crate::checkpoint::Checkpoint::read(dir).map_err(|e| app::unresumable(dir, &e))?;
-    // The recorded scenario is the checkpoint's own copy; errors point at the directory's.
-    let source = dir.join(crate::output::run_files::RESOLVED_SCENARIO);
-    // A checkpoint of another run (copied in) would continue that run over this one's files.
-    let resolved = crate::output::atomic::read_own_string(&source).map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => AppError::Input(format!(
-            "cannot resume `{}`: it has a checkpoint but no {} (the run's scenario): it is not a whole run directory; start the run again with `chute run`",
-            dir.display(),
-            crate::output::run_files::RESOLVED_SCENARIO
-        )),
-        _ => AppError::io(&source, e),
-    })?;
-    if let Some(d) = app::scenario_difference(&resolved, &c.scenario_toml) {
-        return Err(AppError::Input(format!(
-            "cannot resume `{}`: its checkpoint is not of the run in the directory (`{}` = {} in {}, {} in the checkpoint); start the run again with `chute run`",
-            dir.display(),
-            d.key,
-            d.was,
-            crate::output::run_files::RESOLVED_SCENARIO,
-            d.now
-        )));
-    }
-    let s = Scenario::from_str_with_name(&c.scenario_toml, &source.display().to_string(), &a.set)?;
-    let checkpoint_every_s = checkpoint_interval(a.checkpoint_every.or(c.checkpoint_every_s))?;
-    let recorded = crate::output::record::RunRecord::read(dir).map_err(AppError::Input)?;
-    if recorded.is_none() {
+    let every = checkpoint_interval(a.checkpoint_every)?;
+    let crate::api::Resumable {
+        scenario: s,
+        mut opts,
+        stopped_at,
+        unrecorded,
+        lock,
+    } = crate::api::prepare_resume(dir, &a.set, every, !a.no_viewer)?;
+    if unrecorded {
         crate::err_line!(
             "warning: `{}` has no run.json (an older chute wrote it): its input files cannot be checked against the run's",
             dir.display()
         );
     }
-    let opts = RunOptions {
-        out_dir: dir.clone(),
-        force: false,
-        progress: !a.quiet && std::io::stderr().is_terminal(),
-        checkpoint_every_s,
-        resume: Some(dir.clone()),
-        viewer: !a.no_viewer && recorded.is_none_or(|r| r.viewer),
-        case_of: None,
-    };
+    opts.progress = !a.quiet && std::io::stderr().is_terminal();
     let report = Report {
         json: a.json,
         quiet: a.quiet,
@@ -443,9 +402,6 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
     let result = run_and_report(&s, &opts, &report);
     // A study case says how it ended in its marker too, and no longer matches its study's
     // inputs once the resume extended it.
-    let stopped_at = Scenario::from_str_with_name(&c.scenario_toml, "", &[])
-        .map(|r| r.time.duration_s)
-        .ok();
     let extended = (stopped_at != Some(s.time.duration_s)).then_some(s.time.duration_s);
     let marked = study::mark_resumed(dir, &result, started.elapsed().as_secs_f64(), extended);
     drop(lock);

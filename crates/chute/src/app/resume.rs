@@ -229,3 +229,88 @@ pub fn unresumable(dir: &Path, e: &crate::checkpoint::CheckpointError) -> AppErr
     };
     AppError::Input(format!("cannot resume `{d}`: {why}"))
 }
+
+/// A run directory made ready to continue (`chute resume`): held, its checkpoint and recorded
+/// scenario checked against each other, and the options to continue it with.
+pub struct Resumable {
+    /// The scenario to continue: the recorded one, `time.duration_s` possibly extended.
+    pub scenario: Scenario,
+    /// Options for [`super::run`] (no progress bar: the caller may turn it on).
+    pub opts: super::RunOptions,
+    /// The `time.duration_s` the run was stopped at (its checkpoint's scenario).
+    pub stopped_at: Option<f64>,
+    /// The directory has no `run.json` (an older chute's): its input files cannot be checked.
+    pub unrecorded: bool,
+    /// The directory's lock, held until dropped.
+    pub lock: crate::output::lock::RunLock,
+}
+
+/// Make run directory `dir` ready to continue with `set` (only `time.duration_s` may change),
+/// writing a checkpoint every `every` simulated seconds (`None`: as the run did) and the
+/// viewer when `viewer` and the run did. Bad input (exit 2) names what is wrong and what to do.
+pub fn prepare(
+    dir: &Path,
+    set: &[String],
+    every: Option<f64>,
+    viewer: bool,
+) -> Result<Resumable, AppError> {
+    use crate::output::run_files::RESOLVED_SCENARIO;
+    if !dir.is_dir() {
+        return Err(AppError::Input(format!(
+            "`{}` is not a directory (give a run directory written by `chute run`)",
+            dir.display()
+        )));
+    }
+    for arg in set {
+        let (key, _) = crate::scenario::overrides::parse(arg)?;
+        if key != super::DURATION_KEY {
+            return Err(AppError::Input(format!(
+                "`--set {arg}`: a resumed run keeps its recorded scenario; only {} may change (to extend the run). Start a new run with `chute run` to change `{key}`",
+                super::DURATION_KEY
+            )));
+        }
+    }
+    let lock = crate::output::lock::RunLock::acquire(dir)?;
+    let c = crate::checkpoint::Checkpoint::read(dir).map_err(|e| unresumable(dir, &e))?;
+    // The recorded scenario is the checkpoint's own copy; errors point at the directory's.
+    let source = dir.join(RESOLVED_SCENARIO);
+    // A checkpoint of another run (copied in) would continue that run over this one's files.
+    let resolved = crate::output::atomic::read_own_string(&source).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => AppError::Input(format!(
+            "cannot resume `{}`: it has a checkpoint but no {RESOLVED_SCENARIO} (the run's scenario): it is not a whole run directory; start the run again with `chute run`",
+            dir.display()
+        )),
+        _ => AppError::io(&source, e),
+    })?;
+    if let Some(d) = scenario_difference(&resolved, &c.scenario_toml) {
+        return Err(AppError::Input(format!(
+            "cannot resume `{}`: its checkpoint is not of the run in the directory (`{}` = {} in {RESOLVED_SCENARIO}, {} in the checkpoint); start the run again with `chute run`",
+            dir.display(),
+            d.key,
+            d.was,
+            d.now
+        )));
+    }
+    let scenario =
+        Scenario::from_str_with_name(&c.scenario_toml, &source.display().to_string(), set)?;
+    let stopped_at = Scenario::from_str_with_name(&c.scenario_toml, "", &[])
+        .map(|r| r.time.duration_s)
+        .ok();
+    let recorded = RunRecord::read(dir).map_err(AppError::Input)?;
+    let opts = super::RunOptions {
+        out_dir: dir.to_path_buf(),
+        force: false,
+        progress: false,
+        checkpoint_every_s: every.or(c.checkpoint_every_s),
+        resume: Some(dir.to_path_buf()),
+        viewer: viewer && recorded.as_ref().is_none_or(|r| r.viewer),
+        case_of: None,
+    };
+    Ok(Resumable {
+        scenario,
+        opts,
+        stopped_at,
+        unrecorded: recorded.is_none(),
+        lock,
+    })
+}
