@@ -10,11 +10,12 @@ use std::path::{Path, PathBuf};
 
 pub use crate::app::view::Viewed;
 pub use crate::app::{AppError, Prepared, Resumable, RunOptions, RunOutcome, Watch};
+pub use crate::converge::{ConvergeOptions, ConvergeOutcome};
 pub use crate::output::run_dir::{FrameMesh, FrameState, RunDirError};
 pub use crate::output::viewer::ViewerReport;
 pub use crate::runner::Session;
 pub use crate::scenario::{Scenario, ScenarioError};
-pub use crate::study::{Case, CaseStatus, Runner, Study, StudyOptions, StudyReport};
+pub use crate::study::{Case, CaseStatus, Runner, Shard, Study, StudyOptions, StudyReport, Table};
 pub use crate::verify::{Check, ValidateArgs};
 
 /// Read scenario `path` with `set` overrides (`KEY=VALUE`, as `chute run --set`), validated.
@@ -45,6 +46,11 @@ pub fn prepare_resume(
     viewer: bool,
 ) -> Result<Resumable, AppError> {
     crate::app::resume::prepare(dir, set, every, viewer)
+}
+
+/// [`run`] watched by this process's stop requests ([`request_stop`]), as `chute run` is.
+pub fn run_until_stopped(s: &Scenario, opts: &RunOptions) -> Result<RunOutcome, AppError> {
+    crate::app::run(s, opts)
 }
 
 /// A run of `s` that the caller steps ([`Session::step`]), writing nothing.
@@ -95,4 +101,58 @@ pub fn frame_list(dir: &Path) -> Result<Vec<(f64, PathBuf)>, RunDirError> {
 /// One frame file: its mesh (nodes, triangles, segments) and state (positions, velocities).
 pub fn read_frame(path: &Path) -> Result<(FrameMesh, FrameState), RunDirError> {
     crate::output::run_dir::read_frame(path)
+}
+
+/// What `chute check` prints of a valid scenario: its derived quantities as (label, value).
+pub fn check(s: &Scenario) -> Result<Vec<(String, String)>, AppError> {
+    crate::app::check(s)
+}
+
+/// Warnings about a valid scenario that is probably not what its author meant.
+pub fn plausibility_warnings(s: &Scenario) -> Vec<String> {
+    crate::scenario::plausibility::warnings(s)
+}
+
+/// Ask every run of this process to stop at its next step, writing a checkpoint and partial
+/// outputs (what Ctrl-C does); `true` when a stop had already been asked for.
+pub fn request_stop() -> bool {
+    crate::runner::STOP.swap(true, std::sync::atomic::Ordering::SeqCst)
+}
+
+/// The time (s) of `dir`'s checkpoint and whether it is a sync point (a resume continues
+/// from it); `None` without a readable checkpoint.
+pub fn checkpoint_at(dir: &Path) -> Option<(f64, bool)> {
+    crate::checkpoint::Checkpoint::read(dir)
+        .ok()
+        .map(|c| (c.t, c.synced))
+}
+
+/// Run `study` with the real simulation and write its table (`chute study`).
+pub fn run_study(study: &Study, opts: &StudyOptions) -> Result<StudyReport, AppError> {
+    crate::study::run_study(study, opts)
+}
+
+/// Gather the cases of `dirs` into one table written into `out` (`chute collect`).
+pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
+    crate::study::collect(dirs, out)
+}
+
+/// Record in a study case's marker how a resume of it ended (`chute resume` of a case).
+pub fn mark_resumed(
+    dir: &Path,
+    result: &Result<RunOutcome, AppError>,
+    wall_s: f64,
+    extended_to: Option<f64>,
+) -> Result<(), AppError> {
+    crate::study::mark_resumed(dir, result, wall_s, extended_to)
+}
+
+/// Run a convergence ladder and write its reports (`chute converge`).
+pub fn converge(opts: &ConvergeOptions) -> Result<ConvergeOutcome, AppError> {
+    crate::converge::run_converge(opts)
+}
+
+/// Where `chute converge` writes a ladder of `scenario` by default.
+pub fn converge_out_dir(scenario: &Path, set: &[String]) -> Result<PathBuf, AppError> {
+    crate::converge::default_out_dir(scenario, set)
 }

@@ -8,9 +8,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
-use crate::app::{self, AppError, RunOptions};
-use crate::scenario::Scenario;
-use crate::study::{self, Shard, Study, StudyOptions};
+use crate::api::{self, AppError, RunOptions, Scenario, Shard, StudyOptions};
 
 mod view;
 use view::cmd_view;
@@ -242,12 +240,12 @@ fn print_pairs(pairs: &[(String, String)]) {
 }
 
 fn cmd_check(a: &CheckArgs) -> Result<(), AppError> {
-    let s = Scenario::load(&a.scenario, &a.set)?;
+    let s = api::load(&a.scenario, &a.set)?;
     if a.resolved {
         crate::out_text!("{}", s.to_toml());
         return Ok(());
     }
-    let derived = app::check(&s)?;
+    let derived = api::check(&s)?;
     crate::out_line!("scenario `{}` ({}) is valid", s.name, a.scenario.display());
     print_pairs(&derived);
     print_plausibility(&s);
@@ -256,7 +254,7 @@ fn cmd_check(a: &CheckArgs) -> Result<(), AppError> {
 
 /// The scenario's plausibility warnings, on stderr.
 fn print_plausibility(s: &Scenario) {
-    for w in crate::scenario::plausibility::warnings(s) {
+    for w in api::plausibility_warnings(s) {
         crate::err_line!("warning: {w}");
     }
 }
@@ -264,11 +262,10 @@ fn print_plausibility(s: &Scenario) {
 /// Route Ctrl-C / SIGTERM / SIGHUP to [`crate::runner::STOP`]: runs stop at their next step
 /// with a checkpoint and valid partial outputs. A second signal exits at once (status 130).
 fn install_stop_handler() {
-    use std::sync::atomic::Ordering;
     static INSTALLED: std::sync::Once = std::sync::Once::new();
     INSTALLED.call_once(|| {
         let r = ctrlc::set_handler(|| {
-            if crate::runner::STOP.swap(true, Ordering::SeqCst) {
+            if api::request_stop() {
                 std::process::exit(130);
             }
             crate::err_line!("\nstopping: writing a checkpoint and partial outputs (signal again to abort)");
@@ -298,13 +295,13 @@ fn cmd_run(a: &RunArgs) -> Result<(), AppError> {
     }
     // clap requires the scenario unless `--resume` is given, which returned above.
     let scenario = a.scenario.as_deref().unwrap_or(Path::new(""));
-    let s = Scenario::load(scenario, &a.set)?;
+    let s = api::load(scenario, &a.set)?;
     let checkpoint_every_s = checkpoint_interval(a.checkpoint_every)?;
     let out = a
         .out
         .clone()
         .unwrap_or_else(|| Path::new("runs").join(&s.name));
-    let prepared = app::prepare_out_dir(&out, a.force)?;
+    let prepared = api::prepare_out_dir(&out, a.force)?;
     let opts = RunOptions {
         out_dir: out.clone(),
         force: a.force,
@@ -335,13 +332,13 @@ fn run_and_report(
     s: &Scenario,
     opts: &RunOptions,
     r: &Report,
-) -> Result<app::RunOutcome, AppError> {
+) -> Result<api::RunOutcome, AppError> {
     let out = &opts.out_dir;
     print_plausibility(s);
     install_stop_handler();
-    let outcome = app::run(s, opts)?;
+    let outcome = api::run_until_stopped(s, opts)?;
     if opts.viewer {
-        if let Err(e) = crate::output::viewer::write_viewer(out) {
+        if let Err(e) = api::write_viewer(out) {
             crate::err_line!("warning: viewer.html not written: {e}");
         }
     }
@@ -367,13 +364,13 @@ fn run_and_report(
 /// point (a signal); a failed step's checkpoint holds the last good state, from which a
 /// resume fails the same way.
 fn next_step(dir: &Path) -> String {
-    match crate::checkpoint::Checkpoint::read(dir) {
-        Ok(c) if c.synced => format!("continue with `chute resume {}`", dir.display()),
-        Ok(c) => format!(
+    match api::checkpoint_at(dir) {
+        Some((_, true)) => format!("continue with `chute resume {}`", dir.display()),
+        Some((t, false)) => format!(
             "its checkpoint holds the last good state (t = {} s) for inspection; resuming would repeat the failure: change the scenario (e.g. a smaller time.dt_s, or time.adaptive = true) and run it again",
-            crate::scenario::derived::sig4(c.t)
+            crate::scenario::derived::sig4(t)
         ),
-        Err(_) => "it has no checkpoint to resume from: run it again".into(),
+        None => "it has no checkpoint to resume from: run it again".into(),
     }
 }
 
@@ -403,14 +400,14 @@ fn cmd_resume(a: &ResumeArgs) -> Result<(), AppError> {
     // A study case says how it ended in its marker too, and no longer matches its study's
     // inputs once the resume extended it.
     let extended = (stopped_at != Some(s.time.duration_s)).then_some(s.time.duration_s);
-    let marked = study::mark_resumed(dir, &result, started.elapsed().as_secs_f64(), extended);
+    let marked = api::mark_resumed(dir, &result, started.elapsed().as_secs_f64(), extended);
     drop(lock);
     result?;
     marked
 }
 
 fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {
-    let st = Study::load(&a.study)?;
+    let st = api::load_study(&a.study)?;
     let shard = match &a.shard {
         Some(s) => Some(Shard::parse(s)?),
         None => Shard::from_slurm(slurm_var).transpose()?,
@@ -430,7 +427,7 @@ fn cmd_study(a: &StudyArgs) -> Result<(), AppError> {
         verbose: true,
     };
     install_stop_handler();
-    let report = study::run_study(&st, &opts)?;
+    let report = api::run_study(&st, &opts)?;
     crate::out_text!("{}", report.table.to_markdown());
     warn_stale(&report.table);
     let failed = report.failures();
@@ -454,7 +451,7 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
         }
     }
     let out = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
-    let table = study::collect(&a.dirs, &out)?;
+    let table = api::collect(&a.dirs, &out)?;
     crate::out_text!("{}", table.to_markdown());
     warn_stale(&table);
     crate::err_line!(
@@ -480,7 +477,7 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
 
 /// A warning per table row whose inputs are not what its study would run now (the row's
 /// `inputs` cell says `changed` or `unknown`).
-fn warn_stale(table: &study::Table) {
+fn warn_stale(table: &api::Table) {
     for w in table.input_warnings() {
         crate::err_line!("warning: {w}");
     }
@@ -496,9 +493,9 @@ fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {
     }
     let out_dir = match &a.out {
         Some(d) => d.clone(),
-        None => crate::converge::default_out_dir(&a.scenario, &a.set)?,
+        None => api::converge_out_dir(&a.scenario, &a.set)?,
     };
-    let opts = crate::converge::ConvergeOptions {
+    let opts = api::ConvergeOptions {
         scenario: a.scenario.clone(),
         vary: a.vary.clone(),
         set: a.set.clone(),
@@ -509,7 +506,7 @@ fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {
         verbose: true,
     };
     install_stop_handler();
-    let outcome = crate::converge::run_converge(&opts)?;
+    let outcome = api::converge(&opts)?;
     crate::out_text!("{}", outcome.report.to_markdown());
     let dir = opts.out_dir.display();
     for w in &outcome.warnings {

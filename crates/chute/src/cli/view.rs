@@ -2,7 +2,7 @@
 //! holds, and when the run there did not finish.
 
 use super::ViewArgs;
-use crate::app::AppError;
+use crate::api::AppError;
 
 pub(super) fn cmd_view(a: &ViewArgs) -> Result<(), AppError> {
     let v = crate::api::view(&a.run_dir)?;
