@@ -186,18 +186,14 @@ fn an_unusable_case_directory_does_not_stop_the_study() {
 fn a_study_never_runs_into_another_studys_directory() {
     let tmp = table1_study_in("s");
     write_other_study(tmp.path());
+    let study_into_s = |file: &str| {
+        chute(
+            tmp.path(),
+            &["study", file, "--out", "s", "--set", "time.duration_s=0.02"],
+        )
+    };
     let before = files(&tmp.path().join("s"));
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            "other.toml",
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
+    let o = study_into_s("other.toml");
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("holds the cases of study `table1`"), "{err}");
@@ -214,17 +210,7 @@ fn a_study_never_runs_into_another_studys_directory() {
             &format!("{}/", repo().join("scenarios").display()),
         );
     std::fs::write(tmp.path().join("copy/table1.toml"), text).unwrap();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            "copy/table1.toml",
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
+    let o = study_into_s("copy/table1.toml");
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
         before == files(&tmp.path().join("s")),
@@ -236,33 +222,13 @@ fn a_study_never_runs_into_another_studys_directory() {
         std::fs::remove_file(tmp.path().join("s").join(case).join("done.json")).unwrap();
     }
     assert!(tmp.path().join("s/.chute-study.json").is_file());
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            "copy/table1.toml",
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
+    let o = study_into_s("copy/table1.toml");
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("(`s/.chute-study.json`)"), "{err}");
     // The same study file reached through a link is the same study.
     std::os::unix::fs::symlink(repo().join("studies"), tmp.path().join("linked")).unwrap();
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            "linked/table1.toml",
-            "--out",
-            "s",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
+    let o = study_into_s("linked/table1.toml");
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
