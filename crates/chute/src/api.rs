@@ -15,7 +15,9 @@ pub use crate::output::run_dir::{FrameMesh, FrameState, RunDirError};
 pub use crate::output::viewer::ViewerReport;
 pub use crate::runner::Session;
 pub use crate::scenario::{Scenario, ScenarioError};
-pub use crate::study::{Case, CaseStatus, Runner, Shard, Study, StudyOptions, StudyReport, Table};
+pub use crate::study::{
+    mark_resumed, Case, CaseStatus, Runner, Shard, Study, StudyOptions, StudyReport, Table,
+};
 pub use crate::verify::{Check, ValidateArgs};
 
 /// Read scenario `path` with `set` overrides (`KEY=VALUE`, as `chute run --set`), validated.
@@ -135,16 +137,6 @@ pub fn run_study(study: &Study, opts: &StudyOptions) -> Result<StudyReport, AppE
 /// Gather the cases of `dirs` into one table written into `out` (`chute collect`).
 pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
     crate::study::collect(dirs, out)
-}
-
-/// Record in a study case's marker how a resume of it ended (`chute resume` of a case).
-pub fn mark_resumed(
-    dir: &Path,
-    result: &Result<RunOutcome, AppError>,
-    wall_s: f64,
-    extended_to: Option<f64>,
-) -> Result<(), AppError> {
-    crate::study::mark_resumed(dir, result, wall_s, extended_to)
 }
 
 /// Run a convergence ladder and write its reports (`chute converge`).
