@@ -24,19 +24,30 @@ fn file_of(study: &Study) -> (&Path, &'static str) {
     }
 }
 
-/// The study `out` would be claimed for: its name, and the file that identifies it by path
-/// and by the digest of its bytes.
-fn identity(study: &Study) -> serde_json::Value {
+/// The digest of everything `study` runs: the inputs digest of each of its cases (the
+/// scenario with the case's overrides, and every file it reads, by bytes), so that a copy of
+/// the study file whose relative `base` or mesh resolves to other files is another study.
+fn content_digest(study: &Study) -> Option<String> {
+    let mut parts = Vec::with_capacity(study.cases.len());
+    for c in &study.cases {
+        let s = study.scenario(c, &[]).ok()?;
+        parts.push(format!("{}={}", c.name, super::inputs::digest(&s).ok()?));
+    }
+    Some(super::inputs::bytes_digest(parts.join("\n").as_bytes()))
+}
+
+/// The study `out` would be claimed for: its name, its file's path and the digest of what it
+/// runs ([`content_digest`]).
+fn identity(study: &Study, digest: Option<&str>) -> serde_json::Value {
     let (file, key) = file_of(study);
-    let digest = super::inputs::file_digest(file).ok();
     serde_json::json!({ "study": study.name, key: file.display().to_string(), "digest": digest })
 }
 
 /// Whether a recorded identity is another study than `study`: another name, or the same name
-/// from another file. The same file is the same path (through links), or the same bytes (a
-/// moved, copied or hard-linked study file); a recorded file that is gone, without a digest
-/// (an older record), is taken as this one.
-fn another(recorded: &serde_json::Value, study: &Study) -> bool {
+/// from another file. The same study is the same path (through links: the file edited in
+/// place), or the same content (a moved or copied project that runs the same inputs); a
+/// recorded file that is gone, without a digest (an older record), is taken as this one.
+fn another(recorded: &serde_json::Value, study: &Study, content: Option<&str>) -> bool {
     if recorded["study"].as_str() != Some(study.name.as_str()) {
         return true;
     }
@@ -49,9 +60,9 @@ fn another(recorded: &serde_json::Value, study: &Study) -> bool {
         (Ok(a), Ok(b)) if a == b
     );
     let digest = recorded["digest"].as_str();
-    let same_bytes = digest.is_some_and(|d| super::inputs::file_digest(mine).is_ok_and(|m| m == d));
+    let same_content = digest.is_some_and(|d| content == Some(d));
     let gone_unknown = digest.is_none() && Path::new(theirs).canonicalize().is_err();
-    !(same_path || same_bytes || gone_unknown)
+    !(same_path || same_content || gone_unknown)
 }
 
 fn refused(out: &Path, recorded: &serde_json::Value, by: &Path, study: &Study) -> AppError {
@@ -61,7 +72,7 @@ fn refused(out: &Path, recorded: &serde_json::Value, by: &Path, study: &Study) -
         .or(recorded["base"].as_str());
     let from = file.map_or(String::new(), |f| format!(" of `{f}`"));
     AppError::Input(format!(
-        "`{}` holds the cases of study `{other}`{from} (`{}`), which study `{}` would replace with its table: choose another --out",
+        "`{}` holds the cases of study `{other}`{from} (`{}`), which study `{}` would replace with its table: choose another --out (or, if it is the same study moved and edited, remove `{OWNER_FILE}` there)",
         out.display(),
         by.display(),
         study.name
@@ -84,7 +95,7 @@ pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), A
         let done = e.path().join(DONE_FILE);
         let Some(d) = read_json(&done) else { continue };
         let recorded = serde_json::json!({ "study": d["study"], key: d["recipe"][key] });
-        if another(&recorded, study) {
+        if another(&recorded, study, None) {
             return Err(refused(out, &recorded, &done, study));
         }
     }
@@ -94,7 +105,9 @@ pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), A
 /// Take `out` (which exists) for `study`, or refuse it (exit 2) when another study holds it.
 pub(crate) fn claim(out: &Path, study: &Study) -> Result<(), AppError> {
     let path = out.join(OWNER_FILE);
-    let mine = format!("{:#}\n", identity(study));
+    let content = content_digest(study);
+    let now = identity(study, content.as_deref());
+    let mine = format!("{now:#}\n");
     match create_exclusive(out, &path, mine.as_bytes()) {
         Ok(()) => return Ok(()),
         Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => {
@@ -110,10 +123,15 @@ pub(crate) fn claim(out: &Path, study: &Study) -> Result<(), AppError> {
     // Another process may be writing it this instant (the fallback without hard links).
     for _ in 0..20 {
         if let Some(recorded) = read_json(&path) {
-            return match another(&recorded, study) {
-                true => Err(refused(out, &recorded, &path, study)),
-                false => Ok(()),
-            };
+            if another(&recorded, study, content.as_deref()) {
+                return Err(refused(out, &recorded, &path, study));
+            }
+            // The same study, maybe moved or edited since: the record follows it, so that a
+            // later move or edit is still recognised.
+            if recorded != now {
+                let _ = crate::output::atomic::write_atomic(&path, format!("{now:#}\n").as_bytes());
+            }
+            return Ok(());
         }
         std::thread::sleep(std::time::Duration::from_millis(50));
     }

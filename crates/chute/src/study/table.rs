@@ -141,13 +141,15 @@ fn read_json_strict(path: &Path) -> Result<Option<serde_json::Value>, String> {
 fn unfinished_row(case_dir: &Path, done: Result<Option<serde_json::Value>, String>) -> Option<Row> {
     use crate::output::record::DirState;
     let case = case_dir.file_name()?.to_string_lossy().into_owned();
+    // Made for the case of this directory's name (`study/case`): not a backup copy `a.bak`.
     let made_for_a_case = || {
+        let of_this = |c: &str| c.split_once('/').is_some_and(|(_, name)| name == case);
         crate::output::record::RunRecord::read(case_dir)
-            .is_ok_and(|r| r.is_some_and(|r| r.case_of.is_some()))
+            .is_ok_and(|r| r.is_some_and(|r| r.case_of.as_deref().is_some_and(of_this)))
     };
     if matches!(done, Ok(None)) && !made_for_a_case() {
-        // A directory without a case record whose run was not made for a study case (a run of
-        // its own, one without a readable run.json): no case.
+        // A directory without a case record whose run was not made for its case (a run of its
+        // own, one without a readable run.json, a copy of another case's): no case.
         return None;
     }
     let state = match done {

@@ -201,14 +201,16 @@ fn a_study_never_runs_into_another_studys_directory() {
         before == files(&tmp.path().join("s")),
         "the other study changed"
     );
-    // The same name from another study file (two `table1.toml` in different folders).
+    // The same name from another study file (two `table1.toml` in different folders) that
+    // runs other inputs (one case's load).
     std::fs::create_dir(tmp.path().join("copy")).unwrap();
     let text = std::fs::read_to_string(repo().join("studies/table1.toml"))
         .unwrap()
         .replace(
             "../scenarios/",
             &format!("{}/", repo().join("scenarios").display()),
-        );
+        )
+        .replace("load.weight_n=2000\"", "load.weight_n=1500\"");
     std::fs::write(tmp.path().join("copy/table1.toml"), text).unwrap();
     let o = study_into_s("copy/table1.toml");
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
@@ -278,9 +280,13 @@ fn a_run_of_its_own_beside_the_cases_is_not_a_case() {
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(0), "{err}");
-    // Nor a directory of the user's that holds no run record at all.
+    // Nor a directory of the user's that holds no run record at all, nor a backup copy of a
+    // case whose run had not finished (its record names the case `20N`, not `20N.bak`).
     std::fs::create_dir(tmp.path().join("s/notes")).unwrap();
     std::fs::write(tmp.path().join("s/notes/summary.json"), "{}").unwrap();
+    std::fs::create_dir(tmp.path().join("s/20N.bak")).unwrap();
+    let record = tmp.path().join("s/20N/run.json");
+    std::fs::copy(record, tmp.path().join("s/20N.bak/run.json")).unwrap();
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(0), "{err}");
@@ -289,10 +295,12 @@ fn a_run_of_its_own_beside_the_cases_is_not_a_case() {
         !table.contains("myrun") && !err.contains("myrun"),
         "{table}{err}"
     );
-    assert!(
-        !table.contains("notes") && !err.contains("notes"),
-        "{table}{err}"
-    );
+    for other in ["notes", "20N.bak"] {
+        assert!(
+            !table.contains(other) && !err.contains(other),
+            "{table}{err}"
+        );
+    }
     assert_eq!(table.lines().count(), 4, "{table}");
 }
 
@@ -332,6 +340,25 @@ fn a_moved_study_file_keeps_its_directory_and_no_namesake_takes_it() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(
         stderr(&o).contains("already complete, skipped"),
+        "{}",
+        stderr(&o)
+    );
+    // A byte-identical study file whose relative base is another scenario runs other inputs:
+    // another study.
+    let rod = std::fs::read_to_string(&base).unwrap();
+    let relative = "name = \"r\"\nbase = \"base.toml\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n";
+    for (d, weight) in [("r1", "200.0"), ("r2", "300.0")] {
+        std::fs::create_dir(tmp.path().join(d)).unwrap();
+        std::fs::write(tmp.path().join(d).join("r.toml"), relative).unwrap();
+        let scenario = rod.replace("weight_n = 200.0", &format!("weight_n = {weight}"));
+        std::fs::write(tmp.path().join(d).join("base.toml"), scenario).unwrap();
+    }
+    let run = |file: &str| chute(tmp.path(), &["study", file, "--out", "rout"]);
+    assert_eq!(run("r1/r.toml").status.code(), Some(0));
+    let o = run("r2/r.toml");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("holds the cases of study `r`"),
         "{}",
         stderr(&o)
     );
