@@ -105,6 +105,7 @@ pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), A
 /// Take `out` (which exists) for `study`, or refuse it (exit 2) when another study holds it.
 pub(crate) fn claim(out: &Path, study: &Study) -> Result<(), AppError> {
     let path = out.join(OWNER_FILE);
+    remove_stale_temporaries(out);
     let content = content_digest(study);
     let now = identity(study, content.as_deref());
     let mine = format!("{now:#}\n");
@@ -165,5 +166,31 @@ fn create_exclusive(dir: &Path, path: &Path, bytes: &[u8]) -> std::io::Result<()
             })
         }
         r => r,
+    }
+}
+
+/// Remove temporaries of the owner record that a killed study left (a claim writes and links
+/// its own within milliseconds: one older than a minute is no live claim's).
+fn remove_stale_temporaries(out: &Path) {
+    let prefix = format!(".{OWNER_FILE}.");
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return;
+    };
+    for e in entries.filter_map(Result::ok) {
+        let name = e.file_name();
+        let ours = name
+            .to_str()
+            .is_some_and(|n| n.starts_with(&prefix) && n.ends_with(".tmp"));
+        let old = e
+            .metadata()
+            .ok()
+            .and_then(|m| m.modified().ok())
+            .is_some_and(|t| {
+                t.elapsed()
+                    .is_ok_and(|age| age > std::time::Duration::from_secs(60))
+            });
+        if ours && old && e.file_type().is_ok_and(|t| t.is_file()) {
+            let _ = std::fs::remove_file(e.path());
+        }
     }
 }

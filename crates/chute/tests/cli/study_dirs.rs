@@ -363,3 +363,22 @@ fn a_moved_study_file_keeps_its_directory_and_no_namesake_takes_it() {
         stderr(&o)
     );
 }
+
+/// A temporary of the owner record left by a killed study is removed by the next study there
+/// once it is stale (a minute old); a fresh one (a live claim's) is left alone.
+#[test]
+fn a_killed_claims_temporary_is_removed_by_the_next_study() {
+    let tmp = table1_study_in("s");
+    let stale = tmp.path().join("s/..chute-study.json.AbC123.tmp");
+    let fresh = tmp.path().join("s/..chute-study.json.XyZ789.tmp");
+    std::fs::write(&stale, "{}").unwrap();
+    std::fs::write(&fresh, "{}").unwrap();
+    let touched = std::process::Command::new("touch")
+        .args(["-d", "2 minutes ago"])
+        .arg(&stale)
+        .status()
+        .unwrap();
+    assert!(touched.success());
+    table1_study_again(tmp.path());
+    assert!(!stale.exists() && fresh.exists());
+}
