@@ -480,7 +480,7 @@ pub fn run_study_with(
     table::refuse_run_dir_out(&opts.out_dir)?;
     owner::refuse_other_studys_out(&opts.out_dir, study)?;
     app::ensure_dir(&opts.out_dir)?;
-    owner::claim(&opts.out_dir, study)?;
+    owner::claim(&opts.out_dir, study, &opts.set)?;
     let jobs = opts
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))

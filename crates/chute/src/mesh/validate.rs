@@ -64,6 +64,16 @@ impl RawMesh {
 
     /// Check everything and build the canopy mesh with derived node sets.
     pub fn finish(self) -> Result<CanopyMesh, MeshFileError> {
+        let max = crate::scenario::limits::MAX_SHELL_TRIANGLES;
+        if self.faces.len() as f64 > max {
+            return Err(MeshFileError::File {
+                path: self.path.clone(),
+                message: format!(
+                    "{} triangles: a canopy may have at most {max:.0} (memory and time)",
+                    self.faces.len()
+                ),
+            });
+        }
         self.check_duplicates()?;
         let n = self.positions.len();
         let range = |i: usize, line: usize| {
@@ -325,4 +335,28 @@ fn derived_node_sets(mesh: &CanopyMesh, tri: &TriMesh) -> BTreeMap<String, Vec<u
     sets.insert("shell".into(), shell);
     sets.insert("rod".into(), rod);
     sets
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An imported mesh with more triangles than a canopy may have is refused as a whole
+    /// file, before any check that would walk it (the generators' limit, applied to meshes).
+    #[test]
+    fn more_triangles_than_a_canopy_may_have_are_refused() {
+        let n = crate::scenario::limits::MAX_SHELL_TRIANGLES as usize + 1;
+        let mut raw = RawMesh::new("m.txt");
+        raw.positions = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        raw.position_lines = vec![1, 2, 3];
+        raw.faces = vec![[0, 1, 2]; n];
+        raw.face_lines = vec![4; n];
+        let e = raw.finish().unwrap_err().to_string();
+        assert!(
+            e.contains(&format!(
+                "m.txt: {n} triangles: a canopy may have at most 2000000"
+            )),
+            "{e}"
+        );
+    }
 }

@@ -24,13 +24,14 @@ fn file_of(study: &Study) -> (&Path, &'static str) {
     }
 }
 
-/// The digest of everything `study` runs: the inputs digest of each of its cases (the
-/// scenario with the case's overrides, and every file it reads, by bytes), so that a copy of
-/// the study file whose relative `base` or mesh resolves to other files is another study.
-fn content_digest(study: &Study) -> Option<String> {
+/// The digest of everything `study` runs under the study-wide overrides `set`: the inputs
+/// digest of each of its cases (the scenario with the overrides, and every file it reads, by
+/// bytes), so that a copy of the study file whose relative `base` or mesh resolves to other
+/// files is another study.
+fn content_digest(study: &Study, set: &[String]) -> Option<String> {
     let mut parts = Vec::with_capacity(study.cases.len());
     for c in &study.cases {
-        let s = study.scenario(c, &[]).ok()?;
+        let s = study.scenario(c, set).ok()?;
         parts.push(format!("{}={}", c.name, super::inputs::digest(&s).ok()?));
     }
     Some(super::inputs::bytes_digest(parts.join("\n").as_bytes()))
@@ -53,7 +54,10 @@ fn another(recorded: &serde_json::Value, study: &Study, content: Option<&str>) -
     }
     let (mine, key) = file_of(study);
     let Some(theirs) = recorded[key].as_str() else {
-        return false;
+        // A record of the other kind (a ladder's where this is a study, or the reverse) is
+        // another study; one of neither kind (an older record) says nothing against it.
+        let other_kind = if key == "base" { "study_file" } else { "base" };
+        return recorded[other_kind].is_string();
     };
     let same_path = matches!(
         (Path::new(theirs).canonicalize(), mine.canonicalize()),
@@ -72,10 +76,14 @@ fn refused(out: &Path, recorded: &serde_json::Value, by: &Path, study: &Study) -
         .or(recorded["base"].as_str());
     let from = file.map_or(String::new(), |f| format!(" of `{f}`"));
     AppError::Input(format!(
-        "`{}` holds the cases of study `{other}`{from} (`{}`), which study `{}` would replace with its table: choose another --out (or, if it is the same study moved and edited, remove `{OWNER_FILE}` there)",
+        "`{}` holds the cases of study `{other}`{from} (`{}`), which study `{}` would replace with its table: choose another --out{}",
         out.display(),
         by.display(),
-        study.name
+        study.name,
+        match by.ends_with(OWNER_FILE) {
+            true => format!(" (or, if it is the same study moved and edited, remove `{OWNER_FILE}` there)"),
+            false => String::new(),
+        }
     ))
 }
 
@@ -103,10 +111,10 @@ pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), A
 }
 
 /// Take `out` (which exists) for `study`, or refuse it (exit 2) when another study holds it.
-pub(crate) fn claim(out: &Path, study: &Study) -> Result<(), AppError> {
+pub(crate) fn claim(out: &Path, study: &Study, set: &[String]) -> Result<(), AppError> {
     let path = out.join(OWNER_FILE);
     remove_stale_temporaries(out);
-    let content = content_digest(study);
+    let content = content_digest(study, set);
     let now = identity(study, content.as_deref());
     let mine = format!("{now:#}\n");
     match create_exclusive(out, &path, mine.as_bytes()) {

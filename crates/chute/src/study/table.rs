@@ -332,10 +332,15 @@ pub fn gather(
         left_out,
     } = g;
     let list = super::expected::cases(invocation.map(|(st, _)| st), recipes.values());
+    let listed = |name: &String| list.cases.iter().any(|(_, c, _)| c == name);
     if invocation.is_some() {
         // The study's own table: its cases only, not other directories beside them (a study
         // written into a directory that holds other runs).
-        by_name.retain(|name, _| list.cases.iter().any(|(_, c, _)| c == name));
+        by_name.retain(|name, _| listed(name));
+    } else if list.unknown.is_empty() {
+        // The full list is known: a directory without a record of its own that the list does
+        // not name (a run made for a case of another study) is no case of this one.
+        by_name.retain(|name, _| listed(name) || recipes.contains_key(name));
     }
     for (index, case, set) in list.cases {
         if let Some(row) = by_name.get_mut(&case) {

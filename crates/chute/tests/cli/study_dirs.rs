@@ -286,7 +286,14 @@ fn a_run_of_its_own_beside_the_cases_is_not_a_case() {
     std::fs::write(tmp.path().join("s/notes/summary.json"), "{}").unwrap();
     std::fs::create_dir(tmp.path().join("s/20N.bak")).unwrap();
     let record = tmp.path().join("s/20N/run.json");
-    std::fs::copy(record, tmp.path().join("s/20N.bak/run.json")).unwrap();
+    std::fs::copy(&record, tmp.path().join("s/20N.bak/run.json")).unwrap();
+    // Nor a run made for a case the study does not have.
+    std::fs::create_dir(tmp.path().join("s/zzz")).unwrap();
+    let other = std::fs::read_to_string(&record)
+        .unwrap()
+        .replace("table1/20N", "table1/zzz");
+    assert!(other.contains("\"table1/zzz\""), "{other}");
+    std::fs::write(tmp.path().join("s/zzz/run.json"), other).unwrap();
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(0), "{err}");
@@ -295,7 +302,7 @@ fn a_run_of_its_own_beside_the_cases_is_not_a_case() {
         !table.contains("myrun") && !err.contains("myrun"),
         "{table}{err}"
     );
-    for other in ["notes", "20N.bak"] {
+    for other in ["notes", "20N.bak", "zzz"] {
         assert!(
             !table.contains(other) && !err.contains(other),
             "{table}{err}"
@@ -381,4 +388,37 @@ fn a_killed_claims_temporary_is_removed_by_the_next_study() {
     assert!(touched.success());
     table1_study_again(tmp.path());
     assert!(!stale.exists() && fresh.exists());
+}
+
+/// A study and a ladder of the same name are two studies: neither runs into the other's
+/// directory (the owner record says which kind made it).
+#[test]
+fn a_study_and_a_ladder_of_the_same_name_do_not_share_a_directory() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = repo().join("scenarios/report-rod-200n.toml");
+    let study = format!(
+        "name = \"report-rod-200n-converge\"\nbase = \"{}\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n",
+        rod.display()
+    );
+    std::fs::write(tmp.path().join("s.toml"), study).unwrap();
+    let o = chute(tmp.path(), &["study", "s.toml", "--out", "l"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let vary = [
+        "--vary",
+        "time.dt_s=0.002,0.001",
+        "--set",
+        "time.duration_s=0.02",
+    ];
+    let args = [
+        &["converge", rod.to_str().unwrap(), "--out", "l"][..],
+        &vary,
+    ]
+    .concat();
+    let o = chute(tmp.path(), &args);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("holds the cases of study"),
+        "{}",
+        stderr(&o)
+    );
 }
