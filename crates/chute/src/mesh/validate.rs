@@ -64,15 +64,21 @@ impl RawMesh {
 
     /// Check everything and build the canopy mesh with derived node sets.
     pub fn finish(self) -> Result<CanopyMesh, MeshFileError> {
-        let max = crate::scenario::limits::MAX_SHELL_TRIANGLES;
-        if self.faces.len() as f64 > max {
-            return Err(MeshFileError::File {
-                path: self.path.clone(),
-                message: format!(
-                    "{} triangles: a canopy may have at most {max:.0} (memory and time)",
-                    self.faces.len()
-                ),
-            });
+        use crate::scenario::limits::{MAX_LINE_NODES, MAX_SHELL_TRIANGLES};
+        // The generators' limits, for every part a mesh file sizes (memory and time).
+        for (count, what, max) in [
+            (self.faces.len(), "triangles", MAX_SHELL_TRIANGLES),
+            (self.rods.len(), "rod edges", MAX_LINE_NODES),
+            (self.positions.len(), "nodes", MAX_SHELL_TRIANGLES),
+        ] {
+            if count as f64 > max {
+                return Err(MeshFileError::File {
+                    path: self.path.clone(),
+                    message: format!(
+                        "{count} {what}: a canopy may have at most {max:.0} (memory and time)"
+                    ),
+                });
+            }
         }
         self.check_duplicates()?;
         let n = self.positions.len();
@@ -343,6 +349,23 @@ mod tests {
 
     /// An imported mesh with more triangles than a canopy may have is refused as a whole
     /// file, before any check that would walk it (the generators' limit, applied to meshes).
+    #[test]
+    fn more_rod_edges_than_lines_may_have_are_refused() {
+        let n = crate::scenario::limits::MAX_LINE_NODES as usize + 1;
+        let mut raw = RawMesh::new("m.txt");
+        raw.positions = vec![[0.0; 3], [1.0, 0.0, 0.0]];
+        raw.position_lines = vec![1, 2];
+        raw.rods = vec![[0, 1]; n];
+        raw.rod_lines = vec![3; n];
+        let e = raw.finish().unwrap_err().to_string();
+        assert!(
+            e.contains(&format!(
+                "m.txt: {n} rod edges: a canopy may have at most 1000000"
+            )),
+            "{e}"
+        );
+    }
+
     #[test]
     fn more_triangles_than_a_canopy_may_have_are_refused() {
         let n = crate::scenario::limits::MAX_SHELL_TRIANGLES as usize + 1;

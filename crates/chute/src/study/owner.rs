@@ -52,12 +52,20 @@ fn another(recorded: &serde_json::Value, study: &Study, content: Option<&str>) -
     if recorded["study"].as_str() != Some(study.name.as_str()) {
         return true;
     }
+    // A study records its study file, a ladder (a study made in code) only its base: a record
+    // of the other kind is another study; one of neither (an older record) says nothing.
+    let a_study = |r: &serde_json::Value| match (r["study_file"].is_string(), r["base"].is_string())
+    {
+        (true, _) => Some(true),
+        (false, true) => Some(false),
+        _ => None,
+    };
+    if a_study(recorded).is_some_and(|theirs| theirs != study.file.is_some()) {
+        return true;
+    }
     let (mine, key) = file_of(study);
     let Some(theirs) = recorded[key].as_str() else {
-        // A record of the other kind (a ladder's where this is a study, or the reverse) is
-        // another study; one of neither kind (an older record) says nothing against it.
-        let other_kind = if key == "base" { "study_file" } else { "base" };
-        return recorded[other_kind].is_string();
+        return false;
     };
     let same_path = matches!(
         (Path::new(theirs).canonicalize(), mine.canonicalize()),
@@ -98,11 +106,15 @@ pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), A
     if std::fs::symlink_metadata(out.join(OWNER_FILE)).is_ok() {
         return Ok(());
     }
-    let (_, key) = file_of(study);
     for e in entries.filter_map(Result::ok) {
         let done = e.path().join(DONE_FILE);
         let Some(d) = read_json(&done) else { continue };
-        let recorded = serde_json::json!({ "study": d["study"], key: d["recipe"][key] });
+        let recipe = &d["recipe"];
+        let recorded = serde_json::json!({
+            "study": d["study"],
+            "study_file": recipe["study_file"],
+            "base": recipe["base"],
+        });
         if another(&recorded, study, None) {
             return Err(refused(out, &recorded, &done, study));
         }

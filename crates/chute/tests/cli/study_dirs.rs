@@ -421,4 +421,10 @@ fn a_study_and_a_ladder_of_the_same_name_do_not_share_a_directory() {
         "{}",
         stderr(&o)
     );
+    // Also when the owner record is gone (an older chute's directory): the cases' records say
+    // which kind made them.
+    std::fs::remove_file(tmp.path().join("l/.chute-study.json")).unwrap();
+    let o = chute(tmp.path(), &args);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("l/a/done.json"), "{}", stderr(&o));
 }
