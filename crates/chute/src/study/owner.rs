@@ -89,7 +89,7 @@ fn refused(out: &Path, recorded: &serde_json::Value, by: &Path, study: &Study) -
         by.display(),
         study.name,
         match by.ends_with(OWNER_FILE) {
-            true => format!(" (or, if it is the same study moved and edited, remove `{OWNER_FILE}` there)"),
+            true => format!(" (or, if it is the same study moved and then edited or given other study-wide --set, remove `{OWNER_FILE}` there)"),
             false => String::new(),
         }
     ))
