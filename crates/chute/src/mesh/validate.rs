@@ -347,39 +347,34 @@ fn derived_node_sets(mesh: &CanopyMesh, tri: &TriMesh) -> BTreeMap<String, Vec<u
 mod tests {
     use super::*;
 
-    /// An imported mesh with more triangles than a canopy may have is refused as a whole
-    /// file, before any check that would walk it (the generators' limit, applied to meshes).
+    /// An imported mesh with more triangles, rod edges or nodes than the generators' limits
+    /// allow is refused as a whole file, before any check that would walk it.
     #[test]
-    fn more_rod_edges_than_lines_may_have_are_refused() {
-        let n = crate::scenario::limits::MAX_LINE_NODES as usize + 1;
-        let mut raw = RawMesh::new("m.txt");
-        raw.positions = vec![[0.0; 3], [1.0, 0.0, 0.0]];
-        raw.position_lines = vec![1, 2];
-        raw.rods = vec![[0, 1]; n];
-        raw.rod_lines = vec![3; n];
-        let e = raw.finish().unwrap_err().to_string();
-        assert!(
-            e.contains(&format!(
-                "m.txt: {n} rod edges: a canopy may have at most 1000000"
-            )),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn more_triangles_than_a_canopy_may_have_are_refused() {
-        let n = crate::scenario::limits::MAX_SHELL_TRIANGLES as usize + 1;
-        let mut raw = RawMesh::new("m.txt");
-        raw.positions = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-        raw.position_lines = vec![1, 2, 3];
-        raw.faces = vec![[0, 1, 2]; n];
-        raw.face_lines = vec![4; n];
-        let e = raw.finish().unwrap_err().to_string();
-        assert!(
-            e.contains(&format!(
-                "m.txt: {n} triangles: a canopy may have at most 2000000"
-            )),
-            "{e}"
-        );
+    fn meshes_beyond_the_model_limits_are_refused() {
+        use crate::scenario::limits::{MAX_LINE_NODES, MAX_SHELL_TRIANGLES};
+        let refused = |raw: RawMesh, what: &str, max: f64| {
+            let n = max as usize + 1;
+            let e = raw.finish().unwrap_err().to_string();
+            let want = format!("m.txt: {n} {what}: a canopy may have at most {max:.0}");
+            assert!(e.contains(&want), "{e}");
+        };
+        let small = || {
+            let mut raw = RawMesh::new("m.txt");
+            raw.positions = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+            raw.position_lines = vec![1, 2, 3];
+            raw
+        };
+        let n = MAX_SHELL_TRIANGLES as usize + 1;
+        let mut raw = small();
+        (raw.faces, raw.face_lines) = (vec![[0, 1, 2]; n], vec![4; n]);
+        refused(raw, "triangles", MAX_SHELL_TRIANGLES);
+        let n = MAX_LINE_NODES as usize + 1;
+        let mut raw = small();
+        (raw.rods, raw.rod_lines) = (vec![[0, 1]; n], vec![4; n]);
+        refused(raw, "rod edges", MAX_LINE_NODES);
+        let n = MAX_SHELL_TRIANGLES as usize + 1;
+        let mut raw = small();
+        (raw.positions, raw.position_lines) = (vec![[0.0; 3]; n], vec![1; n]);
+        refused(raw, "nodes", MAX_SHELL_TRIANGLES);
     }
 }

@@ -16,7 +16,8 @@ use crate::metrics::{MACH_INCOMPRESSIBLE_MAX, SPEED_OF_SOUND_MPS};
 /// them (squares of speeds, stiffness × displacement, mass / dt²), and every product must stay
 /// far inside f64's 1.8e308.
 pub const MAX_MAGNITUDE: f64 = 1e100;
-/// Most triangles a shell canopy may have (memory and time; about 1 GB of model).
+/// Most triangles a shell canopy may have (memory and time: a model this large needs several
+/// GB at t = 0: an imported mesh just under the limit asked for about 3 GB).
 pub const MAX_SHELL_TRIANGLES: f64 = 2.0e6;
 /// Most nodes the suspension lines may have together.
 pub const MAX_LINE_NODES: f64 = 1.0e6;
