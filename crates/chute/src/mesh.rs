@@ -78,17 +78,18 @@ pub enum MeshFileError {
     },
 }
 
-/// Largest mesh file read (bytes): a mesh within the model's limits (2·10⁶ triangles) is a
-/// few hundred MB of text; a larger file is refused before it is read into memory.
-pub const MAX_MESH_BYTES: u64 = 1 << 30;
+/// Largest mesh file read (bytes): a mesh within the model's limits
+/// ([`crate::scenario::limits::MAX_SHELL_TRIANGLES`]) is a few tens of MB of text; a larger
+/// file is refused before it is read into memory.
+pub const MAX_MESH_BYTES: u64 = 1 << 28;
 
 /// Why a mesh file of `len` bytes is not read ([`MAX_MESH_BYTES`]).
 pub fn too_large(len: u64) -> Option<String> {
     (len > MAX_MESH_BYTES).then(|| {
         format!(
-            "the file is {:.1} GiB; a mesh file is at most {} GiB (2·10⁶ triangles is far less)",
-            len as f64 / (1u64 << 30) as f64,
-            MAX_MESH_BYTES >> 30
+            "the file is {:.0} MiB; a mesh file is at most {} MiB (a canopy of the most triangles allowed is far less)",
+            len as f64 / (1u64 << 20) as f64,
+            MAX_MESH_BYTES >> 20
         )
     })
 }

@@ -67,6 +67,16 @@ pub struct Case {
     pub set: Vec<String>,
 }
 
+/// The absolute path by which a study records `path` (its study file, or a ladder's base).
+/// `/dev/stdin` redirected from a file is that file: recorded by the name it was given, it
+/// would be whatever a later reader's standard input is.
+pub(crate) fn recorded_path(path: &Path) -> PathBuf {
+    let given = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let device = given.starts_with("/dev") || given.starts_with("/proc");
+    let real = path.canonicalize().ok().filter(|p| device && p.is_file());
+    real.unwrap_or(given)
+}
+
 /// A parsed study file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Study {
@@ -205,7 +215,7 @@ impl Study {
         let text = std::fs::read_to_string(path).map_err(|e| cannot(e.to_string()))?;
         let dir = crate::scenario::source_dir(path);
         let mut st = Study::from_str(&text, &path.display().to_string(), &dir)?;
-        st.file = Some(std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));
+        st.file = Some(recorded_path(path));
         // Read once per case: a FIFO or a device there would be waited on, or read forever.
         match crate::output::atomic::not_plain(&st.base, "base scenario") {
             Some(why) => Err(input(format!("{}: {why}", path.display()))),

@@ -230,7 +230,7 @@ pub fn plan(
         description: Some(format!("chute converge {}", scenario.display())),
         file: None,
         // Absolute, as recorded in each level's done.json for `chute collect` from elsewhere.
-        base: std::path::absolute(scenario).unwrap_or_else(|_| scenario.to_path_buf()),
+        base: crate::study::recorded_path(scenario),
         cases: Vec::new(),
     };
     // Each case's scenario with a common name, to find levels that are the same run.

@@ -67,8 +67,7 @@ pub fn parse(text: &str, path: &str) -> Result<CanopyMesh, MeshFileError> {
                     raw.coordinate(y, line)?,
                     raw.coordinate(z, line)?,
                 ];
-                raw.positions.push(p);
-                raw.position_lines.push(line);
+                raw.push_node(p, line)?;
             }
             Section::Triangles => {
                 let f = expect_n::<3>(&raw, &fields, line, "node indices")?;
@@ -76,14 +75,12 @@ pub fn parse(text: &str, path: &str) -> Result<CanopyMesh, MeshFileError> {
                 for (d, s) in t.iter_mut().zip(f) {
                     *d = index(&raw, s, line)?;
                 }
-                raw.faces.push(t);
-                raw.face_lines.push(line);
+                raw.push_face(t, line)?;
             }
             Section::Edges => {
                 let [a, b] = expect_n::<2>(&raw, &fields, line, "node indices")?;
-                raw.rods
-                    .push([index(&raw, a, line)?, index(&raw, b, line)?]);
-                raw.rod_lines.push(line);
+                let r = [index(&raw, a, line)?, index(&raw, b, line)?];
+                raw.push_rod(r, line)?;
             }
         }
     }

@@ -35,8 +35,7 @@ pub fn parse(text: &str, path: &str) -> Result<CanopyMesh, MeshFileError> {
                 for (d, s) in p.iter_mut().zip(&c) {
                     *d = raw.coordinate(s, line)?;
                 }
-                raw.positions.push(p);
-                raw.position_lines.push(line);
+                raw.push_node(p, line)?;
             }
             Some("f") => {
                 let mut poly = Vec::new();
@@ -50,8 +49,7 @@ pub fn parse(text: &str, path: &str) -> Result<CanopyMesh, MeshFileError> {
                     ));
                 }
                 for i in 1..poly.len() - 1 {
-                    raw.faces.push([poly[0], poly[i], poly[i + 1]]);
-                    raw.face_lines.push(line);
+                    raw.push_face([poly[0], poly[i], poly[i + 1]], line)?;
                 }
             }
             _ => {}

@@ -2,6 +2,7 @@
 //! sets derived for imported meshes.
 
 use super::{CanopyMesh, MeshFileError};
+use crate::scenario::limits::{MAX_LINE_NODES, MAX_SHELL_TRIANGLES};
 use engine::shell::{MeshError, TriMesh};
 use std::collections::{BTreeMap, HashMap};
 
@@ -62,24 +63,46 @@ impl RawMesh {
         Ok(x)
     }
 
+    /// Refuse the record at `line` when the file already has `count` of `what`, the most
+    /// the generators allow ([`MAX_SHELL_TRIANGLES`], [`MAX_LINE_NODES`]: memory and
+    /// time): counted as the file is read, so that a long file stops there instead of
+    /// filling memory first.
+    fn room(&self, count: usize, what: &str, max: f64, line: usize) -> Result<(), MeshFileError> {
+        match count as f64 >= max {
+            true => Err(self.line_error(
+                line,
+                format!("more than {max:.0} {what}: a canopy may have at most {max:.0} (memory and time)"),
+            )),
+            false => Ok(()),
+        }
+    }
+
+    /// Add node `p` from `line` (refused past the node limit).
+    pub fn push_node(&mut self, p: [f64; 3], line: usize) -> Result<(), MeshFileError> {
+        self.room(self.positions.len(), "nodes", MAX_SHELL_TRIANGLES, line)?;
+        self.positions.push(p);
+        self.position_lines.push(line);
+        Ok(())
+    }
+
+    /// Add triangle `t` from `line` (refused past the triangle limit).
+    pub fn push_face(&mut self, t: [usize; 3], line: usize) -> Result<(), MeshFileError> {
+        self.room(self.faces.len(), "triangles", MAX_SHELL_TRIANGLES, line)?;
+        self.faces.push(t);
+        self.face_lines.push(line);
+        Ok(())
+    }
+
+    /// Add rod edge `r` from `line` (refused past the line-node limit).
+    pub fn push_rod(&mut self, r: [usize; 2], line: usize) -> Result<(), MeshFileError> {
+        self.room(self.rods.len(), "rod edges", MAX_LINE_NODES, line)?;
+        self.rods.push(r);
+        self.rod_lines.push(line);
+        Ok(())
+    }
+
     /// Check everything and build the canopy mesh with derived node sets.
     pub fn finish(self) -> Result<CanopyMesh, MeshFileError> {
-        use crate::scenario::limits::{MAX_LINE_NODES, MAX_SHELL_TRIANGLES};
-        // The generators' limits, for every part a mesh file sizes (memory and time).
-        for (count, what, max) in [
-            (self.faces.len(), "triangles", MAX_SHELL_TRIANGLES),
-            (self.rods.len(), "rod edges", MAX_LINE_NODES),
-            (self.positions.len(), "nodes", MAX_SHELL_TRIANGLES),
-        ] {
-            if count as f64 > max {
-                return Err(MeshFileError::File {
-                    path: self.path.clone(),
-                    message: format!(
-                        "{count} {what}: a canopy may have at most {max:.0} (memory and time)"
-                    ),
-                });
-            }
-        }
         self.check_duplicates()?;
         let n = self.positions.len();
         let range = |i: usize, line: usize| {
@@ -348,33 +371,35 @@ mod tests {
     use super::*;
 
     /// An imported mesh with more triangles, rod edges or nodes than the generators' limits
-    /// allow is refused as a whole file, before any check that would walk it.
+    /// allow is refused at the record past the limit, as the file is read.
     #[test]
-    fn meshes_beyond_the_model_limits_are_refused() {
-        use crate::scenario::limits::{MAX_LINE_NODES, MAX_SHELL_TRIANGLES};
-        let refused = |raw: RawMesh, what: &str, max: f64| {
-            let n = max as usize + 1;
-            let e = raw.finish().unwrap_err().to_string();
-            let want = format!("m.txt: {n} {what}: a canopy may have at most {max:.0}");
-            assert!(e.contains(&want), "{e}");
+    fn meshes_beyond_the_model_limits_are_refused_as_read() {
+        let mut raw = RawMesh::new("m.txt");
+        let full = |n: f64| n as usize;
+        (raw.faces, raw.face_lines) = (vec![[0, 1, 2]; full(MAX_SHELL_TRIANGLES)], vec![4; 1]);
+        (raw.rods, raw.rod_lines) = (vec![[0, 1]; full(MAX_LINE_NODES)], vec![4; 1]);
+        raw.positions = vec![[0.0; 3]; full(MAX_SHELL_TRIANGLES)];
+        let refused = |e: MeshFileError, what: &str, max: f64| {
+            let want = format!("m.txt:7: more than {max:.0} {what}: a canopy may have at most");
+            assert!(e.to_string().contains(&want), "{e}");
         };
-        let small = || {
-            let mut raw = RawMesh::new("m.txt");
-            raw.positions = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-            raw.position_lines = vec![1, 2, 3];
-            raw
-        };
-        let n = MAX_SHELL_TRIANGLES as usize + 1;
-        let mut raw = small();
-        (raw.faces, raw.face_lines) = (vec![[0, 1, 2]; n], vec![4; n]);
-        refused(raw, "triangles", MAX_SHELL_TRIANGLES);
-        let n = MAX_LINE_NODES as usize + 1;
-        let mut raw = small();
-        (raw.rods, raw.rod_lines) = (vec![[0, 1]; n], vec![4; n]);
-        refused(raw, "rod edges", MAX_LINE_NODES);
-        let n = MAX_SHELL_TRIANGLES as usize + 1;
-        let mut raw = small();
-        (raw.positions, raw.position_lines) = (vec![[0.0; 3]; n], vec![1; n]);
-        refused(raw, "nodes", MAX_SHELL_TRIANGLES);
+        refused(
+            raw.push_face([0, 1, 2], 7).unwrap_err(),
+            "triangles",
+            MAX_SHELL_TRIANGLES,
+        );
+        refused(
+            raw.push_rod([0, 1], 7).unwrap_err(),
+            "rod edges",
+            MAX_LINE_NODES,
+        );
+        refused(
+            raw.push_node([0.0; 3], 7).unwrap_err(),
+            "nodes",
+            MAX_SHELL_TRIANGLES,
+        );
+        // One fewer is taken.
+        raw.faces.pop();
+        raw.push_face([0, 1, 2], 7).unwrap();
     }
 }

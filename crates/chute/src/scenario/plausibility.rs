@@ -81,9 +81,10 @@ pub fn warnings(s: &Scenario) -> Vec<String> {
 }
 
 /// Triangles above which a generated circle canopy is large enough to warn of: about
-/// 100 000 nodes, 300 000 DOFs with mid-edge bending, whose model takes tens of seconds to
-/// build and whose steps take seconds each on a laptop (the bundled canopies: ≤ 11 000).
-pub const LARGE_SHELL_TRIANGLES: f64 = 2.0e5;
+/// 25 000 nodes, 100 000 DOFs with mid-edge bending, whose model needs 0.6–1.3 GB
+/// ([`super::limits::MAX_SHELL_TRIANGLES`]) and whose steps take seconds each on a laptop
+/// (the bundled canopies: ≤ 11 000).
+pub const LARGE_SHELL_TRIANGLES: f64 = 5.0e4;
 
 /// A warning when a generated circle (refined so that its rim holds every load site) has
 /// more than [`LARGE_SHELL_TRIANGLES`] triangles, saying what makes it so.

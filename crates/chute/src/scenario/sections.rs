@@ -124,7 +124,7 @@ section! {
         edge_length_m: f64 = 0.25 => key()
             .unit("m")
             .positive("a length")
-            .note("≤ half the in-plane size, ≤ 2·10⁶ triangles"),
+            .note("≤ half the in-plane size, ≤ 4·10⁵ triangles"),
         /// `shape = "mesh"`: DisMech `.txt` or Wavefront `.obj`; relative paths resolve
         /// against the scenario file's directory (stored absolute)
         #[serde(skip_serializing_if = "Option::is_none")]

@@ -17,6 +17,33 @@ pub(super) struct Gathered {
     pub found: BTreeMap<String, Found>,
     /// Directories left out of the table, and why (a copy of a case under another name).
     pub left_out: Vec<String>,
+    /// The first case recorded with a recipe: where, and the study it names (kept by
+    /// `collect`, which refuses cases of another study; a study's own table keeps its cases).
+    pub first: Option<Option<(PathBuf, StudyOf)>>,
+}
+
+/// The study a recipe names: its study file (a ladder's base) and its case names. Shards of
+/// one study may run from copies in other places (same names) and a study edited in place
+/// keeps its file; a study whose file and case names both differ is another one.
+#[derive(PartialEq)]
+pub(super) struct StudyOf {
+    file: Option<String>,
+    names: Option<Vec<serde_json::Value>>,
+}
+
+impl StudyOf {
+    fn of(recipe: &serde_json::Value) -> StudyOf {
+        let file = recipe["study_file"].as_str().or(recipe["base"].as_str());
+        StudyOf {
+            file: file.map(str::to_string),
+            names: recipe["case_names"].as_array().cloned(),
+        }
+    }
+
+    fn another(&self, other: &StudyOf) -> bool {
+        let known = |a: &StudyOf| a.file.is_some() && a.names.is_some();
+        known(self) && known(other) && self.file != other.file && self.names != other.names
+    }
 }
 
 /// Where one case name was found: each directory with its study, state and study-wide
@@ -82,6 +109,7 @@ impl Gathered {
                 )));
             }
         }
+        refuse_another_study(&mut self.first, &p, recipe.as_ref())?;
         let set = recipe
             .as_ref()
             .map_or("(unrecorded)".to_string(), |r| r["set"].to_string());
@@ -102,6 +130,33 @@ impl Gathered {
         self.by_name.insert(row.case.clone(), row);
         Ok(())
     }
+}
+
+/// For `collect` (`first` is `Some`): refuse the case in `p` when its recipe names another
+/// study than the first case's ([`StudyOf::another`]).
+fn refuse_another_study(
+    first: &mut Option<Option<(PathBuf, StudyOf)>>,
+    p: &Path,
+    recipe: Option<&serde_json::Value>,
+) -> Result<(), AppError> {
+    let (Some(recipe), Some(first)) = (recipe, first) else {
+        return Ok(());
+    };
+    let now = StudyOf::of(recipe);
+    match first {
+            Some((dir, was)) if was.another(&now) => Err(AppError::Input(format!(
+                "`{}` is a case of the study of `{}` and `{}` one of the study of `{}`: one table holds one study's cases; collect the two studies separately",
+                dir.display(),
+                was.file.as_deref().unwrap_or_default(),
+                p.display(),
+                now.file.as_deref().unwrap_or_default(),
+            ))),
+            Some(_) => Ok(()),
+            None => {
+                *first = Some((p.to_path_buf(), now));
+                Ok(())
+            }
+        }
 }
 
 /// The study a case's recipe names, by its file's name and its case names (not the file's

@@ -41,8 +41,22 @@ fn content_digest(study: &Study, set: &[String]) -> Option<String> {
 /// runs ([`content_digest`]).
 fn identity(study: &Study, digest: Option<&str>) -> serde_json::Value {
     let (file, key) = file_of(study);
-    serde_json::json!({ "study": study.name, key: file.display().to_string(), "digest": digest })
+    // The file itself, not the name it was given: `/dev/stdin` (or any link) resolves to
+    // whatever it names at this moment, so a later run through it must not match by name.
+    // A pipe has no path; its record never matches one ([`another`]).
+    let path = file.canonicalize().ok().filter(|p| p.is_file());
+    let shown = path.map_or_else(
+        || format!("{PIPE}{}", file.display()),
+        |p| p.display().to_string(),
+    );
+    let names: Vec<&str> = study.cases.iter().map(|c| c.name.as_str()).collect();
+    serde_json::json!({
+        "study": study.name, key: shown, "digest": digest, "case_names": names,
+    })
 }
+
+/// Prefix of a recorded study file that was not a file (a pipe): never the same path.
+const PIPE: &str = "(not a file) ";
 
 /// Whether a recorded identity is another study than `study`: another name, or the same name
 /// from another file. The same study is the same path (through links: the file edited in
@@ -67,10 +81,17 @@ fn another(recorded: &serde_json::Value, study: &Study, content: Option<&str>) -
     let Some(theirs) = recorded[key].as_str() else {
         return false;
     };
-    let same_path = matches!(
-        (Path::new(theirs).canonicalize(), mine.canonicalize()),
-        (Ok(a), Ok(b)) if a == b
-    );
+    // Recorded paths are resolved already (an older record's through links); a device path
+    // (`/dev/stdin`) resolved again would follow to whatever this run reads.
+    let device = ["/dev/", "/proc/", PIPE]
+        .iter()
+        .any(|p| theirs.starts_with(p));
+    let same_path = !device
+        && mine.canonicalize().is_ok_and(|b| {
+            b.is_file()
+                && (Path::new(theirs) == b
+                    || Path::new(theirs).canonicalize().is_ok_and(|a| a == b))
+        });
     let digest = recorded["digest"].as_str();
     let same_content = digest.is_some_and(|d| content == Some(d));
     let gone_unknown = digest.is_none() && Path::new(theirs).canonicalize().is_err();
@@ -161,6 +182,49 @@ pub(crate) fn claim(out: &Path, study: &Study, set: &[String]) -> Result<(), App
         path.display(),
         out.display()
     )))
+}
+
+/// Mark as changed the rows of `rows` (cases of studies made in code, `recipes`) that are
+/// no level of the ladder that ran last in any of `dirs` (its owner record's case names): a
+/// directory reused by a second ladder of one scenario keeps the first one's levels, whose
+/// inputs each still match their own recipe.
+pub(crate) fn mark_earlier_ladders(
+    dirs: &[std::path::PathBuf],
+    rows: &mut [super::table::Row],
+    recipes: &std::collections::BTreeMap<String, serde_json::Value>,
+) {
+    let levels: Vec<(&std::path::PathBuf, Vec<String>)> = dirs
+        .iter()
+        .filter_map(|d| {
+            let r = read_json(&d.join(OWNER_FILE))?;
+            let names = r["base"]
+                .is_string()
+                .then(|| r["case_names"].as_array().cloned())??;
+            Some((
+                d,
+                names
+                    .iter()
+                    .filter_map(|n| Some(n.as_str()?.to_string()))
+                    .collect(),
+            ))
+        })
+        .collect();
+    if levels.is_empty() {
+        return;
+    }
+    for row in rows.iter_mut() {
+        let ladder = recipes
+            .get(&row.case)
+            .is_some_and(|r| r["study_file"].is_null());
+        if ladder && !levels.iter().any(|(_, names)| names.contains(&row.case)) {
+            let (dir, names) = &levels[0];
+            row.inputs = super::inputs::InputsState::Changed(format!(
+                "a level of an earlier ladder: the ladder that ran last in `{}` has levels {}",
+                dir.display(),
+                names.join(", ")
+            ));
+        }
+    }
 }
 
 /// Create `path` with `bytes`, failing with `AlreadyExists` when it exists: written beside

@@ -314,7 +314,10 @@ pub fn gather(
         Some((st, set)) => Checker::for_invocation(st, set),
         None => Checker::default(),
     };
-    let mut g = super::gathered::Gathered::default();
+    let mut g = super::gathered::Gathered {
+        first: invocation.is_none().then_some(None),
+        ..Default::default()
+    };
     for dir in dirs {
         let entries = std::fs::read_dir(dir).map_err(|e| AppError::io(dir, e))?;
         let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
@@ -330,6 +333,7 @@ pub fn gather(
         recipes,
         found,
         left_out,
+        ..
     } = g;
     let list = super::expected::cases(invocation.map(|(st, _)| st), recipes.values());
     let listed = |name: &String| list.cases.iter().any(|(_, c, _)| c == name);
@@ -374,6 +378,9 @@ pub fn gather(
     }
     let mut rows: Vec<Row> = by_name.into_values().collect();
     rows.sort_by(|a, b| (a.index, &a.case).cmp(&(b.index, &b.case)));
+    if invocation.is_none() {
+        super::owner::mark_earlier_ladders(dirs, &mut rows, &recipes);
+    }
     let mut override_keys: Vec<String> = Vec::new();
     for r in &rows {
         for k in r.overrides.keys() {

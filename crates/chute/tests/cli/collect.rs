@@ -368,6 +368,35 @@ fn two_studies_sharing_a_case_name_are_not_mixed() {
     assert!(!tmp.path().join("m").exists());
 }
 
+/// Two studies of one name from different study files, with no case name in common, are
+/// still two studies: refused (status 2), naming both files.
+#[test]
+fn two_studies_of_one_name_from_two_files_are_not_mixed() {
+    let tmp = table1_study_in("s");
+    let table1 = std::fs::read_to_string(repo().join("studies/table1.toml")).unwrap();
+    let base = repo().join("scenarios/report-rod-200n.toml");
+    let name = table1.lines().find(|l| l.starts_with("name")).unwrap();
+    let other = format!(
+        "{name}\nbase = \"{}\"\n[[case]]\nname = \"x\"\nset = [\"load.weight_n=30\"]\n",
+        base.display()
+    );
+    std::fs::create_dir(tmp.path().join("b")).unwrap();
+    std::fs::write(tmp.path().join("b/table1.toml"), other).unwrap();
+    let set = ["--set", "time.duration_s=0.02"];
+    let o = chute(
+        tmp.path(),
+        &[&["study", "b/table1.toml", "--out", "o"][..], &set].concat(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = chute(tmp.path(), &["collect", "s", "o", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    for want in ["studies/table1.toml", "b/table1.toml", "o/x"] {
+        assert!(err.contains(want), "want `{want}` in: {err}");
+    }
+    assert!(!tmp.path().join("m").exists());
+}
+
 /// A case found in two directories with other states or study-wide overrides is never
 /// dropped without a word: the table shows one (the last complete) and a warning names
 /// both places and which one the table shows.

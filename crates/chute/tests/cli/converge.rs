@@ -399,6 +399,12 @@ fn a_ladder_rerun_into_another_ladders_directory_does_not_drop_a_level() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(err.contains("nodes-81"), "{err}");
+    // The first ladder's own level is kept, but not as current: the directory's ladder is
+    // the second one.
+    let csv = std::fs::read_to_string(tmp.path().join("t/study.csv")).unwrap();
+    let row = csv.lines().find(|l| l.starts_with("nodes-11,")).unwrap();
+    assert!(row.ends_with(",changed"), "{row}");
+    assert!(err.contains("a level of an earlier ladder"), "{err}");
 }
 
 /// A picture that cannot be written is a warning, as for a run (the numbers are in the

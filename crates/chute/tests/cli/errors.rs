@@ -182,7 +182,7 @@ fn missing_file_and_bad_overrides_exit_2() {
     assert_error(
         &chute(dir.path(), &["check", hex.to_str().unwrap(), "--set", &set]),
         2,
-        &["the file is 2.0 GiB; a mesh file is at most 1 GiB"],
+        &["the file is 2048 MiB; a mesh file is at most 256 MiB"],
     );
     std::fs::write(dir.path().join("s.toml"), HEAD).unwrap();
     assert_errors(

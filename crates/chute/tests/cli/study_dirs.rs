@@ -371,6 +371,41 @@ fn a_moved_study_file_keeps_its_directory_and_no_namesake_takes_it() {
     );
 }
 
+/// A study read through `/dev/stdin` is the file it was redirected from: recorded as that
+/// file, so that another file given the same way is another study (not "the same path").
+#[test]
+fn a_study_read_from_standard_input_is_the_file_it_came_from() {
+    let tmp = tempfile::tempdir().unwrap();
+    let base = repo().join("scenarios/report-rod-200n.toml");
+    let study = |weight: u32| {
+        format!(
+            "name = \"w\"\nbase = \"{}\"\n[[case]]\nname = \"a\"\nset = [\"load.weight_n={weight}\", \"time.duration_s=0.02\"]\n",
+            base.display()
+        )
+    };
+    std::fs::write(tmp.path().join("w20.toml"), study(20)).unwrap();
+    std::fs::write(tmp.path().join("w30.toml"), study(30)).unwrap();
+    let run = |file: &str| {
+        let stdin = std::fs::File::open(tmp.path().join(file)).unwrap();
+        let cmd = chute_command()
+            .current_dir(tmp.path())
+            .args(["study", "/dev/stdin", "--out", "out"])
+            .stdin(stdin)
+            .output();
+        cmd.unwrap()
+    };
+    assert_eq!(run("w20.toml").status.code(), Some(0));
+    let owner = std::fs::read_to_string(tmp.path().join("out/.chute-study.json")).unwrap();
+    assert!(
+        owner.contains("w20.toml") && !owner.contains("/dev/stdin"),
+        "{owner}"
+    );
+    let o = run("w30.toml");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let done = std::fs::read_to_string(tmp.path().join("out/a/scenario.resolved.toml")).unwrap();
+    assert!(done.contains("weight_n = 20.0"), "{done}");
+}
+
 /// A temporary of the owner record left by a killed study is removed by the next study there
 /// once it is stale (a minute old); a fresh one (a live claim's) is left alone.
 #[test]

@@ -111,13 +111,13 @@ fn a_large_circle_canopy_is_warned_of_naming_its_cause() {
             .into_iter()
             .find(|w| w.contains("triangles"))
     };
-    let w = warned("load.rim_site_count=1000").expect("warned");
+    let w = warned("load.rim_site_count=600").expect("warned");
     assert!(
-        w.contains("500 rings") && w.contains("load.rim_site_count = 1000"),
+        w.contains("100 rings") && w.contains("load.rim_site_count = 600"),
         "{w}"
     );
-    let w = warned("canopy.edge_length_m=0.005").expect("warned");
-    assert!(w.contains("canopy.edge_length_m = 0.005 m makes it"), "{w}");
+    let w = warned("canopy.edge_length_m=0.01").expect("warned");
+    assert!(w.contains("canopy.edge_length_m = 0.01 m makes it"), "{w}");
     assert_eq!(warned("load.rim_site_count=12"), None);
 }
 
