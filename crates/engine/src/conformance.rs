@@ -28,6 +28,9 @@ use std::ops::Range;
 pub const FD_STEP: f64 = 1e-6;
 /// Largest accepted finite-difference error, relative to the largest analytic entry.
 pub const FD_TOL: f64 = 1e-6;
+/// The step length (s) forces are evaluated for, for the forces that act through a step's
+/// change of momentum ([`crate::force::EvalInput::dt`]).
+pub const CONFORMANCE_DT: f64 = 1e-2;
 /// Round-off tolerance of identities (force-only path, symmetry), relative to the largest
 /// entry.
 pub const ROUNDOFF: f64 = 1e-12;
@@ -165,8 +168,8 @@ fn trials(
     let mut name = String::new();
     for trial in 0..n {
         let mut case = build();
-        let (q_mid, _) = case.draw(&mut rng);
-        case.force.commit(&q_mid);
+        let (q_mid, v_mid) = case.draw(&mut rng);
+        case.force.commit(&q_mid, &v_mid);
         let (q, v) = case.draw(&mut rng);
         worst = worst.max(check(&case, &q, &v, trial));
         name = case.force.name().to_string();
@@ -257,6 +260,7 @@ fn local_forces(f: &dyn Force, q: &[f64], v: &[f64], jacobian: bool) -> Vec<f64>
             v,
             t: 0.0,
             jacobian,
+            dt: CONFORMANCE_DT,
         },
         &mut b,
     );

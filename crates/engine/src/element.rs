@@ -49,8 +49,8 @@ pub trait Element: Send + Sync + 'static {
     /// terms one at a time.
     fn add_energy(&self, _el: &Self::Data, _st: &[usize], _q: &[f64], _acc: &mut f64) {}
 
-    /// Advance the history after an accepted step at `q` (see [`Force::commit`]).
-    fn commit(&mut self, _els: &mut [Self::Data], _stencils: &[usize], _q: &[f64]) {}
+    /// Advance the history after an accepted step at `(q, v)` (see [`Force::commit`]).
+    fn commit(&mut self, _els: &mut [Self::Data], _stencils: &[usize], _q: &[f64], _v: &[f64]) {}
 
     /// Length of [`Element::history`] for a family of `n_elements`.
     fn history_len(&self, _n_elements: usize) -> usize {
@@ -179,8 +179,8 @@ impl<E: Element> Force for Family<E> {
     fn conservative(&self) -> bool {
         E::CONSERVATIVE
     }
-    fn commit(&mut self, q: &[f64]) {
-        self.law.commit(&mut self.data, &self.stencils, q);
+    fn commit(&mut self, q: &[f64], v: &[f64]) {
+        self.law.commit(&mut self.data, &self.stencils, q, v);
     }
     fn history(&self) -> Vec<f64> {
         self.law.history(&self.data)

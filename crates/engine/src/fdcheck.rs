@@ -16,6 +16,7 @@ pub fn dense_eval(force: &dyn Force, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64
             v,
             t: 0.0,
             jacobian: true,
+            dt: crate::conformance::CONFORMANCE_DT,
         },
         &mut blocks,
     );

@@ -22,10 +22,17 @@ pub struct EvalInput<'a> {
     pub v: &'a [f64],
     /// Time at the end of the step (s).
     pub t: f64,
+    /// Length of the step that ends at `q` (s), or [`NO_STEP`] where there is none (statics,
+    /// observers reading a state): a force that acts through the step's change of momentum
+    /// (the air's added mass) then gives none.
+    pub dt: f64,
     /// Whether the Jacobian blocks are wanted. When false, elements may skip computing them
     /// (the assembler will not read them); the force vector must always be written.
     pub jacobian: bool,
 }
+
+/// [`EvalInput::dt`] where no step is taken.
+pub const NO_STEP: f64 = f64::INFINITY;
 
 /// Which Jacobians a force provides.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -235,9 +242,10 @@ pub trait Force: Send + Sync {
     fn conservative(&self) -> bool {
         false
     }
-    /// Called once per accepted time step with the new configuration, so that elements
-    /// with history (DER reference frames) can update it. Not called for rejected steps.
-    fn commit(&mut self, _q: &[f64]) {}
+    /// Called once per accepted time step with the new configuration and velocities, so
+    /// that elements with history (DER reference frames, the air's momentum) can update it.
+    /// Not called for rejected steps.
+    fn commit(&mut self, _q: &[f64], _v: &[f64]) {}
     /// The history that [`Force::commit`] advances, flattened to numbers, for checkpoints:
     /// restoring it with [`Force::restore_history`] on a freshly built force must make every
     /// later evaluation bit-identical. Empty for forces without history.

@@ -76,7 +76,9 @@ pub use stepper::{
 
 /// The types most programs need: `use engine::prelude::*;`.
 pub mod prelude {
-    pub use crate::aero::{Fluid, LinearDrag, NodeDrag, PressureDrag, TriangleDrag};
+    pub use crate::aero::{
+        AddedMass, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
+    };
     pub use crate::element::{Element, Family};
     pub use crate::loads::{DofForces, Gravity, PlanarEdgeMoment, PointForces};
     pub use crate::rod::{RodNetwork, RodSpec, Section, Stretch};

@@ -161,6 +161,7 @@ fn time_one(s: &Subject, jacobian: bool) -> f64 {
         v: &v,
         t: 0.0,
         jacobian,
+        dt: engine::force::NO_STEP,
     };
     let mut blocks = f.new_blocks();
     f.evaluate(&input, &mut blocks);

@@ -5,7 +5,7 @@ use super::load::Plan;
 use crate::scenario::{AtmosphereModel, DragLaw, ModelKind, Scenario, ShellDrag};
 use engine::aero::atmosphere::sutherland;
 use engine::aero::{
-    Fabric, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
+    AddedMass, Fabric, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
 };
 use engine::rod::RodHandles;
 use engine::{ForceId, Model};
@@ -152,6 +152,14 @@ pub fn install(
             out.forces.push(id);
             out.triangle = Some(id);
         }
+    }
+    // Not a drag family: it does no work over a steady descent and observers leave it out.
+    if f.added_mass && s.model.kind == ModelKind::Shell {
+        model.add_force(AddedMass::new(
+            &geo.triangles(),
+            &rest_q(geo, model),
+            &fluid,
+        ));
     }
     // Lines: isotropic node drag with the line diameter as projected width.
     let (mut ln, mut la) = (Vec::new(), Vec::new());

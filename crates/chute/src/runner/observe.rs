@@ -84,6 +84,7 @@ impl Observer {
             v,
             t,
             jacobian: false,
+            dt: engine::force::NO_STEP,
         };
         for (i, blocks) in &mut self.line_forces {
             let force = &b.model.forces[*i];
@@ -128,6 +129,7 @@ impl Observer {
             v,
             t,
             jacobian: false,
+            dt: engine::force::NO_STEP,
         };
         let mut total = [0.0; 3];
         for (k, &id) in b.drag_forces.iter().enumerate() {

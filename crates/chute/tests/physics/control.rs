@@ -57,6 +57,7 @@ fn fly(s: &Scenario) -> (Summary, f64) {
         v: &v,
         t: b.state.t,
         jacobian: false,
+        dt: engine::force::NO_STEP,
     };
     let mut fz = 0.0;
     for &id in &b.drag_forces {

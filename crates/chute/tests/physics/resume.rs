@@ -203,6 +203,15 @@ fn shell_resumed_after_stop_equals_uninterrupted() {
     stop_and_resume(&shell(0.2), 0.14, Some(0.1));
 }
 
+/// The air's added mass keeps history (each panel's air momentum, the lagged mass per area):
+/// the checkpoint carries it, so the resumed run is the uninterrupted one bit for bit.
+#[test]
+fn shell_with_added_mass_resumed_after_stop_equals_uninterrupted() {
+    let mut s = shell(0.2);
+    s.fluid.added_mass = true;
+    stop_and_resume(&s, 0.14, Some(0.1));
+}
+
 #[test]
 fn resume_can_extend_a_finished_run() {
     // A finished run's last periodic checkpoint continues to a longer duration exactly as a

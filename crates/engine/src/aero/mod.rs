@@ -7,6 +7,7 @@
 //! - [`InflationPressure`]: a canopy's trapped-air pressure, uniform coefficient, on every
 //!   triangle's inside normal whatever its angle to the flow;
 //! - [`LinearDrag`]: linear (Stokes-like) drag for low Reynolds numbers;
+//! - [`AddedMass`]: the air a canopy carries along, accelerated with it (potential flow);
 //! - [`Fluid`], [`reynolds`] and [`DragRegime`]: which law applies; [`Profile`]: density and
 //!   viscosity varying with height (uniform, exponential, the 1976 standard atmosphere of
 //!   [`atmosphere`]), taken at each element's own height;
@@ -18,6 +19,7 @@
 //! regularised, `|u|_ε = √(|u|² + ε²)` ([`DEFAULT_EPSILON`]), so Jacobians exist at rest.
 //! See `docs/aero.md`.
 
+mod added_mass;
 pub mod atmosphere;
 mod fluid;
 mod geometry;
@@ -29,6 +31,7 @@ mod pressure;
 mod regularize;
 mod triangle;
 
+pub use added_mass::{AddedMass, AddedMassLaw, AddedMassPanel};
 pub use fluid::{reynolds, DragRegime, Fluid, LocalFluid, Profile};
 pub use inflation::{InflationPressure, InflationPressureLaw};
 pub use linear::{stokes_sphere, LinearDrag, LinearDragLaw};
@@ -54,6 +57,7 @@ pub fn resultant(force: &dyn Force, layout: &DofLayout, q: &[f64], v: &[f64]) ->
             v,
             t: 0.0,
             jacobian: false,
+            dt: crate::force::NO_STEP,
         },
         &mut blocks,
     );

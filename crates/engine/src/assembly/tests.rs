@@ -67,6 +67,7 @@ fn jacobian_input<'a>(q: &'a [f64], v: &'a [f64]) -> EvalInput<'a> {
         v,
         t: 0.0,
         jacobian: true,
+        dt: crate::force::NO_STEP,
     }
 }
 

@@ -91,7 +91,7 @@ impl Element for EdgeMomentLaw {
         *acc += -self.scale * self.moment * self.angle(q, st).0;
     }
 
-    fn commit(&mut self, _: &mut [()], stencils: &[usize], q: &[f64]) {
+    fn commit(&mut self, _: &mut [()], stencils: &[usize], q: &[f64], _v: &[f64]) {
         self.phi_prev = self.angle(q, stencils).0;
     }
 

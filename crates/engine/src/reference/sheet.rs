@@ -49,6 +49,31 @@ pub fn sheet(nx: usize, ny: usize, lx: f64, ly: f64, z0: f64) -> Sheet {
     }
 }
 
+/// A flat disc in the plane z = `z0`, normals +z: a centre node (0) and `n_rim` nodes on the
+/// circle of `radius` (m), joined in a fan of triangles (a regular polygon: its area is
+/// `½ n r² sin(2π/n)`, short of `π r²` by a relative `(2π/n)²/6`).
+pub fn disc(n_rim: usize, radius: f64, z0: f64) -> Sheet {
+    let mut q = vec![0.0, 0.0, z0];
+    for k in 0..n_rim {
+        let a = std::f64::consts::TAU * k as f64 / n_rim as f64;
+        q.extend_from_slice(&[radius * a.cos(), radius * a.sin(), z0]);
+    }
+    let tris: Vec<[usize; 3]> = (0..n_rim)
+        .map(|k| [0, 1 + k, 1 + (k + 1) % n_rim])
+        .collect();
+    let mut edges: Vec<[usize; 2]> = (0..n_rim)
+        .flat_map(|k| [[0, 1 + k], [1 + k, 1 + (k + 1) % n_rim]])
+        .map(|[a, b]| [a.min(b), a.max(b)])
+        .collect();
+    edges.sort_unstable();
+    Sheet {
+        q,
+        tris,
+        edges,
+        n_nodes: n_rim + 1,
+    }
+}
+
 impl Sheet {
     /// Area of triangle `t` (m²).
     pub fn tri_area(&self, t: usize) -> f64 {

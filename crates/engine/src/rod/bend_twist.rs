@@ -364,7 +364,7 @@ impl Element for BendTwistLaw {
 
     /// Advance the history: reference twists on their branch, then time-parallel transport
     /// of every edge's reference frame to its new tangent.
-    fn commit(&mut self, els: &mut [BendTwistData], stencils: &[usize], q: &[f64]) {
+    fn commit(&mut self, els: &mut [BendTwistData], stencils: &[usize], q: &[f64], _v: &[f64]) {
         for (el, st) in els.iter_mut().zip(stencils.chunks(11)) {
             let l = self.local_f64(q, el, st);
             el.ref_twist = reference_twist(&l, el.ref_twist);

@@ -370,6 +370,7 @@ mod tests {
                 v: &[0.0; 9],
                 t,
                 jacobian: false,
+                dt: crate::force::NO_STEP,
             };
             f.evaluate(&input, &mut b);
             b.f[0] // pull on node 0 towards node 1 = k ε

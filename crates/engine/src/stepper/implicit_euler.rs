@@ -64,7 +64,7 @@ impl Trial<'_> {
         state.v.copy_from_slice(self.v);
         state.t += self.dt;
         for f in model.forces.iter_mut() {
-            f.commit(&state.q);
+            f.commit(&state.q, &state.v);
         }
     }
 }

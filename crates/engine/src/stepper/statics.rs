@@ -77,7 +77,7 @@ impl StaticSolver {
             reports.push(newton::run(&mut cx, &tg, &mut q, self.opts.max_iterations)?);
             state.q.copy_from_slice(&q);
             for f in model.forces.iter_mut() {
-                f.commit(&state.q);
+                f.commit(&state.q, &state.v);
             }
         }
         Ok(reports)

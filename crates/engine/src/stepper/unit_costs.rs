@@ -71,6 +71,7 @@ impl ImplicitEuler {
             v: &v,
             t: state.t,
             jacobian: jac,
+            dt,
         };
         let mut out = UnitCosts {
             nnz: ws.asm.nnz(),

@@ -98,6 +98,7 @@ impl Workspace {
             v: &self.v,
             t: tg.t,
             jacobian: jac,
+            dt: 1.0 / tg.c_v,
         };
         let coeffs = Coefficients {
             c_m: tg.c_m,

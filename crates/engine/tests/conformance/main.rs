@@ -14,7 +14,7 @@ mod mesh;
 mod rods;
 
 use engine::aero::{
-    Fabric, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
+    AddedMass, Fabric, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
 };
 use engine::conformance::Case;
 use engine::force::Force;
@@ -151,6 +151,16 @@ drag_matrix! {
     pressure_drag_permeable: Pressure, windy, Some(leaky());
     pressure_drag_permeable_stratified: Pressure, stratified, Some(leaky());
 }
+
+// The air's added mass: committed at one random draw (its lagged μ and each panel's P_n from
+// there, in air whose density varies with height), evaluated at another.
+force_conformance!(added_mass, {
+    let (tris, q) = grid(3, 2.0);
+    Case::new(AddedMass::new(&tris, &q, &stratified()), q)
+        .perturb(0.4)
+        .velocities(10.0)
+        .trials(20)
+});
 
 // One triangle sees the flow at normal speed s: exactly edge-on (s = 0), grazing, and on
 // either side of a reversal. The law is smooth there (F ∝ (N·u)³ N/(A³|u|_ε)).

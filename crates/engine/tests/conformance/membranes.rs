@@ -194,6 +194,7 @@ fn psd_projection_keeps_psd_blocks_and_removes_negative_modes() {
             v: &vec![0.0; x.len()],
             t: 0.0,
             jacobian: true,
+            dt: engine::force::NO_STEP,
         };
         m.evaluate(&input, &mut exact);
         let proj = cst().0.with_psd_projection(true);

@@ -1,6 +1,7 @@
 //! The engine's models against analytic and published references: the standard atmosphere,
 //! drag laws and falling bodies (also through stratified air and permeable fabric), DER cantilevers (small and large deflection, end moment, vibration), rod networks
 //! and frames, shell meshes. Each module documents its reference and its tolerance.
+mod aero_added_mass;
 mod aero_inflation;
 mod aero_laws;
 mod aero_linear;

@@ -50,7 +50,8 @@ fn reference_twist_accumulates_the_holonomy() {
     let mut max_jump = 0.0f64;
     let mut prev = m0;
     for k in 1..=n {
-        bt.commit(&config(TAU * k as f64 / n as f64));
+        let q = config(TAU * k as f64 / n as f64);
+        bt.commit(&q, &vec![0.0; q.len()]);
         let m = bt.ref_twists()[0];
         max_jump = max_jump.max((m - prev).abs());
         prev = m;

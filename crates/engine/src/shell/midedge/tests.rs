@@ -53,6 +53,7 @@ fn two_passes_equal_the_per_face_kernel() {
             v: &v,
             t: 0.0,
             jacobian,
+            dt: crate::force::NO_STEP,
         };
         let mut blocks = force.new_blocks();
         force.evaluate(&input, &mut blocks);
