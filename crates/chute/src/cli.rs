@@ -259,13 +259,24 @@ fn print_plausibility(s: &Scenario) {
     }
 }
 
+/// How long after the first signal another one counts as a second (abort at once): a
+/// terminal's Ctrl-C or a batch system's SIGTERM reaches every process of the group, so a
+/// parent that forwards its copy (`timeout`, `srun`) delivers two within microseconds.
+const SECOND_SIGNAL_AFTER: std::time::Duration = std::time::Duration::from_millis(500);
+
 /// Route Ctrl-C / SIGTERM / SIGHUP to [`crate::runner::STOP`]: runs stop at their next step
-/// with a checkpoint and valid partial outputs. A second signal exits at once (status 130).
+/// with a checkpoint and valid partial outputs. A second signal, at least
+/// [`SECOND_SIGNAL_AFTER`] after the first, exits at once (status 130).
 fn install_stop_handler() {
     static INSTALLED: std::sync::Once = std::sync::Once::new();
+    static FIRST: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
     INSTALLED.call_once(|| {
         let r = ctrlc::set_handler(|| {
+            let first = *FIRST.get_or_init(std::time::Instant::now);
             if api::request_stop() {
+                if first.elapsed() < SECOND_SIGNAL_AFTER {
+                    return;
+                }
                 std::process::exit(130);
             }
             crate::err_line!("\nstopping: writing a checkpoint and partial outputs (signal again to abort)");

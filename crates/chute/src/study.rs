@@ -491,6 +491,12 @@ pub fn run_study_with(
     owner::refuse_other_studys_out(&opts.out_dir, study)?;
     app::ensure_dir(&opts.out_dir)?;
     owner::claim(&opts.out_dir, study, &opts.set)?;
+    // The table is written again when the cases have run. Until then an earlier one would
+    // call complete a case whose directory this run may be replacing; a study killed
+    // meanwhile leaves none, and `chute collect` tells the cases' state.
+    for f in table::TABLE_FILES {
+        let _ = std::fs::remove_file(opts.out_dir.join(f));
+    }
     let jobs = opts
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))

@@ -154,7 +154,7 @@ pub fn install(
         }
     }
     // Not a drag family: it does no work over a steady descent and observers leave it out.
-    if f.added_mass && s.model.kind == ModelKind::Shell {
+    if f.added_mass == Some(true) && s.model.kind == ModelKind::Shell {
         model.add_force(AddedMass::new(
             &geo.triangles(),
             &rest_q(geo, model),

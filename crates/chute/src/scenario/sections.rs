@@ -455,7 +455,10 @@ section! {
         /// the air's added mass on the canopy: each panel carries its share of the
         /// potential-flow mass (8/3) ρ a³ of the disc of the canopy's projected area along its
         /// normal (docs/aero.md §Added mass)
-        added_mass: bool = false => key().only_with(SHELL, ADDED_MASS_SHELL),
+        #[serde(skip_serializing_if = "Option::is_none")]
+        added_mass: Option<bool> = None => key()
+            .only_with(SHELL, ADDED_MASS_SHELL)
+            .default_doc("false"),
     }
 }
 

@@ -22,6 +22,10 @@ pub(super) fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static 
                     false,
                     Some("its summary.json is not verifiably the one its run wrote"),
                 ),
+                Some(dir) if read_other_inputs(dir).is_some() => (
+                    false,
+                    Some("its run read an input file whose bytes differ from the file now"),
+                ),
                 Some(_) => (true, None),
                 None => (false, Some("its summary.json is missing or unreadable")),
             },
@@ -51,4 +55,24 @@ fn abandoned(dir: &Path) -> bool {
 /// Whether `dir` holds a `summary.json` that parses.
 fn has_summary(dir: &Path) -> bool {
     read_json(&dir.join(SUMMARY)).is_some()
+}
+
+/// Why the run recorded in `dir` is not of the input files as they are now: its record's
+/// digest of a file it read (taken when the run read it) differs from the file's bytes now,
+/// or the file cannot be read. A file changed while a study ran reaches the cases that start
+/// later, whose recipe digest was taken before. `None` without a record (nothing to compare).
+pub(super) fn read_other_inputs(dir: &Path) -> Option<String> {
+    let record = crate::output::record::RunRecord::read(dir).ok()??;
+    record.inputs.iter().find_map(|r| {
+        match super::inputs::file_digest(&r.path) {
+            Ok(now) if now == r.digest => None,
+            Ok(now) => Some(format!(
+                "its run read {} `{}` with digest {}, the file now has {now}",
+                r.key,
+                r.path.display(),
+                r.digest
+            )),
+            Err(e) => Some(format!("{} `{}` cannot be read: {e}", r.key, r.path.display())),
+        }
+    })
 }

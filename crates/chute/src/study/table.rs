@@ -293,7 +293,11 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde
         metrics,
         complete: state == CaseState::Complete,
         state,
-        inputs: checker.state(&done),
+        inputs: match checker.state(&done) {
+            InputsState::Current => super::skip::read_other_inputs(case_dir)
+                .map_or(InputsState::Current, InputsState::Changed),
+            other => other,
+        },
     };
     Some((row, Some(done["recipe"].clone())))
 }
@@ -425,13 +429,17 @@ pub(crate) fn refuse_run_dir_out(out: &Path) -> Result<(), AppError> {
     crate::app::out_dir::refuse_inside_run(out)
 }
 
+/// A study's table files in its output directory: CSV and Markdown.
+pub(crate) const TABLE_FILES: [&str; 2] = ["study.csv", "study.md"];
+
 /// Write `study.csv` and `study.md` into `out` (refused when `out` is, or lies inside, a run
 /// directory).
 pub fn write_table(table: &Table, out: &Path) -> Result<(), AppError> {
     refuse_run_dir_out(out)?;
     crate::app::ensure_dir(out)?;
-    write_atomic(&out.join("study.csv"), table.to_csv()?.as_bytes())?;
-    write_atomic(&out.join("study.md"), table.to_markdown().as_bytes())
+    let [csv, md] = TABLE_FILES;
+    write_atomic(&out.join(csv), table.to_csv()?.as_bytes())?;
+    write_atomic(&out.join(md), table.to_markdown().as_bytes())
 }
 
 /// Refuse `--out` that holds cases of its own but is not among `dirs`: its table is that

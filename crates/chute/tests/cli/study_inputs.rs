@@ -129,3 +129,75 @@ fn collect_on_empty_and_run_directories_exits_2_writing_nothing() {
         1
     );
 }
+
+/// A mesh changed while a study ran reaches the cases that start later, whose recipe digest
+/// was taken before: such a case's run records the bytes it read, and a case whose run read
+/// other bytes than the file has now is neither skipped nor `current` (here its record says
+/// it read other bytes, as a case started after the change would).
+#[test]
+fn a_case_whose_run_read_other_bytes_is_rerun_and_not_current() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mesh = repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt");
+    std::fs::copy(&mesh, tmp.path().join("mesh.txt")).unwrap();
+    let scenario = std::fs::read_to_string(repo().join("scenarios/dismech-hex-n6.toml"))
+        .unwrap()
+        .replace(
+            "../crates/chute/data/meshes/hexparachute_n6_python.txt",
+            "mesh.txt",
+        );
+    std::fs::write(tmp.path().join("hex.toml"), scenario).unwrap();
+    let study = "name = \"m\"\nbase = \"hex.toml\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n";
+    std::fs::write(tmp.path().join("m.toml"), study).unwrap();
+    let run = || chute(tmp.path(), &["study", "m.toml", "--out", "o"]);
+    assert_eq!(run().status.code(), Some(0));
+    let record = tmp.path().join("o/a/run.json");
+    let mut r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
+    r["inputs"][0]["digest"] = "fnv1a64:0123456789abcdef".into();
+    std::fs::write(&record, r.to_string()).unwrap();
+    let o = chute(tmp.path(), &["collect", "o"]);
+    let err = stderr(&o);
+    assert!(err.contains("its run read canopy.mesh_file"), "{err}");
+    let csv = std::fs::read_to_string(tmp.path().join("o/study.csv")).unwrap();
+    assert!(csv.lines().nth(1).unwrap().ends_with(",changed"), "{csv}");
+    let o = run();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(err.contains("its run read an input file whose bytes differ"), "{err}");
+}
+
+/// A study that replaces a case first takes down the table that called it complete: killed
+/// while the case runs again, its directory holds no table that says the old run is there.
+#[test]
+fn a_study_killed_while_replacing_a_case_leaves_no_stale_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = repo().join("scenarios/report-rod-200n.toml");
+    let study = |weight: u32, duration: &str| {
+        format!(
+            "name = \"k\"\nbase = \"{}\"\n[[case]]\nname = \"a\"\nset = [\"load.weight_n={weight}\", \"time.duration_s={duration}\"]\n",
+            rod.display()
+        )
+    };
+    std::fs::write(tmp.path().join("k.toml"), study(30, "0.02")).unwrap();
+    let o = chute(tmp.path(), &["study", "k.toml", "--out", "o"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(tmp.path().join("o/study.csv").is_file());
+    // Other inputs, a long run: started, then killed once its case is under way.
+    std::fs::write(tmp.path().join("k.toml"), study(40, "60")).unwrap();
+    let mut child = chute_command()
+        .current_dir(tmp.path())
+        .args(["study", "k.toml", "--out", "o"])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let resolved = tmp.path().join("o/a/scenario.resolved.toml");
+    let t0 = std::time::Instant::now();
+    while !std::fs::read_to_string(&resolved).is_ok_and(|t| t.contains("weight_n = 40.0")) {
+        assert!(t0.elapsed().as_secs() < 60, "the case never started");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(!tmp.path().join("o/study.csv").exists());
+    assert!(!tmp.path().join("o/study.md").exists());
+}

@@ -208,7 +208,7 @@ fn shell_resumed_after_stop_equals_uninterrupted() {
 #[test]
 fn shell_with_added_mass_resumed_after_stop_equals_uninterrupted() {
     let mut s = shell(0.2);
-    s.fluid.added_mass = true;
+    s.fluid.added_mass = Some(true);
     stop_and_resume(&s, 0.14, Some(0.1));
 }
 
