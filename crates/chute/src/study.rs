@@ -88,6 +88,10 @@ pub struct Study {
     /// whether the case is still what the study would run; `None` for a study built in code
     /// (`chute converge`), whose cases are then re-derived from `base` and their own `set`.
     pub file: Option<PathBuf>,
+    /// Digest of the study file's bytes, recorded with each case: `chute collect` tells a
+    /// copy of the study (shards run from copies elsewhere) from another study of the same
+    /// file name and case names. `None` for a study built in code.
+    pub file_digest: Option<String>,
     /// The base scenario file, resolved against the study file's directory.
     pub base: PathBuf,
     /// The cases, in file order (grid: key order, last key fastest).
@@ -216,6 +220,7 @@ impl Study {
         let dir = crate::scenario::source_dir(path);
         let mut st = Study::from_str(&text, &path.display().to_string(), &dir)?;
         st.file = Some(recorded_path(path));
+        st.file_digest = Some(inputs::bytes_digest(text.as_bytes()));
         // Read once per case: a FIFO or a device there would be waited on, or read forever.
         match crate::output::atomic::not_plain(&st.base, "base scenario") {
             Some(why) => Err(input(format!("{}: {why}", path.display()))),
@@ -306,6 +311,7 @@ impl Study {
             name,
             description: f.description,
             file: None,
+            file_digest: None,
             base: dir.join(&f.base),
             cases,
         })

@@ -5,6 +5,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use super::inputs::InputsState;
 use super::table::Row;
 use crate::app::AppError;
 
@@ -29,6 +30,7 @@ pub(super) struct Gathered {
 pub(super) struct StudyOf {
     file: Option<String>,
     names: Option<Vec<serde_json::Value>>,
+    digest: Option<String>,
 }
 
 impl StudyOf {
@@ -37,10 +39,17 @@ impl StudyOf {
         StudyOf {
             file: file.map(str::to_string),
             names: recipe["case_names"].as_array().cloned(),
+            digest: recipe["study_digest"].as_str().map(str::to_string),
         }
     }
 
+    /// Another study: from another file with other bytes (a copy of the same bytes is the
+    /// same study, the same file edited in place too), or, for records without the bytes'
+    /// digest (a ladder, an older chute), from another file with other case names.
     fn another(&self, other: &StudyOf) -> bool {
+        if let (Some(a), Some(b)) = (&self.digest, &other.digest) {
+            return a != b && self.file != other.file;
+        }
         let known = |a: &StudyOf| a.file.is_some() && a.names.is_some();
         known(self) && known(other) && self.file != other.file && self.names != other.names
     }
@@ -50,12 +59,12 @@ impl StudyOf {
 /// overrides, and the one the table shows.
 #[derive(Default)]
 pub(super) struct Found {
-    places: Vec<(PathBuf, Option<String>, &'static str, String)>,
+    places: Vec<(PathBuf, Option<String>, [&'static str; 2], String)>,
     shown: usize,
 }
 
 impl Found {
-    /// A note when the places disagree (other states or overrides): which one the table
+    /// A note when the places disagree (other states, inputs or overrides): which one the table
     /// shows, so that a newer attempt is never dropped without a word.
     pub fn note(&self) -> Option<String> {
         let first = self.places.first()?;
@@ -67,7 +76,9 @@ impl Found {
             let all: Vec<String> = self
                 .places
                 .iter()
-                .map(|(p, _, word, set)| format!("`{}` ({word}, --set {set})", p.display()))
+                .map(|(p, _, [state, inputs], set)| {
+                    format!("`{}` ({state}, inputs {inputs}, --set {set})", p.display())
+                })
                 .collect();
             format!(
                 "case found in {}: the table shows `{}`",
@@ -113,12 +124,12 @@ impl Gathered {
         let set = recipe
             .as_ref()
             .map_or("(unrecorded)".to_string(), |r| r["set"].to_string());
-        found.places.push((p, study, row.state.word(), set));
-        if self
-            .by_name
-            .get(&row.case)
-            .is_some_and(|r| r.complete && !row.complete)
-        {
+        found
+            .places
+            .push((p, study, [row.state.word(), row.inputs.word()], set));
+        // The table shows the last complete and current occurrence, else the last complete.
+        let rank = |r: &Row| (r.complete, r.inputs == InputsState::Current);
+        if self.by_name.get(&row.case).is_some_and(|r| rank(r) > rank(&row)) {
             return Ok(());
         }
         found.shown = found.places.len() - 1;

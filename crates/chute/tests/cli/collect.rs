@@ -395,6 +395,23 @@ fn two_studies_of_one_name_from_two_files_are_not_mixed() {
         assert!(err.contains(want), "want `{want}` in: {err}");
     }
     assert!(!tmp.path().join("m").exists());
+    // The same file name and the same case names, other contents: still another study
+    // (one of its shards, the 2000N case, collected beside Table I).
+    std::fs::create_dir(tmp.path().join("c")).unwrap();
+    let edited = table1
+        .replace("load.weight_n=2000", "load.weight_n=3000")
+        .replace("../scenarios/", &format!("{}/", repo().join("scenarios").display()));
+    std::fs::write(tmp.path().join("c/table1.toml"), edited).unwrap();
+    let shard = ["--shard", "2/3"];
+    let o = chute(
+        tmp.path(),
+        &[&["study", "c/table1.toml", "--out", "o3"][..], &set, &shard].concat(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = chute(tmp.path(), &["collect", "s", "o3", "--out", "m"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("c/table1.toml"), "{err}");
 }
 
 /// A case found in two directories with other states or study-wide overrides is never
