@@ -138,6 +138,13 @@ fn flatten_grid(
         };
         match v {
             toml::Value::Table(sub) => flatten_grid(&key, sub, out)?,
+            // `"load.weight_n"` and `load = { weight_n = … }` are one key: two value lists
+            // for it would be a grid over a key with two values at once.
+            toml::Value::Array(_) if out.iter().any(|(k, _)| *k == key) => {
+                return Err(input(format!(
+                    "grid key `{key}` is given twice (as a dotted key and in a table)"
+                )))
+            }
             toml::Value::Array(a) if !a.is_empty() => out.push((key, a.clone())),
             _ => {
                 return Err(input(format!(
@@ -217,7 +224,8 @@ impl Study {
             _ => {}
         }
         let text = std::fs::read_to_string(path).map_err(|e| cannot(e.to_string()))?;
-        let dir = crate::scenario::source_dir(path);
+        // A relative base is next to the study file: the file `/dev/stdin` reads, not `/dev`.
+        let dir = crate::scenario::source_dir(&recorded_path(path));
         let mut st = Study::from_str(&text, &path.display().to_string(), &dir)?;
         st.file = Some(recorded_path(path));
         st.file_digest = Some(inputs::bytes_digest(text.as_bytes()));
@@ -232,6 +240,14 @@ impl Study {
     /// plain file, so that one replaced by a FIFO since is named instead of waited on (a
     /// study given on the command line may be a pipe; this one has no writer).
     pub fn load_recorded(path: &Path) -> Result<Study, AppError> {
+        // A study read from a pipe recorded the pipe's name: read back, it would be this
+        // process's own standard input.
+        if path.starts_with("/dev") || path.starts_with("/proc") {
+            return Err(input(format!(
+                "study file `{}` was a pipe, which cannot be read back",
+                path.display()
+            )));
+        }
         match crate::output::atomic::not_plain(path, "study file") {
             Some(why) => Err(input(why)),
             None => Study::load(path),

@@ -24,6 +24,10 @@ pub(crate) struct RawMesh {
 /// instead of surfacing later as an implausible mass or terminal speed.
 pub const MAX_COORDINATE_M: f64 = 1e3;
 
+/// Most rod edges that may end at one node: the rods' joint there couples every pair of
+/// them, so its work grows with the square of the count.
+pub const MAX_ROD_DEGREE: usize = 1024;
+
 /// Relative area below which a triangle is degenerate (as in the engine's `TriMesh`).
 const ZERO_AREA_TOL: f64 = 1e-12;
 
@@ -133,12 +137,34 @@ impl RawMesh {
                 ));
             }
         }
+        let mut rods: HashMap<[usize; 2], usize> = HashMap::new();
+        let mut degree: HashMap<usize, usize> = HashMap::new();
         for (r, &line) in self.rods.iter().zip(&self.rod_lines) {
             r.iter().try_for_each(|&i| range(i, line))?;
             if r[0] == r[1] {
                 return Err(
                     self.line_error(line, format!("rod edge joins node {} to itself", r[0] + 1))
                 );
+            }
+            if let Some(first) = rods.insert([r[0].min(r[1]), r[0].max(r[1])], line) {
+                return Err(self.line_error(
+                    line,
+                    format!(
+                        "duplicate rod edge {} {}: line {first} joins the same two nodes; remove one of them",
+                        r[0] + 1,
+                        r[1] + 1
+                    ),
+                ));
+            }
+            for i in r {
+                let d = degree.entry(*i).or_default();
+                *d += 1;
+                if *d > MAX_ROD_DEGREE {
+                    return Err(self.line_error(line, format!(
+                        "node {} is the end of more than {MAX_ROD_DEGREE} rod edges: a joint couples every pair of its rods (a confluence point of the most lines fielded has a few hundred)",
+                        i + 1
+                    )));
+                }
             }
         }
         if self.faces.is_empty() {
@@ -401,5 +427,27 @@ mod tests {
         // One fewer is taken.
         raw.faces.pop();
         raw.push_face([0, 1, 2], 7).unwrap();
+    }
+
+    /// A rod edge given twice (either way round), or more rods at one node than a joint
+    /// takes, is refused at its line.
+    #[test]
+    fn duplicate_rod_edges_and_overloaded_joints_are_refused() {
+        let refused = |rods: Vec<[usize; 2]>, want: &str| {
+            let mut raw = RawMesh::new("m.txt");
+            let n = rods.iter().flatten().max().unwrap() + 1;
+            raw.positions = (0..n.max(3))
+                .map(|i| [i as f64, (i * i) as f64, 0.0])
+                .collect();
+            raw.position_lines = (1..=n.max(3)).collect();
+            (raw.faces, raw.face_lines) = (vec![[0, 1, 2]], vec![n + 2]);
+            raw.rod_lines = (0..rods.len()).map(|k| n + 4 + k).collect();
+            raw.rods = rods;
+            let e = raw.finish().unwrap_err().to_string();
+            assert!(e.contains(want), "want `{want}` in: {e}");
+        };
+        refused(vec![[0, 3], [3, 4], [3, 0]], "duplicate rod edge 4 1: line");
+        let star: Vec<[usize; 2]> = (3..3 + MAX_ROD_DEGREE + 1).map(|i| [0, i]).collect();
+        refused(star, "node 1 is the end of more than 1024 rod edges");
     }
 }

@@ -129,7 +129,11 @@ impl Gathered {
             .push((p, study, [row.state.word(), row.inputs.word()], set));
         // The table shows the last complete and current occurrence, else the last complete.
         let rank = |r: &Row| (r.complete, r.inputs == InputsState::Current);
-        if self.by_name.get(&row.case).is_some_and(|r| rank(r) > rank(&row)) {
+        if self
+            .by_name
+            .get(&row.case)
+            .is_some_and(|r| rank(r) > rank(&row))
+        {
             return Ok(());
         }
         found.shown = found.places.len() - 1;

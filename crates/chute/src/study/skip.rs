@@ -63,8 +63,10 @@ fn has_summary(dir: &Path) -> bool {
 /// later, whose recipe digest was taken before. `None` without a record (nothing to compare).
 pub(super) fn read_other_inputs(dir: &Path) -> Option<String> {
     let record = crate::output::record::RunRecord::read(dir).ok()??;
-    record.inputs.iter().find_map(|r| {
-        match super::inputs::file_digest(&r.path) {
+    record
+        .inputs
+        .iter()
+        .find_map(|r| match super::inputs::file_digest(&r.path) {
             Ok(now) if now == r.digest => None,
             Ok(now) => Some(format!(
                 "its run read {} `{}` with digest {}, the file now has {now}",
@@ -72,7 +74,10 @@ pub(super) fn read_other_inputs(dir: &Path) -> Option<String> {
                 r.path.display(),
                 r.digest
             )),
-            Err(e) => Some(format!("{} `{}` cannot be read: {e}", r.key, r.path.display())),
-        }
-    })
+            Err(e) => Some(format!(
+                "{} `{}` cannot be read: {e}",
+                r.key,
+                r.path.display()
+            )),
+        })
 }

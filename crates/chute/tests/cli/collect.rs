@@ -400,7 +400,10 @@ fn two_studies_of_one_name_from_two_files_are_not_mixed() {
     std::fs::create_dir(tmp.path().join("c")).unwrap();
     let edited = table1
         .replace("load.weight_n=2000", "load.weight_n=3000")
-        .replace("../scenarios/", &format!("{}/", repo().join("scenarios").display()));
+        .replace(
+            "../scenarios/",
+            &format!("{}/", repo().join("scenarios").display()),
+        );
     std::fs::write(tmp.path().join("c/table1.toml"), edited).unwrap();
     let shard = ["--shard", "2/3"];
     let o = chute(

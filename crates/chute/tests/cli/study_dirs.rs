@@ -376,11 +376,12 @@ fn a_moved_study_file_keeps_its_directory_and_no_namesake_takes_it() {
 #[test]
 fn a_study_read_from_standard_input_is_the_file_it_came_from() {
     let tmp = tempfile::tempdir().unwrap();
-    let base = repo().join("scenarios/report-rod-200n.toml");
+    // A relative base, next to the study file (not next to `/dev/stdin`).
+    let rod = repo().join("scenarios/report-rod-200n.toml");
+    std::fs::copy(rod, tmp.path().join("base.toml")).unwrap();
     let study = |weight: u32| {
         format!(
-            "name = \"w\"\nbase = \"{}\"\n[[case]]\nname = \"a\"\nset = [\"load.weight_n={weight}\", \"time.duration_s=0.02\"]\n",
-            base.display()
+            "name = \"w\"\nbase = \"base.toml\"\n[[case]]\nname = \"a\"\nset = [\"load.weight_n={weight}\", \"time.duration_s=0.02\"]\n"
         )
     };
     std::fs::write(tmp.path().join("w20.toml"), study(20)).unwrap();

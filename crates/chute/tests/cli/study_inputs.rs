@@ -163,7 +163,10 @@ fn a_case_whose_run_read_other_bytes_is_rerun_and_not_current() {
     let o = run();
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(0), "{err}");
-    assert!(err.contains("its run read an input file whose bytes differ"), "{err}");
+    assert!(
+        err.contains("its run read an input file whose bytes differ"),
+        "{err}"
+    );
 }
 
 /// A study that replaces a case first takes down the table that called it complete: killed
