@@ -78,34 +78,30 @@ fn ensure_font() -> Result<(), PlotError> {
     ok.then_some(()).ok_or(PlotError::Font)
 }
 
-/// Render with `draw` into a temporary PNG next to `path`, then rename it over `path`.
+/// Render with `draw` into memory and write the PNG to `path` atomically (a random
+/// temporary created exclusively beside it, fsynced and renamed: `write_atomic`).
 pub(crate) fn render_atomic(
     path: &Path,
     size: (u32, u32),
     draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
     ensure_font()?;
-    let name = path
-        .file_name()
-        .ok_or(PlotError::NoData("path has no file name"))?;
-    // The `.png` extension tells plotters which encoder to use.
-    let tmp = path.with_file_name(format!(
-        ".{}.{}.tmp.png",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
+    let (w, h) = size;
+    let mut rgb = vec![0u8; 3 * w as usize * h as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
         root.fill(&WHITE).map_err(de)?;
         draw(&root)?;
-        root.present().map_err(de)
-    })();
-    // The temporary never outlives a failure, of the drawing or of the rename.
-    let result = result.and_then(|()| Ok(std::fs::rename(&tmp, path)?));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+        root.present().map_err(de)?;
     }
-    result
+    let mut png_bytes = Vec::new();
+    let mut enc = png::Encoder::new(&mut png_bytes, w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.write_header()
+        .and_then(|mut wr| wr.write_image_data(&rgb))
+        .map_err(de)?;
+    Ok(super::atomic::write_atomic(path, &png_bytes)?)
 }
 
 /// (min, max) of the finite values, padded by 5 % (or a small absolute pad when flat).
