@@ -512,6 +512,8 @@ pub fn run_study_with(
     table::refuse_run_dir_out(&opts.out_dir)?;
     owner::refuse_other_studys_out(&opts.out_dir, study)?;
     app::ensure_dir(&opts.out_dir)?;
+    let held = owner::hold_out(&opts.out_dir)?;
+    table::refuse_run_dir_out(&opts.out_dir)?;
     owner::claim(&opts.out_dir, study, &opts.set)?;
     // The table is written again when the cases have run. Until then an earlier one would
     // call complete a case whose directory this run may be replacing; a study killed
@@ -519,6 +521,7 @@ pub fn run_study_with(
     for f in table::TABLE_FILES {
         let _ = std::fs::remove_file(opts.out_dir.join(f));
     }
+    drop(held);
     let jobs = opts
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
@@ -542,11 +545,13 @@ pub fn run_study_with(
     for (case, status) in selected.iter().zip(statuses) {
         cases.push((case.name.clone(), status?));
     }
+    let held = owner::hold_out(&opts.out_dir)?;
     let table = table::gather(
         std::slice::from_ref(&opts.out_dir),
         Some((study, opts.set.as_slice())),
     )?;
     table::write_table(&table, &opts.out_dir)?;
+    drop(held);
     Ok(StudyReport { cases, table })
 }
 

@@ -278,3 +278,35 @@ fn remove_stale_temporaries(out: &Path) {
         }
     }
 }
+
+/// Hold `out`'s run lock (as `chute run` holds the directory it writes) while a study claims it
+/// or writes its table, so that a run started at the same moment takes the directory wholly
+/// before (the study then sees its files) or after (the run then sees the study's record), and
+/// a table is gathered and written by one process at a time. Shards of one study hold it for
+/// milliseconds, so a busy lock is tried again for up to [`HOLD_WAIT`]; a run holds it
+/// longer, and the study is then refused naming it. `None` when this process holds it already.
+pub(crate) fn hold_out(out: &Path) -> Result<Option<crate::output::lock::RunLock>, AppError> {
+    use crate::output::lock::{LockError, RunLock};
+    if RunLock::held_here(out) {
+        return Ok(None);
+    }
+    let start = std::time::Instant::now();
+    loop {
+        match RunLock::acquire(out) {
+            Ok(l) => return Ok(Some(l)),
+            Err(LockError::Busy { .. }) if start.elapsed() < HOLD_WAIT => {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            // A full disk: no reserve fits. The cases then say for themselves why they
+            // cannot run, and the table why it cannot be written.
+            Err(e @ LockError::Unwritable { .. }) => {
+                crate::err_line!("warning: {e}: the directory is not locked");
+                return Ok(None);
+            }
+            Err(e) => return Err(e.into()),
+        }
+    }
+}
+
+/// How long [`hold_out`] waits for a study's output directory held by another process.
+const HOLD_WAIT: std::time::Duration = std::time::Duration::from_secs(3);

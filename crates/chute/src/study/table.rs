@@ -477,6 +477,13 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
         refuse_run_dir(d)?;
     }
     refuse_other_study_out(dirs, out)?;
+    // Gathered and written under the directory's lock, as a study writes its own table: a
+    // table gathered before a study's last write never replaces it. (A directory still to be
+    // made has no study writing in it.)
+    let held = match out.is_dir() {
+        true => super::owner::hold_out(out)?,
+        false => None,
+    };
     let table = gather(dirs, None)?;
     if table.rows.is_empty() || !dirs.iter().any(|d| holds_a_case(d)) {
         let shown: Vec<String> = dirs.iter().map(|d| format!("`{}`", d.display())).collect();
@@ -486,6 +493,7 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
         )));
     }
     write_table(&table, out)?;
+    drop(held);
     Ok(table)
 }
 

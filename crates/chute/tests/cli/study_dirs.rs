@@ -464,3 +464,34 @@ fn a_study_and_a_ladder_of_the_same_name_do_not_share_a_directory() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("l/a/done.json"), "{}", stderr(&o));
 }
+
+/// A `chute run` and a `chute study` started together on one new directory: the study
+/// claims the directory under its run lock, so one of them has it wholly and the other is
+/// refused; a study's cases never end up inside a run directory.
+#[test]
+fn a_run_and_a_study_started_together_never_share_a_directory() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_other_study(tmp.path());
+    let rod = repo().join("scenarios/report-rod-200n.toml");
+    let short = ["--set", "time.duration_s=0.02", "--set", "canopy.nodes=21"];
+    for i in 0..8 {
+        let out = format!("d{i}");
+        let spawn = |args: Vec<&str>| {
+            chute_command()
+                .current_dir(tmp.path())
+                .args(args)
+                .args(short)
+                .stderr(std::process::Stdio::null())
+                .spawn()
+                .unwrap()
+        };
+        let mut run = spawn(vec!["run", rod.to_str().unwrap(), "--out", &out, "--quiet"]);
+        std::thread::sleep(std::time::Duration::from_millis(i as u64 * 3));
+        let mut study = spawn(vec!["study", "other.toml", "--out", &out]);
+        let (r, s) = (run.wait().unwrap(), study.wait().unwrap());
+        let dir = tmp.path().join(&out);
+        let mixed = dir.join("run.json").exists() && dir.join("20N").exists();
+        assert!(!mixed, "try {i}: run {r}, study {s}: both wrote `{out}`");
+        assert!(r.success() != s.success(), "try {i}: run {r}, study {s}");
+    }
+}
