@@ -98,7 +98,7 @@ fn awkward_file_names_give_safe_default_names() {
 #[test]
 fn schema_matches_the_serde_structs() {
     let text = "[model]\nkind = \"shell\"\n[canopy]\nshape = \"mesh\"\nmesh_file = \"m.obj\"\nimperfection_m = 0.01\n\
-                [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\n[time]\nnewton_tolerance_n = 1.0\nadaptive = true\n\
+                [fluid]\nlinear_drag_coefficient_n_s_m = 1.0\nadded_mass = true\n[time]\nnewton_tolerance_n = 1.0\nadaptive = true\n\
                 newton_relative_tolerance = 0.1\nnewton_step_tolerance_m = 1e-9\nnewton_strict = true\n\
                 newton_rescue_stages = false\nerror_norm = \"max\"\nerror_filter = false\n\
                 [lines]\ndrag_coefficient = 1.0\n[shell]\nmembrane = \"fabric\"\nbending = \"midedge\"\n\
