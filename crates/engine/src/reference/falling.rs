@@ -6,7 +6,7 @@
 //! straight horizontal strip (nodes + springs) with [`NodeDrag`]. Masses are lumped in
 //! proportion to each node's drag area, so every node has the same drag per unit mass and the
 //! body translates rigidly: the springs carry no load and the 1-DOF solution is exact.
-use super::sheet::sheet;
+use super::sheet::{sheet, Sheet};
 use super::RefError;
 use crate::aero::{Fluid, InflationPressure, NodeDrag, PressureDrag, TriangleDrag};
 use crate::loads::Gravity;
@@ -109,14 +109,7 @@ pub fn build(body: Body, fluid: &Fluid) -> (Model, State) {
     match body {
         Body::SheetTriangle | Body::SheetPressure | Body::SheetInflation => {
             let s = sheet(3, 3, 1.0, 1.0, 10.0);
-            let mut model = Model::new(DofLayout::new(s.n_nodes, 0));
-            let masses = s.lumped_masses(m);
-            for (i, &mi) in masses.iter().enumerate() {
-                model.add_node_mass(i, mi);
-            }
-            let nodes: Vec<usize> = (0..s.n_nodes).collect();
-            model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -G]));
-            model.add_force(s.springs(K_SPRING));
+            let mut model = rigid_sheet(&s, m);
             match body {
                 Body::SheetTriangle => model.add_force(TriangleDrag::new(&s.tris, CD, CD_T, fluid)),
                 Body::SheetPressure => model.add_force(PressureDrag::new(&s.tris, &s.q, CD, fluid)),
@@ -126,6 +119,20 @@ pub fn build(body: Body, fluid: &Fluid) -> (Model, State) {
         }
         Body::StripNodes => strip(11, 2.0, 0.5, m, 10.0, fluid),
     }
+}
+
+/// A model of sheet `s` of mass `m` (kg) lumped in proportion to area, with gravity and
+/// stiff edge springs ([`K_SPRING`]): a body that a uniform force per area moves rigidly.
+pub fn rigid_sheet(s: &Sheet, m: f64) -> Model {
+    let mut model = Model::new(DofLayout::new(s.n_nodes, 0));
+    let masses = s.lumped_masses(m);
+    for (i, &mi) in masses.iter().enumerate() {
+        model.add_node_mass(i, mi);
+    }
+    let nodes: Vec<usize> = (0..s.n_nodes).collect();
+    model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -G]));
+    model.add_force(s.springs(K_SPRING));
+    model
 }
 
 /// A straight horizontal strip along x at height `z0` (m): `n` nodes over `len` (m), width

@@ -11,7 +11,7 @@
 //! `m_a` (from the projected area, `∝ A^{3/2}`) by 1.5 times that.
 use engine::aero::{AddedMass, Fluid, TriangleDrag};
 use engine::loads::Gravity;
-use engine::reference::falling::{tanh_law, G, K_SPRING};
+use engine::reference::falling::{rigid_sheet, tanh_law, G, K_SPRING};
 use engine::reference::sheet::disc;
 use engine::rod::Stretch;
 use engine::{DofLayout, ImplicitEuler, Model, NewtonOptions, State};
@@ -35,14 +35,7 @@ fn disc_added_mass(rho: f64, a: f64) -> f64 {
 fn falling_disc(a: f64, m: f64, c_d: f64, added: bool) -> (Model, State) {
     let s = disc(N_RIM, a, 10.0);
     let air = Fluid::air();
-    let mut model = Model::new(DofLayout::new(s.n_nodes, 0));
-    let masses = s.lumped_masses(m);
-    for (i, &mi) in masses.iter().enumerate() {
-        model.add_node_mass(i, mi);
-    }
-    let nodes: Vec<usize> = (0..s.n_nodes).collect();
-    model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -G]));
-    model.add_force(s.springs(K_SPRING));
+    let mut model = rigid_sheet(&s, m);
     if c_d > 0.0 {
         model.add_force(TriangleDrag::new(&s.tris, c_d, 0.0, &air));
     }
