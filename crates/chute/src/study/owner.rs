@@ -109,11 +109,21 @@ fn refused(out: &Path, recorded: &serde_json::Value, by: &Path, study: &Study) -
         out.display(),
         by.display(),
         study.name,
-        match by.ends_with(OWNER_FILE) {
+        match by.ends_with(OWNER_FILE) && maybe_moved(recorded, study) {
             true => format!(" (or, if it is the same study moved and then edited or given other study-wide --set, remove `{OWNER_FILE}` there)"),
             false => String::new(),
         }
     ))
+}
+
+/// Whether the recorded study could be `study` moved: of the same kind (a study file, or a
+/// ladder's base) and its recorded file no longer there. Otherwise removing the record only
+/// leads to the cases' records refusing the study again.
+fn maybe_moved(recorded: &serde_json::Value, study: &Study) -> bool {
+    let (_, key) = file_of(study);
+    recorded[key]
+        .as_str()
+        .is_some_and(|f| !f.starts_with(PIPE) && !Path::new(f).exists())
 }
 
 /// Refuse to run `study` into `out` when `out` holds cases another study recorded (their

@@ -492,7 +492,13 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
             shown.join(", ")
         )));
     }
-    write_table(&table, out)?;
+    // A directory made for this table and left empty by a failed write (a full disk) is
+    // removed, as a run removes the directory it made.
+    let created = crate::app::out_dir::first_missing(out);
+    if let Err(e) = write_table(&table, out) {
+        crate::app::out_dir::remove_created(out, created.as_deref());
+        return Err(e);
+    }
     drop(held);
     Ok(table)
 }

@@ -103,9 +103,12 @@ fn a_study_on_a_full_file_system_goes_through_every_case() {
     let script = format!(
         "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && \
          dd if=/dev/zero of=small/fill bs=4096 2>/dev/null; \
-         {} study '{study}' --out small/S --set time.duration_s=0.02 2> out/err; echo $? > out/code; \
-         ls -A small/S > out/left 2>/dev/null",
-        bin.display()
+         {bin} study '{study}' --out small/S --set time.duration_s=0.02 2> out/err; echo $? > out/code; \
+         ls -A small/S > out/left 2>/dev/null; \
+         {bin} study '{study}' --out out/T --set time.duration_s=0.02 2>/dev/null; \
+         {bin} collect out/T --out small/C 2>/dev/null; echo $? > out/ccode; \
+         if [ -e small/C ]; then echo left > out/cleft; fi",
+        bin = bin.display()
     );
     let o = in_small_tmpfs(tmp.path(), &script);
     let code = std::fs::read_to_string(tmp.path().join("out/code"))
@@ -125,6 +128,13 @@ fn a_study_on_a_full_file_system_goes_through_every_case() {
             "{case}'s directory is left: {left}"
         );
     }
+    // A table that cannot be written: an I/O error, and the directory made for it is gone.
+    let ccode = std::fs::read_to_string(tmp.path().join("out/ccode")).unwrap();
+    assert_eq!(ccode.trim(), "1");
+    assert!(
+        !tmp.path().join("out/cleft").exists(),
+        "collect left its --out"
+    );
 }
 
 /// A run that fits on the disk but whose pictures do not: each missing picture is named in a

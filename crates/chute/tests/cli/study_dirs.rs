@@ -369,6 +369,13 @@ fn a_moved_study_file_keeps_its_directory_and_no_namesake_takes_it() {
         "{}",
         stderr(&o)
     );
+    // The recorded study file is still there, so it was not moved: no advice to remove the
+    // record (which would only meet the cases' own records).
+    assert!(
+        !stderr(&o).contains("remove `.chute-study.json`"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 /// A study read through `/dev/stdin` is the file it was redirected from: recorded as that
