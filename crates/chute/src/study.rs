@@ -88,10 +88,11 @@ pub struct Study {
     /// whether the case is still what the study would run; `None` for a study built in code
     /// (`chute converge`), whose cases are then re-derived from `base` and their own `set`.
     pub file: Option<PathBuf>,
-    /// Digest of the study file's bytes, recorded with each case: `chute collect` tells a
-    /// copy of the study (shards run from copies elsewhere) from another study of the same
-    /// file name and case names. `None` for a study built in code.
-    pub file_digest: Option<String>,
+    /// Digest of everything the study runs (every case's inputs under the study-wide
+    /// overrides), recorded with each case: `chute collect` tells a copy of the study (shards
+    /// run from copies elsewhere) from another study of the same file name and case names,
+    /// whatever made them differ (the study file, the base, a mesh). Set when the study runs.
+    pub content_digest: Option<String>,
     /// The base scenario file, resolved against the study file's directory.
     pub base: PathBuf,
     /// The cases, in file order (grid: key order, last key fastest).
@@ -228,7 +229,6 @@ impl Study {
         let dir = crate::scenario::source_dir(&recorded_path(path));
         let mut st = Study::from_str(&text, &path.display().to_string(), &dir)?;
         st.file = Some(recorded_path(path));
-        st.file_digest = Some(inputs::bytes_digest(text.as_bytes()));
         // Read once per case: a FIFO or a device there would be waited on, or read forever.
         match crate::output::atomic::not_plain(&st.base, "base scenario") {
             Some(why) => Err(input(format!("{}: {why}", path.display()))),
@@ -327,7 +327,7 @@ impl Study {
             name,
             description: f.description,
             file: None,
-            file_digest: None,
+            content_digest: None,
             base: dir.join(&f.base),
             cases,
         })
@@ -514,7 +514,11 @@ pub fn run_study_with(
     app::ensure_dir(&opts.out_dir)?;
     let held = owner::hold_out(&opts.out_dir)?;
     table::refuse_run_dir_out(&opts.out_dir)?;
-    owner::claim(&opts.out_dir, study, &opts.set)?;
+    let study = &Study {
+        content_digest: owner::content_digest(study, &opts.set),
+        ..study.clone()
+    };
+    owner::claim(&opts.out_dir, study)?;
     // The table is written again when the cases have run. Until then an earlier one would
     // call complete a case whose directory this run may be replacing; a study killed
     // meanwhile leaves none, and `chute collect` tells the cases' state.

@@ -229,7 +229,7 @@ pub fn plan(
         name: safe_name(name),
         description: Some(format!("chute converge {}", scenario.display())),
         file: None,
-        file_digest: None,
+        content_digest: None,
         // Absolute, as recorded in each level's done.json for `chute collect` from elsewhere.
         base: crate::study::recorded_path(scenario),
         cases: Vec::new(),

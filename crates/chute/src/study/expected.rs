@@ -21,7 +21,7 @@ pub(super) fn recipe(study: &Study, set: &[String], case: &Case) -> serde_json::
     let names: Vec<&str> = study.cases.iter().map(|c| c.name.as_str()).collect();
     serde_json::json!({
         "study_file": study.file.as_deref().map(text),
-        "study_digest": study.file_digest,
+        "content": study.content_digest,
         "base": text(&study.base),
         "set": set,
         "case_set": case.set,

@@ -39,13 +39,13 @@ impl StudyOf {
         StudyOf {
             file: file.map(str::to_string),
             names: recipe["case_names"].as_array().cloned(),
-            digest: recipe["study_digest"].as_str().map(str::to_string),
+            digest: recipe["content"].as_str().map(str::to_string),
         }
     }
 
-    /// Another study: from another file with other bytes (a copy of the same bytes is the
-    /// same study, the same file edited in place too), or, for records without the bytes'
-    /// digest (a ladder, an older chute), from another file with other case names.
+    /// Another study: from another file running other inputs (a copy running the same
+    /// inputs is the same study, the same file edited in place too), or, for records
+    /// without the content digest (an older chute), from another file with other case names.
     fn another(&self, other: &StudyOf) -> bool {
         if let (Some(a), Some(b)) = (&self.digest, &other.digest) {
             return a != b && self.file != other.file;

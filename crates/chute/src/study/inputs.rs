@@ -187,7 +187,7 @@ impl<'a> Checker<'a> {
                     name: done["study"].as_str().unwrap_or_default().to_string(),
                     description: None,
                     file: None,
-                    file_digest: None,
+                    content_digest: None,
                     base: PathBuf::from(base),
                     cases: Vec::new(),
                 };

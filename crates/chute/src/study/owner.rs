@@ -28,7 +28,7 @@ fn file_of(study: &Study) -> (&Path, &'static str) {
 /// digest of each of its cases (the scenario with the overrides, and every file it reads, by
 /// bytes), so that a copy of the study file whose relative `base` or mesh resolves to other
 /// files is another study.
-fn content_digest(study: &Study, set: &[String]) -> Option<String> {
+pub(super) fn content_digest(study: &Study, set: &[String]) -> Option<String> {
     let mut parts = Vec::with_capacity(study.cases.len());
     for c in &study.cases {
         let s = study.scenario(c, set).ok()?;
@@ -154,10 +154,11 @@ pub(crate) fn refuse_other_studys_out(out: &Path, study: &Study) -> Result<(), A
 }
 
 /// Take `out` (which exists) for `study`, or refuse it (exit 2) when another study holds it.
-pub(crate) fn claim(out: &Path, study: &Study, set: &[String]) -> Result<(), AppError> {
+/// `study.content_digest` is what it runs ([`content_digest`]).
+pub(crate) fn claim(out: &Path, study: &Study) -> Result<(), AppError> {
     let path = out.join(OWNER_FILE);
     remove_stale_temporaries(out);
-    let content = content_digest(study, set);
+    let content = study.content_digest.clone();
     let now = identity(study, content.as_deref());
     let mine = format!("{now:#}\n");
     match create_exclusive(out, &path, mine.as_bytes()) {

@@ -415,6 +415,21 @@ fn two_studies_of_one_name_from_two_files_are_not_mixed() {
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("c/table1.toml"), "{err}");
+    // Byte-identical study files whose relative base is another scenario: other inputs,
+    // another study (each copy runs one shard).
+    let rod = std::fs::read_to_string(repo().join("scenarios/report-rod-200n.toml")).unwrap();
+    let copy = "name = \"k\"\nbase = \"base.toml\"\n[[case]]\nname = \"a\"\n[[case]]\nname = \"b\"\nset = [\"canopy.nodes=31\"]\n";
+    for (d, shard, weight) in [("k1", "0/2", "200.0"), ("k2", "1/2", "77.0")] {
+        std::fs::create_dir(tmp.path().join(d)).unwrap();
+        std::fs::write(tmp.path().join(d).join("k.toml"), copy).unwrap();
+        let base = rod.replace("weight_n = 200.0", &format!("weight_n = {weight}"));
+        std::fs::write(tmp.path().join(d).join("base.toml"), base).unwrap();
+        let (study, out) = (format!("{d}/k.toml"), format!("{d}/o"));
+        let args = [&["study", &study, "--out", &out, "--shard", shard][..], &set].concat();
+        assert_eq!(chute(tmp.path(), &args).status.code(), Some(0));
+    }
+    let o = chute(tmp.path(), &["collect", "k1/o", "k2/o", "--out", "km"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
 
 /// A case found in two directories with other states or study-wide overrides is never
