@@ -148,14 +148,17 @@ pub fn run_converge_with(
     })
 }
 
+/// A ladder's reports in its output directory (taken down with the table while the ladder
+/// runs: `study::run_study_with`).
+pub(crate) const REPORT_FILES: [&str; 3] =
+    ["convergence.json", "convergence.md", "convergence.png"];
+
 /// Write the JSON and Markdown reports (an error when they cannot be), and the picture (a
 /// warning when it cannot be, as a run's pictures: the numbers are in the reports).
 fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<Vec<String>, AppError> {
-    let json = out.join("convergence.json");
+    let [json, md, png] = REPORT_FILES.map(|f| out.join(f));
     study::write_atomic(&json, report.to_json().as_bytes())?;
-    let md = out.join("convergence.md");
     study::write_atomic(&md, report.to_markdown().as_bytes())?;
-    let png = out.join("convergence.png");
     Ok(match plot::convergence_plot(&png, &report.studies) {
         Ok(()) => Vec::new(),
         Err(e) => {

@@ -3,12 +3,14 @@
 //! (`study.csv`, `study.md`) with a row per case. See `docs/cli.md` §study.
 
 mod case_run;
+mod collect;
 mod expected;
 mod gathered;
 pub mod inputs;
 mod owner;
 mod resumed;
 mod skip;
+pub(crate) use skip::read_other_inputs;
 mod table;
 
 use std::collections::BTreeMap;
@@ -20,9 +22,10 @@ use serde::Deserialize;
 use crate::app::{self, AppError, RunOptions, RunOutcome};
 use crate::scenario::source::line_col;
 use crate::scenario::Scenario;
+pub use collect::collect;
 pub use inputs::InputsState;
 pub use resumed::mark_resumed;
-pub use table::{collect, gather, write_atomic, write_table, CaseState, Row, Table};
+pub use table::{gather, write_atomic, write_table, CaseState, Row, Table};
 
 /// The summary metrics that become table columns, after the case name and its overrides.
 pub const METRIC_COLUMNS: &[&str] = &[
@@ -125,6 +128,12 @@ fn label(v: &toml::Value) -> String {
     }
 }
 
+/// Whether two grid keys name one scenario key (parts compared without surrounding spaces,
+/// as the overrides read them).
+fn same_key(a: &str, b: &str) -> bool {
+    a.split('.').map(str::trim).eq(b.split('.').map(str::trim))
+}
+
 /// Flatten a `[grid]` table (quoted dotted keys or nested tables) into (key, values).
 fn flatten_grid(
     prefix: &str,
@@ -141,7 +150,7 @@ fn flatten_grid(
             toml::Value::Table(sub) => flatten_grid(&key, sub, out)?,
             // `"load.weight_n"` and `load = { weight_n = … }` are one key: two value lists
             // for it would be a grid over a key with two values at once.
-            toml::Value::Array(_) if out.iter().any(|(k, _)| *k == key) => {
+            toml::Value::Array(_) if out.iter().any(|(k, _)| same_key(k, &key)) => {
                 return Err(input(format!(
                     "grid key `{key}` is given twice (as a dotted key and in a table)"
                 )))
@@ -242,7 +251,8 @@ impl Study {
     pub fn load_recorded(path: &Path) -> Result<Study, AppError> {
         // A study read from a pipe recorded the pipe's name: read back, it would be this
         // process's own standard input.
-        if path.starts_with("/dev") || path.starts_with("/proc") {
+        let pipe = ["/dev/stdin", "/dev/fd", "/proc"];
+        if pipe.iter().any(|p| path.starts_with(p)) {
             return Err(input(format!(
                 "study file `{}` was a pipe, which cannot be read back",
                 path.display()
@@ -522,8 +532,15 @@ pub fn run_study_with(
     // The table is written again when the cases have run. Until then an earlier one would
     // call complete a case whose directory this run may be replacing; a study killed
     // meanwhile leaves none, and `chute collect` tells the cases' state.
-    for f in table::TABLE_FILES {
-        let _ = std::fs::remove_file(opts.out_dir.join(f));
+    // A ladder's reports likewise (`chute converge` runs its levels as a study).
+    for f in table::TABLE_FILES
+        .iter()
+        .chain(&crate::converge::REPORT_FILES)
+    {
+        let p = opts.out_dir.join(f);
+        if std::fs::symlink_metadata(&p).is_ok_and(|m| m.is_file()) {
+            let _ = std::fs::remove_file(p);
+        }
     }
     drop(held);
     let jobs = opts

@@ -116,6 +116,16 @@ pub fn read_level(dir: &Path, inputs: Option<&str>) -> LevelResult {
             };
         }
     }
+    // A level whose run read other bytes of an input file than the file has now (a mesh
+    // edited while the ladder ran, then put back) is not a level of these inputs.
+    if let (Some(why), Some(_)) = (crate::study::read_other_inputs(dir), &done) {
+        return LevelResult {
+            status: "failed".into(),
+            message: Some(format!("{why}: run the ladder again")),
+            values: vec![None; QUANTITIES.len()],
+            wall_time_s: None,
+        };
+    }
     let summary = read_json(&dir.join("summary.json"));
     let status = done
         .as_ref()

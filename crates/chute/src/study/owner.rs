@@ -293,9 +293,9 @@ fn remove_stale_temporaries(out: &Path) {
 /// Hold `out`'s run lock (as `chute run` holds the directory it writes) while a study claims it
 /// or writes its table, so that a run started at the same moment takes the directory wholly
 /// before (the study then sees its files) or after (the run then sees the study's record), and
-/// a table is gathered and written by one process at a time. Shards of one study hold it for
-/// milliseconds, so a busy lock is tried again for up to [`HOLD_WAIT`]; a run holds it
-/// longer, and the study is then refused naming it. `None` when this process holds it already.
+/// a table is gathered and written by one process at a time. Studies, ladders and collect
+/// hold it only while they claim or gather, so a lock busy with one of those is tried again
+/// for up to [`HOLD_WAIT`]; a run holds it for its whole length, and the study is refused. `None` when this process holds it already.
 pub(crate) fn hold_out(out: &Path) -> Result<Option<crate::output::lock::RunLock>, AppError> {
     use crate::output::lock::{LockError, RunLock};
     if RunLock::held_here(out) {
@@ -304,13 +304,23 @@ pub(crate) fn hold_out(out: &Path) -> Result<Option<crate::output::lock::RunLock
     let start = std::time::Instant::now();
     loop {
         match RunLock::acquire(out) {
-            Ok(l) => return Ok(Some(l)),
-            Err(LockError::Busy { .. }) if start.elapsed() < HOLD_WAIT => {
+            Ok(l) => {
+                // The reserve proves a run's directory writable; a table needs the room.
+                crate::output::lock::free_reserve(out);
+                return Ok(Some(l));
+            }
+            // Another study, ladder or collect gathering its table: wait for it.
+            Err(LockError::Busy { ref holder, .. })
+                if [" study ", " converge ", " collect "]
+                    .iter()
+                    .any(|c| holder.contains(c))
+                    && start.elapsed() < HOLD_WAIT =>
+            {
                 std::thread::sleep(std::time::Duration::from_millis(20));
             }
             // A full disk: no reserve fits. The cases then say for themselves why they
             // cannot run, and the table why it cannot be written.
-            Err(e @ LockError::Unwritable { .. }) => {
+            Err(e @ LockError::Unwritable { .. }) if unwritable_for_room(&e) => {
                 crate::err_line!("warning: {e}: the directory is not locked");
                 return Ok(None);
             }
@@ -319,5 +329,13 @@ pub(crate) fn hold_out(out: &Path) -> Result<Option<crate::output::lock::RunLock
     }
 }
 
-/// How long [`hold_out`] waits for a study's output directory held by another process.
-const HOLD_WAIT: std::time::Duration = std::time::Duration::from_secs(3);
+/// Whether a lock that could not be written failed for want of room (not, say, a link
+/// planted at the lock's name, which is refused as for any writer).
+fn unwritable_for_room(e: &crate::output::lock::LockError) -> bool {
+    use crate::output::lock::LockError;
+    matches!(e, LockError::Unwritable { source, .. } if crate::app::out_dir::is_full(source))
+}
+
+/// How long [`hold_out`] waits for a study's output directory held by another study's,
+/// ladder's or collect's table: a gather reads every case's record, seconds for thousands.
+const HOLD_WAIT: std::time::Duration = std::time::Duration::from_secs(600);

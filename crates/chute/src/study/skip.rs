@@ -58,15 +58,22 @@ fn has_summary(dir: &Path) -> bool {
 }
 
 /// Why the run recorded in `dir` is not of the input files as they are now: its record's
-/// digest of a file it read (taken when the run read it) differs from the file's bytes now,
-/// or the file cannot be read. A file changed while a study ran reaches the cases that start
-/// later, whose recipe digest was taken before. `None` without a record (nothing to compare).
-pub(super) fn read_other_inputs(dir: &Path) -> Option<String> {
+/// digest of a file it read (taken when the run read it) differs from the bytes at that path
+/// now, or the file there is not a plain file (a FIFO would be waited on). A file changed
+/// while a study ran reaches the cases that start later, whose recipe digest was taken
+/// before. A recorded path that no longer exists (the project moved) says nothing: the
+/// case's recipe digest, of the files it would read now, judges those. `None` without a
+/// record (nothing to compare).
+pub(crate) fn read_other_inputs(dir: &Path) -> Option<String> {
     let record = crate::output::record::RunRecord::read(dir).ok()??;
-    record
-        .inputs
-        .iter()
-        .find_map(|r| match super::inputs::file_digest(&r.path) {
+    record.inputs.iter().find_map(|r| {
+        if std::fs::symlink_metadata(&r.path).is_err() {
+            return None;
+        }
+        if let Some(why) = crate::output::atomic::not_plain(&r.path, &r.key) {
+            return Some(why);
+        }
+        match super::inputs::file_digest(&r.path) {
             Ok(now) if now == r.digest => None,
             Ok(now) => Some(format!(
                 "its run read {} `{}` with digest {}, the file now has {now}",
@@ -79,5 +86,6 @@ pub(super) fn read_other_inputs(dir: &Path) -> Option<String> {
                 r.key,
                 r.path.display()
             )),
-        })
+        }
+    })
 }

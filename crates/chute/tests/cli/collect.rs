@@ -425,7 +425,11 @@ fn two_studies_of_one_name_from_two_files_are_not_mixed() {
         let base = rod.replace("weight_n = 200.0", &format!("weight_n = {weight}"));
         std::fs::write(tmp.path().join(d).join("base.toml"), base).unwrap();
         let (study, out) = (format!("{d}/k.toml"), format!("{d}/o"));
-        let args = [&["study", &study, "--out", &out, "--shard", shard][..], &set].concat();
+        let args = [
+            &["study", &study, "--out", &out, "--shard", shard][..],
+            &set,
+        ]
+        .concat();
         assert_eq!(chute(tmp.path(), &args).status.code(), Some(0));
     }
     let o = chute(tmp.path(), &["collect", "k1/o", "k2/o", "--out", "km"]);

@@ -522,3 +522,43 @@ fn a_ladder_of_another_scenario_file_never_replaces_one_of_the_same_name() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("holds the cases of study"), "{err}");
 }
+
+/// A level whose run read other bytes of its mesh than the file has now (edited while the
+/// ladder ran, then put back) is reported failed, never fitted; here its run's record says so,
+/// and the shard that re-reads it reports it with the reason.
+#[test]
+fn a_level_whose_run_read_another_mesh_is_not_fitted() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mesh = repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt");
+    std::fs::copy(&mesh, tmp.path().join("mesh.txt")).unwrap();
+    let scenario = std::fs::read_to_string(repo().join("scenarios/dismech-hex-n6.toml"))
+        .unwrap()
+        .replace(
+            "../crates/chute/data/meshes/hexparachute_n6_python.txt",
+            "mesh.txt",
+        );
+    std::fs::write(tmp.path().join("hex.toml"), scenario).unwrap();
+    let ladder = |extra: &[&str]| {
+        let args = ["hex.toml", "--vary", "time.dt_s=0.01,0.005", "--out", "cv"];
+        let args: Vec<&str> = args.iter().chain(extra).copied().collect();
+        converge(
+            tmp.path(),
+            &[&args[..], &["--set", "time.duration_s=0.02"]].concat(),
+        )
+    };
+    assert_eq!(ladder(&[]).status.code(), Some(0));
+    let record = tmp.path().join("cv/dt_s-0.005/run.json");
+    let mut r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
+    r["inputs"][0]["digest"] = "fnv1a64:0123456789abcdef".into();
+    std::fs::write(&record, r.to_string()).unwrap();
+    let o = ladder(&["--shard", "0/2"]);
+    let report = std::fs::read_to_string(tmp.path().join("cv/convergence.md")).unwrap();
+    assert!(report.contains("its run read canopy.mesh_file"), "{report}");
+    assert_eq!(
+        o.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

@@ -502,3 +502,29 @@ fn a_run_and_a_study_started_together_never_share_a_directory() {
         assert!(r.success() != s.success(), "try {i}: run {r}, study {s}");
     }
 }
+
+/// A link planted at the lock's name in a study's output directory is refused as for a run
+/// (status 2), not taken for a full disk and written through.
+#[test]
+fn a_linked_lock_file_in_a_studys_directory_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_other_study(tmp.path());
+    std::fs::create_dir(tmp.path().join("o")).unwrap();
+    std::fs::write(tmp.path().join("victim"), "mine").unwrap();
+    std::os::unix::fs::symlink("../victim", tmp.path().join("o/.chute.lock")).unwrap();
+    let args = [
+        "study",
+        "other.toml",
+        "--out",
+        "o",
+        "--set",
+        "time.duration_s=0.02",
+    ];
+    let o = chute(tmp.path(), &args);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(tmp.path().join("victim")).unwrap(),
+        "mine"
+    );
+    assert!(!tmp.path().join("o/20N").exists());
+}

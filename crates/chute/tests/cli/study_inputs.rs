@@ -204,3 +204,36 @@ fn a_study_killed_while_replacing_a_case_leaves_no_stale_table() {
     assert!(!tmp.path().join("o/study.csv").exists());
     assert!(!tmp.path().join("o/study.md").exists());
 }
+
+/// A project moved elsewhere: the mesh its cases' runs recorded is no longer at its old path,
+/// but the same bytes are at the new one, so the study skips its cases (content, not path).
+#[test]
+fn a_moved_project_with_a_mesh_keeps_its_cases() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = tmp.path().join("p");
+    std::fs::create_dir(&p).unwrap();
+    let mesh = repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt");
+    std::fs::copy(&mesh, p.join("mesh.txt")).unwrap();
+    let scenario = std::fs::read_to_string(repo().join("scenarios/dismech-hex-n6.toml"))
+        .unwrap()
+        .replace(
+            "../crates/chute/data/meshes/hexparachute_n6_python.txt",
+            "mesh.txt",
+        );
+    std::fs::write(p.join("hex.toml"), scenario).unwrap();
+    let study = "name = \"m\"\nbase = \"hex.toml\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n";
+    std::fs::write(p.join("m.toml"), study).unwrap();
+    let o = chute(&p, &["study", "m.toml", "--out", "o"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::rename(&p, tmp.path().join("moved")).unwrap();
+    let o = chute(
+        &tmp.path().join("moved"),
+        &["study", "m.toml", "--out", "o"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("already complete, skipped"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -442,6 +442,10 @@ fn study_file_errors() {
         "grid key `load.weight_n` is given twice",
     );
     check(
+        "base = \"b.toml\"\n[grid]\n\"load.weight_n\" = [1, 2]\nload.\"weight_n \" = [3]\n",
+        "is given twice",
+    );
+    check(
         "base = \"b.toml\"\n[grid]\n\"a.b\" = [1]\n[[case]]\nname = \"x\"\n",
         "not both",
     );
