@@ -74,9 +74,11 @@ pub fn run_converge_with(
             "{why}: a ladder reads its scenario once per level; give a file"
         )));
     }
-    let name = crate::scenario::Scenario::load(&opts.scenario, &opts.set)?.name;
+    // `/dev/stdin` redirected from a file is that file: its relative mesh is next to it.
+    let scenario = &study::recorded_path(&opts.scenario);
+    let name = crate::scenario::Scenario::load(scenario, &opts.set)?.name;
     let plan = plan::plan(
-        &opts.scenario,
+        scenario,
         &format!("{name}-converge"),
         &opts.vary,
         &opts.set,
