@@ -77,12 +77,7 @@ pub fn run_converge_with(
     // `/dev/stdin` redirected from a file is that file: its relative mesh is next to it.
     let scenario = &study::recorded_path(&opts.scenario);
     let name = crate::scenario::Scenario::load(scenario, &opts.set)?.name;
-    let plan = plan::plan(
-        scenario,
-        &format!("{name}-converge"),
-        &opts.vary,
-        &opts.set,
-    )?;
+    let plan = plan::plan(scenario, &format!("{name}-converge"), &opts.vary, &opts.set)?;
     let study_opts = StudyOptions {
         out_dir: opts.out_dir.clone(),
         jobs: opts.jobs,

@@ -547,6 +547,27 @@ fn a_level_whose_run_read_another_mesh_is_not_fitted() {
         )
     };
     assert_eq!(ladder(&[]).status.code(), Some(0));
+    // The same ladder through `/dev/stdin` reads the relative mesh next to the real file.
+    let o = chute_command()
+        .current_dir(tmp.path())
+        .args([
+            "converge",
+            "/dev/stdin",
+            "--vary",
+            "time.dt_s=0.01,0.005",
+            "--out",
+            "cs",
+        ])
+        .args(["--set", "time.duration_s=0.02"])
+        .stdin(std::fs::File::open(tmp.path().join("hex.toml")).unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let record = tmp.path().join("cv/dt_s-0.005/run.json");
     let mut r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
