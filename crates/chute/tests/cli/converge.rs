@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::common::{chute_command, repo, FAILING_PULL_SETS};
+use crate::common::{chute_command, hex_project, repo, FAILING_PULL_SETS};
 
 fn rod() -> String {
     repo()
@@ -529,15 +529,7 @@ fn a_ladder_of_another_scenario_file_never_replaces_one_of_the_same_name() {
 #[test]
 fn a_level_whose_run_read_another_mesh_is_not_fitted() {
     let tmp = tempfile::tempdir().unwrap();
-    let mesh = repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt");
-    std::fs::copy(&mesh, tmp.path().join("mesh.txt")).unwrap();
-    let scenario = std::fs::read_to_string(repo().join("scenarios/dismech-hex-n6.toml"))
-        .unwrap()
-        .replace(
-            "../crates/chute/data/meshes/hexparachute_n6_python.txt",
-            "mesh.txt",
-        );
-    std::fs::write(tmp.path().join("hex.toml"), scenario).unwrap();
+    hex_project(tmp.path());
     let ladder = |extra: &[&str]| {
         let args = ["hex.toml", "--vary", "time.dt_s=0.01,0.005", "--out", "cv"];
         let args: Vec<&str> = args.iter().chain(extra).copied().collect();

@@ -137,15 +137,7 @@ fn collect_on_empty_and_run_directories_exits_2_writing_nothing() {
 #[test]
 fn a_case_whose_run_read_other_bytes_is_rerun_and_not_current() {
     let tmp = tempfile::tempdir().unwrap();
-    let mesh = repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt");
-    std::fs::copy(&mesh, tmp.path().join("mesh.txt")).unwrap();
-    let scenario = std::fs::read_to_string(repo().join("scenarios/dismech-hex-n6.toml"))
-        .unwrap()
-        .replace(
-            "../crates/chute/data/meshes/hexparachute_n6_python.txt",
-            "mesh.txt",
-        );
-    std::fs::write(tmp.path().join("hex.toml"), scenario).unwrap();
+    hex_project(tmp.path());
     let study = "name = \"m\"\nbase = \"hex.toml\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n";
     std::fs::write(tmp.path().join("m.toml"), study).unwrap();
     let run = || chute(tmp.path(), &["study", "m.toml", "--out", "o"]);
@@ -212,15 +204,7 @@ fn a_moved_project_with_a_mesh_keeps_its_cases() {
     let tmp = tempfile::tempdir().unwrap();
     let p = tmp.path().join("p");
     std::fs::create_dir(&p).unwrap();
-    let mesh = repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt");
-    std::fs::copy(&mesh, p.join("mesh.txt")).unwrap();
-    let scenario = std::fs::read_to_string(repo().join("scenarios/dismech-hex-n6.toml"))
-        .unwrap()
-        .replace(
-            "../crates/chute/data/meshes/hexparachute_n6_python.txt",
-            "mesh.txt",
-        );
-    std::fs::write(p.join("hex.toml"), scenario).unwrap();
+    hex_project(&p);
     let study = "name = \"m\"\nbase = \"hex.toml\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n";
     std::fs::write(p.join("m.toml"), study).unwrap();
     let o = chute(&p, &["study", "m.toml", "--out", "o"]);

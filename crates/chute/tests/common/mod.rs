@@ -364,3 +364,17 @@ pub const SUMMARY_FIELDS: [&str; 52] = [
     "solver",
     "warnings",
 ];
+
+/// The DisMech hexagonal parachute as a project of its own in `dir`: `hex.toml` reading
+/// `mesh.txt` beside it (a copy of the bundled mesh), so that tests can move or edit both.
+pub fn hex_project(dir: &Path) {
+    let mesh = repo().join("crates/chute/data/meshes/hexparachute_n6_python.txt");
+    std::fs::copy(&mesh, dir.join("mesh.txt")).unwrap();
+    let scenario = std::fs::read_to_string(repo().join("scenarios/dismech-hex-n6.toml"))
+        .unwrap()
+        .replace(
+            "../crates/chute/data/meshes/hexparachute_n6_python.txt",
+            "mesh.txt",
+        );
+    std::fs::write(dir.join("hex.toml"), scenario).unwrap();
+}
