@@ -91,7 +91,7 @@ pub fn run_converge_with(
     let digest = |case: &str| {
         let c = plan.study.cases.iter().find(|c| c.name == case)?;
         let s = plan.study.scenario(c, &opts.set).ok()?;
-        study::inputs::digest(&s).ok()
+        Some((study::inputs::digest(&s).ok()?, s.input_files()))
     };
     // Why a level this invocation selected was not run (its directory unusable, a full
     // disk), when it was not for a stop or another shard.
@@ -103,13 +103,22 @@ pub fn run_converge_with(
             _ => None,
         })
     };
+    // Whether this invocation ran the level (or found it finished) itself.
+    let ran_here = |case: &str| {
+        ran.cases.iter().any(|(name, st)| {
+            name == case && matches!(st, study::CaseStatus::Complete | study::CaseStatus::Skipped)
+        })
+    };
     let mut studies = Vec::new();
     let (mut failures, mut pending) = (Vec::new(), 0);
     for ladder in &plan.ladders {
         let results: Vec<analyse::LevelResult> = ladder
             .levels
             .iter()
-            .map(|l| analyse::read_level(&opts.out_dir.join(&l.case), digest(&l.case).as_deref()))
+            .map(|l| {
+                let r = analyse::read_level(&opts.out_dir.join(&l.case), digest(&l.case).as_ref());
+                changed_while_running(r, ran_here(&l.case))
+            })
             .collect();
         for (l, r) in ladder.levels.iter().zip(&results) {
             match r.status.as_str() {
@@ -145,6 +154,21 @@ pub fn run_converge_with(
     })
 }
 
+/// A level this invocation ran whose record is of other inputs than the ladder's now: its
+/// inputs (a mesh) changed while the ladder ran, not an earlier ladder's level.
+fn changed_while_running(r: analyse::LevelResult, ran_here: bool) -> analyse::LevelResult {
+    match r.status.as_str() {
+        "not run" if ran_here => analyse::LevelResult {
+            status: "failed".into(),
+            message: Some(
+                "its inputs changed while the ladder ran (an input file was edited): run the ladder again".into(),
+            ),
+            ..r
+        },
+        _ => r,
+    }
+}
+
 /// A ladder's reports in its output directory (taken down with the table while the ladder
 /// runs: `study::run_study_with`).
 pub(crate) const REPORT_FILES: [&str; 3] =
@@ -169,4 +193,26 @@ fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<Vec<String>, 
             vec![format!("{} was not written: {e}{earlier}", png.display())]
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A level that this invocation ran but whose record is of other inputs than the
+    /// ladder's now (a mesh edited while it ran, and left so) is failed, not "not run" (which
+    /// a shard's or an earlier ladder's level is, and which exits 0).
+    #[test]
+    fn a_level_run_here_with_other_inputs_is_failed() {
+        let not_run = || analyse::LevelResult {
+            status: "not run".into(),
+            message: Some("its directory holds a run of other inputs".into()),
+            values: Vec::new(),
+            wall_time_s: None,
+        };
+        let r = changed_while_running(not_run(), true);
+        assert_eq!(r.status, "failed");
+        assert!(r.message.unwrap().contains("changed while the ladder ran"));
+        assert_eq!(changed_while_running(not_run(), false).status, "not run");
+    }
 }

@@ -580,10 +580,14 @@ pub fn run_study_with(
 /// `out_dir`: its `done.json` says complete for exactly the inputs it would run now (for a
 /// progress total; a case whose scenario cannot be built counts as to be run).
 pub fn case_is_current(study: &Study, case: &Case, set: &[String], out_dir: &Path) -> bool {
-    let Ok(digest) = study.scenario(case, set).and_then(|s| inputs::digest(&s)) else {
+    let Ok(s) = study.scenario(case, set) else {
         return false;
     };
-    skip::recorded_run(&out_dir.join(&case.name).join(DONE_FILE), &digest).0
+    let Ok(digest) = inputs::digest(&s) else {
+        return false;
+    };
+    let done = out_dir.join(&case.name).join(DONE_FILE);
+    skip::recorded_run(&done, &digest, &s.input_files()).0
 }
 
 /// The digest of the `summary.json` a case's run wrote, so that one replaced later (another

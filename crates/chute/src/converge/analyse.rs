@@ -99,7 +99,13 @@ fn read_json(path: &Path) -> Option<serde_json::Value> {
 }
 
 /// Read `dir/done.json` and `dir/summary.json`.
-pub fn read_level(dir: &Path, inputs: Option<&str>) -> LevelResult {
+/// `expected`: the inputs digest the level has in this ladder and the files it reads now.
+pub fn read_level(
+    dir: &Path,
+    expected: Option<&(String, Vec<(&'static str, std::path::PathBuf)>)>,
+) -> LevelResult {
+    let inputs = expected.map(|(d, _)| d.as_str());
+    let files = expected.map_or(&[][..], |(_, f)| f.as_slice());
     let done = read_json(&dir.join(DONE_FILE));
     // A level recorded for other inputs (an earlier ladder's, under other `--set`) is not a
     // level of this ladder: it is not run yet, whatever it holds.
@@ -118,7 +124,7 @@ pub fn read_level(dir: &Path, inputs: Option<&str>) -> LevelResult {
     }
     // A level whose run read other bytes of an input file than the file has now (a mesh
     // edited while the ladder ran, then put back) is not a level of these inputs.
-    if let (Some(why), Some(_)) = (crate::study::read_other_inputs(dir), &done) {
+    if let (Some(why), Some(_)) = (crate::study::read_other_inputs(dir, files), &done) {
         return LevelResult {
             status: "failed".into(),
             message: Some(format!("{why}: run the ladder again")),

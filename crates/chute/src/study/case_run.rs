@@ -35,7 +35,8 @@ pub(super) fn run_case(
         Ok(CaseStatus::Skipped)
     };
     // A first look, without the lock: a stop begins no case that is not already done.
-    let (current, _) = skip::recorded_run(&done, digest);
+    let files = scenario.input_files();
+    let (current, _) = skip::recorded_run(&done, digest, &files);
     let current = current && !opts.force;
     if !current && crate::runner::STOP.load(std::sync::atomic::Ordering::SeqCst) {
         // Stopped (Ctrl-C, SIGTERM) before this case began: it is not run, and gets no
@@ -55,7 +56,7 @@ pub(super) fn run_case(
         }
     };
     // Judged again under the lock: another study may have finished the case meanwhile.
-    let (current, stale) = skip::recorded_run(&done, digest);
+    let (current, stale) = skip::recorded_run(&done, digest, &files);
     if current && !opts.force {
         adopt(study, case, opts, &dir);
         return skipped();

@@ -63,7 +63,11 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
         drop(held);
         Ok(table)
     })();
-    if result.is_err() {
+    if result.is_err() && created.is_some() {
+        // Half a table (the CSV written, the Markdown not) in a directory made for it.
+        for f in super::table::TABLE_FILES {
+            let _ = std::fs::remove_file(out.join(f));
+        }
         crate::app::out_dir::remove_created(out, created.as_deref());
     }
     result

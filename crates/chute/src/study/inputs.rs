@@ -130,13 +130,15 @@ impl<'a> Checker<'a> {
         }
     }
 
-    /// Compare a case's `done.json` with what its study would run now.
-    pub fn state(&mut self, done: &serde_json::Value) -> InputsState {
+    /// Compare a case's `done.json` (in its directory `dir`) with what its study would run
+    /// now, and the files its run read with the files it would read now.
+    pub fn state(&mut self, done: &serde_json::Value, dir: &std::path::Path) -> InputsState {
         let Some(recorded) = done["inputs"].as_str() else {
             return InputsState::Unknown("its done.json records no inputs (an older chute)".into());
         };
         match self.current(done) {
-            Ok(now) if now == recorded => InputsState::Current,
+            Ok((now, files)) if now == recorded => super::skip::read_other_inputs(dir, &files)
+                .map_or(InputsState::Current, InputsState::Changed),
             Ok(_) => InputsState::Changed(
                 "its recorded inputs differ from what the study would run now".into(),
             ),
@@ -145,7 +147,8 @@ impl<'a> Checker<'a> {
         }
     }
 
-    fn current(&mut self, done: &serde_json::Value) -> Result<String, Stale> {
+    /// The inputs digest of what the case's study would run now, and the files it reads.
+    fn current(&mut self, done: &serde_json::Value) -> Result<(String, InputFiles), Stale> {
         let recipe = &done["recipe"];
         let strings = |v: &serde_json::Value| -> Vec<String> {
             let items = v.as_array().map(Vec::as_slice).unwrap_or_default();
@@ -202,9 +205,13 @@ impl<'a> Checker<'a> {
         // A base scenario that no longer loads is other inputs than the ones recorded.
         let scenario = scenario.map_err(|e| Stale::Changed(e.to_string()))?;
         // An input file that cannot be read says nothing about whether it changed.
-        digest(&scenario).map_err(|e| Stale::Unknown(e.to_string()))
+        let d = digest(&scenario).map_err(|e| Stale::Unknown(e.to_string()))?;
+        Ok((d, scenario.input_files()))
     }
 }
+
+/// The input files (key, path) a scenario reads.
+type InputFiles = Vec<(&'static str, PathBuf)>;
 
 enum Stale {
     Changed(String),

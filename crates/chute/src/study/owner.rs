@@ -302,6 +302,7 @@ pub(crate) fn hold_out(out: &Path) -> Result<Option<crate::output::lock::RunLock
         return Ok(None);
     }
     let start = std::time::Instant::now();
+    let mut said = false;
     loop {
         match RunLock::acquire(out) {
             Ok(l) => {
@@ -316,6 +317,12 @@ pub(crate) fn hold_out(out: &Path) -> Result<Option<crate::output::lock::RunLock
                     .any(|c| holder.contains(c))
                     && start.elapsed() < HOLD_WAIT =>
             {
+                if !std::mem::replace(&mut said, true) {
+                    crate::err_line!(
+                        "waiting for `{}`: {holder} is writing its table",
+                        out.display()
+                    );
+                }
                 std::thread::sleep(std::time::Duration::from_millis(20));
             }
             // A full disk: no reserve fits. The cases then say for themselves why they

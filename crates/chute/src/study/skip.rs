@@ -8,7 +8,12 @@ use crate::output::run_files::SUMMARY;
 
 /// Whether a case directory holds a complete run of exactly these inputs, and if it holds a
 /// complete run of others, why it is re-run.
-pub(super) fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static str>) {
+/// `files` are the input files (key, path) the case reads now.
+pub(super) fn recorded_run(
+    done: &Path,
+    digest: &str,
+    files: &[(&'static str, std::path::PathBuf)],
+) -> (bool, Option<&'static str>) {
     match read_json(done) {
         Some(d) if d["status"] == "complete" => match d["inputs"].as_str() {
             // Its table row comes from the summary: a case without a readable one is run
@@ -22,7 +27,7 @@ pub(super) fn recorded_run(done: &Path, digest: &str) -> (bool, Option<&'static 
                     false,
                     Some("its summary.json is not verifiably the one its run wrote"),
                 ),
-                Some(dir) if read_other_inputs(dir).is_some() => (
+                Some(dir) if read_other_inputs(dir, files).is_some() => (
                     false,
                     Some("its run read an input file whose bytes differ from the file now"),
                 ),
@@ -57,18 +62,26 @@ fn has_summary(dir: &Path) -> bool {
     read_json(&dir.join(SUMMARY)).is_some()
 }
 
-/// Why the run recorded in `dir` is not of the input files as they are now: its record's
-/// digest of a file it read (taken when the run read it) differs from the bytes at that path
-/// now, or the file there is not a plain file (a FIFO would be waited on). A file changed
-/// while a study ran reaches the cases that start later, whose recipe digest was taken
-/// before. A recorded path that no longer exists (the project moved) says nothing: the
-/// case's recipe digest, of the files it would read now, judges those. `None` without a
-/// record (nothing to compare).
-pub(crate) fn read_other_inputs(dir: &Path) -> Option<String> {
+/// Why the run recorded in `dir` is not of the input files the case reads now (`files`, key
+/// and path, as its scenario resolves them now): its record's digest of a file it read
+/// (taken when the run read it) differs from the bytes of the file of that key now, or that
+/// file is not a plain file (a FIFO would be waited on). A file changed while a study ran
+/// reaches the cases that start later, whose recipe digest was taken before. Files are
+/// matched by key, not by the recorded path, so a moved project is judged by content. `None`
+/// without a record (nothing to compare).
+pub(crate) fn read_other_inputs(
+    dir: &Path,
+    files: &[(&'static str, std::path::PathBuf)],
+) -> Option<String> {
     let record = crate::output::record::RunRecord::read(dir).ok()??;
-    record.inputs.iter().find_map(|r| {
+    record.inputs.iter().find_map(|recorded| {
+        let now = files.iter().find(|(k, _)| *k == recorded.key);
+        let r = crate::output::record::InputFile {
+            path: now.map_or_else(|| recorded.path.clone(), |(_, p)| p.clone()),
+            ..recorded.clone()
+        };
         if std::fs::symlink_metadata(&r.path).is_err() {
-            return None;
+            return Some(format!("{} `{}` is gone", r.key, r.path.display()));
         }
         if let Some(why) = crate::output::atomic::not_plain(&r.path, &r.key) {
             return Some(why);

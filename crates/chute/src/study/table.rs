@@ -293,11 +293,7 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde
         metrics,
         complete: state == CaseState::Complete,
         state,
-        inputs: match checker.state(&done) {
-            InputsState::Current => super::skip::read_other_inputs(case_dir)
-                .map_or(InputsState::Current, InputsState::Changed),
-            other => other,
-        },
+        inputs: checker.state(&done, case_dir),
     };
     Some((row, Some(done["recipe"].clone())))
 }

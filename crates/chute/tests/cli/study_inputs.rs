@@ -137,22 +137,29 @@ fn collect_on_empty_and_run_directories_exits_2_writing_nothing() {
 #[test]
 fn a_case_whose_run_read_other_bytes_is_rerun_and_not_current() {
     let tmp = tempfile::tempdir().unwrap();
-    hex_project(tmp.path());
+    let p = tmp.path().join("p");
+    std::fs::create_dir(&p).unwrap();
+    hex_project(&p);
     let study = "name = \"m\"\nbase = \"hex.toml\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n";
-    std::fs::write(tmp.path().join("m.toml"), study).unwrap();
-    let run = || chute(tmp.path(), &["study", "m.toml", "--out", "o"]);
-    assert_eq!(run().status.code(), Some(0));
-    let record = tmp.path().join("o/a/run.json");
+    std::fs::write(p.join("m.toml"), study).unwrap();
+    assert_eq!(
+        chute(&p, &["study", "m.toml", "--out", "o"]).status.code(),
+        Some(0)
+    );
+    let record = p.join("o/a/run.json");
     let mut r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
     r["inputs"][0]["digest"] = "fnv1a64:0123456789abcdef".into();
     std::fs::write(&record, r.to_string()).unwrap();
-    let o = chute(tmp.path(), &["collect", "o"]);
+    let o = chute(&p, &["collect", "o"]);
     let err = stderr(&o);
     assert!(err.contains("its run read canopy.mesh_file"), "{err}");
-    let csv = std::fs::read_to_string(tmp.path().join("o/study.csv")).unwrap();
+    let csv = std::fs::read_to_string(p.join("o/study.csv")).unwrap();
     assert!(csv.lines().nth(1).unwrap().ends_with(",changed"), "{csv}");
-    let o = run();
+    // Moved too: the files are matched by key, so the move hides nothing.
+    let p = tmp.path().join("moved");
+    std::fs::rename(tmp.path().join("p"), &p).unwrap();
+    let o = chute(&p, &["study", "m.toml", "--out", "o"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(
