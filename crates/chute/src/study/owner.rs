@@ -323,6 +323,13 @@ pub(crate) fn hold_out(out: &Path) -> Result<Option<crate::output::lock::RunLock
                         out.display()
                     );
                 }
+                // A stop (Ctrl-C, SIGTERM) ends the wait: nothing has started yet.
+                if crate::runner::STOP.load(std::sync::atomic::Ordering::SeqCst) {
+                    return Err(AppError::RunFailed(format!(
+                        "stopped while waiting for `{}`; nothing was run",
+                        out.display()
+                    )));
+                }
                 std::thread::sleep(std::time::Duration::from_millis(20));
             }
             // A full disk: no reserve fits. The cases then say for themselves why they

@@ -528,3 +528,59 @@ fn a_linked_lock_file_in_a_studys_directory_is_refused() {
     );
     assert!(!tmp.path().join("o/20N").exists());
 }
+
+/// A study waiting for another's table (its output directory's lock held by a `collect`)
+/// stops on Ctrl-C at once, running nothing (status 3), instead of waiting the lock out.
+#[test]
+fn a_study_waiting_for_the_directorys_lock_stops_on_a_signal() {
+    use std::io::Write;
+    let tmp = tempfile::tempdir().unwrap();
+    write_other_study(tmp.path());
+    std::fs::create_dir(tmp.path().join("o")).unwrap();
+    // The lock as a collect of `o` holds it (this test process keeps it throughout).
+    let mut lock = std::fs::File::create(tmp.path().join("o/.chute.lock")).unwrap();
+    lock.lock().unwrap();
+    write!(lock, "pid=1\nhost=h\nstarted=0\ncommand=chute collect o\n").unwrap();
+    let mut child = chute_command()
+        .current_dir(tmp.path())
+        .args([
+            "study",
+            "other.toml",
+            "--out",
+            "o",
+            "--set",
+            "time.duration_s=0.02",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Signalled once it says it is waiting (its stop handler is in place by then).
+    let err = child.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        use std::io::BufRead;
+        for line in std::io::BufReader::new(err).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let wait = std::time::Duration::from_secs(60);
+    let waiting = rx.recv_timeout(wait).expect("no `waiting for` line");
+    assert!(waiting.starts_with("waiting for `o`"), "{waiting}");
+    let pid = child.id().to_string();
+    assert!(std::process::Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .unwrap()
+        .success());
+    // Waiting the lock out would take minutes: give up (and fail) long before that.
+    let rest: Vec<String> = std::iter::from_fn(|| rx.recv_timeout(wait).ok()).collect();
+    if child.try_wait().unwrap().is_none() {
+        child.kill().unwrap();
+        panic!("the study did not stop while waiting for the lock: {rest:?}");
+    }
+    let status = child.wait().unwrap();
+    let rest = rest.join("\n");
+    assert_eq!(status.code(), Some(3), "{rest}");
+    assert!(rest.contains("stopped while waiting for `o`"), "{rest}");
+    assert!(!tmp.path().join("o/20N").exists());
+}
