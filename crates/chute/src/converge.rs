@@ -179,7 +179,10 @@ pub(crate) const REPORT_FILES: [&str; 3] =
 fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<Vec<String>, AppError> {
     let [json, md, png] = REPORT_FILES.map(|f| out.join(f));
     study::write_atomic(&json, report.to_json().as_bytes())?;
-    study::write_atomic(&md, report.to_markdown().as_bytes())?;
+    // Both or neither: a JSON report beside no Markdown (a full disk) is half a report.
+    study::write_atomic(&md, report.to_markdown().as_bytes()).inspect_err(|_| {
+        let _ = std::fs::remove_file(&json);
+    })?;
     Ok(match plot::convergence_plot(&png, &report.studies) {
         Ok(()) => Vec::new(),
         Err(e) => {

@@ -29,7 +29,7 @@ pub(super) fn recorded_run(
                 ),
                 Some(dir) if read_other_inputs(dir, files).is_some() => (
                     false,
-                    Some("its run read an input file whose bytes differ from the file now"),
+                    Some("its run's record does not show it read the input files as they are now"),
                 ),
                 Some(_) => (true, None),
                 None => (false, Some("its summary.json is missing or unreadable")),
@@ -73,7 +73,13 @@ pub(crate) fn read_other_inputs(
     dir: &Path,
     files: &[(&'static str, std::path::PathBuf)],
 ) -> Option<String> {
-    let record = crate::output::record::RunRecord::read(dir).ok()??;
+    let record = match crate::output::record::RunRecord::read(dir) {
+        Ok(Some(r)) => r,
+        // A run of no input files has nothing to compare.
+        _ if files.is_empty() => return None,
+        Ok(None) => return Some("its run's record (run.json) is missing".into()),
+        Err(e) => return Some(format!("its run's record cannot be read: {e}")),
+    };
     record.inputs.iter().find_map(|recorded| {
         let now = files.iter().find(|(k, _)| *k == recorded.key);
         let r = crate::output::record::InputFile {

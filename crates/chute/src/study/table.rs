@@ -323,6 +323,15 @@ pub fn gather(
         let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
         paths.sort();
         for p in paths.into_iter().filter(|p| p.is_dir()) {
+            // A case directory is a directory: a link there (to another study's case, say)
+            // is not this directory's case, as a study never writes through one.
+            if std::fs::symlink_metadata(&p).is_ok_and(|m| m.file_type().is_symlink()) {
+                g.left_out.push(format!(
+                    "`{}` is a link, not a case directory: left out of the table",
+                    p.display()
+                ));
+                continue;
+            }
             if let Some((row, recipe)) = read_row(&p, &mut checker) {
                 g.add(p, row, recipe)?;
             }
@@ -433,9 +442,12 @@ pub(crate) const TABLE_FILES: [&str; 2] = ["study.csv", "study.md"];
 pub fn write_table(table: &Table, out: &Path) -> Result<(), AppError> {
     refuse_run_dir_out(out)?;
     crate::app::ensure_dir(out)?;
-    let [csv, md] = TABLE_FILES;
-    write_atomic(&out.join(csv), table.to_csv()?.as_bytes())?;
-    write_atomic(&out.join(md), table.to_markdown().as_bytes())
+    let [csv, md] = TABLE_FILES.map(|f| out.join(f));
+    write_atomic(&csv, table.to_csv()?.as_bytes())?;
+    // Both or neither: a CSV beside no Markdown (a full disk) is half a table.
+    write_atomic(&md, table.to_markdown().as_bytes()).inspect_err(|_| {
+        let _ = std::fs::remove_file(&csv);
+    })
 }
 
 impl Table {

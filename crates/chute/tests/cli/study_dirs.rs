@@ -63,6 +63,20 @@ fn a_study_does_not_write_through_a_linked_case_directory() {
     );
     let left: Vec<_> = std::fs::read_dir(&elsewhere).unwrap().collect();
     assert_eq!(left.len(), 1, "the linked directory was written to");
+    // Linked to another study's finished case, the link is no case of this table either.
+    let other = table1_study(tmp.path(), "t");
+    assert_eq!(other.status.code(), Some(0), "{}", stderr(&other));
+    std::fs::remove_file(tmp.path().join("s/200N")).unwrap();
+    std::os::unix::fs::symlink(tmp.path().join("t/200N"), tmp.path().join("s/200N")).unwrap();
+    let o = table1_study(tmp.path(), "s");
+    assert!(
+        stderr(&o).contains("is a link, not a case directory"),
+        "{}",
+        stderr(&o)
+    );
+    let csv = std::fs::read_to_string(tmp.path().join("s/study.csv")).unwrap();
+    let row = csv.lines().find(|l| l.starts_with("200N,")).unwrap();
+    assert!(!row.contains(",complete,"), "{row}");
 }
 
 /// A study written into a directory that also holds other runs tables its own cases only.
@@ -574,11 +588,17 @@ fn a_study_waiting_for_the_directorys_lock_stops_on_a_signal() {
         .success());
     // Waiting the lock out would take minutes: give up (and fail) long before that.
     let rest: Vec<String> = std::iter::from_fn(|| rx.recv_timeout(wait).ok()).collect();
-    if child.try_wait().unwrap().is_none() {
-        child.kill().unwrap();
-        panic!("the study did not stop while waiting for the lock: {rest:?}");
-    }
-    let status = child.wait().unwrap();
+    let t0 = std::time::Instant::now();
+    let status = loop {
+        match child.try_wait().unwrap() {
+            Some(status) => break status,
+            None if t0.elapsed() > wait => {
+                child.kill().unwrap();
+                panic!("the study did not stop while waiting for the lock: {rest:?}");
+            }
+            None => std::thread::sleep(std::time::Duration::from_millis(20)),
+        }
+    };
     let rest = rest.join("\n");
     assert_eq!(status.code(), Some(3), "{rest}");
     assert!(rest.contains("stopped while waiting for `o`"), "{rest}");
