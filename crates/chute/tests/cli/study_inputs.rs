@@ -136,12 +136,7 @@ fn collect_on_empty_and_run_directories_exits_2_writing_nothing() {
 /// it read other bytes, as a case started after the change would).
 #[test]
 fn a_case_whose_run_read_other_bytes_is_rerun_and_not_current() {
-    let tmp = tempfile::tempdir().unwrap();
-    let p = tmp.path().join("p");
-    std::fs::create_dir(&p).unwrap();
-    hex_project(&p);
-    let study = "name = \"m\"\nbase = \"hex.toml\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n";
-    std::fs::write(p.join("m.toml"), study).unwrap();
+    let (tmp, p) = mesh_study_project();
     assert_eq!(
         chute(&p, &["study", "m.toml", "--out", "o"]).status.code(),
         Some(0)
@@ -211,12 +206,7 @@ fn a_study_killed_while_replacing_a_case_leaves_no_stale_table() {
 /// but the same bytes are at the new one, so the study skips its cases (content, not path).
 #[test]
 fn a_moved_project_with_a_mesh_keeps_its_cases() {
-    let tmp = tempfile::tempdir().unwrap();
-    let p = tmp.path().join("p");
-    std::fs::create_dir(&p).unwrap();
-    hex_project(&p);
-    let study = "name = \"m\"\nbase = \"hex.toml\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n";
-    std::fs::write(p.join("m.toml"), study).unwrap();
+    let (tmp, p) = mesh_study_project();
     let o = chute(&p, &["study", "m.toml", "--out", "o"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     std::fs::rename(&p, tmp.path().join("moved")).unwrap();
@@ -230,4 +220,16 @@ fn a_moved_project_with_a_mesh_keeps_its_cases() {
         "{}",
         stderr(&o)
     );
+}
+
+/// A project `p` in a new temporary directory: [`hex_project`] and a one-case study `m.toml`
+/// of a 0.02 s flight on it.
+fn mesh_study_project() -> (tempfile::TempDir, std::path::PathBuf) {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = tmp.path().join("p");
+    std::fs::create_dir(&p).unwrap();
+    hex_project(&p);
+    let study = "name = \"m\"\nbase = \"hex.toml\"\n[[case]]\nname = \"a\"\nset = [\"time.duration_s=0.02\"]\n";
+    std::fs::write(p.join("m.toml"), study).unwrap();
+    (tmp, p)
 }
