@@ -522,8 +522,9 @@ pub fn run_study_with(
     table::refuse_run_dir_out(&opts.out_dir)?;
     owner::refuse_other_studys_out(&opts.out_dir, study)?;
     app::ensure_dir(&opts.out_dir)?;
-    let held = owner::hold_out(&opts.out_dir)?;
+    let held = owner::hold_out(&opts.out_dir, "nothing was run")?;
     table::refuse_run_dir_out(&opts.out_dir)?;
+    owner::refuse_users_tables(&opts.out_dir)?;
     let study = &Study {
         content_digest: owner::content_digest(study, &opts.set),
         ..study.clone()
@@ -566,7 +567,10 @@ pub fn run_study_with(
     for (case, status) in selected.iter().zip(statuses) {
         cases.push((case.name.clone(), status?));
     }
-    let held = owner::hold_out(&opts.out_dir)?;
+    let held = owner::hold_out(
+        &opts.out_dir,
+        "its cases ran, but its table was not written: run it again (finished cases are skipped)",
+    )?;
     let table = table::gather(
         std::slice::from_ref(&opts.out_dir),
         Some((study, opts.set.as_slice())),

@@ -296,7 +296,12 @@ fn remove_stale_temporaries(out: &Path) {
 /// a table is gathered and written by one process at a time. Studies, ladders and collect
 /// hold it only while they claim or gather, so a lock busy with one of those is tried again
 /// for up to [`HOLD_WAIT`]; a run holds it for its whole length, and the study is refused. `None` when this process holds it already.
-pub(crate) fn hold_out(out: &Path) -> Result<Option<crate::output::lock::RunLock>, AppError> {
+///
+/// `after` completes the message of a stop during the wait (what has, or has not, happened).
+pub(crate) fn hold_out(
+    out: &Path,
+    after: &str,
+) -> Result<Option<crate::output::lock::RunLock>, AppError> {
     use crate::output::lock::{LockError, RunLock};
     if RunLock::held_here(out) {
         return Ok(None);
@@ -326,7 +331,7 @@ pub(crate) fn hold_out(out: &Path) -> Result<Option<crate::output::lock::RunLock
                 // A stop (Ctrl-C, SIGTERM) ends the wait: nothing has started yet.
                 if crate::runner::STOP.load(std::sync::atomic::Ordering::SeqCst) {
                     return Err(AppError::RunFailed(format!(
-                        "stopped while waiting for `{}`; nothing was run",
+                        "stopped while waiting for `{}`; {after}",
                         out.display()
                     )));
                 }
@@ -353,3 +358,43 @@ fn unwritable_for_room(e: &crate::output::lock::LockError) -> bool {
 /// How long [`hold_out`] waits for a study's output directory held by another study's,
 /// ladder's or collect's table: a gather reads every case's record, seconds for thousands.
 const HOLD_WAIT: std::time::Duration = std::time::Duration::from_secs(600);
+
+/// Refuse `out` when a file there carries the name of a table or report chute writes
+/// (`study.csv`, `study.md`, `convergence.json`, `convergence.md`) but is not one: a user's
+/// file, which a study would remove and replace.
+pub(crate) fn refuse_users_tables(out: &Path) -> Result<(), AppError> {
+    let ours = |name: &str, head: &str| match name {
+        "study.csv" => head.starts_with("case,"),
+        "study.md" => head.starts_with("| case |"),
+        "convergence.json" => head.starts_with('{') && head.contains("\"scenario\""),
+        "convergence.md" => head.starts_with("# Convergence of "),
+        _ => true,
+    };
+    let names = [
+        "study.csv",
+        "study.md",
+        "convergence.json",
+        "convergence.md",
+    ];
+    for name in names {
+        let p = out.join(name);
+        let Ok(m) = std::fs::symlink_metadata(&p) else {
+            continue;
+        };
+        let mut head = String::new();
+        if m.is_file() {
+            use std::io::Read;
+            let mut f = std::fs::File::open(&p).map_err(|e| AppError::io(&p, e))?;
+            let mut buf = [0u8; 64];
+            let n = f.read(&mut buf).map_err(|e| AppError::io(&p, e))?;
+            head = String::from_utf8_lossy(&buf[..n]).into_owned();
+        }
+        if !m.is_file() || !ours(name, &head) {
+            return Err(AppError::Input(format!(
+                "`{}` is not a table chute wrote, and chute would replace it: move it, or choose another --out",
+                p.display()
+            )));
+        }
+    }
+    Ok(())
+}

@@ -604,3 +604,44 @@ fn a_study_waiting_for_the_directorys_lock_stops_on_a_signal() {
     assert!(rest.contains("stopped while waiting for `o`"), "{rest}");
     assert!(!tmp.path().join("o/20N").exists());
 }
+
+/// A user's own `study.csv` (or `convergence.json`) where a study, a ladder or `collect`
+/// would write its table is refused (status 2), never removed or replaced.
+#[test]
+fn a_users_file_named_like_a_table_is_never_replaced() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_other_study(tmp.path());
+    std::fs::create_dir(tmp.path().join("o")).unwrap();
+    std::fs::write(tmp.path().join("o/study.csv"), "my,own\n1,2\n").unwrap();
+    let args = [
+        "study",
+        "other.toml",
+        "--out",
+        "o",
+        "--set",
+        "time.duration_s=0.02",
+    ];
+    let o = chute(tmp.path(), &args);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is not a table chute wrote"),
+        "{}",
+        stderr(&o)
+    );
+    let kept = std::fs::read_to_string(tmp.path().join("o/study.csv")).unwrap();
+    assert_eq!(kept, "my,own\n1,2\n");
+    // A study of its own elsewhere, collected into `o`: refused too.
+    assert_eq!(
+        chute(
+            tmp.path(),
+            &[&args[..2], &["--out", "s"], &args[4..]].concat()
+        )
+        .status
+        .code(),
+        Some(0)
+    );
+    let o = chute(tmp.path(), &["collect", "s", "--out", "o"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let kept = std::fs::read_to_string(tmp.path().join("o/study.csv")).unwrap();
+    assert_eq!(kept, "my,own\n1,2\n");
+}
