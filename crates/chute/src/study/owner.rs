@@ -264,10 +264,16 @@ fn create_exclusive(dir: &Path, path: &Path, bytes: &[u8]) -> std::io::Result<()
     }
 }
 
-/// Remove temporaries of the owner record that a killed study left (a claim writes and links
-/// its own within milliseconds: one older than a minute is no live claim's).
+/// Remove temporaries of the owner record, the table or a ladder's reports that a killed
+/// study, ladder or collect left (each is written within milliseconds: one older than a minute
+/// is no live writer's).
 fn remove_stale_temporaries(out: &Path) {
-    let prefix = format!(".{OWNER_FILE}.");
+    // The owner record's, and the tables' and reports' (written under the directory's lock,
+    // in milliseconds: one a minute old is a killed writer's).
+    let names = [OWNER_FILE, "study.csv", "study.md"]
+        .into_iter()
+        .chain(crate::converge::REPORT_FILES);
+    let prefixes: Vec<String> = names.map(|n| format!(".{n}.")).collect();
     let Ok(entries) = std::fs::read_dir(out) else {
         return;
     };
@@ -275,7 +281,7 @@ fn remove_stale_temporaries(out: &Path) {
         let name = e.file_name();
         let ours = name
             .to_str()
-            .is_some_and(|n| n.starts_with(&prefix) && n.ends_with(".tmp"));
+            .is_some_and(|n| prefixes.iter().any(|p| n.starts_with(p)) && n.ends_with(".tmp"));
         let old = e
             .metadata()
             .ok()
@@ -313,6 +319,7 @@ pub(crate) fn hold_out(
             Ok(l) => {
                 // The reserve proves a run's directory writable; a table needs the room.
                 crate::output::lock::free_reserve(out);
+                remove_stale_temporaries(out);
                 return Ok(Some(l));
             }
             // Another study, ladder or collect gathering its table: wait for it.

@@ -435,16 +435,19 @@ fn a_killed_claims_temporary_is_removed_by_the_next_study() {
     let tmp = table1_study_in("s");
     let stale = tmp.path().join("s/..chute-study.json.AbC123.tmp");
     let fresh = tmp.path().join("s/..chute-study.json.XyZ789.tmp");
-    std::fs::write(&stale, "{}").unwrap();
-    std::fs::write(&fresh, "{}").unwrap();
+    // A table's temporary of a killed `collect` too.
+    let table = tmp.path().join("s/.study.csv.QwE456.tmp");
+    for f in [&stale, &fresh, &table] {
+        std::fs::write(f, "{}").unwrap();
+    }
     let touched = std::process::Command::new("touch")
         .args(["-d", "2 minutes ago"])
-        .arg(&stale)
+        .args([&stale, &table])
         .status()
         .unwrap();
     assert!(touched.success());
     table1_study_again(tmp.path());
-    assert!(!stale.exists() && fresh.exists());
+    assert!(!stale.exists() && !table.exists() && fresh.exists());
 }
 
 /// A study and a ladder of the same name are two studies: neither runs into the other's
