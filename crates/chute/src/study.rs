@@ -524,7 +524,7 @@ pub fn run_study_with(
     app::ensure_dir(&opts.out_dir)?;
     let held = owner::hold_out(&opts.out_dir, "nothing was run")?;
     table::refuse_run_dir_out(&opts.out_dir)?;
-    owner::refuse_users_tables(&opts.out_dir)?;
+    owner::refuse_users_tables(&opts.out_dir, study.file.is_none())?;
     let study = &Study {
         content_digest: owner::content_digest(study, &opts.set),
         ..study.clone()
@@ -533,11 +533,12 @@ pub fn run_study_with(
     // The table is written again when the cases have run. Until then an earlier one would
     // call complete a case whose directory this run may be replacing; a study killed
     // meanwhile leaves none, and `chute collect` tells the cases' state.
-    // A ladder's reports likewise (`chute converge` runs its levels as a study).
-    for f in table::TABLE_FILES
-        .iter()
-        .chain(&crate::converge::REPORT_FILES)
-    {
+    // A ladder's reports likewise (`chute converge` runs its levels as a study made in code).
+    let reports: &[&str] = match study.file {
+        None => &crate::converge::REPORT_FILES,
+        Some(_) => &[],
+    };
+    for f in table::TABLE_FILES.iter().chain(reports) {
         let p = opts.out_dir.join(f);
         if std::fs::symlink_metadata(&p).is_ok_and(|m| m.is_file()) {
             let _ = std::fs::remove_file(p);

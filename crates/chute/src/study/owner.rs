@@ -366,37 +366,53 @@ fn unwritable_for_room(e: &crate::output::lock::LockError) -> bool {
 /// ladder's or collect's table: a gather reads every case's record, seconds for thousands.
 const HOLD_WAIT: std::time::Duration = std::time::Duration::from_secs(600);
 
-/// Refuse `out` when a file there carries the name of a table or report chute writes
-/// (`study.csv`, `study.md`, `convergence.json`, `convergence.md`) but is not one: a user's
-/// file, which a study would remove and replace.
-pub(crate) fn refuse_users_tables(out: &Path) -> Result<(), AppError> {
-    let ours = |name: &str, head: &str| match name {
-        "study.csv" => head.starts_with("case,"),
-        "study.md" => head.starts_with("| case |"),
-        "convergence.json" => head.starts_with('{') && head.contains("\"scenario\""),
-        "convergence.md" => head.starts_with("# Convergence of "),
-        _ => true,
+/// Refuse `out` when a file there carries the name of a table chute writes (`study.csv`,
+/// `study.md`; with `reports`, a ladder's `convergence.*` too) but is not one: a user's file,
+/// which chute would remove and replace. Chute's own are told by their whole first line (or,
+/// for the JSON report, its top-level keys); an empty file (a write cut short) is taken as
+/// chute's.
+pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppError> {
+    let first_line = |text: &str| text.lines().next().unwrap_or_default().to_string();
+    let ours = |name: &str, text: &str| match name {
+        _ if text.is_empty() => true,
+        "study.csv" => {
+            let l = first_line(text);
+            l.starts_with("case,") && l.ends_with(",status,complete,inputs")
+        }
+        "study.md" => {
+            let l = first_line(text);
+            l.starts_with("| case |") && l.ends_with("| status | complete | inputs |")
+        }
+        "convergence.json" => serde_json::from_str::<serde_json::Value>(text).is_ok_and(|j| {
+            ["scenario", "set", "studies"]
+                .iter()
+                .all(|k| j.get(k).is_some())
+        }),
+        "convergence.md" => text.starts_with("# Convergence of `"),
+        "convergence.png" => text.starts_with("\u{FFFD}PNG"),
+        _ => false,
     };
-    let names = [
-        "study.csv",
-        "study.md",
-        "convergence.json",
-        "convergence.md",
-    ];
+    let mut names = vec!["study.csv", "study.md"];
+    if reports {
+        names.extend(crate::converge::REPORT_FILES);
+    }
     for name in names {
         let p = out.join(name);
         let Ok(m) = std::fs::symlink_metadata(&p) else {
             continue;
         };
-        let mut head = String::new();
-        if m.is_file() {
-            use std::io::Read;
-            let mut f = std::fs::File::open(&p).map_err(|e| AppError::io(&p, e))?;
-            let mut buf = [0u8; 64];
-            let n = f.read(&mut buf).map_err(|e| AppError::io(&p, e))?;
-            head = String::from_utf8_lossy(&buf[..n]).into_owned();
+        // A picture that cannot be written is a warning (a directory there, say); only a
+        // file of the user's would be replaced.
+        if name == "convergence.png" && !m.is_file() {
+            continue;
         }
-        if !m.is_file() || !ours(name, &head) {
+        // Chute's tables are small; a report is read whole (at most a few MB).
+        let text = match m.is_file() && m.len() < (16 << 20) {
+            true => String::from_utf8_lossy(&std::fs::read(&p).map_err(|e| AppError::io(&p, e))?)
+                .into_owned(),
+            false => "\0".into(),
+        };
+        if !m.is_file() || !ours(name, &text) {
             return Err(AppError::Input(format!(
                 "`{}` is not a table chute wrote, and chute would replace it: move it, or choose another --out",
                 p.display()

@@ -442,6 +442,8 @@ pub(crate) const TABLE_FILES: [&str; 2] = ["study.csv", "study.md"];
 pub fn write_table(table: &Table, out: &Path) -> Result<(), AppError> {
     refuse_run_dir_out(out)?;
     crate::app::ensure_dir(out)?;
+    // Again at the end: a file the user put there while the cases ran.
+    super::owner::refuse_users_tables(out, false)?;
     let [csv, md] = TABLE_FILES.map(|f| out.join(f));
     write_atomic(&csv, table.to_csv()?.as_bytes())?;
     // Both or neither: a CSV beside no Markdown (a full disk) is half a table.

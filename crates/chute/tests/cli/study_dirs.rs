@@ -615,7 +615,8 @@ fn a_users_file_named_like_a_table_is_never_replaced() {
     let tmp = tempfile::tempdir().unwrap();
     write_other_study(tmp.path());
     std::fs::create_dir(tmp.path().join("o")).unwrap();
-    std::fs::write(tmp.path().join("o/study.csv"), "my,own\n1,2\n").unwrap();
+    // A user's case list: its header even starts like chute's.
+    std::fs::write(tmp.path().join("o/study.csv"), "case,weight\n1,2\n").unwrap();
     let args = [
         "study",
         "other.toml",
@@ -632,7 +633,7 @@ fn a_users_file_named_like_a_table_is_never_replaced() {
         stderr(&o)
     );
     let kept = std::fs::read_to_string(tmp.path().join("o/study.csv")).unwrap();
-    assert_eq!(kept, "my,own\n1,2\n");
+    assert_eq!(kept, "case,weight\n1,2\n");
     // A study of its own elsewhere, collected into `o`: refused too.
     assert_eq!(
         chute(
@@ -646,5 +647,5 @@ fn a_users_file_named_like_a_table_is_never_replaced() {
     let o = chute(tmp.path(), &["collect", "s", "--out", "o"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let kept = std::fs::read_to_string(tmp.path().join("o/study.csv")).unwrap();
-    assert_eq!(kept, "my,own\n1,2\n");
+    assert_eq!(kept, "case,weight\n1,2\n");
 }
