@@ -177,6 +177,8 @@ pub(crate) const REPORT_FILES: [&str; 3] =
 /// Write the JSON and Markdown reports (an error when they cannot be), and the picture (a
 /// warning when it cannot be, as a run's pictures: the numbers are in the reports).
 fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<Vec<String>, AppError> {
+    // A file of the user's put there while the levels ran is not replaced.
+    crate::study::refuse_users_tables(out, true)?;
     let [json, md, png] = REPORT_FILES.map(|f| out.join(f));
     study::write_atomic(&json, report.to_json().as_bytes())?;
     // Both or neither: a JSON report beside no Markdown (a full disk) is half a report.

@@ -10,6 +10,7 @@ pub mod inputs;
 mod owner;
 mod resumed;
 mod skip;
+pub(crate) use owner::refuse_users_tables;
 pub(crate) use skip::read_other_inputs;
 mod table;
 
