@@ -25,6 +25,19 @@ pub(crate) fn write_other_study(dir: &std::path::Path) {
     std::fs::write(dir.join("other.toml"), other).unwrap();
 }
 
+/// The arguments of `chute study other.toml --out OUT` of 0.02 s flights
+/// ([`write_other_study`]).
+pub(crate) fn other_study_args(out: &str) -> [&str; 6] {
+    [
+        "study",
+        "other.toml",
+        "--out",
+        out,
+        "--set",
+        "time.duration_s=0.02",
+    ]
+}
+
 /// Report Table I as a study of 0.02 s flights in `out` of a new temporary directory.
 pub(crate) fn table1_study_in(out: &str) -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
@@ -347,17 +360,7 @@ fn a_summary_swapped_between_cases_is_not_taken_as_the_case_result() {
 fn two_studies_sharing_a_case_name_are_not_mixed() {
     let tmp = table1_study_in("s");
     write_other_study(tmp.path());
-    let o = chute(
-        tmp.path(),
-        &[
-            "study",
-            "other.toml",
-            "--out",
-            "o",
-            "--set",
-            "time.duration_s=0.02",
-        ],
-    );
+    let o = chute(tmp.path(), &other_study_args("o"));
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let o = chute(tmp.path(), &["collect", "s", "o", "--out", "m"]);
     let err = stderr(&o);

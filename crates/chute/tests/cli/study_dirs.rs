@@ -2,7 +2,9 @@
 //! judged under its lock and run only in a directory that is its own; a run the study did not
 //! record is taken only when it is exactly the case's, and another study's directory is never
 //! run into.
-use crate::collect::{table1_study, table1_study_again, table1_study_in, write_other_study};
+use crate::collect::{
+    other_study_args, table1_study, table1_study_again, table1_study_in, write_other_study,
+};
 use crate::common::*;
 
 /// A user's own short rod run into `out` of `dir` (`--force` over what is there), not a case
@@ -529,14 +531,7 @@ fn a_linked_lock_file_in_a_studys_directory_is_refused() {
     std::fs::create_dir(tmp.path().join("o")).unwrap();
     std::fs::write(tmp.path().join("victim"), "mine").unwrap();
     std::os::unix::fs::symlink("../victim", tmp.path().join("o/.chute.lock")).unwrap();
-    let args = [
-        "study",
-        "other.toml",
-        "--out",
-        "o",
-        "--set",
-        "time.duration_s=0.02",
-    ];
+    let args = other_study_args("o");
     let o = chute(tmp.path(), &args);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert_eq!(
@@ -560,14 +555,7 @@ fn a_study_waiting_for_the_directorys_lock_stops_on_a_signal() {
     write!(lock, "pid=1\nhost=h\nstarted=0\ncommand=chute collect o\n").unwrap();
     let mut child = chute_command()
         .current_dir(tmp.path())
-        .args([
-            "study",
-            "other.toml",
-            "--out",
-            "o",
-            "--set",
-            "time.duration_s=0.02",
-        ])
+        .args(other_study_args("o"))
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
@@ -617,14 +605,7 @@ fn a_users_file_named_like_a_table_is_never_replaced() {
     std::fs::create_dir(tmp.path().join("o")).unwrap();
     // A user's case list: its header even starts like chute's.
     std::fs::write(tmp.path().join("o/study.csv"), "case,weight\n1,2\n").unwrap();
-    let args = [
-        "study",
-        "other.toml",
-        "--out",
-        "o",
-        "--set",
-        "time.duration_s=0.02",
-    ];
+    let args = other_study_args("o");
     let o = chute(tmp.path(), &args);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
@@ -636,12 +617,7 @@ fn a_users_file_named_like_a_table_is_never_replaced() {
     assert_eq!(kept, "case,weight\n1,2\n");
     // A study of its own elsewhere, collected into `o`: refused too.
     assert_eq!(
-        chute(
-            tmp.path(),
-            &[&args[..2], &["--out", "s"], &args[4..]].concat()
-        )
-        .status
-        .code(),
+        chute(tmp.path(), &other_study_args("s")).status.code(),
         Some(0)
     );
     let o = chute(tmp.path(), &["collect", "s", "--out", "o"]);

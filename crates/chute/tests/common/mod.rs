@@ -378,3 +378,13 @@ pub fn hex_project(dir: &Path) {
         );
     std::fs::write(dir.join("hex.toml"), scenario).unwrap();
 }
+
+/// Make the run record in `dir` say its run read other bytes of its first input file (as a
+/// run started after the file was edited would).
+pub fn forge_input_digest(dir: &Path) {
+    let record = dir.join("run.json");
+    let mut r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
+    r["inputs"][0]["digest"] = "fnv1a64:0123456789abcdef".into();
+    std::fs::write(&record, r.to_string()).unwrap();
+}
