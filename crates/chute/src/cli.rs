@@ -279,7 +279,7 @@ fn install_stop_handler() {
                 }
                 std::process::exit(130);
             }
-            crate::err_line!("\nstopping: writing a checkpoint and partial outputs (signal again to abort)");
+            crate::err_line!("\nstopping: a run in progress writes a checkpoint and partial outputs (signal again to abort)");
         });
         if let Err(e) = r {
             crate::err_line!("warning: cannot catch Ctrl-C/SIGTERM ({e}); an interrupted run keeps only its last checkpoint");

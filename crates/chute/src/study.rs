@@ -571,7 +571,7 @@ pub fn run_study_with(
     }
     let held = owner::hold_out(
         &opts.out_dir,
-        "its cases ran, but its table was not written: run it again (finished cases are skipped)",
+        "its cases ran, but its table was not written: run it again (without --force its finished cases are skipped)",
     )?;
     let table = table::gather(
         std::slice::from_ref(&opts.out_dir),

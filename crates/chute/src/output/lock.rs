@@ -38,6 +38,9 @@ pub enum LockError {
         dir: PathBuf,
         /// Who holds it, as its lock file describes it.
         holder: String,
+        /// The holder holds it only to claim it or write a table ([`Hold::Table`]): it will
+        /// let go within seconds.
+        brief: bool,
     },
     /// The file system refused the lock itself.
     #[error("cannot lock run directory `{}`: {source} (chute needs a file system with advisory file locks, as local disks and NFS have)", dir.display())]
@@ -73,10 +76,33 @@ pub struct RunLock {
     _file: File,
 }
 
+/// What a directory is locked for, recorded in its lock file for those who find it busy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Hold {
+    /// A run (or resume, view) writing or reading it, for as long as it lasts.
+    Run,
+    /// A study, ladder or collect claiming it or writing its table: seconds.
+    Table,
+}
+
+impl Hold {
+    fn word(self) -> &'static str {
+        match self {
+            Hold::Run => "run",
+            Hold::Table => "table",
+        }
+    }
+}
+
 impl RunLock {
-    /// Lock the existing directory `dir` for this process, describe the holder in the lock
-    /// file and set the reserve aside.
+    /// Lock the existing directory `dir` for a run ([`RunLock::acquire_for`]).
     pub fn acquire(dir: &Path) -> Result<RunLock, LockError> {
+        Self::acquire_for(dir, Hold::Run)
+    }
+
+    /// Lock the existing directory `dir` for this process, describe the holder (and what it
+    /// holds the directory for) in the lock file and set the reserve aside.
+    pub fn acquire_for(dir: &Path, hold: Hold) -> Result<RunLock, LockError> {
         let unwritable = |source| LockError::Unwritable {
             dir: dir.to_path_buf(),
             source,
@@ -93,10 +119,11 @@ impl RunLock {
             return Err(LockError::Busy {
                 dir: dir.to_path_buf(),
                 holder: "another run of this process".into(),
+                brief: false,
             });
         }
         let mut file = lock_file(dir)?;
-        if let Err(e) = describe_holder(&mut file).and_then(|()| write_reserve(dir)) {
+        if let Err(e) = describe_holder(&mut file, hold).and_then(|()| write_reserve(dir)) {
             // Nothing of ours stays behind (a full disk: the caller then removes the
             // directory it created).
             free_reserve(dir);
@@ -180,10 +207,12 @@ fn lock_file(dir: &Path) -> Result<File, LockError> {
         match try_lock_briefly(&file) {
             Ok(()) => {}
             Err(std::fs::TryLockError::WouldBlock) => {
+                let (holder, brief) = read_holder(&mut file);
                 return Err(LockError::Busy {
                     dir: dir.to_path_buf(),
-                    holder: read_holder(&mut file),
-                })
+                    holder,
+                    brief,
+                });
             }
             Err(std::fs::TryLockError::Error(source)) => {
                 return Err(LockError::Unsupported {
@@ -199,6 +228,7 @@ fn lock_file(dir: &Path) -> Result<File, LockError> {
     Err(LockError::Busy {
         dir: dir.to_path_buf(),
         holder: "other processes taking and releasing it repeatedly".into(),
+        brief: false,
     })
 }
 
@@ -244,7 +274,7 @@ fn names_same_file(_file: &File, path: &Path) -> bool {
 }
 
 /// Replace the lock file's text by this process's description.
-fn describe_holder(file: &mut File) -> io::Result<()> {
+fn describe_holder(file: &mut File, hold: Hold) -> io::Result<()> {
     use std::io::Seek;
     let started = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
@@ -253,10 +283,11 @@ fn describe_holder(file: &mut File) -> io::Result<()> {
         .map(|a| a.to_string_lossy().into_owned())
         .collect();
     let text = format!(
-        "pid={}\nhost={}\nstarted={started}\ncommand={}\n",
+        "pid={}\nhost={}\nstarted={started}\ncommand={}\nholds={}\n",
         std::process::id(),
         hostname(),
-        command.join(" ")
+        command.join(" "),
+        hold.word()
     );
     file.set_len(0)?;
     file.seek(io::SeekFrom::Start(0))?;
@@ -264,8 +295,9 @@ fn describe_holder(file: &mut File) -> io::Result<()> {
     file.flush()
 }
 
-/// "process 1234 on host `h` (`chute run …`, started 12 s ago)", from a lock file's text.
-fn read_holder(file: &mut File) -> String {
+/// "process 1234 on host `h` (`chute run …`, started 12 s ago)", from a lock file's text,
+/// and whether it holds the directory only for a table ([`Hold::Table`]).
+fn read_holder(file: &mut File) -> (String, bool) {
     let mut text = String::new();
     let _ = file.read_to_string(&mut text);
     let field = |k: &str| {
@@ -273,8 +305,9 @@ fn read_holder(file: &mut File) -> String {
             .find_map(|l| l.strip_prefix(k)?.strip_prefix('='))
             .map(str::to_string)
     };
+    let brief = field("holds").as_deref() == Some(Hold::Table.word());
     let Some(pid) = field("pid") else {
-        return "another process (it has not described itself yet)".into();
+        return ("another process (it has not described itself yet)".into(), false);
     };
     let mut s = format!("process {pid}");
     if let Some(h) = field("host") {
@@ -291,7 +324,7 @@ fn read_holder(file: &mut File) -> String {
         (Some(c), None) => s.push_str(&format!(" (`{c}`)")),
         _ => {}
     }
-    s
+    (s, brief)
 }
 
 fn hostname() -> String {
@@ -379,9 +412,9 @@ mod tests {
     #[test]
     fn the_holder_is_described_by_pid_host_and_command() {
         let dir = tempfile::tempdir().unwrap();
-        let _lock = RunLock::acquire(dir.path()).unwrap();
+        let lock = RunLock::acquire(dir.path()).unwrap();
         let mut f = File::open(dir.path().join(LOCK)).unwrap();
-        let who = read_holder(&mut f);
+        let (who, brief) = read_holder(&mut f);
         assert!(
             who.starts_with(&format!("process {} on host `", std::process::id())),
             "{who}"
@@ -390,5 +423,11 @@ mod tests {
             who.contains("started 0 s ago") || who.contains("s ago"),
             "{who}"
         );
+        assert!(!brief, "a run holds its directory for its whole length");
+        drop(lock);
+        // A study's claim or table says it is brief, whatever its command line.
+        let _table = RunLock::acquire_for(dir.path(), Hold::Table).unwrap();
+        let mut f = File::open(dir.path().join(LOCK)).unwrap();
+        assert!(read_holder(&mut f).1, "a table's hold is brief");
     }
 }

@@ -308,14 +308,14 @@ pub(crate) fn hold_out(
     out: &Path,
     after: &str,
 ) -> Result<Option<crate::output::lock::RunLock>, AppError> {
-    use crate::output::lock::{LockError, RunLock};
+    use crate::output::lock::{Hold, LockError, RunLock};
     if RunLock::held_here(out) {
         return Ok(None);
     }
     let start = std::time::Instant::now();
     let mut said = false;
     loop {
-        match RunLock::acquire(out) {
+        match RunLock::acquire_for(out, Hold::Table) {
             Ok(l) => {
                 // The reserve proves a run's directory writable; a table needs the room.
                 crate::output::lock::free_reserve(out);
@@ -323,11 +323,11 @@ pub(crate) fn hold_out(
                 return Ok(Some(l));
             }
             // Another study, ladder or collect gathering its table: wait for it.
-            Err(LockError::Busy { ref holder, .. })
-                if [" study ", " converge ", " collect "]
-                    .iter()
-                    .any(|c| holder.contains(c))
-                    && start.elapsed() < HOLD_WAIT =>
+            Err(LockError::Busy {
+                ref holder,
+                brief: true,
+                ..
+            }) if start.elapsed() < HOLD_WAIT =>
             {
                 if !std::mem::replace(&mut said, true) {
                     crate::err_line!(
