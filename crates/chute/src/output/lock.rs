@@ -307,7 +307,10 @@ fn read_holder(file: &mut File) -> (String, bool) {
     };
     let brief = field("holds").as_deref() == Some(Hold::Table.word());
     let Some(pid) = field("pid") else {
-        return ("another process (it has not described itself yet)".into(), false);
+        return (
+            "another process (it has not described itself yet)".into(),
+            false,
+        );
     };
     let mut s = format!("process {pid}");
     if let Some(h) = field("host") {

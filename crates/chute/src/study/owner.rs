@@ -327,8 +327,7 @@ pub(crate) fn hold_out(
                 ref holder,
                 brief: true,
                 ..
-            }) if start.elapsed() < HOLD_WAIT =>
-            {
+            }) if start.elapsed() < HOLD_WAIT => {
                 if !std::mem::replace(&mut said, true) {
                     crate::err_line!(
                         "waiting for `{}`: {holder} is writing its table",

@@ -552,13 +552,21 @@ fn a_study_waiting_for_the_directorys_lock_stops_on_a_signal() {
     // The lock as a run holds it, whatever its command line says: refused at once.
     let mut lock = std::fs::File::create(tmp.path().join("o/.chute.lock")).unwrap();
     lock.lock().unwrap();
-    write!(lock, "pid=1\nhost=h\nstarted=0\ncommand=chute collect o\nholds=run\n").unwrap();
+    write!(
+        lock,
+        "pid=1\nhost=h\nstarted=0\ncommand=chute collect o\nholds=run\n"
+    )
+    .unwrap();
     let o = chute(tmp.path(), &other_study_args("o"));
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     // As a collect of `o` holds it (this test process keeps it throughout).
     lock.set_len(0).unwrap();
     std::io::Seek::rewind(&mut lock).unwrap();
-    write!(lock, "pid=1\nhost=h\nstarted=0\ncommand=chute collect o\nholds=table\n").unwrap();
+    write!(
+        lock,
+        "pid=1\nhost=h\nstarted=0\ncommand=chute collect o\nholds=table\n"
+    )
+    .unwrap();
     let mut child = chute_command()
         .current_dir(tmp.path())
         .args(other_study_args("o"))
