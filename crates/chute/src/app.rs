@@ -248,6 +248,11 @@ pub fn run_watched(
         resume::check_inputs(dir, s)?;
     }
     let mut built = crate::build::build(s)?;
+    if opts.resume.is_some() {
+        // Again with the bytes the model was just built from (the file may have changed
+        // since the check above read it).
+        resume::check_built_inputs(dir, &built)?;
+    }
     check_ground(s, &built)?;
     let scenario_toml = s.to_toml();
     let (resume, record, cleared) = match &opts.resume {
@@ -267,13 +272,13 @@ pub fn run_watched(
             // A run of a chute before run.json gets one now (its inputs as they are).
             let record = match RunRecord::read(dir).map_err(AppError::Input)? {
                 Some(r) => r,
-                None => fresh_record(s, opts)?,
+                None => fresh_record(s, opts, &built)?,
             };
             (Some(c), record, None)
         }
         None => {
             check_fresh_dir(dir, opts.force)?;
-            let record = fresh_record(s, opts)?;
+            let record = fresh_record(s, opts, &built)?;
             let cleared = crate::output::run_files::clear(dir).map_err(|e| AppError::io(dir, e))?;
             (None, record, Some(cleared))
         }
@@ -354,14 +359,23 @@ fn begin(
 }
 
 /// The record of a run starting now: every input file by digest, and its options.
-fn fresh_record(s: &Scenario, opts: &RunOptions) -> Result<RunRecord, AppError> {
+fn fresh_record(
+    s: &Scenario,
+    opts: &RunOptions,
+    built: &crate::build::Built,
+) -> Result<RunRecord, AppError> {
     let inputs = s
         .input_files()
         .into_iter()
         .map(|(key, path)| {
-            let digest = crate::study::inputs::file_digest(&path).map_err(|e| {
-                AppError::Input(format!("{key}: cannot read `{}`: {e}", path.display()))
-            })?;
+            // The bytes the model was built from, not the file as it is now.
+            let parsed = built.input_digests.iter().find(|(k, _)| *k == key);
+            let digest = match parsed {
+                Some((_, d)) => d.clone(),
+                None => crate::study::inputs::file_digest(&path).map_err(|e| {
+                    AppError::Input(format!("{key}: cannot read `{}`: {e}", path.display()))
+                })?,
+            };
             Ok(InputFile {
                 key: key.to_string(),
                 path,
@@ -509,4 +523,55 @@ fn check_ground(s: &Scenario, b: &crate::build::Built) -> Result<(), AppError> {
         .into());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A run records the digest of the mesh bytes it built its model from, not of the file as
+    /// it is when the record is written (a mesh rewritten meanwhile), and a resume refuses a
+    /// model built from bytes other than the record's.
+    #[test]
+    fn a_run_records_the_mesh_bytes_it_was_built_from() {
+        let tmp = tempfile::tempdir().unwrap();
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let mesh = tmp.path().join("mesh.txt");
+        std::fs::copy(
+            repo.join("crates/chute/data/meshes/hexparachute_n6_python.txt"),
+            &mesh,
+        )
+        .unwrap();
+        let set = [format!("canopy.mesh_file={}", mesh.display())];
+        let s = Scenario::load(&repo.join("scenarios/dismech-hex-n6.toml"), &set).unwrap();
+        let built = crate::build::build(&s).unwrap();
+        let original = crate::study::inputs::file_digest(&mesh).unwrap();
+        // The file changes after the model was built from it.
+        let mut text = std::fs::read_to_string(&mesh).unwrap();
+        text.push('\n');
+        std::fs::write(&mesh, text).unwrap();
+        assert_ne!(crate::study::inputs::file_digest(&mesh).unwrap(), original);
+        let opts = RunOptions {
+            out_dir: tmp.path().join("out"),
+            force: false,
+            progress: false,
+            checkpoint_every_s: None,
+            resume: None,
+            viewer: false,
+            case_of: None,
+        };
+        let record = fresh_record(&s, &opts, &built).unwrap();
+        assert_eq!(record.inputs.len(), 1);
+        assert_eq!(record.inputs[0].digest, original);
+        // A resume whose model was built from the changed bytes is refused, naming the key.
+        let dir = tmp.path().join("run");
+        std::fs::create_dir(&dir).unwrap();
+        record.write(&dir).unwrap();
+        let rebuilt = crate::build::build(&s).unwrap();
+        let err = resume::check_built_inputs(&dir, &rebuilt)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("canopy.mesh_file"), "{err}");
+        resume::check_built_inputs(&dir, &built).unwrap();
+    }
 }

@@ -40,6 +40,9 @@ pub struct Built {
     pub rod_twists: usize,
     /// The suspension lines of the payload mode (empty otherwise) and their schedules.
     pub lines: Option<control::Lines>,
+    /// The digest of each input file as it was parsed, by scenario key (what a run records:
+    /// the file may have changed since it was read).
+    pub input_digests: Vec<(&'static str, String)>,
 }
 
 mod canopy;
@@ -150,6 +153,11 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
         derived: Vec::new(),
         lines,
         model,
+        input_digests: geo
+            .mesh_digest
+            .iter()
+            .map(|d| (crate::scenario::MESH_FILE_KEY, d.clone()))
+            .collect(),
     };
     built.derived = derived(s, &built, &geo);
     Ok(built)

@@ -52,6 +52,9 @@ pub const FORMAT_VERSION: u32 = 7;
 /// Counts and times of the earlier solver's counters in versions 4, 5 and 6 (skipped).
 const OLD_COUNTS: [usize; 3] = [18, 20, 21];
 const OLD_TIMES: usize = 4;
+/// The first version written only beside a `run.json` (the run's record of its inputs): a
+/// directory holding such a checkpoint and no record had its record deleted.
+pub const FIRST_WITH_RECORD: u32 = 7;
 /// The oldest version this build reads.
 const OLDEST_READABLE: u32 = 1;
 
@@ -349,13 +352,21 @@ impl Checkpoint {
 
     /// Read `dir/checkpoint.bin`.
     pub fn read(dir: &Path) -> Result<Self, CheckpointError> {
+        Self::read_versioned(dir).map(|(c, _)| c)
+    }
+
+    /// [`Checkpoint::read`], with the file's format version.
+    pub fn read_versioned(dir: &Path) -> Result<(Self, u32), CheckpointError> {
         let path = dir.join(FILE_NAME);
         let bytes =
             crate::output::atomic::read_own(&path).map_err(|source| CheckpointError::Io {
                 path: path.clone(),
                 source,
             })?;
-        Self::decode(&bytes).map_err(|reason| CheckpointError::Invalid { path, reason })
+        let c = Self::decode(&bytes).map_err(|reason| CheckpointError::Invalid { path, reason })?;
+        // `decode` checked the header: the version is bytes 8..12.
+        let version = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+        Ok((c, version))
     }
 
     /// Check that this checkpoint fits a model of `n_dofs` DOFs and `n_forces` forces.

@@ -109,6 +109,12 @@ pub fn run_converge_with(
             name == case && matches!(st, study::CaseStatus::Complete | study::CaseStatus::Skipped)
         })
     };
+    // The levels are read and the reports written under OUT's lock, as a study's table is:
+    // two shards finishing together write one after the other, each from what it read.
+    let held = study::hold_out(
+        &opts.out_dir,
+        "its levels ran, but its reports were not written: run it again (without --force its finished levels are skipped)",
+    )?;
     let mut studies = Vec::new();
     let (mut failures, mut pending) = (Vec::new(), 0);
     for ladder in &plan.ladders {
@@ -141,11 +147,13 @@ pub fn run_converge_with(
         studies.push(analyse::analyse(ladder, &results));
     }
     let report = ConvergenceReport {
+        written_by: self::report::WRITTEN_BY,
         scenario: opts.scenario.display().to_string(),
         set: opts.set.clone(),
         studies,
     };
     let warnings = write_reports(&opts.out_dir, &report)?;
+    drop(held);
     Ok(ConvergeOutcome {
         report,
         failures,
@@ -182,7 +190,8 @@ fn write_reports(out: &Path, report: &ConvergenceReport) -> Result<Vec<String>, 
     let [json, md, png] = REPORT_FILES.map(|f| out.join(f));
     study::write_atomic(&json, report.to_json().as_bytes())?;
     // Both or neither: a JSON report beside no Markdown (a full disk) is half a report.
-    study::write_atomic(&md, report.to_markdown().as_bytes()).inspect_err(|_| {
+    let text = format!("{}{}", report.to_markdown(), self::report::MD_MARK);
+    study::write_atomic(&md, text.as_bytes()).inspect_err(|_| {
         let _ = std::fs::remove_file(&json);
     })?;
     Ok(match plot::convergence_plot(&png, &report.studies) {

@@ -20,14 +20,17 @@ use thiserror::Error;
 /// Read an imported canopy mesh: Wavefront OBJ by its `.obj` extension, else the DisMech
 /// text format.
 pub fn read_file(path: &std::path::Path) -> Result<CanopyMesh, MeshFileError> {
+    read_file_digested(path).map(|(mesh, _)| mesh)
+}
+
+/// [`read_file`], and the digest ([`crate::study::inputs::bytes_digest`]) of the very bytes
+/// parsed: the run records that one, so that a file rewritten after it was read cannot be
+/// recorded as the run's input.
+pub fn read_file_digested(path: &std::path::Path) -> Result<(CanopyMesh, String), MeshFileError> {
     let is_obj = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
-    if is_obj {
-        obj::read(path)
-    } else {
-        dismech::read(path)
-    }
+    read_with(path, if is_obj { obj::parse } else { dismech::parse })
 }
 
 /// A canopy: positions (m), shell triangles, rod edges and named node sets.
@@ -94,26 +97,56 @@ pub fn too_large(len: u64) -> Option<String> {
     })
 }
 
-/// Read `path` (lossy UTF-8) and hand its text and display name to `parse`.
+/// The bytes of a file of at most `max` bytes, counted as they are read (a file whose size
+/// reads 0 but is unbounded, such as a link to `/proc/self/pagemap`, is stopped there too);
+/// `Err(Some(len))` when it is longer (`len` as far as read or as the metadata say).
+pub fn read_capped(path: &std::path::Path, max: u64) -> Result<Vec<u8>, ReadCapped> {
+    use std::io::Read;
+    if let Some(len) = std::fs::metadata(path)
+        .ok()
+        .map(|m| m.len())
+        .filter(|&l| l > max)
+    {
+        return Err(ReadCapped::TooLong(len));
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(max + 1).read_to_end(&mut bytes))
+        .map_err(ReadCapped::Io)?;
+    if bytes.len() as u64 > max {
+        return Err(ReadCapped::TooLong(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+/// Why [`read_capped`] read nothing.
+#[derive(Debug)]
+pub enum ReadCapped {
+    /// Longer than the cap (bytes, at least).
+    TooLong(u64),
+    /// Reading failed.
+    Io(std::io::Error),
+}
+
+/// Read `path` (lossy UTF-8, at most [`MAX_MESH_BYTES`]) and hand its text and display name
+/// to `parse`; with the digest of the bytes read.
 fn read_with(
     path: &std::path::Path,
     parse: fn(&str, &str) -> Result<CanopyMesh, MeshFileError>,
-) -> Result<CanopyMesh, MeshFileError> {
+) -> Result<(CanopyMesh, String), MeshFileError> {
     let name = path.display().to_string();
-    if let Some(message) = std::fs::metadata(path)
-        .ok()
-        .and_then(|m| too_large(m.len()))
-    {
-        return Err(MeshFileError::File {
-            path: name,
-            message,
-        });
-    }
-    let bytes = std::fs::read(path).map_err(|source| MeshFileError::Io {
-        path: name.clone(),
-        source,
+    let bytes = read_capped(path, MAX_MESH_BYTES).map_err(|e| match e {
+        ReadCapped::TooLong(len) => MeshFileError::File {
+            path: name.clone(),
+            message: too_large(len).unwrap_or_default(),
+        },
+        ReadCapped::Io(source) => MeshFileError::Io {
+            path: name.clone(),
+            source,
+        },
     })?;
-    parse(&String::from_utf8_lossy(&bytes), &name)
+    let mesh = parse(&String::from_utf8_lossy(&bytes), &name)?;
+    Ok((mesh, crate::study::inputs::bytes_digest(&bytes)))
 }
 
 impl CanopyMesh {

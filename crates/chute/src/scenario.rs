@@ -164,6 +164,9 @@ fn read_bounded(path: &Path) -> Result<String, String> {
     Ok(text)
 }
 
+/// The key of the imported mesh file, an input file a run records by digest.
+pub const MESH_FILE_KEY: &str = "canopy.mesh_file";
+
 /// Largest scenario file read (bytes, 16 MiB): scenarios are short text files; a larger one
 /// is refused before it is read into memory.
 pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
@@ -230,7 +233,7 @@ impl Scenario {
     pub fn input_files(&self) -> Vec<(&'static str, PathBuf)> {
         let mut files = Vec::new();
         if let (CanopyShape::Mesh, Some(p)) = (self.canopy.shape, &self.canopy.mesh_file) {
-            files.push(("canopy.mesh_file", p.clone()));
+            files.push((MESH_FILE_KEY, p.clone()));
         }
         files
     }

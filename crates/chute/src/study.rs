@@ -10,7 +10,7 @@ pub mod inputs;
 mod owner;
 mod resumed;
 mod skip;
-pub(crate) use owner::refuse_users_tables;
+pub(crate) use owner::{hold_out, refuse_users_tables};
 pub(crate) use skip::read_other_inputs;
 mod table;
 
@@ -234,7 +234,13 @@ impl Study {
             }
             _ => {}
         }
-        let text = std::fs::read_to_string(path).map_err(|e| cannot(e.to_string()))?;
+        let bytes = crate::mesh::read_capped(path, max).map_err(|e| match e {
+            crate::mesh::ReadCapped::TooLong(len) => cannot(format!(
+                "it is at least {len} bytes; a study file is at most {max}"
+            )),
+            crate::mesh::ReadCapped::Io(e) => cannot(e.to_string()),
+        })?;
+        let text = String::from_utf8(bytes).map_err(|_| cannot("it is not UTF-8 text".into()))?;
         // A relative base is next to the study file: the file `/dev/stdin` reads, not `/dev`.
         let dir = crate::scenario::source_dir(&recorded_path(path));
         let mut st = Study::from_str(&text, &path.display().to_string(), &dir)?;

@@ -129,6 +129,7 @@ pub fn ensure_dir(dir: &Path) -> Result<(), AppError> {
             .tempfile_in(dir)
             .map(drop)
     })
+    .map_err(crate::output::atomic::without_temporary_name)
     .map_err(|e| {
         AppError::Input(format!(
             "output directory `{}` is not writable: {e}",

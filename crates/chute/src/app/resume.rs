@@ -8,6 +8,30 @@ use super::AppError;
 use crate::output::record::RunRecord;
 use crate::scenario::Scenario;
 
+/// Refuse to resume `dir` when the model was built from input bytes other than its record's
+/// ([`crate::build::Built::input_digests`]: what was parsed, whatever the file holds now).
+pub(super) fn check_built_inputs(dir: &Path, built: &crate::build::Built) -> Result<(), AppError> {
+    let Some(record) = RunRecord::read(dir).map_err(|e| cannot(dir, e))? else {
+        return Ok(());
+    };
+    for (key, digest) in &built.input_digests {
+        let Some(recorded) = record.inputs.iter().find(|r| r.key == *key) else {
+            continue;
+        };
+        if *digest != recorded.digest {
+            return Err(cannot(
+                dir,
+                format!(
+                    "{key} `{}` changed while the run was resumed (recorded {}, read {digest}); the run cannot continue with other inputs: restore the file, or start a new run with `chute run … --force`",
+                    recorded.path.display(),
+                    recorded.digest
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Refuse to resume `dir` when an input file of its record has other bytes now (or cannot
 /// be read): the run would continue from a state of one mesh with another. A record-less
 /// directory (an older chute) cannot be checked and is accepted.
@@ -271,7 +295,8 @@ pub fn prepare(
         }
     }
     let lock = crate::output::lock::RunLock::acquire(dir)?;
-    let c = crate::checkpoint::Checkpoint::read(dir).map_err(|e| unresumable(dir, &e))?;
+    let (c, version) =
+        crate::checkpoint::Checkpoint::read_versioned(dir).map_err(|e| unresumable(dir, &e))?;
     // The recorded scenario is the checkpoint's own copy; errors point at the directory's.
     let source = dir.join(RESOLVED_SCENARIO);
     // A checkpoint of another run (copied in) would continue that run over this one's files.
@@ -297,6 +322,15 @@ pub fn prepare(
         .map(|r| r.time.duration_s)
         .ok();
     let recorded = RunRecord::read(dir).map_err(AppError::Input)?;
+    if recorded.is_none() && version >= crate::checkpoint::FIRST_WITH_RECORD {
+        // Written by a chute that always writes the record beside it: the record was
+        // deleted, and nothing could check the run's input files.
+        return Err(AppError::Input(format!(
+            "cannot resume `{}`: its {} (the record of the run's input files) is missing, although the chute that wrote its checkpoint always writes one; the inputs cannot be checked against the run's: start a new run with `chute run … --force`",
+            dir.display(),
+            crate::output::run_files::RUN_RECORD
+        )));
+    }
     let opts = super::RunOptions {
         out_dir: dir.to_path_buf(),
         force: false,

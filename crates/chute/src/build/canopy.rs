@@ -26,6 +26,8 @@ pub struct Geometry {
     pub planform_area: f64,
     /// Largest canopy dimension (m), the Reynolds-number length.
     pub reference_length: f64,
+    /// The digest of the mesh file's bytes that were parsed (an imported mesh).
+    pub mesh_digest: Option<String>,
 }
 
 impl Geometry {
@@ -170,8 +172,10 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
             mesh_lines: Vec::new(),
             planform_area: c.span_m * c.width_m,
             reference_length: c.span_m,
+            mesh_digest: None,
         });
     }
+    let mut mesh_digest = None;
     let mesh = match c.shape {
         CanopyShape::Rectangle => mesh::generate::rectangle_pattern(
             c.span_m,
@@ -187,7 +191,9 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
             let path = c.mesh_file.as_ref().ok_or_else(|| {
                 BuildError::key("canopy.mesh_file", "required when shape = \"mesh\"")
             })?;
-            read_mesh(path)?
+            let (mesh, digest) = mesh::read_file_digested(path).map_err(BuildError::from)?;
+            mesh_digest = Some(digest);
+            mesh
         }
     };
     if mesh.faces.is_empty() {
@@ -209,6 +215,7 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
         mesh_lines,
         reference_length,
         mesh,
+        mesh_digest,
     })
 }
 
@@ -219,10 +226,6 @@ fn pattern(p: Option<MeshPattern>) -> Pattern {
         MeshPattern::Cross => Pattern::Cross,
         MeshPattern::Unstructured => Pattern::Unstructured,
     }
-}
-
-fn read_mesh(path: &std::path::Path) -> Result<CanopyMesh, BuildError> {
-    Ok(mesh::read_file(path)?)
 }
 
 /// Bounding box of `nodes`.

@@ -5,9 +5,20 @@ use serde::Serialize;
 use super::analyse::StudyReport;
 use crate::scenario::derived::sig4;
 
+/// The mark by which chute tells its own reports from a user's file of their names:
+/// `written_by` of `convergence.json`, the closing comment of `convergence.md`
+/// ([`MD_MARK`]), the `Software` text of `convergence.png` (`output::plots`).
+pub const WRITTEN_BY: &str = "chute converge";
+
+/// The last line of `convergence.md` as written to the file (not printed).
+pub const MD_MARK: &str =
+    "<!-- written by chute converge; replaced by the next run of the ladder -->\n";
+
 /// Everything `chute converge` found (the root of `convergence.json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct ConvergenceReport {
+    /// [`WRITTEN_BY`].
+    pub written_by: &'static str,
     /// The scenario file.
     pub scenario: String,
     /// The `--set` overrides applied to every level.

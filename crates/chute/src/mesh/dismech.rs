@@ -20,7 +20,7 @@ enum Section {
 
 /// Read a DisMech mesh file. Errors name the file and line.
 pub fn read(path: impl AsRef<Path>) -> Result<CanopyMesh, MeshFileError> {
-    super::read_with(path.as_ref(), parse)
+    super::read_with(path.as_ref(), parse).map(|(mesh, _)| mesh)
 }
 
 /// Parse DisMech text; `path` is only used in error messages.

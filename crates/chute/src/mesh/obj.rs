@@ -12,7 +12,7 @@ use std::path::Path;
 
 /// Read an OBJ file. Errors name the file and line.
 pub fn read(path: impl AsRef<Path>) -> Result<CanopyMesh, MeshFileError> {
-    super::read_with(path.as_ref(), parse)
+    super::read_with(path.as_ref(), parse).map(|(mesh, _)| mesh)
 }
 
 /// Parse OBJ text; `path` is only used in error messages.

@@ -184,11 +184,14 @@ pub fn temporary_beside(dir: &Path, name: &std::ffi::OsStr) -> io::Result<tempfi
     }
     // tempfile appends the temporary's random name to its errors; the caller names the
     // file it was writing, which is what a user can act on.
-    builder.tempfile_in(dir).map_err(|e| {
-        let text = e.to_string();
-        let plain = text.split(" at path ").next().unwrap_or(&text).to_string();
-        io::Error::new(e.kind(), plain)
-    })
+    builder.tempfile_in(dir).map_err(without_temporary_name)
+}
+
+/// `e` without the random temporary's name that tempfile appends (` at path "…"`).
+pub(crate) fn without_temporary_name(e: io::Error) -> io::Error {
+    let text = e.to_string();
+    let plain = text.split(" at path ").next().unwrap_or(&text).to_string();
+    io::Error::new(e.kind(), plain)
 }
 
 #[cfg(test)]

@@ -78,6 +78,27 @@ fn ensure_font() -> Result<(), PlotError> {
     ok.then_some(()).ok_or(PlotError::Font)
 }
 
+/// The PNG text keywords of chute's pictures: `Software` is `chute`, `Title` the file name
+/// it was written as.
+const SOFTWARE: &str = "Software";
+const TITLE: &str = "Title";
+
+/// Whether `bytes` are a picture chute wrote as a file named `name` (its text chunks, which
+/// precede the image data).
+pub(crate) fn written_by_chute(bytes: &[u8], name: &str) -> bool {
+    let chunk = |key: &str, text: &str| {
+        let mut c = b"tEXt".to_vec();
+        c.extend_from_slice(key.as_bytes());
+        c.push(0);
+        c.extend_from_slice(text.as_bytes());
+        c
+    };
+    let has = |c: Vec<u8>| bytes.windows(c.len()).any(|w| w == c.as_slice());
+    bytes.starts_with(b"\x89PNG\r\n\x1a\n")
+        && has(chunk(SOFTWARE, "chute"))
+        && has(chunk(TITLE, name))
+}
+
 /// Render with `draw` into memory and write the PNG to `path` atomically (a random
 /// temporary created exclusively beside it, fsynced and renamed: `write_atomic`).
 pub(crate) fn render_atomic(
@@ -98,6 +119,11 @@ pub(crate) fn render_atomic(
     let mut enc = png::Encoder::new(&mut png_bytes, w, h);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
+    // Which chute picture this is, for `written_by_chute`.
+    let title = path.file_name().map(|n| n.to_string_lossy().into_owned());
+    enc.add_text_chunk(SOFTWARE.into(), "chute".into())
+        .and_then(|()| enc.add_text_chunk(TITLE.into(), title.unwrap_or_default()))
+        .map_err(de)?;
     enc.write_header()
         .and_then(|mut wr| wr.write_image_data(&rgb))
         .map_err(de)?;

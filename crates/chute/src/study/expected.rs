@@ -49,9 +49,9 @@ pub(super) fn cases<'a>(
         list.cases = entries(st);
         return list;
     }
-    // Per study file, the smallest and the largest case count its cases recorded, and the
-    // case names one of them recorded.
-    let mut files: BTreeMap<PathBuf, (usize, usize, Option<Vec<String>>)> = BTreeMap::new();
+    // Per study file, the smallest and the largest case count its cases recorded, and every
+    // case name any of them recorded (in the order first seen).
+    let mut files: BTreeMap<PathBuf, (usize, usize, Vec<String>)> = BTreeMap::new();
     let mut named: BTreeMap<Vec<String>, ()> = BTreeMap::new();
     let mut without = 0;
     let mut any = false;
@@ -68,8 +68,13 @@ pub(super) fn cases<'a>(
             (Some(f), names) => {
                 let n = files
                     .entry(PathBuf::from(f))
-                    .or_insert((count, count, None));
-                *n = (n.0.min(count), n.1.max(count), n.2.take().or(names));
+                    .or_insert((count, count, Vec::new()));
+                (n.0, n.1) = (n.0.min(count), n.1.max(count));
+                for name in names.into_iter().flatten() {
+                    if !n.2.contains(&name) {
+                        n.2.push(name);
+                    }
+                }
             }
             (None, Some(names)) => {
                 if names.len() != count {
@@ -115,13 +120,23 @@ pub(super) fn cases<'a>(
             }
             // The study file is gone (or its recorded path is not the real one): the names
             // its cases recorded are the list, when they agree with the recorded count.
-            Err(_) if least == count && names.as_ref().is_some_and(|n| n.len() == count) => {
-                named.insert(names.unwrap_or_default(), ());
+            Err(_) if least == count && names.len() == count => {
+                named.insert(names, ());
             }
-            Err(e) => list.unknown.push(format!(
+            // Cases of two versions of the file (its case list edited between shards): every
+            // name any of them recorded has a row, and the list is uncertain.
+            Err(e) if names.is_empty() => list.unknown.push(format!(
                 "the full case list of study file `{}` is unknown ({e}): it has {count} case(s), and the table shows only those found",
                 file.display()
             )),
+            Err(e) => {
+                list.unknown.push(format!(
+                    "the full case list of study file `{}` is uncertain ({e}): its cases recorded {least} to {count} case(s) and {} name(s) in all, each of which the table lists",
+                    file.display(),
+                    names.len()
+                ));
+                named.insert(names, ());
+            }
         }
     }
     for names in named.into_keys() {
@@ -139,4 +154,39 @@ fn entries(st: &Study) -> Vec<(usize, String, Vec<String>)> {
         .iter()
         .map(|c| (c.index, c.name.clone(), c.set.clone()))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn recipe_of(file: &str, names: &[&str]) -> serde_json::Value {
+        serde_json::json!({
+            "study_file": file,
+            "case_count": names.len(),
+            "case_names": names,
+        })
+    }
+
+    /// Shards run under two versions of a study file that is gone now: every case name either
+    /// version recorded gets a row (a case only the newer list has is not dropped), and the
+    /// list is called uncertain.
+    #[test]
+    fn cases_of_two_versions_of_a_gone_study_file_are_all_listed() {
+        let gone = "/nonexistent/chute-study-that-is-gone.toml";
+        let recipes = [
+            recipe_of(gone, &["20N", "200N", "2000N"]),
+            recipe_of(gone, &["20N", "200N", "5N", "50N"]),
+        ];
+        let list = cases(None, recipes.iter());
+        let names: Vec<&str> = list.cases.iter().map(|(_, n, _)| n.as_str()).collect();
+        assert_eq!(names, ["20N", "200N", "2000N", "5N", "50N"]);
+        assert_eq!(list.unknown.len(), 1, "{:?}", list.unknown);
+        assert!(list.unknown[0].contains("uncertain"), "{:?}", list.unknown);
+        // One version only: its names are the list, and it is certain.
+        let one = [recipe_of(gone, &["a", "b"]), recipe_of(gone, &["a", "b"])];
+        let list = cases(None, one.iter());
+        assert_eq!(list.cases.len(), 2);
+        assert!(list.unknown.is_empty(), "{:?}", list.unknown);
+    }
 }

@@ -75,12 +75,16 @@ pub fn digest(s: &Scenario) -> Result<String, AppError> {
 
 /// The digest of one file's bytes, as `fnv1a64:<16 hex digits>`.
 pub fn file_digest(path: &std::path::Path) -> std::io::Result<String> {
-    // Not read into memory when larger than any input chute reads (a file replaced since).
-    let len = std::fs::metadata(path)?.len();
-    if let Some(why) = crate::mesh::too_large(len) {
-        return Err(std::io::Error::new(std::io::ErrorKind::InvalidData, why));
+    // Not read into memory past the largest input chute reads (a file replaced since).
+    use crate::mesh::{read_capped, too_large, ReadCapped, MAX_MESH_BYTES};
+    match read_capped(path, MAX_MESH_BYTES) {
+        Ok(bytes) => Ok(bytes_digest(&bytes)),
+        Err(ReadCapped::TooLong(len)) => Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            too_large(len).unwrap_or_default(),
+        )),
+        Err(ReadCapped::Io(e)) => Err(e),
     }
-    Ok(bytes_digest(&std::fs::read(path)?))
 }
 
 /// The digest of `bytes`, as `fnv1a64:<16 hex digits>`.

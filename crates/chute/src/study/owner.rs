@@ -343,6 +343,18 @@ pub(crate) fn hold_out(
                 }
                 std::thread::sleep(std::time::Duration::from_millis(20));
             }
+            // Waited the longest a table takes: say so (the holder may be stuck).
+            Err(LockError::Busy {
+                holder,
+                brief: true,
+                ..
+            }) => {
+                return Err(AppError::Input(format!(
+                    "`{}` is still held by {holder} after {} s of waiting, longer than any table takes: wait for it to end (or end it), or choose another directory",
+                    out.display(),
+                    HOLD_WAIT.as_secs()
+                )))
+            }
             // A full disk: no reserve fits. The cases then say for themselves why they
             // cannot run, and the table why it cannot be written.
             Err(e @ LockError::Unwritable { .. }) if unwritable_for_room(&e) => {
@@ -371,25 +383,28 @@ const HOLD_WAIT: std::time::Duration = std::time::Duration::from_secs(600);
 /// for the JSON report, its top-level keys); an empty file (a write cut short) is taken as
 /// chute's.
 pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppError> {
+    use crate::converge::report::{MD_MARK, WRITTEN_BY};
     let first_line = |text: &str| text.lines().next().unwrap_or_default().to_string();
-    let ours = |name: &str, text: &str| match name {
-        _ if text.is_empty() => true,
-        "study.csv" => {
-            let l = first_line(text);
-            l.starts_with("case,") && l.ends_with(",status,complete,inputs")
+    let ours = |name: &str, bytes: &[u8]| {
+        let text = String::from_utf8_lossy(bytes);
+        let text = text.as_ref();
+        match name {
+            _ if text.is_empty() => true,
+            "study.csv" => {
+                let l = first_line(text);
+                l.starts_with("case,") && l.ends_with(",status,complete,inputs")
+            }
+            "study.md" => {
+                let l = first_line(text);
+                l.starts_with("| case |") && l.ends_with("| status | complete | inputs |")
+            }
+            // The reports carry chute's mark (`converge::report::WRITTEN_BY`).
+            "convergence.json" => serde_json::from_str::<serde_json::Value>(text)
+                .is_ok_and(|j| j["written_by"] == WRITTEN_BY),
+            "convergence.md" => text.starts_with("# Convergence of `") && text.ends_with(MD_MARK),
+            "convergence.png" => crate::output::plots::written_by_chute(bytes, name),
+            _ => false,
         }
-        "study.md" => {
-            let l = first_line(text);
-            l.starts_with("| case |") && l.ends_with("| status | complete | inputs |")
-        }
-        "convergence.json" => serde_json::from_str::<serde_json::Value>(text).is_ok_and(|j| {
-            ["scenario", "set", "studies"]
-                .iter()
-                .all(|k| j.get(k).is_some())
-        }),
-        "convergence.md" => text.starts_with("# Convergence of `"),
-        "convergence.png" => text.starts_with("\u{FFFD}PNG"),
-        _ => false,
     };
     let mut names = vec!["study.csv", "study.md"];
     if reports {
@@ -406,12 +421,11 @@ pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppEr
             continue;
         }
         // Chute's tables are small; a report is read whole (at most a few MB).
-        let text = match m.is_file() && m.len() < (16 << 20) {
-            true => String::from_utf8_lossy(&std::fs::read(&p).map_err(|e| AppError::io(&p, e))?)
-                .into_owned(),
-            false => "\0".into(),
+        let bytes = match m.is_file() && m.len() < (16 << 20) {
+            true => std::fs::read(&p).map_err(|e| AppError::io(&p, e))?,
+            false => b"\0".to_vec(),
         };
-        if !m.is_file() || !ours(name, &text) {
+        if !m.is_file() || !ours(name, &bytes) {
             return Err(AppError::Input(format!(
                 "`{}` is not a table chute wrote, and chute would replace it: move it, or choose another --out",
                 p.display()

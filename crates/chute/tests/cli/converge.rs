@@ -25,7 +25,7 @@ fn converge(cwd: &Path, args: &[&str]) -> Output {
 
 /// `chute converge` of the rod over `levels` of `canopy.nodes`, 0.02 s flights, into `cv`
 /// of `dir`, with `extra` arguments.
-fn short_ladder(dir: &Path, levels: &str, extra: &[&str]) -> Output {
+pub(crate) fn short_ladder(dir: &Path, levels: &str, extra: &[&str]) -> Output {
     let rod = rod();
     let vary = format!("canopy.nodes={levels}");
     let mut a = vec![

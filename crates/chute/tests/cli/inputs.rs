@@ -58,3 +58,20 @@ fn implausible_material_is_warned_about_by_check() {
         stderr(&o)
     );
 }
+
+/// A study file whose size reads 0 but that never ends (a link to `/proc/self/pagemap`) is
+/// read at most up to the limit of a study file and refused (exit 2; the kernel may refuse
+/// the bounded read itself), not read until memory runs out.
+#[test]
+fn an_endless_study_file_is_refused_at_its_limit() {
+    let pagemap = std::path::Path::new("/proc/self/pagemap");
+    if !pagemap.exists() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink(pagemap, tmp.path().join("pm.toml")).unwrap();
+    let o = chute(tmp.path(), &["study", "pm.toml"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("cannot read study file"), "{err}");
+}

@@ -14,6 +14,7 @@ mod inputs;
 mod integrity;
 mod recovery;
 mod reliability;
+mod reports;
 mod resume;
 mod shell_laws;
 mod study_dirs;

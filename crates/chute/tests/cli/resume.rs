@@ -486,6 +486,17 @@ fn a_half_cleared_run_is_not_described_as_complete() {
     );
 }
 
+/// A run whose record was deleted, beside a checkpoint of a chute that always writes one, is
+/// not resumed on trust: nothing could check its input files against the run's.
+#[test]
+fn a_resume_without_the_record_its_checkpoint_implies_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    std::fs::remove_file(tmp.path().join("r/run.json")).unwrap();
+    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
+    refused(&o, &["run.json", "is missing", "chute run"]);
+}
+
 /// A picture that cannot take its place (a directory of its name) is warned of and leaves no
 /// temporary behind.
 #[test]

@@ -71,11 +71,12 @@ fn a_study_does_not_write_through_a_linked_case_directory() {
     std::fs::remove_file(tmp.path().join("s/200N")).unwrap();
     std::os::unix::fs::symlink(tmp.path().join("t/200N"), tmp.path().join("s/200N")).unwrap();
     let o = table1_study(tmp.path(), "s");
-    assert!(
-        stderr(&o).contains("is a link, not a case directory"),
-        "{}",
-        stderr(&o)
-    );
+    let err = stderr(&o);
+    assert!(err.contains("is a link, not a case directory"), "{err}");
+    // Not "already complete" either, although the run behind the link is this case's: the
+    // study is incomplete (status 3), as its table says.
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("case 200N: not run"), "{err}");
     let csv = std::fs::read_to_string(tmp.path().join("s/study.csv")).unwrap();
     let row = csv.lines().find(|l| l.starts_with("200N,")).unwrap();
     assert!(!row.contains(",complete,"), "{row}");

@@ -213,14 +213,18 @@ impl PlateBending {
 /// hinge index (`None` on the boundary), and the orientation `s_i`.
 type FaceEdge = (usize, Option<(usize, usize)>, f64);
 
-/// Where each face finds its edges ([`FaceEdge`]).
-fn face_edges(mesh: &TriMesh) -> Vec<[FaceEdge; 3]> {
-    let index: HashMap<[usize; 2], usize> = mesh
-        .edges
+/// Mesh edge index of each undirected edge `[min, max]`.
+fn edge_index(mesh: &TriMesh) -> HashMap<[usize; 2], usize> {
+    mesh.edges
         .iter()
         .enumerate()
         .map(|(e, &k)| (k, e))
-        .collect();
+        .collect()
+}
+
+/// Where each face finds its edges ([`FaceEdge`]).
+fn face_edges(mesh: &TriMesh) -> Vec<[FaceEdge; 3]> {
+    let index = edge_index(mesh);
     // Undirected edge → its hinge.
     let mut across: HashMap<usize, usize> = HashMap::new();
     for (hi, h) in mesh.hinges.iter().enumerate() {
@@ -360,12 +364,7 @@ pub fn install(
     let first_dof = lay.twist(first_twist);
     let force = MidedgeBending::new(NAME, mesh, q_rest, plate, first_dof);
     let inertia = density * plate.thickness.powi(3) / 12.0;
-    let index: HashMap<[usize; 2], usize> = mesh
-        .edges
-        .iter()
-        .enumerate()
-        .map(|(e, &k)| (k, e))
-        .collect();
+    let index = edge_index(mesh);
     for (f, &a) in mesh.faces.iter().zip(&mesh.face_areas) {
         for i in 0..3 {
             let (p, q) = (f[(i + 1) % 3], f[(i + 2) % 3]);
