@@ -478,9 +478,15 @@ fn cmd_collect(a: &CollectArgs) -> Result<(), AppError> {
     }
     if !unfinished.is_empty() {
         let complete = table.rows.iter().filter(|r| r.complete).count();
+        let n = table.rows.len();
+        // Every row complete, and still not the study's result: its case list is uncertain
+        // (or a row is stale), as the warnings above say.
+        let why = match complete == n {
+            true => "but the table cannot be called the whole study: see the warnings above",
+            false => "each other one is named above, and has its status in the table",
+        };
         return Err(AppError::RunFailed(format!(
-            "the study is not complete: {complete} of {} case(s) complete (each other one is named above, and has its status in the table)",
-            table.rows.len()
+            "the study is not complete: {complete} of {n} case(s) found complete ({why})"
         )));
     }
     Ok(())

@@ -123,7 +123,12 @@ pub fn run_converge_with(
             .iter()
             .map(|l| {
                 let r = analyse::read_level(&opts.out_dir.join(&l.case), digest(&l.case).as_ref());
-                changed_while_running(r, ran_here(&l.case))
+                let mut r = changed_while_running(r, ran_here(&l.case));
+                // Why this invocation could not run it, in the reports as on the console.
+                if r.status == "not run" && r.message.is_none() {
+                    r.message = not_run(&l.case);
+                }
+                r
             })
             .collect();
         for (l, r) in ladder.levels.iter().zip(&results) {

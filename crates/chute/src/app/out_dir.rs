@@ -238,10 +238,7 @@ pub(super) fn hold(dir: &Path) -> Result<Option<RunLock>, AppError> {
 pub fn refuse_inside_run(out: &Path) -> Result<(), AppError> {
     // Through links: `link/x` with `link` pointing into a run is inside that run.
     let abs = resolved(out);
-    let inside = abs
-        .ancestors()
-        .skip(1)
-        .find(|a| a.join(run_files::RESOLVED_SCENARIO).is_file());
+    let inside = abs.ancestors().skip(1).find(|a| run_files::is_run_dir(a));
     match inside {
         Some(run) => Err(AppError::Input(format!(
             "`{}` lies inside the run directory `{}`: chute writes each run, study and table in a directory of its own",

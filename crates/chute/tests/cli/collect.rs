@@ -130,7 +130,7 @@ fn collect_of_some_shards_names_the_missing_case_and_fails() {
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(
-        err.contains("2 of 3 case(s) complete") && err.contains("case `2000N` is missing"),
+        err.contains("2 of 3 case(s) found complete") && err.contains("case `2000N` is missing"),
         "{err}"
     );
     // The table is still written, with the missing case's row.

@@ -424,7 +424,9 @@ fn an_unwritable_picture_warns_and_an_unusable_level_says_why() {
         "{err}"
     );
     assert!(!err.contains("stopped first"), "{err}");
-    assert!(tmp.path().join("cv/convergence.md").is_file());
+    // The reports say why, as the console does.
+    let md = std::fs::read_to_string(tmp.path().join("cv/convergence.md")).unwrap();
+    assert!(md.contains("is a file, not a directory"), "{md}");
     // The level's place freed: the ladder completes, the picture still warned of.
     std::fs::remove_file(tmp.path().join("cv/nodes-41")).unwrap();
     let o = short_ladder(tmp.path(), "11,21,41", &[]);

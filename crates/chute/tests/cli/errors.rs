@@ -392,7 +392,7 @@ fn study_runs_cases_and_reports_failures_with_exit_3() {
         &o,
         3,
         &[
-            "the study is not complete: 2 of 3 case(s) complete",
+            "the study is not complete: 2 of 3 case(s) found complete",
             "case `weight_n-30` failed: lines.length_m",
         ],
     );

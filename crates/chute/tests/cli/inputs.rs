@@ -75,3 +75,27 @@ fn an_endless_study_file_is_refused_at_its_limit() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("cannot read study file"), "{err}");
 }
+
+/// An imported mesh's lines (its rod edges, of the lines' material) are held to the same
+/// stiffness-to-inertia limit as generated lines: refused by `check` naming the key, not a
+/// failure at t = 0.
+#[test]
+fn an_imported_meshs_lines_are_held_to_the_step_stiffness_limit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let hex = repo().join("scenarios/dismech-hex-n6.toml");
+    let o = chute(
+        tmp.path(),
+        &[
+            "check",
+            hex.to_str().unwrap(),
+            "--set",
+            "lines.youngs_modulus_pa=1e22",
+        ],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("lines.youngs_modulus_pa") && err.contains("shortest mesh line edge"),
+        "{err}"
+    );
+}

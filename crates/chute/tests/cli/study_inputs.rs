@@ -229,3 +229,68 @@ fn mesh_study_project() -> (tempfile::TempDir, std::path::PathBuf) {
     std::fs::write(p.join("m.toml"), study).unwrap();
     (tmp, p)
 }
+
+/// A finished case whose `frames` or time series is a link (to another case's) holds no run
+/// of its own: `collect` calls it unreadable (status 3) and a study does not skip it — a
+/// linked `frames` makes it "not run" (status 3), a linked file is replaced by a run of its own.
+#[test]
+fn links_inside_a_finished_case_are_not_its_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = table1();
+    let run = || chute(tmp.path(), &["study", &study, "--out", "o", "--set", SHORT]);
+    assert_eq!(run().status.code(), Some(0));
+    let o = tmp.path().join("o");
+    std::fs::remove_dir_all(o.join("20N/frames")).unwrap();
+    std::os::unix::fs::symlink("../200N/frames", o.join("20N/frames")).unwrap();
+    let c = chute(tmp.path(), &["collect", "o"]);
+    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
+    assert!(stderr(&c).contains("symbolic link"), "{}", stderr(&c));
+    let r = run();
+    let err = stderr(&r);
+    assert_eq!(r.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("20N: not run") && err.contains("symbolic link"),
+        "{err}"
+    );
+    // A linked time series instead: the case runs again, into files of its own.
+    std::fs::remove_file(o.join("20N/frames")).unwrap();
+    std::fs::remove_file(o.join("20N/timeseries.csv")).unwrap();
+    std::os::unix::fs::symlink("../200N/timeseries.csv", o.join("20N/timeseries.csv")).unwrap();
+    let r = run();
+    assert_eq!(r.status.code(), Some(0), "{}", stderr(&r));
+    let meta = std::fs::symlink_metadata(o.join("20N/timeseries.csv")).unwrap();
+    assert!(meta.is_file(), "the time series is still a link");
+    assert!(
+        o.join("200N/timeseries.csv").is_file(),
+        "the other case's file was touched"
+    );
+}
+
+/// A directory holding only chute's run record (a run killed before it wrote more, or a run
+/// starting up) is a run directory: no run nests in it and no study takes it as its OUT.
+#[test]
+fn a_directory_with_only_a_run_record_is_a_run_directory() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path().join("d");
+    std::fs::create_dir(&d).unwrap();
+    let record = r#"{"status": "running", "reason": null, "inputs": [], "viewer": true}"#;
+    std::fs::write(d.join("run.json"), record).unwrap();
+    let rod = repo().join("scenarios/report-rod-20n.toml");
+    let rod = rod.to_str().unwrap();
+    let o = chute(
+        tmp.path(),
+        &["run", rod, "--out", "d/sub", "--set", SHORT, "-q"],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("lies inside the run directory"),
+        "{}",
+        stderr(&o)
+    );
+    let o = chute(
+        tmp.path(),
+        &["study", &table1(), "--out", "d", "--set", SHORT],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!d.join("sub").exists() && !d.join("20N").exists());
+}

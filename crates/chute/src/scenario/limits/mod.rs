@@ -6,6 +6,8 @@
 //! exhaust memory. Each is refused naming the key that made it so (docs/scenarios.md
 //! §Derived limits).
 
+mod imported;
+
 use super::derived::sig4;
 use super::error::short;
 use super::validate::Checker;
@@ -103,6 +105,7 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
             "above {MAX_STEP_STIFFNESS:e} the step's Newton matrix M/dt² + K is too ill-conditioned to solve in f64 (a mass far too small, a stiffness far too large, or a smaller dt_s)"
         );
         refuse_above(c, &step_stiffness(s), MAX_STEP_STIFFNESS, &stiff);
+        refuse_above(c, &imported::step_stiffness(s), MAX_STEP_STIFFNESS, &stiff);
     }
     model_size(c, s);
 }
@@ -338,7 +341,7 @@ fn derived(s: &Scenario) -> Vec<Derived> {
             inputs: vec![input("load.mass_scale", s.load.mass_scale, 100.0)],
         });
         out.extend(factors);
-        out.extend(imported_mesh_descent(s));
+        out.extend(imported::descent(s));
         return out;
     }
     let g = input("fluid.gravity_mps2", s.fluid.gravity_mps2, 9.81);
@@ -374,55 +377,6 @@ fn derived(s: &Scenario) -> Vec<Derived> {
     // After the masses and the weight, which say more when they are known.
     out.extend(factors);
     out
-}
-
-/// An imported mesh's weight (its lumped masses, the payload node's × `load.mass_scale`,
-/// under gravity) and flat-canopy terminal speed, from the mesh file (read here; when it
-/// cannot be, the builder says why). Empty for anything else.
-fn imported_mesh_descent(s: &Scenario) -> Vec<Derived> {
-    let (Some(path), DragLaw::Quadratic) = (&s.canopy.mesh_file, s.fluid.drag) else {
-        return Vec::new();
-    };
-    let Ok(mesh) = crate::mesh::read_file(path) else {
-        return Vec::new();
-    };
-    // The payload node's mass is its lumped mass (a third of its triangles' and half of its
-    // line edges' masses) times the factor.
-    let node = s.load.node.wrapping_sub(1);
-    let (area, share) = mesh.lumped_areas();
-    let (length, reach) = mesh.lumped_lengths();
-    let (m, ld, ln) = (&s.material, &s.load, &s.lines);
-    let rho_h = m.density_kg_m3 * s.canopy.thickness_m;
-    let rho_l = ln.density_kg_m3 * std::f64::consts::PI * ln.radius_m * ln.radius_m;
-    let lumped = |total: f64, of: &[f64]| {
-        total + (ld.mass_scale - 1.0) * of.get(node).copied().unwrap_or(0.0)
-    };
-    let mass = rho_h * lumped(area, &share) + rho_l * lumped(length, &reach);
-    let weight = mass * s.fluid.gravity_mps2;
-    let (rho, air) = air_density(s);
-    let mut inputs = vec![
-        input("load.mass_scale", ld.mass_scale, 100.0),
-        input("fluid.gravity_mps2", s.fluid.gravity_mps2, 9.81),
-        input("material.density_kg_m3", m.density_kg_m3, 1000.0),
-        input("canopy.thickness_m", s.canopy.thickness_m, 1e-3),
-    ];
-    let total = Derived {
-        name: "total weight",
-        unit: "N",
-        value: weight,
-        inputs: inputs.clone(),
-    };
-    inputs.extend([
-        air,
-        input("fluid.drag_coefficient", s.fluid.drag_coefficient, 1.0),
-    ]);
-    let terminal = Derived {
-        name: TERMINAL_SPEED,
-        unit: "m/s",
-        value: (2.0 * weight / (rho * s.fluid.drag_coefficient * area)).sqrt(),
-        inputs,
-    };
-    vec![total, terminal]
 }
 
 /// The canopy's axial stiffness: E h (N/m) for a shell, E w h (N) for a rod strip.
