@@ -234,6 +234,48 @@ pub fn directory_named_like_a_run_file(dir: &Path) -> Option<std::path::PathBuf>
     })
 }
 
+/// Why the finished run in `dir` is not whole, or `None`: an entry named like a file a run
+/// or study case writes (or `frames`, or a frame in it) that is a symbolic link — a run's
+/// files are its own, never another run's seen through a link —, a file every finished run
+/// has that is missing, or a frame `canopy.pvd` lists that is not a plain file. Such a
+/// directory holds no finished run to skip or to table.
+pub fn run_not_whole(dir: &Path) -> Option<String> {
+    let linked = |d: &Path, ours: &dyn Fn(&str) -> bool| {
+        std::fs::read_dir(d)
+            .ok()?
+            .filter_map(Result::ok)
+            .find_map(|e| {
+                let name = e.file_name().to_str()?.to_string();
+                (ours(&name) && e.file_type().is_ok_and(|t| t.is_symlink())).then(|| e.path())
+            })
+    };
+    let top = |n: &str| {
+        n == FRAMES_DIR || n == DONE || top_entry(n).is_some_and(|f| f.role != Role::Holder)
+    };
+    let frame = |n: &str| RUN_FILES.iter().any(|f| f.in_frames && f.matches(n));
+    let link = linked(dir, &top).or_else(|| linked(&dir.join(FRAMES_DIR), &frame));
+    if let Some(p) = link {
+        return Some(format!(
+            "`{}` is a symbolic link: a run's files are its own, not another's through a link",
+            p.display()
+        ));
+    }
+    let plain = |p: &Path| std::fs::symlink_metadata(p).is_ok_and(|m| m.is_file());
+    if let Some(f) = [RESOLVED_SCENARIO, TIMESERIES, SUMMARY]
+        .into_iter()
+        .find(|f| !plain(&dir.join(f)))
+    {
+        return Some(format!("its run's {f} is missing"));
+    }
+    let listed = super::run_dir::read_pvd(dir).unwrap_or_default();
+    listed.iter().find(|(_, p)| !plain(p)).map(|(_, p)| {
+        format!(
+            "`{}`, a frame its run listed in {PVD_NAME}, is missing",
+            p.display()
+        )
+    })
+}
+
 /// Whether `name` belongs to the process holding the directory rather than to a run.
 pub fn is_holder_file(name: &str) -> bool {
     top_entry(name).is_some_and(|f| f.role == Role::Holder)

@@ -427,7 +427,7 @@ pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppEr
         };
         if !m.is_file() || !ours(name, &bytes) {
             return Err(AppError::Input(format!(
-                "`{}` is not a table chute wrote, and chute would replace it: move it, or choose another --out",
+                "`{}` is not a table or report chute wrote, and chute would replace it: move it, or choose another --out",
                 p.display()
             )));
         }

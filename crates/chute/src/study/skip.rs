@@ -23,6 +23,10 @@ pub(super) fn recorded_run(
                 Some(dir) if !has_summary(dir) => {
                     (false, Some("its summary.json is missing or unreadable"))
                 }
+                Some(dir) if case_not_whole(dir, &d).is_some() => (
+                    false,
+                    Some("its run's files are not all its own (one missing, or a link)"),
+                ),
                 Some(dir) if super::table::summary_replaced(dir, &d).is_some() => (
                     false,
                     Some("its summary.json is not verifiably the one its run wrote"),
@@ -106,6 +110,37 @@ pub(crate) fn read_other_inputs(
                 r.key,
                 r.path.display()
             )),
+        }
+    })
+}
+
+/// Why the finished run in the case directory `dir` is not whole
+/// ([`crate::output::run_files::run_not_whole`]), counting a missing `run.json` where the
+/// case's record `done` shows it was written by a chute that always writes one (its recipe
+/// records the study's `content`; an older chute's cases have no run.json to miss).
+pub(super) fn case_not_whole(dir: &std::path::Path, done: &serde_json::Value) -> Option<String> {
+    use crate::output::record::RunRecord;
+    use crate::output::run_files::{run_not_whole, RUN_RECORD};
+    run_not_whole(dir).or_else(|| {
+        let record = dir.join(RUN_RECORD);
+        let missing = !std::fs::symlink_metadata(&record).is_ok_and(|m| m.is_file());
+        if done["recipe"]["content"].is_string() && missing {
+            return Some(format!("its run's {RUN_RECORD} is missing"));
+        }
+        // A record made for another case (its files copied in): not this case's run.
+        let this = format!(
+            "{}/{}",
+            done["study"].as_str()?,
+            done["case"].as_str()?
+        );
+        match RunRecord::read(dir) {
+            Ok(Some(RunRecord {
+                case_of: Some(other),
+                ..
+            })) if other != this => Some(format!(
+                "its {RUN_RECORD} is of case `{other}`, not `{this}` (files copied from another case?)"
+            )),
+            _ => None,
         }
     })
 }

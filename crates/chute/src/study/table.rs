@@ -283,7 +283,12 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde
         ),
         _ => match summary_replaced(case_dir, &done) {
             Some(why) => CaseState::Unreadable(why),
-            None => recorded_state(&done, &summary),
+            None => match recorded_state(&done, &summary) {
+                // Complete only with all of its run's own files (a failed run may lack some).
+                CaseState::Complete => super::skip::case_not_whole(case_dir, &done)
+                    .map_or(CaseState::Complete, CaseState::Unreadable),
+                other => other,
+            },
         },
     };
     let row = Row {
@@ -414,9 +419,18 @@ pub fn gather(
 /// Refuse a directory that holds a single run at its top level: study files written there
 /// would mix a study into a run (or a case) directory.
 pub(crate) fn refuse_run_dir(dir: &Path) -> Result<(), AppError> {
-    let run_file = [RESOLVED_SCENARIO, "summary.json"]
+    // A run's record too: a run writes it first (and a killed one may leave nothing else).
+    let record = crate::output::run_files::RUN_RECORD;
+    let run_file = [RESOLVED_SCENARIO, "summary.json", record]
         .into_iter()
-        .find(|f| dir.join(f).is_file());
+        .find(|&f| match f == record {
+            true => crate::output::record::RunRecord::read(dir).is_ok_and(|r| r.is_some()),
+            false => dir.join(f).is_file(),
+        });
+    // A run's `--force` replacement that was killed left the run's files in its trash.
+    let trash = crate::output::run_files::TRASH;
+    let run_file =
+        run_file.or(crate::output::run_files::clearing_interrupted(dir).then_some(trash));
     match run_file {
         Some(f) => Err(AppError::Input(format!(
             "`{}` is a run directory (it holds the {f} of a single run), not the output directory of a study: give the directory the study wrote its cases into (`chute study --out DIR`)",

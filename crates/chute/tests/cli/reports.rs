@@ -41,7 +41,10 @@ fn a_users_file_named_like_a_ladders_report_is_refused_and_kept() {
         let o = short_ladder(&dir, "11,21", &[]);
         let err = stderr(&o);
         assert_eq!(o.status.code(), Some(2), "{name}: {err}");
-        assert!(err.contains("is not a table chute wrote"), "{name}: {err}");
+        assert!(
+            err.contains("is not a table or report chute wrote"),
+            "{name}: {err}"
+        );
         assert_eq!(std::fs::read(&file).unwrap(), bytes, "{name} changed");
     }
 }

@@ -624,7 +624,7 @@ fn a_users_file_named_like_a_table_is_never_replaced() {
     let o = chute(tmp.path(), &args);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("is not a table chute wrote"),
+        stderr(&o).contains("is not a table or report chute wrote"),
         "{}",
         stderr(&o)
     );

@@ -294,3 +294,77 @@ fn a_directory_with_only_a_run_record_is_a_run_directory() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(!d.join("sub").exists() && !d.join("20N").exists());
 }
+
+/// A finished case missing a file every finished run has (its time series), or with a frame
+/// its `canopy.pvd` lists replaced by a link to another case's, is no finished case: collect
+/// says so (status 3) and the study runs it again into files of its own.
+#[test]
+fn a_finished_case_missing_a_file_or_with_a_linked_frame_runs_again() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = table1();
+    let run = || chute(tmp.path(), &["study", &study, "--out", "o", "--set", SHORT]);
+    assert_eq!(run().status.code(), Some(0));
+    let o = tmp.path().join("o");
+    let frame = |case: &str| {
+        let mut f: Vec<_> = std::fs::read_dir(o.join(case).join("frames"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        f.sort();
+        f.last().unwrap().clone()
+    };
+    let (mine, theirs) = (frame("20N"), frame("200N"));
+    std::fs::remove_file(&mine).unwrap();
+    std::os::unix::fs::symlink(&theirs, &mine).unwrap();
+    std::fs::remove_file(o.join("2000N/timeseries.csv")).unwrap();
+    let c = chute(tmp.path(), &["collect", "o"]);
+    let err = stderr(&c);
+    assert_eq!(c.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("symbolic link") && err.contains("timeseries.csv is missing"),
+        "{err}"
+    );
+    let r = run();
+    assert_eq!(r.status.code(), Some(0), "{}", stderr(&r));
+    assert!(
+        std::fs::symlink_metadata(&mine).unwrap().is_file(),
+        "the frame is still a link"
+    );
+    assert!(o.join("2000N/timeseries.csv").is_file());
+    assert_eq!(chute(tmp.path(), &["collect", "o"]).status.code(), Some(0));
+    // Its record deleted (this chute always writes one): no finished case either.
+    std::fs::remove_file(o.join("200N/run.json")).unwrap();
+    let c = chute(tmp.path(), &["collect", "o"]);
+    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
+    assert!(stderr(&c).contains("run.json is missing"), "{}", stderr(&c));
+    assert_eq!(run().status.code(), Some(0));
+    assert!(o.join("200N/run.json").is_file());
+}
+
+/// A case holding another case's record (its files copied in) is not this case's run, and a
+/// directory holding an interrupted run replacement (`.chute.old`) is a run's, never a
+/// study's OUT.
+#[test]
+fn a_case_with_another_cases_record_is_not_its_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = table1();
+    let run = |out: &str| chute(tmp.path(), &["study", &study, "--out", out, "--set", SHORT]);
+    assert_eq!(run("o").status.code(), Some(0));
+    let o = tmp.path().join("o");
+    std::fs::copy(o.join("200N/run.json"), o.join("20N/run.json")).unwrap();
+    let c = chute(tmp.path(), &["collect", "o"]);
+    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
+    assert!(
+        stderr(&c).contains("is of case `table1/200N`"),
+        "{}",
+        stderr(&c)
+    );
+    assert_eq!(run("o").status.code(), Some(0));
+    assert_eq!(chute(tmp.path(), &["collect", "o"]).status.code(), Some(0));
+    let t = tmp.path().join("t");
+    std::fs::create_dir_all(t.join(".chute.old")).unwrap();
+    std::fs::write(t.join(".chute.old/0"), "a moved run file").unwrap();
+    let r = run("t");
+    assert_eq!(r.status.code(), Some(2), "{}", stderr(&r));
+    assert!(stderr(&r).contains("is a run directory"), "{}", stderr(&r));
+}

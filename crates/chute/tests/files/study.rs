@@ -47,8 +47,30 @@ pub(crate) fn opts(out: &Path) -> StudyOptions {
     }
 }
 
-/// A fake simulation: terminal velocity −W/100, written as `summary.json` like `app::run`.
+/// A fake simulation: terminal velocity −W/100, written as `summary.json` like `app::run`,
+/// beside the other files every finished run has (its record with its inputs' digests, its
+/// resolved scenario and a time series), so that a study takes it as a whole run.
 pub(crate) fn fake(s: &Scenario, o: &RunOptions) -> Result<RunOutcome, AppError> {
+    use chute::output::record::{InputFile, RunRecord, Status};
+    let inputs = s
+        .input_files()
+        .into_iter()
+        .map(|(key, path)| InputFile {
+            key: key.to_string(),
+            digest: study::inputs::file_digest(&path).unwrap(),
+            path,
+        })
+        .collect();
+    let record = RunRecord {
+        status: Status::Complete,
+        reason: None,
+        inputs,
+        viewer: false,
+        case_of: o.case_of.clone(),
+    };
+    record.write(&o.out_dir).unwrap();
+    std::fs::write(o.out_dir.join("scenario.resolved.toml"), s.to_toml()).unwrap();
+    std::fs::write(o.out_dir.join("timeseries.csv"), "t_s\n").unwrap();
     let summary = serde_json::json!({
         "terminal_velocity_mps": -s.load.weight_n / 100.0,
         "time_to_terminal_s": 1.5,
