@@ -35,6 +35,14 @@ pub fn view(dir: &Path) -> Result<Viewed, AppError> {
         None => e,
     };
     let report = crate::output::viewer::write_viewer(dir).map_err(|e| match e {
+        // A file of the run that is gone (a frame a killed resume was moving) is the run's
+        // state, not an I/O failure: said with why the run did not finish.
+        RunDirError::Io { path, source } if source.kind() == std::io::ErrorKind::NotFound => {
+            AppError::Input(because(format!(
+                "`{}`, a file of its run, is missing",
+                path.display()
+            )))
+        }
         RunDirError::Io { path, source } => AppError::Io { path, source },
         e @ RunDirError::Format { .. } => AppError::Input(because(e.to_string())),
     })?;

@@ -116,7 +116,18 @@ pub(super) fn run_case(
     };
     let earlier = summary_digest(&dir);
     let started = std::time::Instant::now();
-    let status = match runner(scenario, &run_opts) {
+    let outcome = runner(scenario, &run_opts);
+    if let Ok(o) = &outcome {
+        // A picture its run could not write (a full disk) is said here as `chute run` says
+        // it, not only in the case's summary.json.
+        let warnings = o.summary["warnings"].as_array().into_iter().flatten();
+        for w in warnings.filter_map(|w| w.as_str()) {
+            if w.contains(" was not written") {
+                say(&format!("warning: {w}"));
+            }
+        }
+    }
+    let status = match outcome {
         Ok(o) if o.complete => CaseStatus::Complete,
         Ok(o) => CaseStatus::Incomplete(o.message.unwrap_or_else(|| "stopped early".into())),
         Err(e) => CaseStatus::Failed(e.to_string()),

@@ -389,7 +389,9 @@ pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppEr
         let text = String::from_utf8_lossy(bytes);
         let text = text.as_ref();
         match name {
-            _ if text.is_empty() => true,
+            // chute writes its tables and reports whole (a temporary renamed into place), so
+            // an empty one is a user's.
+            _ if text.is_empty() => false,
             "study.csv" => {
                 let l = first_line(text);
                 l.starts_with("case,") && l.ends_with(",status,complete,inputs")

@@ -99,3 +99,26 @@ fn an_imported_meshs_lines_are_held_to_the_step_stiffness_limit() {
         "{err}"
     );
 }
+
+/// A model larger than any parachute (a 1e40 m rod passed every other limit and failed at
+/// t = 0) is refused by `check`, blaming the key.
+#[test]
+fn a_model_larger_than_any_parachute_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = repo().join("scenarios/report-rod-20n.toml");
+    let o = chute(
+        tmp.path(),
+        &[
+            "check",
+            rod.to_str().unwrap(),
+            "--set",
+            "canopy.span_m=1e40",
+        ],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("canopy.span_m") && err.contains("largest dimension"),
+        "{err}"
+    );
+}

@@ -497,6 +497,18 @@ fn a_resume_without_the_record_its_checkpoint_implies_is_refused() {
     refused(&o, &["run.json", "is missing", "chute run"]);
 }
 
+/// A frame its run listed that is gone (a resume killed while it moved later frames aside)
+/// is the run's state: `view` says which file is missing (status 2), not a bare I/O error.
+#[test]
+fn view_names_a_missing_frame_of_its_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let frame = tmp.path().join("r/frames/frame_000001.vtu");
+    std::fs::remove_file(&frame).unwrap();
+    let o = chute(tmp.path(), &["view", "r"]);
+    refused(&o, &["frame_000001.vtu", "a file of its run, is missing"]);
+}
+
 /// A picture that cannot take its place (a directory of its name) is warned of and leaves no
 /// temporary behind.
 #[test]

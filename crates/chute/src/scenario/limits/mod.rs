@@ -6,6 +6,7 @@
 //! exhaust memory. Each is refused naming the key that made it so (docs/scenarios.md
 //! §Derived limits).
 
+mod extent;
 mod imported;
 
 use super::derived::sig4;
@@ -101,6 +102,11 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
             "above {MAX_NOMINAL_STRAIN} the load would more than double the element's length, beyond any fabric and beyond what the first step can solve; is the value or its unit wrong?"
         );
         refuse_above(c, &load_strains(s), MAX_NOMINAL_STRAIN, &strain);
+        let size = format!(
+            "above {:e} m no parachute is this large, and far above it the model's coordinates cannot be computed with; is the value or its unit wrong?",
+            extent::MAX_EXTENT_M
+        );
+        refuse_above(c, &extent::largest(s), extent::MAX_EXTENT_M, &size);
         let stiff = format!(
             "above {MAX_STEP_STIFFNESS:e} the step's Newton matrix M/dt² + K is too ill-conditioned to solve in f64 (a mass far too small, a stiffness far too large, or a smaller dt_s)"
         );
