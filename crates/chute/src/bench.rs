@@ -402,6 +402,9 @@ fn mean_vz(model: &engine::Model, v: &[f64]) -> f64 {
 
 /// Run the benchmark ladder, or with `--case` one case in this process.
 pub fn main(args: &BenchArgs) -> Result<(), AppError> {
+    if let Some(p) = &args.plot {
+        plot::refuse_path(p)?;
+    }
     if args.elements {
         let costs = elements::measure()?;
         if args.json {

@@ -352,6 +352,12 @@ fn run_and_report(
         if let Err(e) = api::write_viewer(out) {
             crate::err_line!("warning: viewer.html not written: {e}");
         }
+    } else if opts.resume.is_some() {
+        // The viewer of the run before it stopped would show a partial run as this one.
+        let stale = out.join(crate::output::viewer::VIEWER_HTML);
+        if std::fs::symlink_metadata(&stale).is_ok_and(|m| m.is_file()) {
+            let _ = std::fs::remove_file(&stale);
+        }
     }
     let summary_path = out.join(crate::output::run_files::SUMMARY);
     crate::output::console::print_run_report(out, &outcome.summary, r.json, r.quiet)

@@ -172,6 +172,7 @@ pub struct ValidateArgs {
 pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
     refuse_empty_selection(args)?;
     if let Some(dir) = &args.out {
+        refuse_out(dir)?;
         crate::app::ensure_dir(dir)?;
     }
     let checks = run_suite(args);
@@ -190,6 +191,38 @@ pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
     match checks.iter().filter(|c| !c.pass).count() {
         0 => Ok(()),
         failed => Err(AppError::ValidationFailed { failed }),
+    }
+}
+
+/// The header line of `validation_table.md`, by which chute tells its own from a user's file
+/// of that name.
+const TABLE_HEADER: &str =
+    "| case | quantity | reference | simulated | rel. error | tol. | pass | source |";
+
+/// Refuse a `--out` that is, or lies inside, a run directory (the report would sit among a
+/// run's files), or whose `validation_table.md` is a user's file (not chute's header).
+fn refuse_out(dir: &std::path::Path) -> Result<(), AppError> {
+    if crate::output::run_files::is_run_dir(dir) {
+        return Err(AppError::Input(format!(
+            "`{}` is a run directory: `validate --out` writes its report in a directory of its own",
+            dir.display()
+        )));
+    }
+    crate::app::out_dir::refuse_inside_run(dir)?;
+    let path = dir.join("validation_table.md");
+    let Ok(meta) = std::fs::symlink_metadata(&path) else {
+        return Ok(());
+    };
+    let text = match meta.is_file() {
+        true => crate::output::atomic::read_own_string(&path).unwrap_or_default(),
+        false => String::new(),
+    };
+    match text.lines().next() == Some(TABLE_HEADER) {
+        true => Ok(()),
+        false => Err(AppError::Input(format!(
+            "`{}` is not a report chute wrote, and chute would replace it: move it, or choose another --out",
+            path.display()
+        ))),
     }
 }
 
@@ -256,10 +289,7 @@ pub fn run_suite(opts: &ValidateArgs) -> Vec<Check> {
 /// Render the checks as a Markdown table (`|` inside cells escaped), with the pass count.
 pub fn markdown(checks: &[Check]) -> String {
     let esc = |t: &str| t.replace('|', "\\|");
-    let mut s = String::from(
-        "| case | quantity | reference | simulated | rel. error | tol. | pass | source |\n\
-         |---|---|---|---|---|---|---|---|\n",
-    );
+    let mut s = format!("{TABLE_HEADER}\n|---|---|---|---|---|---|---|---|\n");
     for c in checks {
         s += &format!(
             "| {} | {} | {:.6e} | {:.6e} | {:.2e} | {} | {} | {} |\n",

@@ -8,6 +8,31 @@ use plotters::prelude::*;
 use crate::bench::CaseResult;
 use crate::output::plots::{render_atomic, PlotError};
 
+/// Refuse `--plot FILE` before the benchmark runs (status 2) when FILE cannot be written: its
+/// directory missing or taking no files, a directory of its name, or a place inside a run
+/// directory (the plot would replace a run's file without holding it).
+pub fn refuse_path(path: &Path) -> Result<(), crate::app::AppError> {
+    use crate::app::AppError;
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let bad = |why: String| AppError::Input(format!("--plot `{}`: {why}", path.display()));
+    if path.is_dir() {
+        return Err(bad("is a directory".into()));
+    }
+    if !parent.is_dir() {
+        return Err(bad(format!("`{}` is not a directory", parent.display())));
+    }
+    crate::app::out_dir::refuse_inside_run(path)?;
+    tempfile::Builder::new()
+        .prefix(".chute-probe.")
+        .tempfile_in(parent)
+        .map(drop)
+        .map_err(crate::output::atomic::without_temporary_name)
+        .map_err(|e| bad(format!("its directory takes no files: {e}")))
+}
+
 /// Least-squares slope and intercept of `log10 y = p log10 x + c` over `(x, y)`.
 pub fn fit_power(points: &[(f64, f64)]) -> Option<(f64, f64)> {
     if points.len() < 2 {

@@ -267,13 +267,35 @@ pub fn run_not_whole(dir: &Path) -> Option<String> {
     {
         return Some(format!("its run's {f} is missing"));
     }
+    // Frames on disk are listed in `canopy.pvd`, and every frame it lists is a file of this
+    // run's own `frames/` (not `../other/frames/…`).
+    let frames = dir.join(FRAMES_DIR);
+    let has_frames = std::fs::read_dir(&frames)
+        .is_ok_and(|mut d| d.any(|e| e.is_ok_and(|e| e.file_name().to_str().is_some_and(frame))));
+    if has_frames && !plain(&dir.join(PVD_NAME)) {
+        return Some(format!("its run's {PVD_NAME} is missing"));
+    }
     let listed = super::run_dir::read_pvd(dir).unwrap_or_default();
-    listed.iter().find(|(_, p)| !plain(p)).map(|(_, p)| {
-        format!(
-            "`{}`, a frame its run listed in {PVD_NAME}, is missing",
+    let own = |p: &Path| p.parent() == Some(frames.as_path()) && plain(p);
+    if let Some((_, p)) = listed.iter().find(|(_, p)| !own(p)) {
+        return Some(format!(
+            "`{}`, a frame its run listed in {PVD_NAME}, is missing or not in its own {FRAMES_DIR}",
             p.display()
-        )
-    })
+        ));
+    }
+    // A run whose lines are pulled writes their files.
+    let pulls = std::fs::read_to_string(dir.join(RESOLVED_SCENARIO))
+        .ok()
+        .and_then(|t| crate::scenario::Scenario::from_str_with_name(&t, "", &[]).ok())
+        .is_some_and(|s| crate::build::control::pulled(&s));
+    let control = [
+        super::control_files::LINES_CSV,
+        super::control_files::TRACK_CSV,
+    ];
+    control
+        .into_iter()
+        .find(|f| pulls && !plain(&dir.join(f)))
+        .map(|f| format!("its run's {f} is missing"))
 }
 
 /// Whether `name` belongs to the process holding the directory rather than to a run.

@@ -159,3 +159,20 @@ fn bench_elements_times_every_shell_law() {
         }
     }
 }
+
+/// A `--plot` path that cannot take the picture (no such directory, or inside a run
+/// directory, whose file it would replace without holding it) is refused before the
+/// benchmark runs (status 2), not after it (status 3).
+#[test]
+fn an_unwritable_plot_path_is_refused_before_the_benchmark() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::create_dir(tmp.path().join("r")).unwrap();
+    let record = r#"{"status": "complete", "reason": null, "inputs": [], "viewer": true}"#;
+    std::fs::write(tmp.path().join("r/run.json"), record).unwrap();
+    for plot in ["nosuch/scaling.png", "r/velocity.png"] {
+        let o = chute(tmp.path(), &["bench", "--tiny", "--plot", plot]);
+        assert_eq!(o.status.code(), Some(2), "{plot}: {}", stderr(&o));
+        assert!(!stdout(&o).contains("rod"), "{plot}: the benchmark ran");
+    }
+    assert!(!tmp.path().join("r/velocity.png").exists());
+}

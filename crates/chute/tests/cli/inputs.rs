@@ -76,49 +76,33 @@ fn an_endless_study_file_is_refused_at_its_limit() {
     assert!(err.contains("cannot read study file"), "{err}");
 }
 
+/// `chute check scenarios/<file> --set <set>` exits 2 with every one of `want` in its message.
+fn check_refuses(file: &str, set: &str, want: &[&str]) {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = repo().join("scenarios").join(file);
+    let o = chute(tmp.path(), &["check", path.to_str().unwrap(), "--set", set]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        want.iter().all(|w| err.contains(w)),
+        "want {want:?} in: {err}"
+    );
+}
+
 /// An imported mesh's lines (its rod edges, of the lines' material) are held to the same
 /// stiffness-to-inertia limit as generated lines: refused by `check` naming the key, not a
 /// failure at t = 0.
 #[test]
 fn an_imported_meshs_lines_are_held_to_the_step_stiffness_limit() {
-    let tmp = tempfile::tempdir().unwrap();
-    let hex = repo().join("scenarios/dismech-hex-n6.toml");
-    let o = chute(
-        tmp.path(),
-        &[
-            "check",
-            hex.to_str().unwrap(),
-            "--set",
-            "lines.youngs_modulus_pa=1e22",
-        ],
-    );
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("lines.youngs_modulus_pa") && err.contains("shortest mesh line edge"),
-        "{err}"
-    );
+    let set = "lines.youngs_modulus_pa=1e22";
+    let want = ["lines.youngs_modulus_pa", "shortest mesh line edge"];
+    check_refuses("dismech-hex-n6.toml", set, &want);
 }
 
 /// A model larger than any parachute (a 1e40 m rod passed every other limit and failed at
 /// t = 0) is refused by `check`, blaming the key.
 #[test]
 fn a_model_larger_than_any_parachute_is_refused() {
-    let tmp = tempfile::tempdir().unwrap();
-    let rod = repo().join("scenarios/report-rod-20n.toml");
-    let o = chute(
-        tmp.path(),
-        &[
-            "check",
-            rod.to_str().unwrap(),
-            "--set",
-            "canopy.span_m=1e40",
-        ],
-    );
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("canopy.span_m") && err.contains("largest dimension"),
-        "{err}"
-    );
+    let want = ["canopy.span_m", "largest dimension"];
+    check_refuses("report-rod-20n.toml", "canopy.span_m=1e40", &want);
 }

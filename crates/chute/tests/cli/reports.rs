@@ -50,3 +50,23 @@ fn a_users_file_named_like_a_ladders_report_is_refused_and_kept() {
         assert_eq!(std::fs::read(&file).unwrap(), bytes, "{name} changed");
     }
 }
+
+/// `validate --out` keeps a user's `validation_table.md` (refused, status 2) and never writes
+/// its report into a run directory.
+#[test]
+fn validate_never_replaces_a_users_report_nor_writes_into_a_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mine = tmp.path().join("v/validation_table.md");
+    std::fs::create_dir(tmp.path().join("v")).unwrap();
+    std::fs::write(&mine, "my notes\n").unwrap();
+    let args = ["validate", "--quick", "--case", "elastica", "--out"];
+    let o = crate::common::chute(tmp.path(), &[&args[..], &["v"]].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&mine).unwrap(), "my notes\n");
+    std::fs::create_dir(tmp.path().join("r")).unwrap();
+    let record = r#"{"status": "complete", "reason": null, "inputs": [], "viewer": true}"#;
+    std::fs::write(tmp.path().join("r/run.json"), record).unwrap();
+    let o = crate::common::chute(tmp.path(), &[&args[..], &["r"]].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!tmp.path().join("r/validation_table.md").exists());
+}

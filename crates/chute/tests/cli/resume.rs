@@ -509,6 +509,39 @@ fn view_names_a_missing_frame_of_its_run() {
     refused(&o, &["frame_000001.vtu", "a file of its run, is missing"]);
 }
 
+/// A run with pulled lines is not resumed without its `lines.csv` (its rows up to the
+/// checkpoint would be lost for good): refused, status 2, naming the file.
+#[test]
+fn a_pulled_run_without_its_lines_file_is_not_resumed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let steer = repo().join("scenarios/control-steer.toml");
+    let steer = steer.to_str().unwrap();
+    let set = ["--set", "time.duration_s=0.1", "--checkpoint-every", "0.05"];
+    let o = chute(
+        tmp.path(),
+        &[&["run", steer, "-q", "--no-viewer", "--out", "r"][..], &set].concat(),
+    );
+    ok(&o);
+    std::fs::remove_file(tmp.path().join("r/lines.csv")).unwrap();
+    let o = chute(
+        tmp.path(),
+        &["resume", "r", "--set", "time.duration_s=0.15"],
+    );
+    refused(&o, &["lines.csv", "run the scenario again"]);
+}
+
+/// A resume that writes no viewer removes the earlier one, which showed the run as it stood
+/// when it stopped.
+#[test]
+fn a_resume_without_a_viewer_leaves_no_stale_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED[..4]));
+    assert!(tmp.path().join("r/viewer.html").is_file());
+    let args = ["resume", "r", "--no-viewer", "--set", "time.duration_s=0.2"];
+    ok(&chute(tmp.path(), &args));
+    assert!(!tmp.path().join("r/viewer.html").exists());
+}
+
 /// A picture that cannot take its place (a directory of its name) is warned of and leaves no
 /// temporary behind.
 #[test]

@@ -332,6 +332,20 @@ fn a_finished_case_missing_a_file_or_with_a_linked_frame_runs_again() {
     );
     assert!(o.join("2000N/timeseries.csv").is_file());
     assert_eq!(chute(tmp.path(), &["collect", "o"]).status.code(), Some(0));
+    // Its frame list gone, or listing another case's frame: no finished case.
+    let pvd = o.join("20N/canopy.pvd");
+    let text = std::fs::read_to_string(&pvd).unwrap();
+    std::fs::write(&pvd, text.replacen("frames/", "../200N/frames/", 1)).unwrap();
+    let c = chute(tmp.path(), &["collect", "o"]);
+    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
+    std::fs::remove_file(&pvd).unwrap();
+    let c = chute(tmp.path(), &["collect", "o"]);
+    assert!(
+        stderr(&c).contains("canopy.pvd is missing"),
+        "{}",
+        stderr(&c)
+    );
+    assert_eq!(run().status.code(), Some(0));
     // Its record deleted (this chute always writes one): no finished case either.
     std::fs::remove_file(o.join("200N/run.json")).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
