@@ -127,17 +127,22 @@ pub(super) fn case_not_whole(dir: &std::path::Path, done: &serde_json::Value) ->
         if done["recipe"]["content"].is_string() && missing {
             return Some(format!("its run's {RUN_RECORD} is missing"));
         }
+        let record = RunRecord::read(dir).ok().flatten()?;
+        // The run's own record outranks a marker edited to "complete".
+        if record.status != crate::output::record::Status::Complete {
+            return Some(format!(
+                "its {RUN_RECORD} says the run did not complete ({:?})",
+                record.status
+            ));
+        }
         // A record made for another case (its files copied in): not this case's run.
         let this = format!(
             "{}/{}",
             done["study"].as_str()?,
             done["case"].as_str()?
         );
-        match RunRecord::read(dir) {
-            Ok(Some(RunRecord {
-                case_of: Some(other),
-                ..
-            })) if other != this => Some(format!(
+        match record.case_of {
+            Some(other) if other != this => Some(format!(
                 "its {RUN_RECORD} is of case `{other}`, not `{this}` (files copied from another case?)"
             )),
             _ => None,

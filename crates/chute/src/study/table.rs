@@ -361,14 +361,18 @@ pub fn gather(
         by_name.retain(|name, _| listed(name) || recipes.contains_key(name));
     }
     for (index, case, set) in list.cases {
-        if let Some(row) = by_name.get_mut(&case) {
-            row.index = row.index.min(index);
-            continue;
-        }
-        let overrides = set
+        let overrides: BTreeMap<String, String> = set
             .iter()
             .filter_map(|s| super::split_override(s).map(|[k, v]| (k, v)))
             .collect();
+        if let Some(row) = by_name.get_mut(&case) {
+            row.index = row.index.min(index);
+            // A row without a record (running, abandoned) shows the case's overrides too.
+            if row.overrides.is_empty() {
+                row.overrides = overrides;
+            }
+            continue;
+        }
         let why = match dirs {
             [one] if one.join(&case).is_dir() => format!(
                 "`{}` exists but holds no record of it (no `done.json` of this case)",

@@ -375,6 +375,13 @@ fn a_case_with_another_cases_record_is_not_its_run() {
     );
     assert_eq!(run("o").status.code(), Some(0));
     assert_eq!(chute(tmp.path(), &["collect", "o"]).status.code(), Some(0));
+    // Its own record says the run did not complete: a marker saying so is not believed.
+    let rec = o.join("20N/run.json");
+    let text = std::fs::read_to_string(&rec).unwrap();
+    std::fs::write(&rec, text.replace("\"complete\"", "\"incomplete\"")).unwrap();
+    let c = chute(tmp.path(), &["collect", "o"]);
+    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
+    assert!(stderr(&c).contains("did not complete"), "{}", stderr(&c));
     let t = tmp.path().join("t");
     std::fs::create_dir_all(t.join(".chute.old")).unwrap();
     std::fs::write(t.join(".chute.old/0"), "a moved run file").unwrap();
