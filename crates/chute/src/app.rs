@@ -271,7 +271,11 @@ pub fn run_watched(
             crate::output::run_files::remove_temporaries(dir).map_err(|e| AppError::io(dir, e))?;
             // A run of a chute before run.json gets one now (its inputs as they are).
             let record = match RunRecord::read(dir).map_err(AppError::Input)? {
-                Some(r) => r,
+                // What this resume was told (`--no-viewer`), for the next one.
+                Some(r) => RunRecord {
+                    viewer: opts.viewer,
+                    ..r
+                },
                 None => fresh_record(s, opts, &built)?,
             };
             (Some(c), record, None)

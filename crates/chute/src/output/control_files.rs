@@ -66,22 +66,24 @@ impl Rows {
 
 /// Why `lines.csv` and `track.csv` in `dir` cannot be continued from a checkpoint whose last
 /// frame was at `last_frame` (s): missing, unreadable, or without a whole row of that time.
-pub fn check_resumable(dir: &Path, last_frame: Option<f64>) -> Result<(), String> {
-    for name in [LINES_CSV, TRACK_CSV] {
+pub fn check_resumable(dir: &Path, last_frame: Option<f64>, lines: usize) -> Result<(), String> {
+    // Rows per frame: one per line, and one of the payload's track.
+    for (name, per_frame) in [(LINES_CSV, lines), (TRACK_CSV, 1)] {
         let path = dir.join(name);
         let text = super::atomic::read_own_string(&path).map_err(|e| {
             format!("`{}` of the stopped run cannot be read ({e}): its rows would be lost; run the scenario again", path.display())
         })?;
         let whole = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
         let reaches = |t: f64| {
-            whole.lines().skip(1).any(|l| {
+            let at_t = whole.lines().skip(1).filter(|l| {
                 let row_t = l.split(',').next().and_then(|x| x.parse::<f64>().ok());
                 row_t.is_some_and(|x| (x - t).abs() <= 1e-9 * t.abs().max(1.0))
-            })
+            });
+            at_t.count() >= per_frame
         };
         if let Some(t) = last_frame.filter(|&t| !reaches(t)) {
             return Err(format!(
-                "`{}` has no row of the stopped run's last frame (t = {t} s): its rows were lost or cut back; run the scenario again",
+                "`{}` lacks rows of the stopped run's last frame (t = {t} s): its rows were lost or cut back; run the scenario again",
                 path.display()
             ));
         }

@@ -275,7 +275,13 @@ pub fn run_not_whole(dir: &Path) -> Option<String> {
     if has_frames && !plain(&dir.join(PVD_NAME)) {
         return Some(format!("its run's {PVD_NAME} is missing"));
     }
-    let listed = super::run_dir::read_pvd(dir).unwrap_or_default();
+    let listed = match plain(&dir.join(PVD_NAME)) {
+        true => match super::run_dir::read_pvd(dir) {
+            Ok(l) => l,
+            Err(e) => return Some(format!("its run's {PVD_NAME} cannot be read: {e}")),
+        },
+        false => Vec::new(),
+    };
     let own = |p: &Path| p.parent() == Some(frames.as_path()) && plain(p);
     if let Some((_, p)) = listed.iter().find(|(_, p)| !own(p)) {
         return Some(format!(
@@ -292,10 +298,20 @@ pub fn run_not_whole(dir: &Path) -> Option<String> {
         super::control_files::LINES_CSV,
         super::control_files::TRACK_CSV,
     ];
-    control
-        .into_iter()
-        .find(|f| pulls && !plain(&dir.join(f)))
-        .map(|f| format!("its run's {f} is missing"))
+    let mut rows = std::iter::once(TIMESERIES).chain(control.into_iter().filter(|_| pulls));
+    rows.find(|f| !has_a_row(&dir.join(f)))
+        .map(|f| format!("its run's {f} is missing or holds no row"))
+}
+
+/// Whether the CSV file `path` holds a whole row besides its header.
+fn has_a_row(path: &Path) -> bool {
+    use std::io::BufRead;
+    let Ok(file) = super::atomic::open_own(path) else {
+        return false;
+    };
+    let mut lines = std::io::BufReader::new(file).lines();
+    let header = lines.next().is_some_and(|h| h.is_ok());
+    header && lines.next().is_some_and(|r| r.is_ok_and(|r| !r.is_empty()))
 }
 
 /// Whether `name` belongs to the process holding the directory rather than to a run.

@@ -166,13 +166,10 @@ pub fn check_resumable(built: &Built, out_dir: &Path, c: &Checkpoint) -> Result<
     }
     // Pulled lines: `lines.csv` and `track.csv` hold a row at every frame, so each must reach
     // the checkpoint's last frame (a file lost or cut back would lose those rows for good).
-    let pulled = built
-        .lines
-        .as_ref()
-        .is_some_and(|l| l.lines.iter().any(|x| x.schedule.is_some()));
-    if pulled {
-        crate::output::control_files::check_resumable(out_dir, c.frame_times.last().copied())
-            .map_err(bad)?;
+    let lines = built.lines.as_ref().map(|l| &l.lines);
+    if let Some(lines) = lines.filter(|l| l.iter().any(|x| x.schedule.is_some())) {
+        let last = c.frame_times.last().copied();
+        crate::output::control_files::check_resumable(out_dir, last, lines.len()).map_err(bad)?;
     }
     // A resumed run lists the frames the checkpoint counts in `canopy.pvd`: a directory
     // missing one is not the run that was stopped.

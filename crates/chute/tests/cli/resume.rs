@@ -522,12 +522,28 @@ fn a_pulled_run_without_its_lines_file_is_not_resumed() {
         &[&["run", steer, "-q", "--no-viewer", "--out", "r"][..], &set].concat(),
     );
     ok(&o);
-    std::fs::remove_file(tmp.path().join("r/lines.csv")).unwrap();
-    let o = chute(
-        tmp.path(),
-        &["resume", "r", "--set", "time.duration_s=0.15"],
+    let resume = ["resume", "r", "--set", "time.duration_s=0.15"];
+    // One row of the checkpoint's last frame (t = 0.05 s: frames and checkpoints every
+    // 0.05 s, the run ended at 0.1 s) cut out: that frame's rows are not whole.
+    let lines = tmp.path().join("r/lines.csv");
+    let text = std::fs::read_to_string(&lines).unwrap();
+    let gone = text.lines().position(|l| l.starts_with("0.05")).unwrap();
+    let kept: Vec<&str> = text
+        .lines()
+        .enumerate()
+        .filter(|&(i, _)| i != gone)
+        .map(|(_, l)| l)
+        .collect();
+    std::fs::write(&lines, kept.join("\n") + "\n").unwrap();
+    refused(
+        &chute(tmp.path(), &resume),
+        &["lines.csv", "run the scenario again"],
     );
-    refused(&o, &["lines.csv", "run the scenario again"]);
+    std::fs::remove_file(&lines).unwrap();
+    refused(
+        &chute(tmp.path(), &resume),
+        &["lines.csv", "run the scenario again"],
+    );
 }
 
 /// A resume that writes no viewer removes the earlier one, which showed the run as it stood
@@ -540,6 +556,9 @@ fn a_resume_without_a_viewer_leaves_no_stale_one() {
     let args = ["resume", "r", "--no-viewer", "--set", "time.duration_s=0.2"];
     ok(&chute(tmp.path(), &args));
     assert!(!tmp.path().join("r/viewer.html").exists());
+    // Recorded, so that a later resume does as this one was told.
+    let record = std::fs::read_to_string(tmp.path().join("r/run.json")).unwrap();
+    assert!(record.contains("\"viewer\": false"), "{record}");
 }
 
 /// A picture that cannot take its place (a directory of its name) is warned of and leaves no

@@ -338,6 +338,13 @@ fn a_finished_case_missing_a_file_or_with_a_linked_frame_runs_again() {
     std::fs::write(&pvd, text.replacen("frames/", "../200N/frames/", 1)).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
     assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
+    std::fs::write(&pvd, text.replace("file=\"", "file='")).unwrap();
+    let c = chute(tmp.path(), &["collect", "o"]);
+    assert!(
+        stderr(&c).contains("canopy.pvd cannot be read"),
+        "{}",
+        stderr(&c)
+    );
     std::fs::remove_file(&pvd).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
     assert!(
@@ -345,6 +352,17 @@ fn a_finished_case_missing_a_file_or_with_a_linked_frame_runs_again() {
         "{}",
         stderr(&c)
     );
+    // A time series of its header only.
+    let ts = o.join("2000N/timeseries.csv");
+    let header = std::fs::read_to_string(&ts)
+        .unwrap()
+        .lines()
+        .next()
+        .unwrap()
+        .to_string();
+    std::fs::write(&ts, header + "\n").unwrap();
+    let c = chute(tmp.path(), &["collect", "o"]);
+    assert!(stderr(&c).contains("holds no row"), "{}", stderr(&c));
     assert_eq!(run().status.code(), Some(0));
     // Its record deleted (this chute always writes one): no finished case either.
     std::fs::remove_file(o.join("200N/run.json")).unwrap();

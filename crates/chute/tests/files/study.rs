@@ -70,7 +70,7 @@ pub(crate) fn fake(s: &Scenario, o: &RunOptions) -> Result<RunOutcome, AppError>
     };
     record.write(&o.out_dir).unwrap();
     std::fs::write(o.out_dir.join("scenario.resolved.toml"), s.to_toml()).unwrap();
-    std::fs::write(o.out_dir.join("timeseries.csv"), "t_s\n").unwrap();
+    std::fs::write(o.out_dir.join("timeseries.csv"), "t_s\n0\n").unwrap();
     let summary = serde_json::json!({
         "terminal_velocity_mps": -s.load.weight_n / 100.0,
         "time_to_terminal_s": 1.5,
