@@ -119,17 +119,22 @@ impl DtPolicy {
         })
     }
 
+    /// The time of sync point `k` (s): [`multiple`] of `sync_dt`.
+    pub fn sync_time(&self, k: u64) -> f64 {
+        multiple(k as f64, self.sync_dt)
+    }
+
     /// Whether the step is error-controlled.
     pub fn adaptive(&self) -> bool {
         self.sizes.adaptive()
     }
 
     /// The frame time after `prev` with frame interval `iv` (s). Adaptive runs end steps on
-    /// frame times, so these must match the sync times `k · sync_dt` to round-off: they are
-    /// computed as multiples of `iv`, not accumulated.
+    /// frame times, so these must match the sync times ([`DtPolicy::sync_time`]) to
+    /// round-off: they are computed as multiples of `iv` ([`multiple`]), not accumulated.
     pub fn next_frame_after(&self, prev: f64, iv: f64) -> f64 {
         if self.adaptive() {
-            ((prev / iv).round() + 1.0) * iv
+            multiple((prev / iv).round() + 1.0, iv)
         } else {
             prev + iv
         }
@@ -165,6 +170,19 @@ fn adaptive_sync_interval(cfg: &RunConfig, dt_max: f64) -> f64 {
         (base / iv - 1e-9).ceil().max(1.0) * iv
     } else {
         base
+    }
+}
+
+/// `k · step`, computed as `k / n` when `step` is `1/n` for a whole `n` (0.1, 0.05, 0.02 …):
+/// then 3 × 0.1 is the `0.3` a duration written as `0.3` is, not 0.30000000000000004, so a
+/// run that ends there and one that passes through it take the same steps (a resumed
+/// extension stays bit-identical to the longer run).
+pub(super) fn multiple(k: f64, step: f64) -> f64 {
+    let n = (1.0 / step).round();
+    if n >= 1.0 && (1.0 / n - step).abs() <= 4.0 * f64::EPSILON * step {
+        k / n
+    } else {
+        k * step
     }
 }
 

@@ -41,7 +41,7 @@ pub(super) struct Flight {
     /// Whether the flight draws its snapshots (a run does; a [`super::session::Session`]
     /// only ends its steps on their times, and so never warns of one not drawn).
     pub draws_snapshots: bool,
-    /// Index of the next sync point (its time is `next_sync · dt.sync_dt`).
+    /// Index of the next sync point (its time is `dt.sync_time(next_sync)`).
     pub next_sync: u64,
     /// Observation buffers.
     pub obs: Observer,
@@ -127,7 +127,7 @@ impl Flight {
             f64::INFINITY
         };
         let snap = self.snaps.get(self.snap_idx).copied();
-        let sync = self.next_sync as f64 * self.dt.sync_dt;
+        let sync = self.dt.sync_time(self.next_sync);
         [frame, snap.unwrap_or(f64::INFINITY), sync]
             .into_iter()
             .filter(|&e| e > after)
@@ -213,7 +213,7 @@ impl Flight {
     /// caller drops the stepper's factorisation there (and may checkpoint).
     pub fn passed_sync(&mut self, t: f64) -> bool {
         let (sync_dt, tol) = (self.dt.sync_dt, self.dt.time_tol);
-        if t < self.next_sync as f64 * sync_dt - tol {
+        if t < self.dt.sync_time(self.next_sync) - tol {
             return false;
         }
         self.next_sync = ((t + tol) / sync_dt).floor() as u64 + 1;

@@ -205,3 +205,42 @@ fn check_shows_the_adaptive_settings() {
         "{out}"
     );
 }
+
+/// An adaptive run extended by `resume` from its end is the longer run bit for bit, also
+/// when that end (0.3 s) is not a binary multiple of the sync interval (3 × 0.1 is
+/// 0.30000000000000004): sync and frame times are taken as the decimals they name.
+#[test]
+fn an_adaptive_run_extended_from_an_end_off_the_binary_grid_is_the_longer_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = repo().join("scenarios/report-rod-20n.toml");
+    let rod = rod.to_str().unwrap();
+    let a = [
+        "--set",
+        "time.adaptive=true",
+        "--set",
+        "time.error_tolerance_m=1e-6",
+        "-q",
+    ];
+    let run = |out: &str, d: &str, extra: &[&str]| {
+        let dur = format!("time.duration_s={d}");
+        let args = [
+            &["run", rod, "--out", out, "--set", dur.as_str()][..],
+            &a,
+            extra,
+        ]
+        .concat();
+        assert_eq!(chute(tmp.path(), &args).status.code(), Some(0));
+    };
+    run("long", "0.6", &[]);
+    run("ext", "0.3", &["--checkpoint-every", "0.05"]);
+    let o = chute(
+        tmp.path(),
+        &["resume", "ext", "--set", "time.duration_s=0.6", "-q"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let ts = |d: &str| std::fs::read(tmp.path().join(d).join("timeseries.csv")).unwrap();
+    assert!(
+        ts("long") == ts("ext"),
+        "the extended run's time series differs"
+    );
+}
