@@ -238,11 +238,10 @@ pub(super) fn hold(dir: &Path) -> Result<Option<RunLock>, AppError> {
 pub fn refuse_inside_run(out: &Path) -> Result<(), AppError> {
     // Through links: `link/x` with `link` pointing into a run is inside that run.
     let abs = resolved(out);
-    // Whatever makes a study refuse a directory as a run's makes it one here too.
     let inside = abs
         .ancestors()
         .skip(1)
-        .find(|a| run_files::is_run_dir(a) || a.join(run_files::SUMMARY).is_file());
+        .find(|a| run_files::run_evidence(a).is_some());
     match inside {
         Some(run) => Err(AppError::Input(format!(
             "`{}` lies inside the run directory `{}`: chute writes each run, study and table in a directory of its own",

@@ -237,9 +237,10 @@ pub fn directory_named_like_a_run_file(dir: &Path) -> Option<std::path::PathBuf>
 /// Why the finished run in `dir` is not whole, or `None`: an entry named like a file a run
 /// or study case writes (or `frames`, or a frame in it) that is a symbolic link — a run's
 /// files are its own, never another run's seen through a link —, a file every finished run
-/// has that is missing, or a frame `canopy.pvd` lists that is not a plain file. Such a
+/// has that is missing or holds no row (with `pulls`, the line-pull files too), or a frame
+/// `canopy.pvd` lists that is not a plain file of its own `frames`. Such a
 /// directory holds no finished run to skip or to table.
-pub fn run_not_whole(dir: &Path) -> Option<String> {
+pub fn run_not_whole(dir: &Path, pulls: bool) -> Option<String> {
     let linked = |d: &Path, ours: &dyn Fn(&str) -> bool| {
         std::fs::read_dir(d)
             .ok()?
@@ -289,11 +290,7 @@ pub fn run_not_whole(dir: &Path) -> Option<String> {
             p.display()
         ));
     }
-    // A run whose lines are pulled writes their files.
-    let pulls = std::fs::read_to_string(dir.join(RESOLVED_SCENARIO))
-        .ok()
-        .and_then(|t| crate::scenario::Scenario::from_str_with_name(&t, "", &[]).ok())
-        .is_some_and(|s| crate::build::control::pulled(&s));
+    // A run whose lines are pulled (`pulls`) writes their files.
     let control = [
         super::control_files::LINES_CSV,
         super::control_files::TRACK_CSV,
@@ -317,6 +314,21 @@ fn has_a_row(path: &Path) -> bool {
 /// Whether `name` belongs to the process holding the directory rather than to a run.
 pub fn is_holder_file(name: &str) -> bool {
     top_entry(name).is_some_and(|f| f.role == Role::Holder)
+}
+
+/// The file (or trash) by which `dir` holds a single run, if it does: [`is_run_dir`]'s, or a
+/// run's `summary.json`. Nothing else may be written into such a directory, or under it.
+pub fn run_evidence(dir: &Path) -> Option<&'static str> {
+    if dir.join(RESOLVED_SCENARIO).is_file() {
+        return Some(RESOLVED_SCENARIO);
+    }
+    if dir.join(SUMMARY).is_file() {
+        return Some(SUMMARY);
+    }
+    if super::record::RunRecord::read(dir).is_ok_and(|r| r.is_some()) {
+        return Some(RUN_RECORD);
+    }
+    clearing_interrupted(dir).then_some(TRASH)
 }
 
 /// Whether `dir` holds a chute run: its resolved scenario, or a record that is chute's

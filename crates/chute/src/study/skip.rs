@@ -120,8 +120,13 @@ pub(crate) fn read_other_inputs(
 /// records the study's `content`; an older chute's cases have no run.json to miss).
 pub(super) fn case_not_whole(dir: &std::path::Path, done: &serde_json::Value) -> Option<String> {
     use crate::output::record::RunRecord;
-    use crate::output::run_files::{run_not_whole, RUN_RECORD};
-    run_not_whole(dir).or_else(|| {
+    use crate::output::run_files::{run_not_whole, RESOLVED_SCENARIO, RUN_RECORD};
+    // Whether its run pulled lines (and so wrote their files), as its resolved scenario says.
+    let pulls = std::fs::read_to_string(dir.join(RESOLVED_SCENARIO))
+        .ok()
+        .and_then(|t| crate::scenario::Scenario::from_str_with_name(&t, "", &[]).ok())
+        .is_some_and(|s| crate::build::control::pulled(&s));
+    run_not_whole(dir, pulls).or_else(|| {
         let record = dir.join(RUN_RECORD);
         let missing = !std::fs::symlink_metadata(&record).is_ok_and(|m| m.is_file());
         if done["recipe"]["content"].is_string() && missing {

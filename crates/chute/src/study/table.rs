@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use super::inputs::{Checker, InputsState};
 use super::{Study, DONE_FILE, METRIC_COLUMNS};
 use crate::app::AppError;
-use crate::output::run_files::{RESOLVED_SCENARIO, SUMMARY};
+use crate::output::run_files::SUMMARY;
 use crate::scenario::derived::sig4;
 
 pub(crate) fn read_json(path: &Path) -> Option<serde_json::Value> {
@@ -423,18 +423,7 @@ pub fn gather(
 /// Refuse a directory that holds a single run at its top level: study files written there
 /// would mix a study into a run (or a case) directory.
 pub(crate) fn refuse_run_dir(dir: &Path) -> Result<(), AppError> {
-    // A run's record too: a run writes it first (and a killed one may leave nothing else).
-    let record = crate::output::run_files::RUN_RECORD;
-    let run_file = [RESOLVED_SCENARIO, "summary.json", record]
-        .into_iter()
-        .find(|&f| match f == record {
-            true => crate::output::record::RunRecord::read(dir).is_ok_and(|r| r.is_some()),
-            false => dir.join(f).is_file(),
-        });
-    // A run's `--force` replacement that was killed left the run's files in its trash.
-    let trash = crate::output::run_files::TRASH;
-    let run_file =
-        run_file.or(crate::output::run_files::clearing_interrupted(dir).then_some(trash));
+    let run_file = crate::output::run_files::run_evidence(dir);
     match run_file {
         Some(f) => Err(AppError::Input(format!(
             "`{}` is a run directory (it holds the {f} of a single run), not the output directory of a study: give the directory the study wrote its cases into (`chute study --out DIR`)",

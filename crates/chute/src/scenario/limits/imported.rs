@@ -80,31 +80,35 @@ pub(super) fn step_stiffness(s: &Scenario) -> Vec<Derived> {
     );
     let dt = input("time.dt_s", s.time.dt_s, 1e-3);
     let (m, ln) = (&s.material, &s.lines);
-    let ratio = |e: f64, rho: f64, l: f64| e * s.time.dt_s.powi(2) / (rho * l * l);
-    let mut out = Vec::new();
-    if tri.is_finite() {
-        out.push(Derived {
-            name: "shortest mesh edge's stiffness-to-inertia ratio over a step E dt²/(ρ l²)",
-            unit: "",
-            value: ratio(m.youngs_modulus_pa, m.density_kg_m3, tri),
-            inputs: vec![
-                input("material.youngs_modulus_pa", m.youngs_modulus_pa, 1e9),
-                input("material.density_kg_m3", m.density_kg_m3, 1000.0),
-                dt,
-            ],
-        });
-    }
-    if line.is_finite() {
-        out.push(Derived {
-            name: "shortest mesh line edge's stiffness-to-inertia ratio over a step E dt²/(ρ l²)",
-            unit: "",
-            value: ratio(ln.youngs_modulus_pa, ln.density_kg_m3, line),
-            inputs: vec![
-                input("lines.youngs_modulus_pa", ln.youngs_modulus_pa, 1e9),
-                input("lines.density_kg_m3", ln.density_kg_m3, 1000.0),
-                dt,
-            ],
-        });
-    }
-    out
+    // The ratio of an edge of length `l` of the material `[E, ρ]` (keys, values).
+    let ratio = |name, l: f64, [e, rho]: [(&'static str, f64); 2]| Derived {
+        name,
+        unit: "",
+        value: e.1 * s.time.dt_s.powi(2) / (rho.1 * l * l),
+        inputs: vec![input(e.0, e.1, 1e9), input(rho.0, rho.1, 1000.0), dt],
+    };
+    let canopy = [
+        ("material.youngs_modulus_pa", m.youngs_modulus_pa),
+        ("material.density_kg_m3", m.density_kg_m3),
+    ];
+    let lines = [
+        ("lines.youngs_modulus_pa", ln.youngs_modulus_pa),
+        ("lines.density_kg_m3", ln.density_kg_m3),
+    ];
+    [
+        (
+            "shortest mesh edge's stiffness-to-inertia ratio over a step E dt²/(ρ l²)",
+            tri,
+            canopy,
+        ),
+        (
+            "shortest mesh line edge's stiffness-to-inertia ratio over a step E dt²/(ρ l²)",
+            line,
+            lines,
+        ),
+    ]
+    .into_iter()
+    .filter(|(_, l, _)| l.is_finite())
+    .map(|(name, l, keys)| ratio(name, l, keys))
+    .collect()
 }
