@@ -198,6 +198,10 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
             .atmosphere
             .ground_altitude_m
             .and_then(|g| crate::control::Controller::new(s, g - s.atmosphere.altitude_m)),
+        triggers: s
+            .atmosphere
+            .ground_altitude_m
+            .and_then(|g| crate::control::Triggers::new(s, g - s.atmosphere.altitude_m)),
         scenario_warnings: s.notes.0.clone(),
         progress,
     }

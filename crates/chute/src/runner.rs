@@ -83,6 +83,8 @@ pub struct RunConfig {
     pub gravity_mps2: f64,
     /// The guidance law (`[guidance]`), which pulls lines between steps.
     pub guidance: Option<crate::control::Controller>,
+    /// The sensor-started pulls (`[[control]]` with `sensor`), fired between steps.
+    pub triggers: Option<crate::control::Triggers>,
     /// Warnings about the scenario itself, first in the summary.
     pub scenario_warnings: Vec<String>,
     /// Show a progress bar.

@@ -56,7 +56,8 @@ pub use parse::base_dir as source_dir;
 pub use sections::{
     Atmosphere, AtmosphereModel, Bending, Canopy, CanopyShape, Control, DragLaw, Fluid, Guidance,
     Lines, Load, LoadMode, Material, Membrane, MeshPattern, ModelKind, ModelSection, Output,
-    PullSide, Shell, ShellDrag, SiteSet, Sites, Time, DEFAULT_ERROR_TOLERANCE_M,
+    PullSide, Sensor, SensorKind, Shell, ShellDrag, SiteSet, Sites, Time,
+    DEFAULT_ERROR_TOLERANCE_M,
 };
 
 /// `--set` overrides that turn the bundled report shells (`scenarios/report-shell-*.toml`,
@@ -104,7 +105,10 @@ pub struct Scenario {
     /// What to write.
     #[serde(default)]
     pub output: Output,
-    /// Scheduled line pulls (`[[control]]`).
+    /// Sensors that can start pulls (`[[sensor]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sensor: Vec<Sensor>,
+    /// Scheduled or sensor-started line pulls (`[[control]]`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub control: Vec<Control>,
     /// Guidance to a target by line pulls.

@@ -6,7 +6,7 @@ use std::ops::Range;
 use super::BuildError;
 use crate::scenario::control::MIN_LINE_FRACTION;
 use crate::scenario::Scenario;
-use engine::rod::{Command, Pull, RestSchedule, RodHandles};
+use engine::rod::{Pull, RestSchedule, RodHandles, StretchHistory, TriggeredPull};
 use engine::{ForceId, Model};
 
 /// Whether the lines of `s` get rest-length schedules (pulls or guidance).
@@ -14,22 +14,35 @@ pub fn pulled(s: &Scenario) -> bool {
     !s.control.is_empty() || s.guidance.is_some()
 }
 
-/// The schedule of line `line` (0-based, in site order) of `s`.
+/// The schedule of line `line` (0-based, in site order) of `s`: its clock pulls, and its
+/// sensor pulls as triggered pulls (not fired) whose `source` is the `[[control]]` index.
 pub fn schedule(s: &Scenario, line: usize) -> RestSchedule {
-    let pulls = s
-        .control
-        .iter()
-        .filter(|c| c.lines.contains(&line))
-        .map(|c| Pull {
-            start: c.start_s,
-            ramp: c.ramp_s,
-            shorten: c.shorten_m,
-            hold: c.hold_s,
-        })
-        .collect();
+    let on_line = || {
+        s.control
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.lines.contains(&line))
+    };
+    let pull = |c: &crate::scenario::Control| Pull {
+        start: c.start_s,
+        ramp: c.ramp_s,
+        shorten: c.shorten_m,
+        hold: c.hold_s,
+    };
     RestSchedule {
-        pulls,
+        pulls: on_line()
+            .filter(|(_, c)| c.sensor.is_none())
+            .map(|(_, c)| pull(c))
+            .collect(),
         command_ramp: s.guidance.as_ref().map_or(0.0, |g| g.ramp_s),
+        triggered: on_line()
+            .filter(|(_, c)| c.sensor.is_some())
+            .map(|(i, c)| TriggeredPull {
+                pull: pull(c),
+                source: i,
+                fired: None,
+            })
+            .collect(),
     }
 }
 
@@ -123,29 +136,63 @@ impl Lines {
         Some(Self { lines, stretch })
     }
 
-    /// The commands a controller last set, one per schedule (from the family's history).
-    pub fn commands(&self, model: &Model) -> Vec<Command> {
+    /// The schedules, in the order of their index in the stretching family.
+    fn schedules(&self) -> Vec<&RestSchedule> {
+        let mut by_index: Vec<(usize, &RestSchedule)> = self
+            .lines
+            .iter()
+            .filter_map(|l| l.schedule.as_ref().map(|(s, k)| (*k, s)))
+            .collect();
+        by_index.sort_by_key(|&(k, _)| k);
+        by_index.into_iter().map(|(_, s)| s).collect()
+    }
+
+    /// The controller's commands and the triggers' firings (the family's history).
+    pub fn history(&self, model: &Model) -> StretchHistory {
+        let n = self.schedules().len();
+        StretchHistory::decode(&model.force(self.stretch).history(), n)
+    }
+
+    /// Set the history of the stretching family (commands and firings).
+    pub fn set_history(&self, model: &mut Model, h: &StretchHistory) {
         model
-            .force(self.stretch)
-            .history()
-            .chunks_exact(Command::LEN)
-            .map(|c| Command {
-                from: c[0],
-                to: c[1],
-                t0: c[2],
-            })
+            .force_mut(self.stretch)
+            .restore_history(&h.encode())
+            .expect("one command per schedule, one firing per triggered pull");
+    }
+
+    /// The `[[control]]` index of each triggered pull, in the order of the history's firings.
+    pub fn firing_sources(&self) -> Vec<usize> {
+        let schedules = self.schedules();
+        schedules
+            .iter()
+            .flat_map(|s| s.triggered.iter().map(|p| p.source))
             .collect()
     }
 
-    /// Rest length (m), length (m) and tension at the site end (N) of every line at `q`, `t`.
-    pub fn sample(&self, q: &[f64], t: f64, commands: &[Command]) -> Vec<[f64; 3]> {
+    /// The schedule of line `l` with the firings of `h` applied (its index `k` too).
+    fn fired(&self, l: &Line, h: &StretchHistory) -> Option<(RestSchedule, usize)> {
+        let (sch, k) = l.schedule.as_ref()?;
+        let offset: usize = self.schedules()[..*k]
+            .iter()
+            .map(|s| s.triggered.len())
+            .sum();
+        let mut sch = sch.clone();
+        for (p, f) in sch.triggered.iter_mut().zip(&h.firings[offset..]) {
+            p.fired = *f;
+        }
+        Some((sch, *k))
+    }
+
+    /// Rest length (m), length (m) and tension at the site end (N) of every line at `q`, `t`,
+    /// under the history `h`.
+    pub fn sample(&self, q: &[f64], t: f64, h: &StretchHistory) -> Vec<[f64; 3]> {
         self.lines
             .iter()
             .map(|l| {
-                let s = l
-                    .schedule
-                    .as_ref()
-                    .map_or(0.0, |(sch, k)| sch.shortening(t, &commands[*k]));
+                let s = self
+                    .fired(l, h)
+                    .map_or(0.0, |(sch, k)| sch.shortening(t, &h.commands[k]));
                 let len = |[a, b]: [usize; 2]| {
                     (0..3)
                         .map(|c| (q[3 * b + c] - q[3 * a + c]).powi(2))

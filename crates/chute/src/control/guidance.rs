@@ -119,36 +119,32 @@ impl Controller {
     /// lines (ramping from their current shortening). Returns the decision taken.
     pub fn after_step(&self, built: &mut Built) -> Option<Decision> {
         let lines = built.lines.as_ref()?;
-        let commands = lines.commands(&built.model);
+        let mut history = lines.history(&built.model);
         let state = &built.state;
-        if !self.due(state.t, &commands) {
+        if !self.due(state.t, &history.commands) {
             return None;
         }
         let p = built.payload_node?;
         let node = |v: &[f64], i: usize| [v[3 * i], v[3 * i + 1], v[3 * i + 2]];
         let sites: Vec<[f64; 3]> = lines.lines.iter().map(|l| node(&state.q, l.site)).collect();
         let d = self.decide(node(&state.q, p), node(&state.v, p), &sites);
-        let h = self.commands(lines, &commands, &d, state.t);
-        let stretch = lines.stretch;
-        built
-            .model
-            .force_mut(stretch)
-            .restore_history(&h)
-            .expect("one command per schedule");
+        self.command(lines, &mut history.commands, &d, state.t);
+        lines.set_history(&mut built.model, &history);
         Some(d)
     }
 
-    /// The stretching family's new history: each line ramps from its shortening at `t` to
-    /// its decided pull.
-    fn commands(&self, lines: &Lines, old: &[Command], d: &Decision, t: f64) -> Vec<f64> {
-        let mut h: Vec<f64> = old.iter().flat_map(|c| [c.from, c.to, c.t0]).collect();
+    /// The new commands: each line ramps from its shortening at `t` to its decided pull.
+    fn command(&self, lines: &Lines, commands: &mut [Command], d: &Decision, t: f64) {
         for (line, &u) in lines.lines.iter().zip(&d.pulls_m) {
             if let Some((_, k)) = &line.schedule {
-                let now = old[*k].at(t, self.ramp_s);
-                h[Command::LEN * k..Command::LEN * (k + 1)].copy_from_slice(&[now, u, t]);
+                let now = commands[*k].at(t, self.ramp_s);
+                commands[*k] = Command {
+                    from: now,
+                    to: u,
+                    t0: t,
+                };
             }
         }
-        h
     }
 }
 

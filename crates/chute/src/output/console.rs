@@ -135,7 +135,27 @@ pub fn key_results(s: &Summary) -> Vec<(&'static str, String)> {
                 ))
         ),
     ));
+    rows.extend(s.triggers.iter().map(|r| ("sensor pull", trigger_text(r))));
     rows
+}
+
+/// One sensor-started pull: which, and when and at what reading it fired.
+fn trigger_text(r: &crate::control::TriggerRecord) -> String {
+    let fired = match (r.reading_time_s, r.reading_m, r.pull_start_s) {
+        (Some(t), Some(h), Some(start)) => format!(
+            "fired by the reading {} at {}; ramp from {}",
+            quantity(h, "m"),
+            quantity(t, "s"),
+            quantity(start, "s")
+        ),
+        _ => "did not fire".to_string(),
+    };
+    format!(
+        "control[{}] (sensor `{}`, ≤ {}): {fired}",
+        r.control,
+        r.sensor,
+        quantity(r.below_m, "m")
+    )
 }
 
 /// The files of run directory `dir`, for the summary: sorted names, the frames directory as

@@ -156,6 +156,9 @@ pub struct Summary {
     /// summaries written before it existed, which read back as `None`.
     #[serde(default)]
     pub solver: Option<SolverCounters>,
+    /// The sensor-started pulls: when and at what reading each fired (absent without one).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub triggers: Vec<crate::control::TriggerRecord>,
     /// Run-loop warnings followed by metric warnings.
     pub warnings: Vec<String>,
 }
@@ -220,8 +223,15 @@ impl Summary {
             dofs: run.dofs,
             stepping: run.stepping,
             solver: run.solver,
+            triggers: Vec::new(),
             warnings,
         }
+    }
+
+    /// The same summary with the sensor-started pulls' records.
+    pub fn with_triggers(mut self, triggers: Vec<crate::control::TriggerRecord>) -> Self {
+        self.triggers = triggers;
+        self
     }
 
     /// The same summary with the recovery-system results `r`.

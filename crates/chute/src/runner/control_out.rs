@@ -45,7 +45,7 @@ impl Recorder {
             return Ok(());
         }
         self.last_t = Some(s.t);
-        let rows = lines.sample(&s.q, s.t, &lines.commands(&b.model));
+        let rows = lines.sample(&s.q, s.t, &lines.history(&b.model));
         let payload = [s.q[3 * p], s.q[3 * p + 1], s.q[3 * p + 2]];
         self.files
             .push(s.t, &rows, payload)

@@ -195,6 +195,7 @@ mod tests {
         RunConfig {
             name: "t".into(),
             guidance: None,
+            triggers: None,
             dt_s: 1e-3,
             min_dt_s: 1e-3 / 1024.0,
             adaptive: adaptive.then_some(AdaptiveSettings {

@@ -49,6 +49,7 @@ pub(super) struct Flight {
     pub dec: DecimatedSeries,
     ground: Option<GroundWatch>,
     guidance: Option<crate::control::Controller>,
+    triggers: Option<crate::control::Triggers>,
     /// The touchdown, once the landing body has reached the ground.
     pub landing: Option<Landing>,
     /// The Newton solves' counters before this flight's stepper was made: zero at the
@@ -98,6 +99,7 @@ impl Flight {
             dec: DecimatedSeries::default(),
             ground: cfg.ground_z_m.map(GroundWatch::new),
             guidance: cfg.guidance.clone(),
+            triggers: cfg.triggers.clone(),
             landing: None,
             solver_before: Some(SolverCounters::default()),
         })
@@ -105,12 +107,16 @@ impl Flight {
 
     /// Start the payload's acceleration and the ground watch from `built.state` (a fresh or
     /// resumed start).
-    pub fn start_watches(&mut self, built: &Built) {
+    pub fn start_watches(&mut self, built: &mut Built) {
         let s = &built.state;
         self.obs.start(built, s);
         self.obs.load(&s.q, &s.v);
         if let Some(g) = &mut self.ground {
             self.landing = g.observe(self.obs.ground_body(built, s.t));
+        }
+        if let (Some(tr), Some(lines)) = (&mut self.triggers, &built.lines) {
+            let body = self.obs.ground_body(built, built.state.t);
+            tr.start(&body, lines, &mut built.model);
         }
     }
 
@@ -170,6 +176,11 @@ impl Flight {
         self.dec.push(&s);
         if let Some(g) = &mut self.ground {
             self.landing = g.observe(self.obs.ground_body(built, t));
+        }
+        if let (Some(tr), Some(lines)) = (&mut self.triggers, &built.lines) {
+            // Between steps, like guidance: the next step sees the firing.
+            let body = self.obs.ground_body(built, t);
+            tr.after_step(&body, lines, &mut built.model);
         }
         if let Some(c) = &self.guidance {
             // Between steps: the next step sees the new commands (docs/control.md).
@@ -271,14 +282,25 @@ impl Flight {
                     },
                     _ => recovery,
                 };
-                (Summary::new(info, &m).with_recovery(recovery), Some(m))
+                let triggers = self.trigger_records(built);
+                let s = Summary::new(info, &m).with_recovery(recovery);
+                (s.with_triggers(triggers), Some(m))
             }
             Err(e) => {
                 let mut info = info;
                 info.warnings.push(format!("metrics unavailable: {e}"));
                 let undefined = Metrics::undefined(built.total_weight_n);
-                (Summary::new(info, &undefined), None)
+                let s = Summary::new(info, &undefined);
+                (s.with_triggers(self.trigger_records(built)), None)
             }
+        }
+    }
+
+    /// The record of every sensor-started pull (empty without one).
+    pub fn trigger_records(&self, built: &Built) -> Vec<crate::control::TriggerRecord> {
+        match (&self.triggers, &built.lines) {
+            (Some(tr), Some(lines)) => tr.records(lines, &built.model),
+            _ => Vec::new(),
         }
     }
 
@@ -292,7 +314,12 @@ impl Flight {
     pub fn info(&self, built: &Built, cfg: &RunConfig, end: End) -> RunInfo {
         let solver = self.solver(&end.counters);
         let mut warnings = if end.ended {
-            self.final_warnings(built.state.t)
+            let t = built.state.t;
+            let records = self.trigger_records(built);
+            let idle = records
+                .iter()
+                .filter_map(|r| crate::control::trigger::not_fired_warning(r, t));
+            self.final_warnings(t).into_iter().chain(idle).collect()
         } else {
             self.warnings.clone()
         };

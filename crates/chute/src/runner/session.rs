@@ -46,14 +46,14 @@ pub struct Stopped(pub String);
 
 impl Session {
     /// A session at the start of the run of `built` under `cfg` (`cfg.progress` is ignored).
-    pub fn new(built: Built, cfg: RunConfig) -> Result<Self, RunError> {
+    pub fn new(mut built: Built, cfg: RunConfig) -> Result<Self, RunError> {
         let stepper = super::advance::new_stepper(&built.model, &cfg)?;
         let mut flight = Flight::new(&built, &cfg)?;
         flight.draws_snapshots = false;
         let s0 = flight.obs.sample(&built, &built.state, 0, cfg.dt_s);
         flight.dec.push(&s0);
         flight.take_due(built.state.t, &cfg);
-        flight.start_watches(&built);
+        flight.start_watches(&mut built);
         Ok(Self {
             built,
             cfg,

@@ -1,7 +1,8 @@
-//! The cross-key rules of line pulls (`[[control]]`) and guidance (`[guidance]`): line
-//! indices against the number of suspension lines, the 10 % floor on a pulled line's length,
-//! and pulls on one line that overlap in time (the declared rules already make the times and
-//! ramps non-negative and both sections payload-only).
+//! The cross-key rules of line pulls (`[[control]]`), their sensors (`[[sensor]]`) and
+//! guidance (`[guidance]`): line indices against the number of suspension lines, the 10 %
+//! floor on a pulled line's length, pulls on one line that overlap in time, and the sensor a
+//! pull names (the declared rules already make the times and ramps non-negative and the
+//! sections payload-only).
 
 use super::validate::Checker;
 use super::{CanopyShape, LoadMode, ModelKind, Scenario, SiteSet, Sites};
@@ -31,11 +32,13 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
     if s.load.mode != LoadMode::Payload {
         return;
     }
+    sensors(c, s);
     let n = declared_line_count(s);
     let floor = (1.0 - MIN_LINE_FRACTION) * s.lines.length_m;
     for (i, p) in s.control.iter().enumerate() {
         let key = |k: &str| format!("control[{i}].{k}");
         lines(c, &key("lines"), &p.lines, n);
+        trigger(c, s, i);
         if p.shorten_m > floor {
             c.fail(
                 &key("shorten_m"),
@@ -57,7 +60,8 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
                     format!(
                         "this pull on line {line} overlaps control[{j}] (from {} s to {}): \
                          pulls on one line must follow each other (start after the other's \
-                         release ends)",
+                         release ends; a sensor's pull may start at any time after its \
+                         `start_s`)",
                         q.start_s,
                         end_text(q)
                     ),
@@ -150,17 +154,97 @@ fn lines(c: &mut Checker, key: &str, lines: &[usize], n: usize) {
     }
 }
 
-/// End of a pull's release (s), infinite when it is held to the end.
+/// End of a pull's release (s), infinite when it is held to the end or started by a sensor
+/// (which may start it at any time).
 fn end(p: &super::Control) -> f64 {
-    p.hold_s
-        .map_or(f64::INFINITY, |h| p.start_s + 2.0 * p.ramp_s + h)
+    match (p.hold_s, &p.sensor) {
+        (Some(h), None) => p.start_s + 2.0 * p.ramp_s + h,
+        _ => f64::INFINITY,
+    }
 }
 
 fn end_text(p: &super::Control) -> String {
-    match p.hold_s {
-        Some(_) => format!("{} s", end(p)),
-        None => "the end, never released".into(),
+    match (p.hold_s, &p.sensor) {
+        (_, Some(name)) => format!("whenever sensor `{name}` fires it"),
+        (Some(_), None) => format!("{} s", end(p)),
+        (None, None) => "the end, never released".into(),
     }
+}
+
+/// The sensors' names are unique, and a height needs the ground.
+fn sensors(c: &mut Checker, s: &Scenario) {
+    for (j, sn) in s.sensor.iter().enumerate() {
+        if sn.name.is_empty() {
+            c.fail(&format!("sensor[{j}].name"), "\"\"", "name the sensor");
+        }
+        if let Some(k) = s.sensor[..j].iter().position(|o| o.name == sn.name) {
+            c.fail(
+                &format!("sensor[{j}].name"),
+                &sn.name,
+                format!("sensor[{k}] has this name already: names must be unique"),
+            );
+        }
+        if s.atmosphere.ground_altitude_m.is_none() {
+            c.fail(
+                &format!("sensor[{j}].reads"),
+                sn.reads.name(),
+                "a height is measured above the ground: set `atmosphere.ground_altitude_m` \
+                 (with `atmosphere.model = \"isa1976\"`)",
+            );
+        }
+    }
+}
+
+/// A pull's sensor exists and has a threshold; a clock pull has none.
+fn trigger(c: &mut Checker, s: &Scenario, i: usize) {
+    let p = &s.control[i];
+    let key = |k: &str| format!("control[{i}].{k}");
+    match (&p.sensor, p.below_m) {
+        (Some(name), below) => {
+            if !s.sensor.iter().any(|sn| &sn.name == name) {
+                let known: Vec<&str> = s.sensor.iter().map(|sn| sn.name.as_str()).collect();
+                let have = if known.is_empty() {
+                    "no `[[sensor]]` is declared".to_string()
+                } else {
+                    format!("the sensors are {known:?}")
+                };
+                c.fail(
+                    &key("sensor"),
+                    name,
+                    format!("no sensor has this name: {have}"),
+                );
+            }
+            if below.is_none() {
+                c.fail(
+                    &key("sensor"),
+                    name,
+                    "say at which reading the pull starts, e.g. `below_m = 10.0`",
+                );
+            }
+        }
+        (None, Some(b)) => c.fail(
+            &key("below_m"),
+            b,
+            "is only used with `sensor` (the reading that starts the pull): name one, or \
+             remove `below_m` to start the pull by the clock at `start_s`",
+        ),
+        (None, None) => {}
+    }
+}
+
+/// Sensors that no pull reads (they do nothing).
+pub fn unused_sensors(s: &Scenario) -> Vec<String> {
+    s.sensor
+        .iter()
+        .enumerate()
+        .filter(|(_, sn)| !s.control.iter().any(|p| p.sensor.as_ref() == Some(&sn.name)))
+        .map(|(j, sn)| {
+            format!(
+                "sensor[{j}] `{}` is read by no `[[control]]` pull (`sensor = \"{}\"`): it does nothing",
+                sn.name, sn.name
+            )
+        })
+        .collect()
 }
 
 /// Whether two pulls act on a line at the same time (one may start where the other ends).

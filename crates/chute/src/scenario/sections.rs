@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use super::keys::{choice, key, section, when, Bound, Cond, KeyType, Kind, Section};
 
 mod control;
-pub use control::{Control, Guidance, PullSide};
+pub use control::{Control, Guidance, PullSide, Sensor, SensorKind};
 mod time;
 pub use time::{ErrorNorm, Time, DEFAULT_ERROR_TOLERANCE_M};
 
@@ -26,6 +26,7 @@ pub const SECTIONS: &[Section] = &[
     Section::table::<Atmosphere>("atmosphere"),
     Section::table::<Time>("time"),
     Section::table::<Output>("output"),
+    Section::array::<Sensor>("sensor").only_with(PAYLOAD, LINES_ONLY),
     Section::array::<Control>("control").only_with(PAYLOAD, LINES_ONLY),
     Section::optional::<Guidance>("guidance").only_with(PAYLOAD, LINES_ONLY),
 ];

@@ -15,6 +15,7 @@ mod recovery;
 mod resume;
 mod round_symmetry;
 mod runs;
+mod sensor;
 mod session;
 mod shell_bending;
 mod shell_midedge;

@@ -193,3 +193,106 @@ fn guidance_is_checked() {
     let e = round(&["guidance.max_pull_m=0.3"]).unwrap_err();
     assert_eq!(e.key(), Some("guidance.target_m"), "{e}");
 }
+
+/// A sensor and a pull it starts, over the round parachute with a ground.
+const SENSED: [&str; 5] = [
+    "atmosphere.model=isa1976",
+    "atmosphere.altitude_m=30",
+    "atmosphere.ground_altitude_m=0",
+    "sensor=[{name = \"alt\", rate_hz = 50, latency_s = 0.02, noise_m = 0.1, seed = 4}]",
+    "control=[{lines = [0, 1], sensor = \"alt\", below_m = 3.0, ramp_s = 0.2, shorten_m = 0.5}]",
+];
+
+#[test]
+fn sensor_pulls_parse_round_trip_and_refuse_bad_input() {
+    let s = round(&SENSED).unwrap();
+    let sn = &s.sensor[0];
+    assert_eq!(
+        (
+            sn.name.as_str(),
+            sn.rate_hz,
+            sn.latency_s,
+            sn.noise_m,
+            sn.seed
+        ),
+        ("alt", 50.0, 0.02, 0.1, 4)
+    );
+    assert_eq!(sn.reads, chute::scenario::SensorKind::Height);
+    assert_eq!(
+        (s.control[0].sensor.as_deref(), s.control[0].below_m),
+        (Some("alt"), Some(3.0))
+    );
+    let back = Scenario::from_str_with_name(&s.to_toml(), "r.toml", &[]).unwrap();
+    assert_eq!(back, s);
+    let with = |extra: &[&'static str]| -> Vec<&'static str> {
+        SENSED.iter().chain(extra).copied().collect()
+    };
+    for (extra, key, want) in [
+        (
+            &["control[0].sensor=\"altimeter\""][..],
+            "control[0].sensor",
+            "no sensor has this name: the sensors are [\"alt\"]",
+        ),
+        (
+            &["sensor=[]"][..],
+            "control[0].sensor",
+            "no `[[sensor]]` is declared",
+        ),
+        (
+            &["control=[{lines = [0], sensor = \"alt\", shorten_m = 0.5}]"][..],
+            "control[0].sensor",
+            "below_m = 10.0",
+        ),
+        (
+            &["control=[{lines = [0], below_m = 3.0, shorten_m = 0.5}]"][..],
+            "control[0].below_m",
+            "only used with `sensor`",
+        ),
+        (
+            &["sensor[1].name=\"alt\""][..],
+            "sensor[1].name",
+            "sensor[0] has this name already",
+        ),
+        (
+            &["sensor[0].rate_hz=0"][..],
+            "sensor[0].rate_hz",
+            "must be positive",
+        ),
+        (
+            &["sensor[0].latency_s=-0.1"][..],
+            "sensor[0].latency_s",
+            "must not be negative",
+        ),
+        (
+            &["sensor[0].noise_m=-1"][..],
+            "sensor[0].noise_m",
+            "must not be negative",
+        ),
+        (
+            &["sensor[0].reads=\"speed\""][..],
+            "sensor[0].reads",
+            "height",
+        ),
+        // A sensor's pull may start at any time: another pull on its lines overlaps it.
+        (
+            &[
+                "control=[{lines = [1], sensor = \"alt\", below_m = 3.0, shorten_m = 0.5}, \
+               {lines = [1], start_s = 20, shorten_m = 0.1}]",
+            ][..],
+            "control[1].start_s",
+            "whenever sensor `alt` fires it",
+        ),
+    ] {
+        refused(&with(extra), key, want);
+    }
+    // A height needs the ground.
+    let no_ground: Vec<&str> = SENSED[3..].to_vec();
+    refused(&no_ground, "sensor[0].reads", "ground_altitude_m");
+    // A sensor no pull reads is a warning, not an error.
+    let unused = round(&with(&["control=[]"])).unwrap();
+    let warnings = chute::scenario::plausibility::warnings(&unused);
+    assert!(
+        warnings.iter().any(|w| w.contains("sensor[0] `alt`")),
+        "{warnings:?}"
+    );
+}

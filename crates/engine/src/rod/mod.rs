@@ -20,4 +20,7 @@ pub use bend_twist::{BendTwist, BendTwistData, BendTwistElement, BendTwistLaw};
 pub use frames::RodFrames;
 pub use network::{RodHandles, RodNetwork, RodSpec};
 pub use section::{Section, SectionError};
-pub use stretch::{Command, EdgeSpring, Pull, RestSchedule, Scheduled, Stretch, StretchLaw};
+pub use stretch::{
+    Command, EdgeSpring, Firing, Pull, RestSchedule, Scheduled, Stretch, StretchHistory,
+    StretchLaw, TriggeredPull,
+};

@@ -24,8 +24,8 @@ use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, outer, M3, V3};
 
 /// The edge-spring law: everything is per edge, except the rest-length schedules of pulled
-/// rods and the commands a controller sets (the family's history, `[from, to, t0]` per
-/// schedule: see [`Command`]).
+/// rods, the commands a controller sets and the firings of triggered pulls (the family's
+/// history: see [`StretchHistory`]).
 #[derive(Debug, Default)]
 pub struct StretchLaw {
     schedules: Vec<RestSchedule>,
@@ -120,20 +120,113 @@ impl Command {
     }
 }
 
-/// The rest-length schedule of one rod: fixed pulls plus a command.
+/// A pull that a trigger starts while running (a sensor reading judged by the application
+/// between steps): it does nothing until it has fired, and then runs as `pull` from the
+/// firing's start.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TriggeredPull {
+    /// The pull; its `start` is replaced by the firing's.
+    pub pull: Pull,
+    /// The application's name for its trigger (chute: the `[[control]]` entry's index).
+    pub source: usize,
+    /// How it fired, once it has.
+    pub fired: Option<Firing>,
+}
+
+/// The record of a trigger's firing, kept in the family's history so that a checkpoint carries
+/// it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Firing {
+    /// Start of the pull's ramp (s).
+    pub start: f64,
+    /// Time of the reading that fired it (s).
+    pub reading_t: f64,
+    /// That reading (in the sensor's unit).
+    pub reading: f64,
+}
+
+impl Firing {
+    /// Length of one firing in the family's history (an unfired pull has `start = ∞`).
+    pub const LEN: usize = 3;
+}
+
+impl TriggeredPull {
+    /// Its shortening at `t` (m): zero until fired.
+    pub fn shortening(&self, t: f64) -> f64 {
+        self.fired.map_or(0.0, |f| {
+            let p = Pull {
+                start: f.start,
+                ..self.pull
+            };
+            p.shorten * p.fraction(t)
+        })
+    }
+}
+
+/// The rest-length schedule of one rod: fixed pulls, triggered pulls and a command.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RestSchedule {
     /// Prescribed pulls; they add.
     pub pulls: Vec<Pull>,
     /// Ramp of every command (s).
     pub command_ramp: f64,
+    /// Pulls started by triggers; they add to the others once fired.
+    pub triggered: Vec<TriggeredPull>,
 }
 
 impl RestSchedule {
-    /// Shortening of the rod at `t` (m): the pulls plus the command `cmd`.
+    /// Shortening of the rod at `t` (m): the pulls, the fired triggered pulls and the command
+    /// `cmd`.
     pub fn shortening(&self, t: f64, cmd: &Command) -> f64 {
         let pulls: f64 = self.pulls.iter().map(|p| p.shorten * p.fraction(t)).sum();
-        pulls + cmd.at(t, self.command_ramp)
+        let fired: f64 = self.triggered.iter().map(|p| p.shortening(t)).sum();
+        pulls + fired + cmd.at(t, self.command_ramp)
+    }
+}
+
+/// The history of a stretching family, decoded: one command per schedule, then the firings
+/// of the triggered pulls (schedule by schedule, in their order).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StretchHistory {
+    /// The controller's commands, one per schedule.
+    pub commands: Vec<Command>,
+    /// The firings of the triggered pulls (`None`: not fired).
+    pub firings: Vec<Option<Firing>>,
+}
+
+impl StretchHistory {
+    /// Decode `h` (a [`Stretch`]'s `history()`) of a family with `n_schedules` schedules.
+    pub fn decode(h: &[f64], n_schedules: usize) -> Self {
+        let (c, f) = h.split_at((Command::LEN * n_schedules).min(h.len()));
+        let commands = c
+            .chunks_exact(Command::LEN)
+            .map(|c| Command {
+                from: c[0],
+                to: c[1],
+                t0: c[2],
+            })
+            .collect();
+        let firings = f
+            .chunks_exact(Firing::LEN)
+            .map(|f| {
+                (f[0] != f64::INFINITY).then_some(Firing {
+                    start: f[0],
+                    reading_t: f[1],
+                    reading: f[2],
+                })
+            })
+            .collect();
+        Self { commands, firings }
+    }
+
+    /// Encode for [`crate::Force::restore_history`].
+    pub fn encode(&self) -> Vec<f64> {
+        let commands = self.commands.iter().flat_map(|c| [c.from, c.to, c.t0]);
+        let firings = self.firings.iter().flat_map(|f| match f {
+            Some(f) => [f.start, f.reading_t, f.reading],
+            None => [f64::INFINITY, 0.0, 0.0],
+        });
+        commands.chain(firings).collect()
     }
 }
 
@@ -213,6 +306,11 @@ impl StretchLaw {
         &self.commands
     }
 
+    /// The triggered pulls, schedule by schedule (the order of their firings in the history).
+    pub fn triggered(&self) -> impl Iterator<Item = &TriggeredPull> {
+        self.schedules.iter().flat_map(|s| &s.triggered)
+    }
+
     /// Rest length (m) of edge `el` at time `t`.
     pub fn rest_len(&self, el: &EdgeSpring, t: f64) -> f64 {
         match el.scheduled {
@@ -275,23 +373,25 @@ impl Element for StretchLaw {
     }
 
     fn history_len(&self, _n_elements: usize) -> usize {
-        Command::LEN * self.commands.len()
+        let triggered: usize = self.schedules.iter().map(|s| s.triggered.len()).sum();
+        Command::LEN * self.commands.len() + Firing::LEN * triggered
     }
 
     fn history(&self, _els: &[EdgeSpring]) -> Vec<f64> {
-        self.commands
-            .iter()
-            .flat_map(|c| [c.from, c.to, c.t0])
-            .collect()
+        let firings = self.triggered().map(|p| p.fired).collect();
+        StretchHistory {
+            commands: self.commands.clone(),
+            firings,
+        }
+        .encode()
     }
 
     fn restore_history(&mut self, _els: &mut [EdgeSpring], h: &[f64]) {
-        for (c, v) in self.commands.iter_mut().zip(h.chunks_exact(Command::LEN)) {
-            *c = Command {
-                from: v[0],
-                to: v[1],
-                t0: v[2],
-            };
+        let decoded = StretchHistory::decode(h, self.commands.len());
+        self.commands = decoded.commands;
+        let slots = self.schedules.iter_mut().flat_map(|s| &mut s.triggered);
+        for (p, f) in slots.zip(decoded.firings) {
+            p.fired = f;
         }
     }
 }
@@ -312,7 +412,7 @@ mod tests {
         };
         let sch = RestSchedule {
             pulls: vec![pull],
-            command_ramp: 0.0,
+            ..RestSchedule::default()
         };
         let part = |share| Some(Scheduled { schedule: 0, share });
         Stretch::with_schedules(

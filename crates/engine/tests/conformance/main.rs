@@ -20,7 +20,7 @@ use engine::conformance::Case;
 use engine::force::Force;
 use engine::force_conformance;
 use engine::loads::{DofForces, Gravity, PlanarEdgeMoment, PointForces};
-use engine::rod::{Pull, RestSchedule, Scheduled, Stretch};
+use engine::rod::{Pull, RestSchedule, Scheduled, Stretch, TriggeredPull};
 use engine::shell::{Hinge, HingeBending};
 use fixtures::*;
 use membranes::*;
@@ -231,14 +231,22 @@ force_conformance!(rod_stretch_pulled, {
         shorten,
         hold,
     };
+    let triggered = |ramp: f64, shorten: f64| TriggeredPull {
+        pull: pull(f64::INFINITY, ramp, shorten, None),
+        source: 0,
+        fired: None,
+    };
     let schedules = vec![
         RestSchedule {
             pulls: vec![pull(-0.5, 2.0, 0.6, None)],
             command_ramp: 1.0,
+            triggered: vec![],
         },
         RestSchedule {
             pulls: vec![pull(-2.0, 0.0, -0.3, Some(5.0))],
             command_ramp: 0.0,
+            // Fired mid-ramp, and one not fired (it must add nothing).
+            triggered: vec![triggered(0.2, 0.1), triggered(0.0, 0.5)],
         },
     ];
     let part = |schedule, share| Some(Scheduled { schedule, share });
@@ -251,7 +259,12 @@ force_conformance!(rod_stretch_pulled, {
         schedules,
         scheduled,
     );
-    f.restore_history(&[0.1, 0.3, -0.4, 0.0, 0.0, 0.0]).unwrap();
+    let fired = [-0.5, -0.6, 3.0, f64::INFINITY, 0.0, 0.0];
+    let history: Vec<f64> = [0.1, 0.3, -0.4, 0.0, 0.0, 0.0]
+        .into_iter()
+        .chain(fired)
+        .collect();
+    f.restore_history(&history).unwrap();
     Case::new(f, q).perturb(0.3)
 });
 

@@ -1,5 +1,6 @@
-//! The line-pull keys: `[[control]]` (scheduled pulls) and `[guidance]`
-//! (steering to a target), both payload-mode only (docs/control.md).
+//! The line-pull keys: `[[sensor]]` (instruments that can start a pull), `[[control]]`
+//! (scheduled or sensor-started pulls) and `[guidance]` (steering to a target), all
+//! payload-mode only (docs/control.md).
 
 use super::super::keys::{choice, key, section};
 
@@ -26,6 +27,48 @@ section! {
             .unit("s")
             .non_negative("a hold time")
             .default_doc("absent: never released"),
+        /// the `[[sensor]]` (by name) whose reading starts the pull instead of the clock;
+        /// `start_s` is then the time from which it may fire
+        #[serde(skip_serializing_if = "Option::is_none")]
+        sensor: Option<String> = None => key()
+            .default_doc("absent: the clock starts it at `start_s`")
+            .note("a `sensor.name`; needs `below_m`"),
+        /// the pull starts when the sensor reads this or less (after its latency)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        below_m: Option<f64> = None => key()
+            .unit("m")
+            .default_doc("absent")
+            .note("with `sensor` only, and then required"),
+    }
+}
+
+choice! {
+    /// What a sensor reads.
+    pub enum SensorKind {
+        /// The height of the landing body (the payload) above the ground: an altimeter, or a
+        /// proximity sensor looking down.
+        Height = "height",
+    }
+}
+
+section! {
+    /// One `[[sensor]]` entry: an instrument on the payload whose readings can start a pull
+    /// (`control[i].sensor`, docs/control.md).
+    pub struct Sensor {
+        /// its name, for `control[i].sensor`
+        name: String = String::new() => key()
+            .required("name the sensor, e.g. `name = \"altimeter\"`")
+            .note("unique among the sensors"),
+        /// what it reads
+        reads: SensorKind = SensorKind::Height => key(),
+        /// samples per second; the first at t = 0
+        rate_hz: f64 = 20.0 => key().unit("Hz").positive("a sampling rate"),
+        /// delay from a sample to the pull it fires
+        latency_s: f64 = 0.0 => key().unit("s").non_negative("a latency"),
+        /// standard deviation of the reading's Gaussian noise
+        noise_m: f64 = 0.0 => key().unit("m").non_negative("a standard deviation"),
+        /// seed of the noise: sample k's noise depends only on (seed, k)
+        seed: usize = 0 => key().note("any non-negative integer"),
     }
 }
 
