@@ -7,6 +7,7 @@ mod collect;
 mod expected;
 mod gathered;
 pub mod inputs;
+mod objective;
 mod owner;
 mod resumed;
 mod skip;
@@ -25,6 +26,7 @@ use crate::scenario::source::line_col;
 use crate::scenario::Scenario;
 pub use collect::collect;
 pub use inputs::InputsState;
+pub use objective::Objective;
 pub use resumed::mark_resumed;
 pub use table::{gather, write_atomic, write_table, CaseState, Row, Table};
 
@@ -37,6 +39,15 @@ pub const METRIC_COLUMNS: &[&str] = &[
     "force_balance_error",
 ];
 
+/// Summary fields of runs that reach the ground, shown as columns after
+/// [`METRIC_COLUMNS`] when any row has a value (a table of descents without a ground keeps
+/// its columns).
+pub const LANDING_COLUMNS: &[&str] = &[
+    "landing_velocity_mps",
+    "flight_time_s",
+    "peak_line_tension_n",
+];
+
 /// Name of the per-case marker written when a case has finished (whatever its outcome).
 pub const DONE_FILE: &str = "done.json";
 
@@ -47,6 +58,8 @@ struct StudyFile {
     #[serde(default)]
     description: Option<String>,
     base: String,
+    /// The quantity whose smallest case the table names (`field` or `|field|`).
+    minimise: Option<String>,
     #[serde(default)]
     case: Vec<CaseSpec>,
     grid: Option<toml::Table>,
@@ -101,6 +114,8 @@ pub struct Study {
     pub base: PathBuf,
     /// The cases, in file order (grid: key order, last key fastest).
     pub cases: Vec<Case>,
+    /// What the table's best case minimises (`minimise`), if anything.
+    pub objective: Option<objective::Objective>,
 }
 
 fn input(msg: impl Into<String>) -> AppError {
@@ -293,6 +308,12 @@ impl Study {
                 .filter(|n| dir_name(n))
                 .unwrap_or_else(|| "study".into()),
         };
+        let objective = f
+            .minimise
+            .as_deref()
+            .map(objective::Objective::parse)
+            .transpose()
+            .map_err(|e| input(format!("{file}: {e}")))?;
         let mut cases = match (&f.grid, f.case.is_empty()) {
             (Some(_), false) => {
                 return Err(input(format!(
@@ -347,6 +368,7 @@ impl Study {
             content_digest: None,
             base: dir.join(&f.base),
             cases,
+            objective,
         })
     }
 

@@ -208,7 +208,7 @@ impl Lines {
     }
 }
 
-/// `chute check`'s lines on the pulls and the guidance of `s`.
+/// `chute check`'s lines on the pulls, the sensors and the guidance of `s`.
 pub fn describe(s: &Scenario) -> Vec<(String, String)> {
     let mut out: Vec<(String, String)> = s
         .control
@@ -232,17 +232,36 @@ pub fn describe(s: &Scenario) -> Vec<(String, String)> {
                 ),
                 None => ", never released".into(),
             };
+            let when = match (&c.sensor, c.below_m) {
+                (Some(name), Some(b)) => format!(
+                    "when sensor `{name}` reads ≤ {b} m (from {} s, after its latency)",
+                    c.start_s
+                ),
+                _ => format!("from {} s", c.start_s),
+            };
             (
                 format!("pull control[{i}]"),
                 format!(
-                    "lines {:?}: {verb} by {} m from {} s {ramp}{release}",
+                    "lines {:?}: {verb} by {} m {when} {ramp}{release}",
                     c.lines,
                     c.shorten_m.abs(),
-                    c.start_s
                 ),
             )
         })
         .collect();
+    out.extend(s.sensor.iter().map(|sn| {
+        (
+            format!("sensor `{}`", sn.name),
+            format!(
+                "{} above the ground, {} Hz, latency {} s, noise σ = {} m (seed {})",
+                sn.reads.name(),
+                sn.rate_hz,
+                sn.latency_s,
+                sn.noise_m,
+                sn.seed
+            ),
+        )
+    }));
     if let Some(g) = &s.guidance {
         out.push((
             "guidance".into(),

@@ -91,7 +91,9 @@ impl Triggers {
         let now = (body.t_s, body.x_m[2] - self.ground_z);
         self.last = Some(now);
         if body.t_s == 0.0 {
-            self.read(0..1, now, now, lines, model);
+            for s in 0..self.sensors.len() {
+                self.read_sensor(s, 0..1, now, now, lines, model);
+            }
         }
     }
 
@@ -104,19 +106,6 @@ impl Triggers {
         for s in 0..self.sensors.len() {
             let samples = self.sensors[s].samples_in(before.0, now.0);
             self.read_sensor(s, samples, before, now, lines, model);
-        }
-    }
-
-    fn read(
-        &self,
-        samples: std::ops::Range<u64>,
-        a: (f64, f64),
-        b: (f64, f64),
-        lines: &Lines,
-        model: &mut Model,
-    ) {
-        for s in 0..self.sensors.len() {
-            self.read_sensor(s, samples.clone(), a, b, lines, model);
         }
     }
 

@@ -233,6 +233,7 @@ pub fn plan(
         // Absolute, as recorded in each level's done.json for `chute collect` from elsewhere.
         base: crate::study::recorded_path(scenario),
         cases: Vec::new(),
+        objective: None,
     };
     // Each case's scenario with a common name, to find levels that are the same run.
     let mut seen: Vec<Scenario> = Vec::new();

@@ -197,6 +197,7 @@ impl<'a> Checker<'a> {
                     content_digest: None,
                     base: PathBuf::from(base),
                     cases: Vec::new(),
+                    objective: None,
                 };
                 let case = Case {
                     index: 0,

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::inputs::{Checker, InputsState};
-use super::{Study, DONE_FILE, METRIC_COLUMNS};
+use super::{Study, DONE_FILE, LANDING_COLUMNS, METRIC_COLUMNS};
 use crate::app::AppError;
 use crate::output::run_files::SUMMARY;
 use crate::scenario::derived::sig4;
@@ -113,6 +113,8 @@ pub struct Table {
     pub notes: Vec<String>,
     /// Why the table may lack cases it cannot name (a study whose case list is unknown).
     pub unknown_cases: Vec<String>,
+    /// What the best case minimises (the study file's `minimise`), if anything.
+    pub objective: Option<super::objective::Objective>,
 }
 
 fn metric_text(v: Option<&serde_json::Value>) -> String {
@@ -273,6 +275,7 @@ fn read_row(case_dir: &Path, checker: &mut Checker) -> Option<(Row, Option<serde
         .filter(|_| own);
     let metrics = METRIC_COLUMNS
         .iter()
+        .chain(LANDING_COLUMNS)
         .map(|k| (k.to_string(), metric_text(values.and_then(|s| s.get(*k)))))
         .collect();
     let state = match crate::output::record::DirState::of(case_dir) {
@@ -412,11 +415,21 @@ pub fn gather(
         .chain(found.values().filter_map(|f| f.note()))
         .chain(left_out)
         .collect();
+    // `collect` has no study at hand: the objective of the study file its cases recorded.
+    let objective = match invocation {
+        Some((st, _)) => st.objective.clone(),
+        None => recipes
+            .values()
+            .find_map(|r| r["study_file"].as_str().map(PathBuf::from))
+            .and_then(|f| Study::load_recorded(&f).ok())
+            .and_then(|st| st.objective),
+    };
     Ok(Table {
         override_keys,
         rows,
         notes,
         unknown_cases: list.unknown,
+        objective,
     })
 }
 
@@ -464,11 +477,25 @@ impl Table {
     pub fn headers(&self) -> Vec<String> {
         let mut h = vec!["case".to_string()];
         h.extend(self.override_keys.iter().cloned());
-        h.extend(METRIC_COLUMNS.iter().map(|s| s.to_string()));
+        h.extend(self.metric_columns().iter().map(|s| s.to_string()));
         h.push("status".into());
         h.push("complete".into());
         h.push("inputs".into());
         h
+    }
+
+    /// The metric columns: [`METRIC_COLUMNS`], then the [`LANDING_COLUMNS`] that some row has.
+    fn metric_columns(&self) -> Vec<&'static str> {
+        let some = |k: &&str| {
+            self.rows
+                .iter()
+                .any(|r| r.metrics.get(*k).is_some_and(|v| !v.is_empty()))
+        };
+        METRIC_COLUMNS
+            .iter()
+            .copied()
+            .chain(LANDING_COLUMNS.iter().copied().filter(some))
+            .collect()
     }
 
     /// One line per row whose recorded inputs are not what its study would run now, then
@@ -510,7 +537,7 @@ impl Table {
                 .map(|k| r.overrides.get(k).cloned().unwrap_or_default()),
         );
         c.extend(
-            METRIC_COLUMNS
+            self.metric_columns()
                 .iter()
                 .map(|k| fmt(r.metrics.get(*k).map_or("", |s| s.as_str()))),
         );
@@ -545,6 +572,9 @@ impl Table {
         let mut md = format!("| {} |\n|{}\n", h.join(" | "), "---|".repeat(h.len()));
         for r in &self.rows {
             md.push_str(&format!("| {} |\n", self.cells(r, short).join(" | ")));
+        }
+        if let Some(line) = self.best_line() {
+            md.push_str(&format!("\n{line}\n"));
         }
         md
     }

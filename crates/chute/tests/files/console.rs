@@ -38,6 +38,7 @@ fn summary() -> Summary {
         dofs: 2946,
         stepping: Stepping::default(),
         solver: None,
+        triggers: Vec::new(),
         warnings: vec!["something to know".into()],
     }
 }
@@ -221,5 +222,40 @@ fn a_summary_without_metrics_reads_back_and_prints_dashes() {
         rows[5].1.starts_with("|drag_z − W|/W = – (drag_z 108.9 N"),
         "{}",
         rows[5].1
+    );
+}
+
+/// A sensor pull is a key result: its firing, or that it did not fire.
+#[test]
+fn sensor_pulls_are_key_results() {
+    let mut s = summary();
+    let fired = chute::control::TriggerRecord {
+        control: 0,
+        sensor: "altimeter".into(),
+        below_m: 0.8,
+        reading_time_s: Some(6.62),
+        reading_m: Some(0.7912),
+        pull_start_s: Some(6.64),
+    };
+    let idle = chute::control::TriggerRecord {
+        control: 1,
+        reading_time_s: None,
+        reading_m: None,
+        pull_start_s: None,
+        ..fired.clone()
+    };
+    s.triggers = vec![fired, idle];
+    let rows = key_results(&s);
+    let pulls: Vec<&String> = rows
+        .iter()
+        .filter(|(k, _)| *k == "sensor pull")
+        .map(|(_, v)| v)
+        .collect();
+    assert_eq!(
+        pulls,
+        [
+            "control[0] (sensor `altimeter`, ≤ 0.8000 m): fired by the reading 0.7912 m at 6.620 s; ramp from 6.640 s",
+            "control[1] (sensor `altimeter`, ≤ 0.8000 m): did not fire",
+        ]
     );
 }

@@ -507,6 +507,17 @@ fn study_file_errors() {
         "base = \"b.toml\"\n[grid]\n\"load.weight_n\" = []\n",
         "non-empty array",
     );
+    check(
+        "base = \"b.toml\"\nminimise = \"|wall_time_s|\"\n[[case]]\nname = \"x\"\n",
+        "st.toml: `minimise = \"|wall_time_s|\"`: not a numeric column",
+    );
+    let st = Study::from_str(
+        "base = \"b.toml\"\nminimise = \"|landing_velocity_mps|\"\n[[case]]\nname = \"x\"\n",
+        "st.toml",
+        dir.path(),
+    )
+    .unwrap();
+    assert_eq!(st.objective.unwrap().text(), "|landing_velocity_mps|");
     let e = Study::load(Path::new("/no/such/study.toml")).unwrap_err();
     assert!(e.to_string().contains("/no/such/study.toml"), "{e}");
 }
