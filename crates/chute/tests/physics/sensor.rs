@@ -4,7 +4,8 @@
 //! step granularity); the noise's reproducibility; a threshold never reached; and a resumed
 //! run firing as the uninterrupted one.
 //!
-//! The drop is the soft-landing scenario's round canopy from 15 m (it lands after about 3 s).
+//! The drop is the soft-landing scenario's cargo drop from 15 m on its coarsest mesh (0.3 m)
+//! at dt = 10 ms (it lands after about 3 s).
 use crate::common::*;
 
 use chute::app::run_config;
@@ -22,6 +23,9 @@ const LATENCY_S: f64 = 0.05;
 fn drop(noise: &str, pulls: &str) -> Scenario {
     let set = [
         "atmosphere.altitude_m=15".to_string(),
+        // Coarse and short steps keep each flight to seconds; the firing logic is the same.
+        "canopy.edge_length_m=0.3".into(),
+        "time.dt_s=0.01".into(),
         format!(
             "sensor=[{{name = \"alt\", rate_hz = {RATE_HZ}, latency_s = {LATENCY_S}, {noise}}}]"
         ),
@@ -36,9 +40,14 @@ const ALL: &str = "0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11";
 
 /// A pull of `lines` by 1.5 m over 0.3 s when `alt` reads ≤ `below` m from `armed` s.
 fn pull_on(lines: &str, below: f64, armed: f64) -> String {
+    pull_by(lines, below, armed, 1.5)
+}
+
+/// A pull of `lines` by `shorten` m over 0.3 s when `alt` reads ≤ `below` m from `armed` s.
+fn pull_by(lines: &str, below: f64, armed: f64, shorten: f64) -> String {
     format!(
         "{{lines = [{lines}], sensor = \"alt\", below_m = {below}, start_s = {armed}, \
-         ramp_s = 0.3, shorten_m = 1.5}}"
+         ramp_s = 0.3, shorten_m = {shorten}}}"
     )
 }
 
@@ -111,9 +120,9 @@ fn assert_fired_as_predicted(r: &TriggerRecord, want: (f64, f64, f64)) {
 #[test]
 fn a_sensor_pull_fires_at_the_sample_the_states_predict() {
     let pulls = [
-        pull_on("1, 2, 3, 4, 5, 6", 5.0, 0.0),
-        pull_on("0", -1.0, 0.0),
-        pull_on("7, 8, 9, 10, 11", 12.0, 1.234),
+        pull_by("1, 2, 3, 4, 5, 6", 5.0, 0.0, 0.3),
+        pull_by("0", -1.0, 0.0, 0.3),
+        pull_by("7, 8, 9, 10, 11", 12.0, 1.234, 0.3),
     ]
     .join(", ");
     let (sum, states) = fly(&drop("noise_m = 0.0", &pulls));
@@ -163,9 +172,10 @@ fn a_noisy_sensor_fires_reproducibly_from_its_seed() {
 /// uninterrupted run's files bit for bit (the firings are checkpointed history).
 #[test]
 fn a_resumed_run_fires_as_the_uninterrupted_one() {
+    // Half the lines each, by 0.3 m: a gentle tilt, then its mirror.
     let pulls = [
-        pull_on("0, 1, 2, 3, 4, 5", 10.0, 0.0),
-        pull_on("6, 7, 8, 9, 10, 11", 4.0, 0.0),
+        pull_by("0, 1, 2, 3, 4, 5", 10.0, 0.0, 0.3),
+        pull_by("6, 7, 8, 9, 10, 11", 4.0, 0.0, 0.3),
     ]
     .join(", ");
     let s = drop("noise_m = 0.2, seed = 9", &pulls);
