@@ -117,8 +117,11 @@ fn schema_matches_the_serde_structs() {
     // The pull and guidance sections (payload mode only): set them directly too.
     s.control.push(chute::scenario::Control {
         hold_s: Some(1.0),
+        sensor: Some("alt".into()),
+        below_m: Some(1.0),
         ..Default::default()
     });
+    s.sensor.push(Default::default());
     s.guidance = Some(Default::default());
     let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();
     let mut keys = Vec::new();
