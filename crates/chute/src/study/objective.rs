@@ -92,11 +92,21 @@ impl Table {
                 } else {
                     format!(" ({})", set.join(", "))
                 };
-                format!(
-                    "**Best** ({what}): `{}`{set}: {}",
-                    r.case,
-                    crate::scenario::derived::sig4(x)
-                )
+                let sig4 = crate::scenario::derived::sig4;
+                // What a landing study reads beside it: touchdown, flight time, line peak.
+                let landing: Vec<String> = LANDING_COLUMNS
+                    .iter()
+                    .filter_map(|k| {
+                        let v: f64 = r.metrics.get(*k)?.parse().ok()?;
+                        Some(format!("{k} = {}", sig4(v)))
+                    })
+                    .collect();
+                let landing = if landing.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({})", landing.join(", "))
+                };
+                format!("**Best** ({what}): `{}`{set}: {}{landing}", r.case, sig4(x))
             }
         })
     }
@@ -112,7 +122,11 @@ mod tests {
             index: 0,
             case: case.into(),
             overrides: [("control[0].below_m".to_string(), case.to_string())].into(),
-            metrics: [("landing_velocity_mps".to_string(), v.to_string())].into(),
+            metrics: [
+                ("landing_velocity_mps".to_string(), v.to_string()),
+                ("peak_line_tension_n".to_string(), "1129.4".to_string()),
+            ]
+            .into(),
             complete,
             state: if complete {
                 CaseState::Complete
@@ -140,7 +154,13 @@ mod tests {
         let (r, x) = t.best().unwrap();
         assert_eq!((r.case.as_str(), x), ("1", 1.9));
         let line = t.best_line().unwrap();
-        assert!(line.contains("`1` (control[0].below_m = 1): 1.9"), "{line}");
+        assert!(
+            line.ends_with(
+                "`1` (control[0].below_m = 1): 1.900 (landing_velocity_mps = -1.900, \
+                 peak_line_tension_n = 1129)"
+            ),
+            "{line}"
+        );
         assert!(t.to_markdown().ends_with(&format!("\n{line}\n")));
         // The signed value: the most negative.
         t.objective = Some(Objective::parse("landing_velocity_mps").unwrap());
