@@ -121,23 +121,22 @@ impl Triggers {
         model: &mut Model,
     ) {
         let sensor = &self.sensors[s];
-        let waiting = |h: &StretchHistory| -> Vec<&SensorPull> {
-            let sources = lines.firing_sources();
-            self.pulls
-                .iter()
-                .filter(|p| p.sensor == s && !fired(h, &sources, p.control))
-                .collect()
-        };
         let mut h = lines.history(model);
-        if waiting(&h).is_empty() {
+        let sources = lines.firing_sources();
+        let mut waiting: Vec<&SensorPull> = self
+            .pulls
+            .iter()
+            .filter(|p| p.sensor == s && !fired(&h, &sources, p.control))
+            .collect();
+        if waiting.is_empty() {
             return;
         }
-        let sources = lines.firing_sources();
         for k in samples {
             let t_k = sensor.sample_time(k);
             let reading = sensor.reading(k, a, b);
-            for p in waiting(&h) {
-                if t_k >= p.armed_s && reading <= p.below_m {
+            waiting.retain(|p| {
+                let fires = t_k >= p.armed_s && reading <= p.below_m;
+                if fires {
                     let f = Firing {
                         start: (t_k + sensor.latency_s).max(b.0),
                         reading_t: t_k,
@@ -149,6 +148,10 @@ impl Triggers {
                         }
                     }
                 }
+                !fires
+            });
+            if waiting.is_empty() {
+                break;
             }
         }
         lines.set_history(model, &h);
@@ -186,13 +189,39 @@ fn fired(h: &StretchHistory, sources: &[usize], control: usize) -> bool {
         .any(|(&src, f)| src == control && f.is_some())
 }
 
-/// The warning of a sensor-started pull that did not fire in a run that ended at `t` (s).
-pub fn not_fired_warning(r: &TriggerRecord, t: f64) -> Option<String> {
-    r.pull_start_s.is_none().then(|| {
-        format!(
-            "control[{}]: sensor `{}` never read ≤ {} m by the end (t = {t:.3} s): the pull did \
-             not start",
-            r.control, r.sensor, r.below_m
-        )
-    })
+impl Triggers {
+    /// The warnings of a run that ended at `t` (s): a pull that did not fire (saying whether
+    /// it was armed), and one that fired but whose ramp was to start after the end.
+    pub fn warnings(&self, records: &[TriggerRecord], t: f64) -> Vec<String> {
+        records
+            .iter()
+            .filter_map(|r| {
+                let armed = self
+                    .pulls
+                    .iter()
+                    .find(|p| p.control == r.control)
+                    .map_or(0.0, |p| p.armed_s);
+                let head = format!("control[{}]: sensor `{}`", r.control, r.sensor);
+                match r.pull_start_s {
+                    None if armed > 0.0 => Some(format!(
+                        "{head} never read ≤ {} m between its start_s = {armed} s and the end \
+                         (t = {t:.3} s): the pull did not start",
+                        r.below_m
+                    )),
+                    None => Some(format!(
+                        "{head} never read ≤ {} m by the end (t = {t:.3} s): the pull did not \
+                         start",
+                        r.below_m
+                    )),
+                    Some(start) if start >= t => Some(format!(
+                        "{head} fired (reading {:.4} m at {:.4} s), but its ramp was to start at \
+                         {start:.4} s, after the end (t = {t:.3} s): the pull did not act",
+                        r.reading_m.unwrap_or(f64::NAN),
+                        r.reading_time_s.unwrap_or(f64::NAN),
+                    )),
+                    Some(_) => None,
+                }
+            })
+            .collect()
+    }
 }

@@ -316,9 +316,10 @@ impl Flight {
         let mut warnings = if end.ended {
             let t = built.state.t;
             let records = self.trigger_records(built);
-            let idle = records
-                .iter()
-                .filter_map(|r| crate::control::trigger::not_fired_warning(r, t));
+            let idle = match &self.triggers {
+                Some(tr) => tr.warnings(&records, t),
+                None => Vec::new(),
+            };
             self.final_warnings(t).into_iter().chain(idle).collect()
         } else {
             self.warnings.clone()

@@ -171,11 +171,29 @@ fn end_text(p: &super::Control) -> String {
     }
 }
 
-/// The sensors' names are unique, and a height needs the ground.
+/// The sensors' names are unique and plain, their samples over the run are bounded like its
+/// steps (a typo of a rate would run for ever), and a height needs the ground.
 fn sensors(c: &mut Checker, s: &Scenario) {
     for (j, sn) in s.sensor.iter().enumerate() {
-        if sn.name.is_empty() {
-            c.fail(&format!("sensor[{j}].name"), "\"\"", "name the sensor");
+        if !name_ok(&sn.name) {
+            c.fail(
+                &format!("sensor[{j}].name"),
+                format!("{:?}", sn.name),
+                "name the sensor, with no leading or trailing space",
+            );
+        }
+        let samples = sn.rate_hz * s.time.duration_s;
+        if samples > super::validate::MAX_STEPS {
+            c.fail(
+                &format!("sensor[{j}].rate_hz"),
+                sn.rate_hz,
+                format!(
+                    "{} samples over time.duration_s = {} s; at most {}",
+                    super::derived::sig4(samples),
+                    s.time.duration_s,
+                    super::derived::sig4(super::validate::MAX_STEPS)
+                ),
+            );
         }
         if let Some(k) = s.sensor[..j].iter().position(|o| o.name == sn.name) {
             c.fail(
@@ -188,8 +206,7 @@ fn sensors(c: &mut Checker, s: &Scenario) {
             c.fail(
                 &format!("sensor[{j}].reads"),
                 sn.reads.name(),
-                "a height is measured above the ground: set `atmosphere.ground_altitude_m` \
-                 (with `atmosphere.model = \"isa1976\"`)",
+                "a height is measured above the ground: set `atmosphere.ground_altitude_m`",
             );
         }
     }
@@ -201,7 +218,9 @@ fn trigger(c: &mut Checker, s: &Scenario, i: usize) {
     let key = |k: &str| format!("control[{i}].{k}");
     match (&p.sensor, p.below_m) {
         (Some(name), below) => {
-            if !s.sensor.iter().any(|sn| &sn.name == name) {
+            // A sensor with a bad name has its own error: the reference is not the culprit.
+            let named = s.sensor.iter().all(|sn| name_ok(&sn.name));
+            if named && !s.sensor.iter().any(|sn| &sn.name == name) {
                 let known: Vec<&str> = s.sensor.iter().map(|sn| sn.name.as_str()).collect();
                 let have = if known.is_empty() {
                     "no `[[sensor]]` is declared".to_string()
@@ -232,9 +251,17 @@ fn trigger(c: &mut Checker, s: &Scenario, i: usize) {
     }
 }
 
-/// Sensors that no pull reads (they do nothing).
-pub fn unused_sensors(s: &Scenario) -> Vec<String> {
-    s.sensor
+/// A sensor's name: not empty, no leading or trailing space.
+fn name_ok(name: &str) -> bool {
+    !name.is_empty() && name.trim() == name
+}
+
+/// Sensors that no pull reads (they do nothing), and sensor pulls whose threshold the
+/// release height already meets (they fire at the first sample) or a noise-free height never
+/// reaches (below the ground).
+pub fn sensor_warnings(s: &Scenario) -> Vec<String> {
+    let unused = s
+        .sensor
         .iter()
         .enumerate()
         .filter(|(_, sn)| !s.control.iter().any(|p| p.sensor.as_ref() == Some(&sn.name)))
@@ -243,8 +270,31 @@ pub fn unused_sensors(s: &Scenario) -> Vec<String> {
                 "sensor[{j}] `{}` is read by no `[[control]]` pull (`sensor = \"{}\"`): it does nothing",
                 sn.name, sn.name
             )
-        })
-        .collect()
+        });
+    let release = s
+        .atmosphere
+        .ground_altitude_m
+        .map(|g| s.atmosphere.altitude_m - g);
+    let thresholds = s.control.iter().enumerate().filter_map(|(i, p)| {
+        let (below, name) = (p.below_m?, p.sensor.as_ref()?);
+        let noisy = s
+            .sensor
+            .iter()
+            .any(|sn| &sn.name == name && sn.noise_m > 0.0);
+        match release {
+            Some(h) if below >= h => Some(format!(
+                "control[{i}].below_m = {below} m is at or above the release height ({h} m above \
+                 the ground, the canopy's plane): the pull fires at the first sample after \
+                 its start_s"
+            )),
+            _ if below < 0.0 && !noisy => Some(format!(
+                "control[{i}].below_m = {below} m is below the ground, which ends the run: a \
+                 noise-free sensor never fires it"
+            )),
+            _ => None,
+        }
+    });
+    unused.chain(thresholds).collect()
 }
 
 /// Whether two pulls act on a line at the same time (one may start where the other ends).

@@ -77,7 +77,7 @@ pub fn warnings(s: &Scenario) -> Vec<String> {
         .chain(super::limits::mach_warning(s))
         .chain(snapshot_collisions(&s.output.snapshots_s))
         .chain(large_circle(s))
-        .chain(super::control::unused_sensors(s))
+        .chain(super::control::sensor_warnings(s))
         .collect()
 }
 

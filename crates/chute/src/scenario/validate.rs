@@ -11,7 +11,7 @@ use super::{AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario
 
 /// Upper bounds that keep a typo (an extra zero or three) from exhausting memory or time.
 use super::limits::MAX_SHELL_TRIANGLES;
-const MAX_STEPS: f64 = 1.0e8;
+pub(super) const MAX_STEPS: f64 = 1.0e8;
 const MAX_SITES: usize = 10_000;
 
 /// The problems found so far, each with its place in reading order.

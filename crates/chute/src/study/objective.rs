@@ -2,6 +2,7 @@
 //! or its magnitude, is smallest — e.g. `minimise = "|landing_velocity_mps|"` for the pull that
 //! lands softest. The table's Markdown (and the console) name that case.
 use super::table::{Row, Table};
+use super::InputsState;
 use super::{LANDING_COLUMNS, METRIC_COLUMNS};
 
 /// What a study minimises.
@@ -50,11 +51,13 @@ impl Objective {
         }
     }
 
-    /// The quantity minimised for `row` (a complete row with a finite value only).
+    /// The quantity minimised for `row`: a complete row, not run from inputs other than its
+    /// study's now (stale), with a finite value.
     pub fn value(&self, row: &Row) -> Option<f64> {
         let x: f64 = row.metrics.get(&self.field)?.parse().ok()?;
         let x = if self.magnitude { x.abs() } else { x };
-        (row.complete && x.is_finite()).then_some(x)
+        let stale = matches!(row.inputs, InputsState::Changed(_));
+        (row.complete && !stale && x.is_finite()).then_some(x)
     }
 }
 
@@ -75,7 +78,7 @@ impl Table {
     /// The Markdown line that names the best case, when the table has an objective.
     pub fn best_line(&self) -> Option<String> {
         let o = self.objective.as_ref()?;
-        let what = format!("smallest `{}` of the complete cases", o.text());
+        let what = format!("smallest `{}` of the complete, current cases", o.text());
         Some(match self.best() {
             None => format!(
                 "**Best** ({what}): none: no complete case has `{}`",
@@ -115,7 +118,7 @@ impl Table {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::study::{CaseState, InputsState};
+    use crate::study::CaseState;
 
     fn row(case: &str, v: &str, complete: bool) -> Row {
         Row {
@@ -145,7 +148,10 @@ mod tests {
             row("0.5", "-0.7", false), // smaller, but not complete
             row("2", "", true),        // no value
             row("3", "-1.9", true),    // equal: the first one stays
+            row("0.7", "-0.1", true),  // smallest, but stale
         ];
+        let mut rows = rows;
+        rows[5].inputs = InputsState::Changed("its scenario changed".into());
         let mut t = Table {
             rows,
             objective: Some(Objective::parse("|landing_velocity_mps|").unwrap()),

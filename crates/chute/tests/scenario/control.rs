@@ -273,6 +273,23 @@ fn sensor_pulls_parse_round_trip_and_refuse_bad_input() {
             "sensor[0].reads",
             "height",
         ),
+        // A rate typed with extra zeros would sample for ever: bounded like the steps.
+        (
+            &["sensor[0].rate_hz=1e308"][..],
+            "sensor[0].rate_hz",
+            "samples over time.duration_s",
+        ),
+        (
+            &["sensor[0].name=\"alt \"", "control[0].sensor=\"alt \""][..],
+            "sensor[0].name",
+            "no leading or trailing space",
+        ),
+        // An emptied name is the sensor's error, not its pull's reference.
+        (
+            &["sensor[0].name=\"\""][..],
+            "sensor[0].name",
+            "name the sensor",
+        ),
         // A sensor's pull may start at any time: another pull on its lines overlaps it.
         (
             &[
@@ -295,4 +312,53 @@ fn sensor_pulls_parse_round_trip_and_refuse_bad_input() {
         warnings.iter().any(|w| w.contains("sensor[0] `alt`")),
         "{warnings:?}"
     );
+    // Thresholds that fire at once (at or above the 30 m release) or never (below ground).
+    for (below, noise, want) in [
+        ("30", "0", Some("at or above the release height")),
+        ("-1", "0", Some("never fires it")),
+        ("-1", "0.1", None),
+        ("3", "0", None),
+    ] {
+        let b = format!("control[0].below_m={below}");
+        let n = format!("sensor[0].noise_m={noise}");
+        let s = round(&with(&[b.leak(), n.leak()])).unwrap();
+        let w = chute::scenario::plausibility::warnings(&s);
+        let hit = w.iter().find(|w| w.contains("control[0].below_m"));
+        match want {
+            Some(text) => assert!(hit.is_some_and(|w| w.contains(text)), "{below}: {w:?}"),
+            None => assert!(hit.is_none(), "{below}, noise {noise}: {w:?}"),
+        }
+    }
+}
+
+/// The end-of-run warnings of sensor pulls: not fired (saying when it was armed), and fired
+/// with a ramp that was to start after the end.
+#[test]
+fn sensor_pull_warnings_say_why_a_pull_did_not_act() {
+    let set: Vec<&str> = SENSED
+        .iter()
+        .copied()
+        .chain(["control[0].start_s=1.6"])
+        .collect();
+    let s = round(&set).unwrap();
+    let tr = chute::control::Triggers::new(&s, -30.0).unwrap();
+    let record = |start: Option<f64>| chute::control::TriggerRecord {
+        control: 0,
+        sensor: "alt".into(),
+        below_m: 3.0,
+        reading_time_s: start.map(|t| t - 0.02),
+        reading_m: start.map(|_| 2.99),
+        pull_start_s: start,
+    };
+    let w = tr.warnings(&[record(None)], 2.5);
+    assert!(
+        w[0].contains("between its start_s = 1.6 s and the end"),
+        "{w:?}"
+    );
+    let w = tr.warnings(&[record(Some(2.6))], 2.5);
+    assert!(
+        w[0].contains("after the end (t = 2.500 s): the pull did not act"),
+        "{w:?}"
+    );
+    assert!(tr.warnings(&[record(Some(2.4))], 2.5).is_empty());
 }

@@ -58,17 +58,20 @@ section! {
         /// its name, for `control[i].sensor`
         name: String = String::new() => key()
             .required("name the sensor, e.g. `name = \"altimeter\"`")
-            .note("unique among the sensors"),
+            .note("unique among the sensors; no leading or trailing space"),
         /// what it reads
         reads: SensorKind = SensorKind::Height => key(),
         /// samples per second; the first at t = 0
-        rate_hz: f64 = 20.0 => key().unit("Hz").positive("a sampling rate"),
+        rate_hz: f64 = 20.0 => key()
+            .unit("Hz")
+            .positive("a sampling rate")
+            .note("at most 1e8 samples over `time.duration_s`"),
         /// delay from a sample to the pull it fires
         latency_s: f64 = 0.0 => key().unit("s").non_negative("a latency"),
         /// standard deviation of the reading's Gaussian noise
         noise_m: f64 = 0.0 => key().unit("m").non_negative("a standard deviation"),
         /// seed of the noise: sample k's noise depends only on (seed, k)
-        seed: usize = 0 => key().note("any non-negative integer"),
+        seed: usize = 0 => key().note("an integer from 0 to 2⁶³ − 1 (TOML's integers)"),
     }
 }
 
