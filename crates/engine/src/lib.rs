@@ -77,12 +77,16 @@ pub use stepper::{
 /// The types most programs need: `use engine::prelude::*;`.
 pub mod prelude {
     pub use crate::aero::{
-        AddedMass, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
+        AddedMass, Fabric, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag,
+        TriangleDrag,
     };
     pub use crate::element::{Element, Family};
     pub use crate::loads::{DofForces, Gravity, PlanarEdgeMoment, PointForces};
     pub use crate::rod::{RodNetwork, RodSpec, Section, Stretch};
-    pub use crate::shell::{HingeBending, ShellMaterial, TriMesh};
+    pub use crate::shell::{
+        CstMembrane, FabricMembrane, HingeBending, MidedgeBending, Orthotropic, ShellMaterial,
+        TensionField, TriMesh,
+    };
     pub use crate::{
         DofLayout, EngineError, EvalInput, Force, ForceId, ImplicitEuler, JacobianKind, Model,
         NewtonOptions, Predictor, State, StaticSolver, StepError,
