@@ -112,7 +112,7 @@ fn bad_atmosphere_and_fabric_inputs_exit_2_naming_the_key() {
     }
 }
 
-/// The air at the start and at the ground (ISA values of the table, 4 figures) and
+/// The air at the start and at the ground (the ISA 1976 table's values, 4 figures) and
 /// the fall time at the flat-canopy speed; one warning for both ignored `[fluid]` keys.
 #[test]
 fn check_prints_the_air_and_the_fall_to_the_ground() {

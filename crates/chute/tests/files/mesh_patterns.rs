@@ -115,7 +115,7 @@ fn the_report_canopy_in_every_pattern() {
     for pattern in PATTERNS {
         check(6.0, 3.0, 0.25, pattern);
     }
-    // The structured counts the issue quotes: 325 union-jack nodes, 613 with cell centres.
+    // The structured counts of the two patterns: 325 union-jack nodes, 613 with cell centres.
     assert_eq!(
         rectangle_pattern(6.0, 3.0, 0.25, Pattern::UnionJack).n_nodes(),
         325

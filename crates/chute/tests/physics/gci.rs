@@ -155,7 +155,7 @@ mod levels {
         }
     }
 
-    /// The 4-site measurement: the 0.25 m level folds shallow (1.34 m against 2.37 m):
+    /// A measured 4-site ladder: the 0.25 m level folds shallow (1.34 m against 2.37 m):
     /// a branch change, left out; the other two give a two-level estimate.
     #[test]
     fn a_branch_change_is_left_out_of_the_fit() {

@@ -30,7 +30,7 @@ fn f(j: &serde_json::Value, k: &str) -> f64 {
 
 /// The rod strip on 4 m lines to a 200 N payload: in steady descent the force of the lines on
 /// the payload balances its weight less the drag of the line ends on the payload node (about
-/// 0.2 %): the 1 %. The steady tension is peak / load factor (their definitions).
+/// 0.2 %): within 1 %. The steady tension is peak / load factor (their definitions).
 /// A symmetric fall has no swing, and the nominal coefficient is drag area / S₀.
 #[test]
 fn payload_lines_carry_the_payload_in_steady_descent() {

@@ -1,6 +1,6 @@
 //! `shell.membrane` and the fabric keys: the default stays the report's springs, every
-//! membrane builds into a model with the named stretching force, and each bad input the
-//! issue lists is refused naming its key and line.
+//! membrane builds into a model with the named stretching force, and each bad input is
+//! refused naming its key and line.
 
 use chute::scenario::{Membrane, Scenario, ScenarioError};
 
