@@ -166,33 +166,23 @@ impl Lines {
         let schedules = self.schedules();
         schedules
             .iter()
-            .flat_map(|s| s.triggered.iter().map(|p| p.source))
+            .flat_map(|s| &s.triggered)
+            .map(|p| p.source)
             .collect()
-    }
-
-    /// The schedule of line `l` with the firings of `h` applied (its index `k` too).
-    fn fired(&self, l: &Line, h: &StretchHistory) -> Option<(RestSchedule, usize)> {
-        let (sch, k) = l.schedule.as_ref()?;
-        let offset: usize = self.schedules()[..*k]
-            .iter()
-            .map(|s| s.triggered.len())
-            .sum();
-        let mut sch = sch.clone();
-        for (p, f) in sch.triggered.iter_mut().zip(&h.firings[offset..]) {
-            p.fired = *f;
-        }
-        Some((sch, *k))
     }
 
     /// Rest length (m), length (m) and tension at the site end (N) of every line at `q`, `t`,
     /// under the history `h`.
     pub fn sample(&self, q: &[f64], t: f64, h: &StretchHistory) -> Vec<[f64; 3]> {
+        let mut fired: Vec<RestSchedule> = self.schedules().into_iter().cloned().collect();
+        h.apply_firings(&mut fired);
         self.lines
             .iter()
             .map(|l| {
-                let s = self
-                    .fired(l, h)
-                    .map_or(0.0, |(sch, k)| sch.shortening(t, &h.commands[k]));
+                let s = l
+                    .schedule
+                    .as_ref()
+                    .map_or(0.0, |(_, k)| fired[*k].shortening(t, &h.commands[*k]));
                 let len = |[a, b]: [usize; 2]| {
                     (0..3)
                         .map(|c| (q[3 * b + c] - q[3 * a + c]).powi(2))

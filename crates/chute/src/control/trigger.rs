@@ -179,17 +179,7 @@ impl Triggers {
             })
             .collect()
     }
-}
 
-/// Whether the pull of `[[control]]` entry `control` has fired in `h`.
-fn fired(h: &StretchHistory, sources: &[usize], control: usize) -> bool {
-    sources
-        .iter()
-        .zip(&h.firings)
-        .any(|(&src, f)| src == control && f.is_some())
-}
-
-impl Triggers {
     /// The warnings of a run that ended at `t` (s): a pull that did not fire (saying whether
     /// it was armed), and one that fired but whose ramp was to start after the end.
     pub fn warnings(&self, records: &[TriggerRecord], t: f64) -> Vec<String> {
@@ -224,4 +214,12 @@ impl Triggers {
             })
             .collect()
     }
+}
+
+/// Whether the pull of `[[control]]` entry `control` has fired in `h`.
+fn fired(h: &StretchHistory, sources: &[usize], control: usize) -> bool {
+    sources
+        .iter()
+        .zip(&h.firings)
+        .any(|(&src, f)| src == control && f.is_some())
 }

@@ -54,6 +54,12 @@ fn pull_by(lines: &str, below: f64, armed: f64, shorten: f64) -> String {
 /// Fly `s` to the ground: the summary and the payload's height above the ground after every
 /// accepted step, `(t, h)`, from t = 0.
 fn fly(s: &Scenario) -> (Summary, Vec<(f64, f64)>) {
+    let (sum, states, _) = fly_lines(s);
+    (sum, states)
+}
+
+/// [`fly`], and each line's rest length at the end (m), as `lines.csv` reports it.
+fn fly_lines(s: &Scenario) -> (Summary, Vec<(f64, f64)>, Vec<f64>) {
     let mut session = Session::new(build(s).unwrap(), run_config(s, false)).unwrap();
     let height = |session: &Session| {
         let b = session.built();
@@ -66,7 +72,11 @@ fn fly(s: &Scenario) -> (Summary, Vec<(f64, f64)>) {
     }
     assert!(session.finished());
     assert_eq!(session.stop_reason(), Some(chute::runner::GROUND));
-    (session.summary(), states)
+    let b = session.built();
+    let lines = b.lines.as_ref().unwrap();
+    let rows = lines.sample(&b.state.q, b.state.t, &lines.history(&b.model));
+    let rest = rows.iter().map(|r| r[0]).collect();
+    (session.summary(), states, rest)
 }
 
 /// The firing that the states predict: the first sample `k` at or after `armed` whose
@@ -125,7 +135,7 @@ fn a_sensor_pull_fires_at_the_sample_the_states_predict() {
         pull_by("7, 8, 9, 10, 11", 12.0, 1.234, 0.3),
     ]
     .join(", ");
-    let (sum, states) = fly(&drop("noise_m = 0.0", &pulls));
+    let (sum, states, rest) = fly_lines(&drop("noise_m = 0.0", &pulls));
     let none = |_| 0.0;
     let want = predicted(&states, 5.0, 0.0, none).expect("the drop reads 5 m");
     assert_fired_as_predicted(record(&sum, 0), want);
@@ -136,6 +146,20 @@ fn a_sensor_pull_fires_at_the_sample_the_states_predict() {
     assert_fired_as_predicted(record(&sum, 2), want);
     let idle = record(&sum, 1);
     assert_eq!((idle.reading_time_s, idle.pull_start_s), (None, None));
+    // The lines' rest lengths at the end follow each firing's ramp (0.3 m over 0.3 s from
+    // its start; 4 m lines), the unfired line's none.
+    let t_end = states.last().unwrap().0;
+    let pulled = |c: usize| {
+        let start = record(&sum, c).pull_start_s.unwrap();
+        4.0 - 0.3 * ((t_end - start) / 0.3).clamp(0.0, 1.0)
+    };
+    for (line, want) in [(1, pulled(0)), (6, pulled(0)), (0, 4.0), (7, pulled(2))] {
+        assert!(
+            (rest[line] - want).abs() < 1e-12,
+            "line {line}: {} vs {want}",
+            rest[line]
+        );
+    }
     assert!(
         sum.warnings
             .iter()

@@ -219,6 +219,15 @@ impl StretchHistory {
         Self { commands, firings }
     }
 
+    /// Write the firings into the triggered pulls of `schedules` (the family's schedules, in
+    /// order: the history's order of firings).
+    pub fn apply_firings<'a>(&self, schedules: impl IntoIterator<Item = &'a mut RestSchedule>) {
+        let slots = schedules.into_iter().flat_map(|s| &mut s.triggered);
+        for (p, f) in slots.zip(&self.firings) {
+            p.fired = *f;
+        }
+    }
+
     /// Encode for [`crate::Force::restore_history`].
     pub fn encode(&self) -> Vec<f64> {
         let commands = self.commands.iter().flat_map(|c| [c.from, c.to, c.t0]);
@@ -388,11 +397,8 @@ impl Element for StretchLaw {
 
     fn restore_history(&mut self, _els: &mut [EdgeSpring], h: &[f64]) {
         let decoded = StretchHistory::decode(h, self.commands.len());
+        decoded.apply_firings(&mut self.schedules);
         self.commands = decoded.commands;
-        let slots = self.schedules.iter_mut().flat_map(|s| &mut s.triggered);
-        for (p, f) in slots.zip(decoded.firings) {
-            p.fired = f;
-        }
     }
 }
 
