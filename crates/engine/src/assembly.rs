@@ -10,8 +10,13 @@
 //! family's elements in parallel tasks, `LocalBlocks::par_for_each`), then the force vector
 //! and the matrix values are scattered by chunks of the output, each summed in the serial
 //! order (module `plan`): the results are bitwise the same for any number of threads.
+//!
+//! A force's low-rank velocity Jacobian (`Force::low_rank_dofs`) is not scattered into the
+//! pattern: it is gathered into [`Assembler::low_rank`], which the linear solver applies by
+//! Sherman–Morrison–Woodbury.
 
 use crate::force::{EvalInput, LocalBlocks};
+use crate::linsolve::LowRank;
 use crate::model::Model;
 use rayon::prelude::*;
 
@@ -66,6 +71,13 @@ pub struct Assembler {
     /// The model is too small for the pool ([`SERIAL_BELOW`]): everything runs on the
     /// calling thread.
     pub serial: bool,
+    /// Per force: the system row of each of its low-rank DOFs (or `NONE`).
+    low_rank_rows: Vec<Vec<u32>>,
+    /// The low-rank part of `J` (`−c_v` times the forces' low-rank `∂F/∂v`, free DOFs), from
+    /// the last assembly with a Jacobian.
+    pub low_rank: LowRank,
+    /// Terms of the forces' low-rank parts (0 for almost every model).
+    pub low_rank_terms: usize,
 }
 
 /// Models whose Jacobian has fewer stored entries than this are assembled on the calling
@@ -149,7 +161,16 @@ impl Assembler {
         }
         let val_chunks = value_chunks(model, &col_ptr, &maps, n_chunks);
         let dof_chunks = force_chunks(model, n_chunks);
+        let low_rank_rows: Vec<Vec<u32>> = model
+            .forces
+            .iter()
+            .map(|f| f.low_rank_dofs().iter().map(|&d| free_of[d]).collect())
+            .collect();
+        let rank = model.forces.iter().map(|f| f.low_rank_rank()).sum();
         Self {
+            low_rank_rows,
+            low_rank: LowRank::with_capacity(n_free, rank),
+            low_rank_terms: rank,
             serial,
             ordered,
             val_chunks,
@@ -226,17 +247,42 @@ impl Assembler {
                 rayon::join(scatter_f, scatter_j);
             }
         };
+        let c_v = values.as_ref().map(|(_, c)| c.c_v);
         if serial {
             evaluate(blocks);
             scatter(blocks, force, values);
-            return;
+        } else {
+            // One region of the pool for the whole assembly (every `par_*` inside runs on its
+            // workers without another wake-up).
+            rayon::scope(|_| {
+                evaluate(blocks);
+                scatter(blocks, force, values);
+            });
         }
-        // One region of the pool for the whole assembly (every `par_*` inside runs on its
-        // workers without another wake-up).
-        rayon::scope(|_| {
-            evaluate(blocks);
-            scatter(blocks, force, values);
-        });
+        if let Some(c_v) = c_v {
+            self.gather_low_rank(c_v);
+        }
+    }
+
+    /// [`Assembler::low_rank`] from the blocks just evaluated: the term `c u uᵀ` of a force's
+    /// `∂F/∂v` enters `J` as `−c_v c u uᵀ` (terms that vanish are left out).
+    fn gather_low_rank(&mut self, c_v: f64) {
+        self.low_rank.clear();
+        for (rows, b) in self.low_rank_rows.iter().zip(&self.blocks) {
+            let u_all = b.low_rank_u.chunks(rows.len().max(1));
+            for (&coef, u) in b.low_rank_coef.iter().zip(u_all) {
+                let gamma = -c_v * coef;
+                if gamma == 0.0 {
+                    continue;
+                }
+                let col = self.low_rank.push(gamma);
+                for (&r, &x) in rows.iter().zip(u) {
+                    if r != NONE {
+                        col[r as usize] += x;
+                    }
+                }
+            }
+        }
     }
 }
 

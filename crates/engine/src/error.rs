@@ -22,6 +22,14 @@ pub enum EngineError {
         /// Its mass (kg or kg·m²).
         mass: f64,
     },
+    /// The forces' low-rank Jacobian parts have too many terms in all.
+    #[error("the forces' low-rank Jacobian parts have {rank} terms, at most {max} are supported")]
+    LowRank {
+        /// Terms of all low-rank parts.
+        rank: usize,
+        /// Most terms supported.
+        max: usize,
+    },
     /// The sparse symbolic analysis failed.
     #[error("sparse symbolic factorisation failed: {0}")]
     Symbolic(SparseError),

@@ -38,6 +38,18 @@ pub fn dense_eval(force: &dyn Force, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64
             }
         }
     }
+    let dofs = force.low_rank_dofs();
+    for (c, u) in blocks
+        .low_rank_coef
+        .iter()
+        .zip(blocks.low_rank_u.chunks(dofs.len().max(1)))
+    {
+        for (&a, ua) in dofs.iter().zip(u) {
+            for (&b, ub) in dofs.iter().zip(u) {
+                kv[a * n + b] += c * ua * ub;
+            }
+        }
+    }
     (f, kq, kv)
 }
 

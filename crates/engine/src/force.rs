@@ -94,6 +94,12 @@ pub struct LocalBlocks {
     /// edge's dihedral angle and derivatives here), so that an evaluation allocates nothing.
     /// Empty for most forces.
     pub scratch: Vec<f64>,
+    /// The low-rank part of `∂f/∂v` ([`Force::low_rank_dofs`]): `∂F/∂v ⊇ Σ_j c_j u_j u_jᵀ`
+    /// with `u_j` over the force's low-rank DOFs, stored one after another
+    /// (`rank × n_dofs`). Empty for almost every force.
+    pub low_rank_u: Vec<f64>,
+    /// The coefficients `c_j` of [`LocalBlocks::low_rank_u`] (1/s · kg: N per m/s).
+    pub low_rank_coef: Vec<f64>,
 }
 
 /// One stencil's mutable output.
@@ -127,6 +133,8 @@ impl LocalBlocks {
             },
             serial: false,
             scratch: Vec::new(),
+            low_rank_u: Vec::new(),
+            low_rank_coef: Vec::new(),
         }
     }
 
@@ -275,9 +283,27 @@ pub trait Force: Send + Sync {
             .checked_div(self.stencil_size())
             .unwrap_or(0)
     }
+    /// The global DOFs of the force's low-rank velocity Jacobian, for a force that couples
+    /// every node of a body through a few collective quantities (the air's added mass on a
+    /// canopy's mean motion): its `∂F/∂v` is `Σ_j c_j u_j u_jᵀ` over these DOFs, beside
+    /// the stencils' blocks, written by [`Force::evaluate`] into
+    /// [`LocalBlocks::low_rank_u`] when Jacobians are asked for. Held as vectors, it keeps
+    /// the sparse pattern free of a dense block; the linear solver applies it by
+    /// Sherman–Morrison–Woodbury (`linsolve/low_rank.rs`). Empty for almost every force.
+    fn low_rank_dofs(&self) -> &[usize] {
+        &[]
+    }
+    /// The number of terms `u_j` of the low-rank part (0 without one).
+    fn low_rank_rank(&self) -> usize {
+        0
+    }
     /// Fresh output buffers for this force (with the [`LocalBlocks::scratch`] it uses, if
-    /// any).
+    /// any, and room for its low-rank part).
     fn new_blocks(&self) -> LocalBlocks {
-        LocalBlocks::new(self.stencil_size(), self.n_stencils(), self.jacobian_kind())
+        let mut b = LocalBlocks::new(self.stencil_size(), self.n_stencils(), self.jacobian_kind());
+        let rank = self.low_rank_rank();
+        b.low_rank_u = vec![0.0; rank * self.low_rank_dofs().len()];
+        b.low_rank_coef = vec![0.0; rank];
+        b
     }
 }

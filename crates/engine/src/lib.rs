@@ -68,6 +68,8 @@ pub(crate) mod vec3;
 pub use dof::DofLayout;
 pub use error::{EngineError, HistoryError, InvalidModel, SparseError, StepError};
 pub use force::{EvalInput, Force, JacobianKind, LocalBlocks};
+/// Most terms the forces' low-rank Jacobian parts may have in all ([`Force::low_rank_rank`]).
+pub use linsolve::MAX_RANK as MAX_LOW_RANK;
 pub use model::{ForceId, Model, State};
 pub use stepper::{
     Attempt, Counters, ErrorController, ErrorNorm, ImplicitEuler, NewtonOptions, Predictor, Stage,

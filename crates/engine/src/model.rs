@@ -99,11 +99,20 @@ impl Model {
     pub fn total_mass(&self) -> f64 {
         (0..self.layout.n_nodes).map(|i| self.node_mass(i)).sum()
     }
-    /// Check that every force's stencils are in range and every free DOF has mass.
+    /// Check that every force's stencils are in range, the low-rank parts are within
+    /// [`crate::linsolve::MAX_RANK`] terms, and every free DOF has mass.
     pub fn validate(&self, need_mass: bool) -> Result<(), EngineError> {
         let n = self.n_dofs();
+        let rank: usize = self.forces.iter().map(|f| f.low_rank_rank()).sum();
+        if rank > crate::linsolve::MAX_RANK {
+            return Err(EngineError::LowRank {
+                rank,
+                max: crate::linsolve::MAX_RANK,
+            });
+        }
         for f in &self.forces {
-            if let Some(&d) = f.stencils().iter().find(|&&d| d >= n) {
+            let dofs = f.stencils().iter().chain(f.low_rank_dofs());
+            if let Some(&d) = dofs.into_iter().find(|&&d| d >= n) {
                 return Err(EngineError::DofOutOfRange {
                     force: f.name().to_string(),
                     dof: d,

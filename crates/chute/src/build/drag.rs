@@ -155,11 +155,10 @@ pub fn install(
     }
     // Not a drag family: it does no work over a steady descent and observers leave it out.
     if f.added_mass == Some(true) && s.model.kind == ModelKind::Shell {
-        model.add_force(AddedMass::new(
-            &geo.triangles(),
-            &rest_q(geo, model),
-            &fluid,
-        ));
+        // Every run starts at rest (build.rs), the air with it.
+        let q = rest_q(geo, model);
+        let v = vec![0.0; q.len()];
+        model.add_force(AddedMass::new(&geo.triangles(), &q, &v, &fluid));
     }
     // Lines: isotropic node drag with the line diameter as projected width.
     let (mut ln, mut la) = (Vec::new(), Vec::new());

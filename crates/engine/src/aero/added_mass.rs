@@ -1,189 +1,207 @@
-//! The air's added (apparent) mass on a canopy: a canopy that accelerates must also
-//! accelerate the air it carries along.
+//! The air's added (apparent) mass on a canopy: a canopy that accelerates along its axis must
+//! also accelerate the air it carries along.
 //!
 //! In potential flow a thin flat disc of radius `a` moving broadside carries the added mass
-//! `m_a = (8/3) ρ a³`, and none moving edgewise (the circular disc of the added-mass tables,
-//! e.g. Newman, *Marine Hydrodynamics*, MIT Press 1977, ch. 4). Spread over the disc's area
-//! `π a²`, that is `μ = 8 ρ a / (3π)` per unit area moving along the surface's normal. This
-//! law gives every panel of the canopy that share along its own normal:
+//! `M_a = (8/3) ρ a³`, and none moving edgewise (the circular disc of the added-mass tables,
+//! e.g. Newman, *Marine Hydrodynamics*, MIT Press 1977, ch. 4). This law puts that mass on
+//! the canopy's **mean motion along its axis**:
 //!
-//! - area vector `N = ½ (x₁ − x₀) × (x₂ − x₀)` (m²), unit normal `n = N/|N|`;
-//! - relative velocity `u = (v₀ + v₁ + v₂)/3 − U∞` (m/s);
-//! - momentum of the air the panel carries `P = μ |N| n (n·u) = μ N (N·u)/|N|` (kg·m/s);
-//! - force on each node `f_i = −(P − P_n) / (3 Δt)` (N), `P_n` the panel's `P` at the start of
-//!   the step (its history): backward Euler's `−dP/dt`, which is `−M_a a` on a panel that keeps
-//!   its shape and orientation, and adds `−Ṁ_a u` when it turns, stretches or inflates;
-//! - `a = √(A_p/π)` the radius of the disc of the canopy's projected area `A_p = |Σ N|`
-//!   (the norm of the canopy's vector area; the mesh is consistently oriented) and ρ at its
-//!   area-weighted mean height, both taken when a step is accepted: lagged by one step,
-//!   so a panel's `P` depends on its own nodes only.
+//! - vector area `A = Σ_t N_t` of the canopy's triangles (`N_t = ½ (x₁ − x₀) × (x₂ − x₀)`,
+//!   the mesh consistently oriented), axis `e = A/|A|`, projected area `A_p = |A|` (m²);
+//! - `M_a = (8/3) ρ a³` (kg) with `a = √(A_p/π)`, ρ at the canopy's area-weighted mean height;
+//! - node weights `w_j` (Σ w_j = 1): node `j`'s share of the canopy's area (a third of each
+//!   triangle it belongs to);
+//! - mean axial velocity relative to the air `s = Σ_j w_j e·(v_j − U∞)` (m/s), momentum of
+//!   the carried air `P = M_a s e` (kg·m/s);
+//! - force on node `j`: `f_j = −w_j (P − P_n)/Δt` (N), `P_n` the momentum when the step
+//!   began: backward Euler's `−w_j dP/dt`, the force that the kinetic energy `½ M_a s²`
+//!   puts on a node through Lagrange's equations.
 //!
-//! A flat disc then carries exactly `(8/3) ρ a³` broadside and nothing edgewise; a curved
-//! canopy carries `μ Σ |N| n nᵀ`, the disc value of its projected area in its axis direction.
-//! Assumptions: the added mass of an inflated canopy is that of the disc of its projected
-//! area in the panels' normal directions (the true shape factor of a cupped canopy is
-//! uncertain; the disc's is the potential-flow value of the limit of a flat canopy); still or
-//! uniformly moving air (no Froude–Krylov force); potential flow, so the momentum the air
-//! loses to the wake is the drag laws' business, not this one's; a panel rotating about the
-//! canopy's centre carries its own share only (a disc's rotary added mass is
-//! `(16/45) ρ a⁵` in potential flow, this law gives `(2/3) ρ a⁵`).
+//! `e`, `M_a` and `w_j` are taken when a step is accepted (lagged by one step), so within a
+//! step the force is linear in the velocities and its Jacobian is exact and of rank one:
+//! `∂f_j/∂v_k = −(M_a/Δt) w_j w_k e eᵀ`, `∂f/∂q = 0`. It couples every canopy node, so it is
+//! held as the low-rank part `−(M_a/Δt) u uᵀ` with `u_j = w_j e` ([`Force::low_rank_dofs`]),
+//! not in the sparse pattern.
 //!
-//! Exact Jacobians of the step's force (the lagged `μ` and `P_n` are constants within it):
-//! - `∂f_i/∂v_b = −(μ / (9 Δt)) N Nᵀ/|N|` (symmetric);
-//! - `∂f_i/∂x_b = −(1/(3 Δt)) ∂P/∂N ∂N/∂x_b` with
-//!   `∂P/∂N = μ [(N·u) I + N uᵀ]/|N| − μ (N·u) N Nᵀ/|N|³`.
+//! A flat disc moving rigidly then carries exactly `(8/3) ρ a³` broadside and nothing
+//! edgewise. **Why the mean motion only:** giving every panel the disc's share along its
+//! own normal (`μ = 8ρa/(3π)` per unit area) is exact for a rigid disc but makes a fabric
+//! canopy's short-wavelength motions 20–100× too heavy (a ripple of wavelength λ carries
+//! about ρλ/(2π) per unit area in potential flow); on the bundled canopies that law made
+//! the skirt's breathing a slow heavy oscillator and the opening fail (docs/notes).
+//! **Assumptions:** the inflated canopy carries the added mass of the disc of its projected
+//! area (a cupped canopy's true shape factor is uncertain; the disc's is the limit of a flat
+//! canopy); no lateral added mass (the disc's edgewise value), no rotary added mass (a
+//! disc's is `(16/45) ρ a⁵`), no added mass of breathing; still or uniformly moving air (no
+//! Froude–Krylov force); potential flow, so the momentum the air loses to the wake is the
+//! drag laws' business, not this one's.
 
 use super::fluid::Fluid;
-use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
-use crate::element::{node_stencils, Element, Family};
-use crate::force::{BlockMut, EvalInput, JacobianKind};
-use crate::vec3::{outer, M3, V3};
+use super::geometry::area_vector;
+use crate::error::HistoryError;
+use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::vec3::V3;
 
-/// The added-mass law: the lagged added mass per unit area and the fluid.
-#[derive(Debug, Clone, Copy)]
-pub struct AddedMassLaw {
-    /// μ: added mass per unit panel area (kg/m²) in effect for the current step,
-    /// `8 ρ a / (3π)` with `a` the radius of the disc of the canopy's projected area.
-    mu: f64,
+/// The air's added mass on the mean axial motion of a canopy of triangles (module docs).
+#[derive(Debug, Clone)]
+pub struct AddedMass {
+    /// The canopy's triangles (node indices).
+    triangles: Vec<[usize; 3]>,
+    /// The canopy's nodes, ascending.
+    nodes: Vec<usize>,
+    /// The three position DOFs of each node of `nodes`: the stencils and the low-rank DOFs.
+    dofs: Vec<usize>,
+    /// `w_j`: each node's share of the canopy's area, lagged.
+    weights: Vec<f64>,
+    /// `e`: the canopy's axis, lagged.
+    axis: V3,
+    /// `M_a`: the added mass on the mean axial motion (kg), lagged.
+    added_mass: f64,
+    /// `P_n`: the carried air's momentum when the current step began (kg·m/s).
+    momentum: V3,
     fluid: Fluid,
     wind: V3,
 }
 
-/// One panel's data: the momentum `P_n` (kg·m/s) of the air it carried when the last step
-/// was accepted.
-#[derive(Debug, Clone, Copy)]
-pub struct AddedMassPanel {
-    momentum: V3,
-}
-
-/// The air's added mass on a family of canopy triangles (module docs).
-pub type AddedMass = Family<AddedMassLaw>;
-
 impl AddedMass {
-    /// Added mass on `triangles` at rest at `q_rest` (the air at rest too), in `fluid`.
-    pub fn new(triangles: &[[usize; 3]], q_rest: &[f64], fluid: &Fluid) -> Self {
-        let panels = vec![
-            AddedMassPanel {
-                momentum: V3::zeros()
-            };
-            triangles.len()
-        ];
-        let stencils = node_stencils(triangles);
-        let law = AddedMassLaw {
-            mu: 0.0,
+    /// Added mass on the canopy of `triangles` at `q` moving at `v` (all DOFs), in `fluid`:
+    /// the air already moves with the canopy (`P_n` from `v`).
+    pub fn new(triangles: &[[usize; 3]], q: &[f64], v: &[f64], fluid: &Fluid) -> Self {
+        let mut nodes: Vec<usize> = triangles.iter().flatten().copied().collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let dofs = nodes
+            .iter()
+            .flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect();
+        let mut am = Self {
+            triangles: triangles.to_vec(),
+            weights: vec![0.0; nodes.len()],
+            nodes,
+            dofs,
+            axis: V3::zeros(),
+            added_mass: 0.0,
+            momentum: V3::zeros(),
             fluid: *fluid,
             wind: V3::from(fluid.wind),
         };
-        let mut family = Family::from_elements("added-mass", law, stencils, panels);
-        family.law.mu = family.law.per_area(&family.stencils, q_rest);
-        family
+        am.follow(q);
+        am.momentum = am.momentum_at(v);
+        am
     }
 
-    /// The added mass per unit panel area μ in effect (kg/m²).
-    pub fn per_unit_area(&self) -> f64 {
-        self.law.mu
+    /// The added mass `M_a` in effect (kg).
+    pub fn added_mass(&self) -> f64 {
+        self.added_mass
     }
-}
 
-impl AddedMassLaw {
-    /// `8 ρ a / (3π)` at `q`: `a = √(A_p/π)` from the canopy's vector area, ρ at its
-    /// area-weighted mean height.
-    fn per_area(&self, stencils: &[usize], q: &[f64]) -> f64 {
+    /// `e`, `M_a` and `w_j` of the canopy at `q`.
+    fn follow(&mut self, q: &[f64]) {
+        let node = |i: usize| V3::new(q[3 * i], q[3 * i + 1], q[3 * i + 2]);
         let (mut vector_area, mut area, mut height) = (V3::zeros(), 0.0, 0.0);
-        for st in stencils.chunks(9) {
-            let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+        self.weights.iter_mut().for_each(|w| *w = 0.0);
+        for t in &self.triangles {
+            let x = t.map(node);
             let n = area_vector(&x);
+            let a = n.norm();
             vector_area += n;
-            area += n.norm();
-            height += n.norm() * (x[0].z + x[1].z + x[2].z) / 3.0;
+            area += a;
+            height += a * (x[0].z + x[1].z + x[2].z) / 3.0;
+            for i in t {
+                let j = self.nodes.binary_search(i).expect("a canopy node");
+                self.weights[j] += a / 3.0;
+            }
         }
-        let radius = (vector_area.norm() / std::f64::consts::PI).sqrt();
-        let rho = self.fluid.at(height / area.max(f64::MIN_POSITIVE)).density;
-        8.0 * rho * radius / (3.0 * std::f64::consts::PI)
+        let inv = 1.0 / area.max(f64::MIN_POSITIVE);
+        self.weights.iter_mut().for_each(|w| *w *= inv);
+        let projected = vector_area.norm();
+        self.axis = match projected > 0.0 {
+            true => vector_area / projected,
+            false => V3::zeros(),
+        };
+        let radius = (projected / std::f64::consts::PI).sqrt();
+        let rho = self.fluid.at(height * inv).density;
+        self.added_mass = 8.0 / 3.0 * rho * radius.powi(3);
     }
 
-    /// The panel's air momentum `P` (kg·m/s) with area vector `n` and relative velocity `u`.
-    #[inline]
-    fn momentum(&self, n: &V3, u: &V3) -> V3 {
-        let m = n.norm();
-        match m > 0.0 {
-            true => (self.mu * n.dot(u) / m) * n,
-            false => V3::zeros(),
+    /// `s = Σ_j w_j e·(v_j − U∞)`: the canopy's mean axial velocity relative to the air.
+    fn mean_axial_speed(&self, v: &[f64]) -> f64 {
+        let mut mean = V3::zeros();
+        for (w, d) in self.weights.iter().zip(self.dofs.chunks(3)) {
+            mean += *w * V3::new(v[d[0]], v[d[1]], v[d[2]]);
         }
+        self.axis.dot(&(mean - self.wind))
+    }
+
+    /// `P = M_a s e` at velocities `v`.
+    fn momentum_at(&self, v: &[f64]) -> V3 {
+        self.added_mass * self.mean_axial_speed(v) * self.axis
     }
 }
 
-impl Element for AddedMassLaw {
-    const STENCIL: usize = 9;
-    const KIND: JacobianKind = JacobianKind::GENERAL;
-    type Data = AddedMassPanel;
+impl Force for AddedMass {
+    fn name(&self) -> &str {
+        "added-mass"
+    }
+    fn stencil_size(&self) -> usize {
+        3
+    }
+    fn stencils(&self) -> &[usize] {
+        &self.dofs
+    }
+    /// No blocks in the pattern: the whole Jacobian is the low-rank part.
+    fn jacobian_kind(&self) -> JacobianKind {
+        JacobianKind::CONSTANT
+    }
+    fn low_rank_dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+    fn low_rank_rank(&self) -> usize {
+        1
+    }
 
-    fn evaluate(&self, el: &AddedMassPanel, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
-        let x = [0, 1, 2].map(|i| stencil_vec(input.q, st, i));
-        let vel = [0, 1, 2].map(|i| stencil_vec(input.v, st, i));
-        let u = vel.iter().sum::<V3>() / 3.0 - self.wind;
-        let n = area_vector(&x);
-        let scale = -1.0 / (3.0 * input.dt);
-        let f = scale * (self.momentum(&n, &u) - el.momentum);
-        for i in 0..3 {
-            b.f[3 * i..3 * i + 3].copy_from_slice(f.as_slice());
+    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
+        let force = -(self.momentum_at(input.v) - self.momentum) / input.dt;
+        for (f, w) in out.f.chunks_mut(3).zip(&self.weights) {
+            f.copy_from_slice((*w * force).as_slice());
         }
-        if b.dfdq.is_empty() {
+        if !input.jacobian {
             return;
         }
-        let m = n.norm();
-        let (dp_dn, dp_du) = match m > 0.0 {
-            true => {
-                let nu = n.dot(&u);
-                let dn = (self.mu / m) * (nu * M3::identity() + outer(&n, &u))
-                    - (self.mu * nu / (m * m * m)) * outer(&n, &n);
-                (dn, (self.mu / m) * outer(&n, &n))
-            }
-            false => (M3::zeros(), M3::zeros()),
-        };
-        // Every node's force is the same, so each 3 × 3 block row repeats; ∂u/∂v_b = I/3.
-        let dv = (scale / 3.0) * dp_du;
-        let dn = area_vector_jacobians(&x);
-        for bn in 0..3 {
-            let dq = scale * dp_dn * dn[bn];
-            for i in 0..3 {
-                for r in 0..3 {
-                    for c in 0..3 {
-                        b.dfdq[(3 * i + r) * 9 + 3 * bn + c] = dq[(r, c)];
-                        b.dfdv[(3 * i + r) * 9 + 3 * bn + c] = dv[(r, c)];
-                    }
-                }
-            }
+        out.low_rank_coef[0] = -self.added_mass / input.dt;
+        for (u, w) in out.low_rank_u.chunks_mut(3).zip(&self.weights) {
+            u.copy_from_slice((*w * self.axis).as_slice());
         }
     }
 
-    /// The accepted step's momenta become the next step's `P_n` (with the `μ` they were
-    /// computed with), then `μ` follows the canopy's new projected area.
-    fn commit(&mut self, els: &mut [AddedMassPanel], stencils: &[usize], q: &[f64], v: &[f64]) {
-        for (el, st) in els.iter_mut().zip(stencils.chunks(9)) {
-            let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
-            let vel = [0, 1, 2].map(|i| stencil_vec(v, st, i));
-            let u = vel.iter().sum::<V3>() / 3.0 - self.wind;
-            el.momentum = self.momentum(&area_vector(&x), &u);
+    /// The accepted step's momentum becomes the next step's `P_n` (with the `M_a`, `e`, `w`
+    /// it was computed with), then they follow the canopy's new shape.
+    fn commit(&mut self, q: &[f64], v: &[f64]) {
+        self.momentum = self.momentum_at(v);
+        self.follow(q);
+    }
+
+    fn history(&self) -> Vec<f64> {
+        let (e, p) = (self.axis, self.momentum);
+        [self.added_mass, e.x, e.y, e.z, p.x, p.y, p.z]
+            .into_iter()
+            .chain(self.weights.iter().copied())
+            .collect()
+    }
+
+    fn restore_history(&mut self, h: &[f64]) -> Result<(), HistoryError> {
+        let expected = 7 + self.weights.len();
+        if h.len() != expected {
+            return Err(HistoryError {
+                force: self.name().to_string(),
+                got: h.len(),
+                expected,
+            });
         }
-        self.mu = self.per_area(stencils, q);
-    }
-
-    fn history_len(&self, n_elements: usize) -> usize {
-        1 + 3 * n_elements
-    }
-
-    fn history(&self, els: &[AddedMassPanel]) -> Vec<f64> {
-        let momenta = els
-            .iter()
-            .flat_map(|e| [e.momentum.x, e.momentum.y, e.momentum.z]);
-        std::iter::once(self.mu).chain(momenta).collect()
-    }
-
-    fn restore_history(&mut self, els: &mut [AddedMassPanel], h: &[f64]) {
-        self.mu = h[0];
-        for (e, p) in els.iter_mut().zip(h[1..].chunks(3)) {
-            e.momentum = V3::new(p[0], p[1], p[2]);
-        }
+        self.added_mass = h[0];
+        self.axis = V3::new(h[1], h[2], h[3]);
+        self.momentum = V3::new(h[4], h[5], h[6]);
+        self.weights.copy_from_slice(&h[7..]);
+        Ok(())
     }
 }

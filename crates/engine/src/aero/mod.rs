@@ -31,7 +31,7 @@ mod pressure;
 mod regularize;
 mod triangle;
 
-pub use added_mass::{AddedMass, AddedMassLaw, AddedMassPanel};
+pub use added_mass::AddedMass;
 pub use fluid::{reynolds, DragRegime, Fluid, LocalFluid, Profile};
 pub use inflation::{InflationPressure, InflationPressureLaw};
 pub use linear::{stokes_sphere, LinearDrag, LinearDragLaw};

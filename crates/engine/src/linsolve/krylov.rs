@@ -14,10 +14,11 @@
 use faer::dyn_stack::{MemStack, StackReq};
 use faer::matrix_free::bicgstab::{bicgstab, bicgstab_scratch, BicgParams};
 use faer::matrix_free::{InitialGuessStatus, LinOp, Precond};
+use faer::reborrow::ReborrowMut;
 use faer::sparse::SparseColMatRef;
 use faer::{MatMut, MatRef, Par};
 
-use super::LinearSolver;
+use super::{LinearSolver, LowRank};
 
 /// The held factorisation of [`LinearSolver`] as a preconditioner `x ↦ A⁻¹ x`.
 pub(super) struct HeldFactors<'a>(pub &'a LinearSolver);
@@ -40,7 +41,7 @@ impl LinOp<f64> for HeldFactors<'_> {
     }
     fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, st: &mut MemStack) {
         out.copy_from(rhs);
-        self.0.solve_with(out, par, st);
+        self.0.solve_completed(out, par, st);
     }
     fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, st: &mut MemStack) {
         self.apply(out, rhs, par, st);
@@ -52,15 +53,52 @@ impl Precond<f64> for HeldFactors<'_> {
         self.0.solve_scratch(rhs_ncols, par)
     }
     fn apply_in_place(&self, rhs: MatMut<'_, f64>, par: Par, st: &mut MemStack) {
-        self.0.solve_with(rhs, par, st);
+        self.0.solve_completed(rhs, par, st);
     }
     fn conj_apply_in_place(&self, rhs: MatMut<'_, f64>, par: Par, st: &mut MemStack) {
-        self.0.solve_with(rhs, par, st);
+        self.0.solve_completed(rhs, par, st);
+    }
+}
+
+/// The full matrix: the sparse values and the low-rank part the factors are completed with.
+#[derive(Debug)]
+pub(super) struct Full<'a> {
+    pub sparse: SparseColMatRef<'a, usize, f64>,
+    pub low_rank: &'a LowRank,
+}
+
+impl LinOp<f64> for Full<'_> {
+    fn apply_scratch(&self, rhs_ncols: usize, par: Par) -> StackReq {
+        self.sparse.apply_scratch(rhs_ncols, par)
+    }
+    fn nrows(&self) -> usize {
+        self.sparse.nrows()
+    }
+    fn ncols(&self) -> usize {
+        self.sparse.ncols()
+    }
+    fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, st: &mut MemStack) {
+        self.sparse.apply(out.rb_mut(), rhs, par, st);
+        if self.low_rank.rank() == 0 {
+            return;
+        }
+        for j in 0..rhs.ncols() {
+            let x = rhs.col(j).try_as_col_major();
+            let y = out.rb_mut().col_mut(j).try_as_col_major_mut();
+            let contiguous = "products run on contiguous columns";
+            self.low_rank.apply_add(
+                x.expect(contiguous).as_slice(),
+                y.expect(contiguous).as_slice_mut(),
+            );
+        }
+    }
+    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, st: &mut MemStack) {
+        self.apply(out, rhs, par, st);
     }
 }
 
 /// Workspace size of [`corrected_solve`] for an `n × n` system.
-pub(super) fn scratch(solver: &LinearSolver, a: SparseColMatRef<'_, usize, f64>) -> StackReq {
+pub(super) fn scratch(solver: &LinearSolver, a: &Full<'_>) -> StackReq {
     let ident = faer::matrix_free::IdentityPrecond { dim: solver.n };
     bicgstab_scratch(ident, HeldFactors(solver), a, 1, solver.par)
 }
@@ -80,7 +118,7 @@ pub struct KrylovReport {
 /// guess in `x` (overwritten). `rel_tol` is on `‖b − A x‖₂ / ‖b‖₂`.
 pub(super) fn corrected_solve(
     solver: &LinearSolver,
-    a: SparseColMatRef<'_, usize, f64>,
+    a: &Full<'_>,
     b: &[f64],
     x: &mut [f64],
     rel_tol: f64,

@@ -12,6 +12,7 @@
 //! bundled shells (docs/performance.md).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::reborrow::ReborrowMut;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering,
 };
@@ -23,8 +24,11 @@ use crate::error::{EngineError, SparseError};
 use faer::sparse::FaerError;
 
 mod krylov;
+mod low_rank;
 mod numeric;
 pub use krylov::KrylovReport;
+use low_rank::Woodbury;
+pub use low_rank::{LowRank, MAX_RANK};
 use numeric::Numeric;
 
 /// The precision of the factors ([`numeric`] module docs).
@@ -134,6 +138,8 @@ pub struct LinearSolver {
     /// Preordered systems: the lower triangle handed to the numeric LLᵀ / LBLᵀ (faer reads
     /// an unpermuted matrix as it is, and its simplicial kernel wants one triangle only).
     lower: Option<Lower>,
+    /// The low-rank part that completes the held factors ([`LinearSolver::complete`]).
+    woodbury: Woodbury,
 }
 
 /// The lower triangle of a pattern.
@@ -242,6 +248,7 @@ impl LinearSolver {
             last: Factorization::Llt,
             valid: false,
             lower,
+            woodbury: Woodbury::default(),
         })
     }
 
@@ -294,6 +301,7 @@ impl LinearSolver {
     pub fn factor(&mut self, spd: &[f64]) -> Factorization {
         let n = self.n;
         self.valid = true;
+        self.woodbury.set(&LowRank::default(), |_| {});
         if n == 0 {
             return self.last;
         }
@@ -343,9 +351,27 @@ impl LinearSolver {
         self.valid = false;
     }
 
-    /// Solve `A x = b` in place with the current factors (`rhs` holds `b` on entry, `x` on
-    /// exit).
+    /// Complete the factors just computed of `A` with a low-rank part: later solves are with
+    /// `A + U Γ Uᵀ` (module [`low_rank`]), and [`LinearSolver::solve_corrected`]'s matrix
+    /// includes it. Costs one solve per term. Returns false where the completed matrix is
+    /// singular: the solves then stay with `A`.
+    pub fn complete(&mut self, part: &LowRank) -> bool {
+        assert!(self.valid, "complete() without factors");
+        let mut wb = std::mem::take(&mut self.woodbury);
+        let ok = wb.set(part, |x| self.solve_factors(x));
+        self.woodbury = wb;
+        ok
+    }
+
+    /// Solve `A x = b` in place with the current factors and their low-rank completion
+    /// (`rhs` holds `b` on entry, `x` on exit).
     pub fn solve(&mut self, rhs: &mut [f64]) {
+        self.woodbury.correct_rhs(rhs);
+        self.solve_factors(rhs);
+    }
+
+    /// [`LinearSolver::solve`] with the sparse factors alone.
+    fn solve_factors(&mut self, rhs: &mut [f64]) {
         let n = self.n;
         assert!(self.valid, "solve() without factors");
         if n == 0 {
@@ -367,12 +393,25 @@ impl LinearSolver {
         }
     }
 
-    /// Solve in place with the held factors and the given workspace.
+    /// Solve in place with the held factors and the given workspace (without the low-rank
+    /// completion, which [`LinearSolver::solve`] and the Krylov preconditioner add).
     fn solve_with(&self, x: MatMut<'_, f64>, par: Par, stack: &mut MemStack) {
         match &self.factors {
             Factors::Double(f) => f.solve(&self.chol, self.last, x, par, stack),
             Factors::Single(f) => f.solve_f64(&self.chol, self.last, x, par, stack),
         }
+    }
+
+    /// [`LinearSolver::solve_with`] and the low-rank completion, on every column of `x`.
+    fn solve_completed(&self, mut x: MatMut<'_, f64>, par: Par, stack: &mut MemStack) {
+        if !self.woodbury.is_empty() {
+            for j in 0..x.ncols() {
+                let col = x.rb_mut().col_mut(j).try_as_col_major_mut();
+                let col = col.expect("solves run on contiguous columns");
+                self.woodbury.correct_rhs(col.as_slice_mut());
+            }
+        }
+        self.solve_with(x, par, stack);
     }
 
     /// Solve `A x = b` for the matrix `A` with values `full` (in this solver's pattern) by
@@ -388,10 +427,13 @@ impl LinearSolver {
     ) -> KrylovReport {
         assert!(self.valid, "solve_corrected() without factors");
         let held = self.krylov_mem.take();
-        let a = SparseColMatRef::new(self.pattern(), full);
-        let mut mem = held.unwrap_or_else(|| MemBuffer::new(krylov::scratch(self, a)));
+        let a = krylov::Full {
+            sparse: SparseColMatRef::new(self.pattern(), full),
+            low_rank: self.woodbury.part(),
+        };
+        let mut mem = held.unwrap_or_else(|| MemBuffer::new(krylov::scratch(self, &a)));
         let rep =
-            krylov::corrected_solve(self, a, b, x, rel_tol, max_iters, MemStack::new(&mut mem));
+            krylov::corrected_solve(self, &a, b, x, rel_tol, max_iters, MemStack::new(&mut mem));
         self.krylov_mem = Some(mem);
         rep
     }

@@ -25,6 +25,16 @@
 //! fails (κ beyond `1/ε₃₂`: the 10,000-node rod's edges of 0.6 mm), the factors switch to
 //! double precision for the rest of the run and the update is computed again.
 //!
+//! **Low-rank part.** A force's low-rank velocity Jacobian is not in the pattern: the factors
+//! are completed with it by Sherman–Morrison–Woodbury (`linsolve/low_rank.rs`, one more solve
+//! per term), and every product with `J` includes it.
+//!
+//! Models with a low-rank part always factorise in double precision: where the part
+//! dominates (an added mass many times the canopy's own), single-precision factors made the
+//! chord and Newton iterations stall near the tolerance. Measured on the 3 m fabric canopy's
+//! opening at 0.25 m (1 s, CST membrane): 40 s with `f32` factors against 2.4 s with `f64`
+//! (docs/notes/added-mass-2026-12-07.md).
+//!
 //! **Keys.** The factors are valid for one `(c_m, c_v, σ)`: a step of another size, or a
 //! shifted matrix, needs new ones. Whether held factors from earlier steps are still good
 //! enough is not known in advance; the stages measure it by the contraction they achieve.
@@ -66,12 +76,20 @@ pub(crate) struct Linearization {
     /// `μ` of the added inertia `μ c_m M` already in the workspace's values (since the last
     /// evaluation with a Jacobian).
     values_shift: f64,
+    /// The held factors are not completed with the Jacobian's low-rank part (its Woodbury
+    /// matrix was singular): a Newton update must be checked against the full `J`.
+    incomplete: bool,
 }
 
 impl Linearization {
     /// The symbolic analysis of the workspace's pattern (done once).
     pub fn new(ws: &Workspace, precision: Precision) -> Result<Self, EngineError> {
         let a = &ws.asm;
+        // A low-rank part is factorised in double precision (module docs, §Precision).
+        let precision = match a.low_rank_terms > 0 {
+            true => Precision::Double,
+            false => precision,
+        };
         let solver = if a.ordered {
             LinearSolver::new_ordered(a.n_free, &a.col_ptr, &a.row_idx, precision)?
         } else {
@@ -91,6 +109,7 @@ impl Linearization {
             key: None,
             current: false,
             values_shift: 0.0,
+            incomplete: false,
         })
     }
 
@@ -135,14 +154,17 @@ impl Linearization {
     }
 
     /// Factorise the symmetric matrix of the Jacobian in the workspace (`self.sym`, or the
-    /// values themselves when `J` is symmetric).
+    /// values themselves when `J` is symmetric), completed with its low-rank part.
     fn factor(&mut self, ws: &mut Workspace) -> Factorization {
         let t0 = Instant::now();
-        let fac = if self.sym.is_empty() {
-            self.solver.factor(&ws.values)
+        let spd = if self.sym.is_empty() {
+            &ws.values
         } else {
-            self.solver.factor(&self.sym)
+            &self.sym
         };
+        let fac = self.solver.factor(spd);
+        let part = &ws.asm.low_rank;
+        self.incomplete = part.rank() > 0 && !self.solver.complete(part);
         let c = &mut ws.counters;
         c.factor_s += t0.elapsed().as_secs_f64();
         c.factorizations += 1;
@@ -180,7 +202,7 @@ impl Linearization {
     pub fn newton(&mut self, ws: &mut Workspace, eta: f64) {
         self.chord(ws);
         let single = self.solver.precision() == Precision::Single;
-        if !self.current || (self.sym.is_empty() && !single) {
+        if !self.current || (self.sym.is_empty() && !single && !self.incomplete) {
             return;
         }
         if self.linear_residual_ratio(ws) <= eta || self.correct(ws, eta) {
@@ -233,6 +255,7 @@ impl Linearization {
                 y[a.row_idx[k]] += ws.values[k] * dc;
             }
         }
+        a.low_rank.apply_add(&ws.delta, y);
         let num = y.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let den = ws.residual.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         if den > 0.0 {

@@ -136,6 +136,14 @@ impl Workspace {
                 self.force_roundoff[r] += (self.values[k] - inertia).abs() * qc;
             }
         }
+        for (gamma, u) in a.low_rank.terms() {
+            let s: f64 = (u.iter().zip(&a.dof_of))
+                .map(|(u, &d)| (u * q[d]).abs())
+                .sum();
+            for (x, u) in self.force_roundoff.iter_mut().zip(u) {
+                *x += (gamma * u).abs() * s;
+            }
+        }
     }
 
     /// Measure the residual's round-off at `q` (its residual in [`Workspace::residual`], which

@@ -152,11 +152,13 @@ drag_matrix! {
     pressure_drag_permeable_stratified: Pressure, stratified, Some(leaky());
 }
 
-// The air's added mass: committed at one random draw (its lagged μ and each panel's P_n from
-// there, in air whose density varies with height), evaluated at another.
+// The air's added mass: committed at one random draw (its lagged M_a, axis, weights and P_n
+// from there, in air whose density varies with height), evaluated at another; its velocity
+// Jacobian is all low-rank part.
 force_conformance!(added_mass, {
     let (tris, q) = grid(3, 2.0);
-    Case::new(AddedMass::new(&tris, &q, &stratified()), q)
+    let v = vec![0.5; q.len()];
+    Case::new(AddedMass::new(&tris, &q, &v, &stratified()), q)
         .perturb(0.4)
         .velocities(10.0)
         .trials(20)

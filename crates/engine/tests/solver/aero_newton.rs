@@ -1,9 +1,11 @@
 //! Newton converges quadratically on a drag-dominated step, because the drag Jacobians are
 //! exact (including ∂n̂/∂x and the projected area); dropping ∂F/∂x of the drag, as a
-//! simplified Jacobian would, degrades it to linear convergence.
+//! simplified Jacobian would, degrades it to linear convergence. The same holds with the
+//! air's added mass, whose Jacobian is all low-rank part (completed factors,
+//! Sherman–Morrison–Woodbury): dropping that part degrades it too.
 use engine::reference::sheet;
 
-use engine::aero::{Fluid, TriangleDrag};
+use engine::aero::{AddedMass, Fluid, TriangleDrag};
 use engine::force::{EvalInput, Force, JacobianKind, LocalBlocks};
 use engine::{ImplicitEuler, Model, NewtonOptions, State};
 use rand::{rngs::StdRng, Rng, SeedableRng};
@@ -35,23 +37,71 @@ impl Force for NoDq {
     }
 }
 
-/// The crumpled, thrown sheet of `engine::reference::sheet` with triangle drag, exact or
-/// with its ∂F/∂x dropped.
-fn model(exact: bool) -> (Model, State) {
+/// AddedMass with its low-rank Jacobian dropped.
+struct NoLowRank(AddedMass);
+impl Force for NoLowRank {
+    fn name(&self) -> &str {
+        "added-mass-without-jacobian"
+    }
+    fn stencil_size(&self) -> usize {
+        3
+    }
+    fn stencils(&self) -> &[usize] {
+        self.0.stencils()
+    }
+    fn jacobian_kind(&self) -> JacobianKind {
+        JacobianKind::CONSTANT
+    }
+    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
+        let mut full = self.0.new_blocks();
+        self.0.evaluate(input, &mut full);
+        out.f.copy_from_slice(&full.f);
+    }
+    fn commit(&mut self, q: &[f64], v: &[f64]) {
+        self.0.commit(q, v);
+    }
+}
+
+/// Which forces act on the sheet besides its elasticity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Variant {
+    /// Triangle drag, exact.
+    Drag,
+    /// Triangle drag with its ∂F/∂x dropped.
+    DragWithoutDq,
+    /// Triangle drag and added mass, exact.
+    AddedMass,
+    /// Triangle drag and added mass without its low-rank Jacobian.
+    AddedMassWithoutJacobian,
+}
+
+/// The crumpled, thrown sheet of `engine::reference::sheet` with the forces of `variant`.
+fn model(variant: Variant) -> (Model, State) {
     let mut rng = StdRng::seed_from_u64(7);
     let (mut model, state, s) = sheet::thrown_crumpled_sheet(&mut || rng.random_range(-1.0..1.0));
-    let drag = TriangleDrag::new(&s.tris, 1.75, 0.5, &Fluid::air());
-    if exact {
-        model.add_force(drag);
-    } else {
-        model.add_force(NoDq(drag));
+    let air = Fluid::air();
+    let drag = TriangleDrag::new(&s.tris, 1.75, 0.5, &air);
+    let added = || AddedMass::new(&s.tris, &state.q, &state.v, &air);
+    match variant {
+        Variant::DragWithoutDq => model.add_force(NoDq(drag)),
+        _ => model.add_force(drag),
+    };
+    match variant {
+        Variant::AddedMass => {
+            model.add_force(added());
+        }
+        Variant::AddedMassWithoutJacobian => {
+            model.add_force(NoLowRank(added()));
+        }
+        _ => {}
     }
     (model, state)
 }
 
 /// Residual histories of the first `steps` steps at `dt`.
-fn histories(exact: bool, dt: f64, steps: usize) -> Vec<Vec<f64>> {
-    let (mut model, mut state) = model(exact);
+fn histories(variant: Variant, dt: f64, steps: usize) -> Vec<Vec<f64>> {
+    let exact = matches!(variant, Variant::Drag | Variant::AddedMass);
+    let (mut model, mut state) = model(variant);
     let opts = NewtonOptions {
         force_tol_abs: Some(1e-11),
         force_tol_rel: 0.0,
@@ -89,19 +139,46 @@ fn newton_converges_quadratically_with_exact_drag_jacobians() {
     // r_{k+1}/r_k² = ρ/r_k, which exceeds 10 /N as soon as r_k < ρ/10: the variant without
     // ∂F/∂x below (ρ ≈ 0.1) fails the same check, so the test discriminates.
     const C: f64 = 10.0;
-    for (step, h) in histories(true, 0.05, 5).iter().enumerate() {
-        let (c, pairs) = quadratic_constant(h);
-        eprintln!("exact, step {step}: C = {c:.2e} over {pairs} pairs");
-        assert!(pairs >= 1, "step {step}: nothing to check in {h:?}");
-        assert!(c <= C, "step {step}: r_(k+1)/r_k² = {c} > {C}: {h:?}");
+    for (exact, inexact) in [
+        (Variant::Drag, Variant::DragWithoutDq),
+        (Variant::AddedMass, Variant::AddedMassWithoutJacobian),
+    ] {
+        for (step, h) in histories(exact, 0.05, 5).iter().enumerate() {
+            let (c, pairs) = quadratic_constant(h);
+            eprintln!("{exact:?}, step {step}: C = {c:.2e} over {pairs} pairs");
+            assert!(
+                pairs >= 1,
+                "{exact:?} step {step}: nothing to check in {h:?}"
+            );
+            assert!(
+                c <= C,
+                "{exact:?} step {step}: r_(k+1)/r_k² = {c} > {C}: {h:?}"
+            );
+        }
+        let worst = histories(inexact, 0.05, 5)
+            .iter()
+            .map(|h| quadratic_constant(h).0)
+            .fold(0.0, f64::max);
+        eprintln!("{inexact:?}: worst C = {worst:.2e}");
+        assert!(
+            worst > C,
+            "negative control {inexact:?} converged quadratically: {worst}"
+        );
     }
-    let worst = histories(false, 0.05, 5)
-        .iter()
-        .map(|h| quadratic_constant(h).0)
-        .fold(0.0, f64::max);
-    eprintln!("without ∂F/∂x: worst C = {worst:.2e}");
-    assert!(
-        worst > C,
-        "negative control converged quadratically: {worst}"
-    );
+}
+
+#[test]
+fn a_model_with_more_low_rank_terms_than_supported_is_refused() {
+    let (mut model, state) = model(Variant::Drag);
+    let mut rng = StdRng::seed_from_u64(7);
+    let (_, _, s) = sheet::thrown_crumpled_sheet(&mut || rng.random_range(-1.0..1.0));
+    for _ in 0..=engine::MAX_LOW_RANK {
+        model.add_force(AddedMass::new(&s.tris, &state.q, &state.v, &Fluid::air()));
+    }
+    match ImplicitEuler::new(&model, NewtonOptions::default()) {
+        Err(engine::EngineError::LowRank { rank, max }) => {
+            assert_eq!((rank, max), (max + 1, engine::MAX_LOW_RANK))
+        }
+        other => panic!("expected EngineError::LowRank, got {:?}", other.err()),
+    }
 }
