@@ -541,14 +541,18 @@ fn progress_bar(cfg: &RunConfig) -> Option<indicatif::ProgressBar> {
     Some(bar)
 }
 
+/// Fraction of the simulated time after which the progress bar estimates the time left.
+const ETA_AFTER: f64 = 0.05;
+
 /// The time left at the run's mean pace so far (wall time per simulated time since the
 /// start). indicatif's own estimate follows the latest steps, which swings by orders of
 /// magnitude across an opening (a step there costs 100× one at terminal speed); the mean
-/// is steadier and, as the hard part comes early, errs long.
+/// is steadier and, as the hard part comes early, errs long. Before [`ETA_AFTER`] of the run
+/// it is `?`: the opening alone would set it.
 fn mean_eta(state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write) {
     let done = state.fraction() as f64;
     let elapsed = state.elapsed().as_secs_f64();
-    if done <= 0.0 || elapsed <= 0.0 {
+    if done < ETA_AFTER || elapsed <= 0.0 {
         let _ = write!(w, "?");
         return;
     }

@@ -453,8 +453,8 @@ section! {
             ),
         /// gravitational acceleration g
         gravity_mps2: f64 = 9.81 => key().unit("m/s²").positive("gravity points down, −z"),
-        /// the air's added mass on the canopy: its mean motion along its axis carries the
-        /// potential-flow mass (8/3) ρ a³ of the disc of its projected area (docs/aero.md
+        /// the air's added mass on the canopy: its mean motion carries the potential-flow
+        /// mass (8/3) ρ a³ of the disc of its projected area, in every direction (docs/aero.md
         /// §AddedMass)
         #[serde(skip_serializing_if = "Option::is_none")]
         added_mass: Option<bool> = None => key()
@@ -465,7 +465,7 @@ section! {
 
 /// Why added mass needs a shell canopy.
 const ADDED_MASS_SHELL: &str =
-    " (the added mass needs the canopy's projected area and axis, which a rod strip does not have)";
+    " (the added mass needs the canopy's projected area, which a rod strip does not have)";
 
 choice! {
     /// How the air varies with height.

@@ -1,38 +1,45 @@
-//! The air's added (apparent) mass on a canopy: a canopy that accelerates along its axis must
-//! also accelerate the air it carries along.
+//! The air's added (apparent) mass on a canopy: a canopy that accelerates must also
+//! accelerate the air it carries along.
 //!
 //! In potential flow a thin flat disc of radius `a` moving broadside carries the added mass
-//! `M_a = (8/3) ρ a³`, and none moving edgewise (the circular disc of the added-mass tables,
-//! e.g. Newman, *Marine Hydrodynamics*, MIT Press 1977, ch. 4). This law puts that mass on
-//! the canopy's **mean motion along its axis**:
+//! `M_a = (8/3) ρ a³` (the circular disc of the added-mass tables, e.g. Newman, *Marine
+//! Hydrodynamics*, MIT Press 1977, ch. 4). This law puts that mass on the canopy's **mean
+//! motion**, in every direction:
 //!
 //! - vector area `A = Σ_t N_t` of the canopy's triangles (`N_t = ½ (x₁ − x₀) × (x₂ − x₀)`,
-//!   the mesh consistently oriented), axis `e = A/|A|`, projected area `A_p = |A|` (m²);
+//!   the mesh consistently oriented), projected area `A_p = |A|` (m²);
 //! - `M_a = (8/3) ρ a³` (kg) with `a = √(A_p/π)`, ρ at the canopy's area-weighted mean height;
 //! - node weights `w_j` (Σ w_j = 1): node `j`'s share of the canopy's area (a third of each
 //!   triangle it belongs to);
-//! - mean axial velocity relative to the air `s = Σ_j w_j e·(v_j − U∞)` (m/s), momentum of
-//!   the carried air `P = M_a s e` (kg·m/s);
+//! - mean velocity relative to the air `V = Σ_j w_j v_j − U∞` (m/s), momentum of the carried
+//!   air `P = M_a V` (kg·m/s);
 //! - force on node `j`: `f_j = −w_j (P − P_n)/Δt` (N), `P_n` the momentum when the step
-//!   began: backward Euler's `−w_j dP/dt`, the force that the kinetic energy `½ M_a s²`
+//!   began: backward Euler's `−w_j dP/dt`, the force that the kinetic energy `½ M_a |V|²`
 //!   puts on a node through Lagrange's equations.
 //!
-//! `e`, `M_a` and `w_j` are taken when a step is accepted (lagged by one step), so within a
-//! step the force is linear in the velocities and its Jacobian is exact and of rank one:
-//! `∂f_j/∂v_k = −(M_a/Δt) w_j w_k e eᵀ`, `∂f/∂q = 0`. It couples every canopy node, so it is
-//! held as the low-rank part `−(M_a/Δt) u uᵀ` with `u_j = w_j e` ([`Force::low_rank_dofs`]),
-//! not in the sparse pattern.
+//! `M_a` and `w_j` are taken when a step is accepted (lagged by one step), so within a step
+//! the force is linear in the velocities and its Jacobian is exact and of rank three:
+//! `∂f_j/∂v_k = −(M_a/Δt) w_j w_k I`, `∂f/∂q = 0`. It couples every canopy node, so it is
+//! held as the low-rank part `−(M_a/Δt) Σ_c u_c u_cᵀ`, `u_c = (w_j e_c)_j` for the three
+//! axes `e_c` ([`Force::low_rank_dofs`]), not in the sparse pattern.
 //!
-//! A flat disc moving rigidly then carries exactly `(8/3) ρ a³` broadside and nothing
-//! edgewise. **Why the mean motion only:** giving every panel the disc's share along its
-//! own normal (`μ = 8ρa/(3π)` per unit area) is exact for a rigid disc but makes a fabric
-//! canopy's short-wavelength motions 20–100× too heavy (a ripple of wavelength λ carries
-//! about ρλ/(2π) per unit area in potential flow); on the bundled canopies that law made
-//! the skirt's breathing a slow heavy oscillator and the opening fail (docs/notes).
-//! **Assumptions:** the inflated canopy carries the added mass of the disc of its projected
-//! area (a cupped canopy's true shape factor is uncertain; the disc's is the limit of a flat
-//! canopy); no lateral added mass (the disc's edgewise value), no rotary added mass (a
-//! disc's is `(16/45) ρ a⁵`), no added mass of breathing; still or uniformly moving air (no
+//! **Why isotropic:** the fluid's force on a body is `−dP/dt` and its moment `−U × P`
+//! (Kirchhoff's equations, Lamb, *Hydrodynamics*, §124). With equal added mass in every
+//! direction `P ∥ U`, the moment vanishes, so a force on the mean motion alone is the
+//! whole potential-flow load and conserves the body's and the air's kinetic energy. An axial
+//! mass alone (a flat disc's: none edgewise) needs that moment (the Munk moment) and an axis
+//! that turns with the canopy; without them, measured on the 4 m cargo canopy, the descent
+//! became a 1.2 s coning motion that the canopy's inertia cannot explain (docs/notes). A
+//! cupped canopy does carry air sideways: the air it encloses, `(2/3) π ρ a³ ≈ 2.1 ρ a³` for
+//! a hemispherical one, against the disc's `2.7 ρ a³` broadside.
+//! **Why the mean motion only:** giving every panel the disc's share along its own normal is
+//! exact for a rigid disc but makes a fabric canopy's short-wavelength motions 20–100× too
+//! heavy (a ripple of wavelength λ carries about ρλ/(2π) per unit area in potential flow); it
+//! broke the bundled canopies' openings (docs/notes).
+//! **Assumptions:** the inflated canopy carries the disc of its projected area in every
+//! direction (the axial value of a cup is larger, about 4.5 ρ a³ in fitted data, its lateral
+//! one uncertain); no rotary added mass (a disc's is `(16/45) ρ a⁵`), no added mass of
+//! breathing; not for a flat sheet moving edgewise; still or uniformly moving air (no
 //! Froude–Krylov force); potential flow, so the momentum the air loses to the wake is the
 //! drag laws' business, not this one's.
 
@@ -42,7 +49,7 @@ use crate::error::HistoryError;
 use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
 use crate::vec3::V3;
 
-/// The air's added mass on the mean axial motion of a canopy of triangles (module docs).
+/// The air's added mass on the mean motion of a canopy of triangles (module docs).
 #[derive(Debug, Clone)]
 pub struct AddedMass {
     /// The canopy's triangles (node indices).
@@ -53,9 +60,7 @@ pub struct AddedMass {
     dofs: Vec<usize>,
     /// `w_j`: each node's share of the canopy's area, lagged.
     weights: Vec<f64>,
-    /// `e`: the canopy's axis, lagged.
-    axis: V3,
-    /// `M_a`: the added mass on the mean axial motion (kg), lagged.
+    /// `M_a`: the added mass on the mean motion (kg), lagged.
     added_mass: f64,
     /// `P_n`: the carried air's momentum when the current step began (kg·m/s).
     momentum: V3,
@@ -79,7 +84,6 @@ impl AddedMass {
             weights: vec![0.0; nodes.len()],
             nodes,
             dofs,
-            axis: V3::zeros(),
             added_mass: 0.0,
             momentum: V3::zeros(),
             fluid: *fluid,
@@ -95,7 +99,7 @@ impl AddedMass {
         self.added_mass
     }
 
-    /// `e`, `M_a` and `w_j` of the canopy at `q`.
+    /// `M_a` and `w_j` of the canopy at `q`.
     fn follow(&mut self, q: &[f64]) {
         let node = |i: usize| V3::new(q[3 * i], q[3 * i + 1], q[3 * i + 2]);
         let (mut vector_area, mut area, mut height) = (V3::zeros(), 0.0, 0.0);
@@ -114,28 +118,23 @@ impl AddedMass {
         }
         let inv = 1.0 / area.max(f64::MIN_POSITIVE);
         self.weights.iter_mut().for_each(|w| *w *= inv);
-        let projected = vector_area.norm();
-        self.axis = match projected > 0.0 {
-            true => vector_area / projected,
-            false => V3::zeros(),
-        };
-        let radius = (projected / std::f64::consts::PI).sqrt();
+        let radius = (vector_area.norm() / std::f64::consts::PI).sqrt();
         let rho = self.fluid.at(height * inv).density;
         self.added_mass = 8.0 / 3.0 * rho * radius.powi(3);
     }
 
-    /// `s = Σ_j w_j e·(v_j − U∞)`: the canopy's mean axial velocity relative to the air.
-    fn mean_axial_speed(&self, v: &[f64]) -> f64 {
+    /// `V = Σ_j w_j v_j − U∞`: the canopy's mean velocity relative to the air.
+    fn mean_velocity(&self, v: &[f64]) -> V3 {
         let mut mean = V3::zeros();
         for (w, d) in self.weights.iter().zip(self.dofs.chunks(3)) {
             mean += *w * V3::new(v[d[0]], v[d[1]], v[d[2]]);
         }
-        self.axis.dot(&(mean - self.wind))
+        mean - self.wind
     }
 
-    /// `P = M_a s e` at velocities `v`.
+    /// `P = M_a V` at velocities `v`.
     fn momentum_at(&self, v: &[f64]) -> V3 {
-        self.added_mass * self.mean_axial_speed(v) * self.axis
+        self.added_mass * self.mean_velocity(v)
     }
 }
 
@@ -157,7 +156,7 @@ impl Force for AddedMass {
         &self.dofs
     }
     fn low_rank_rank(&self) -> usize {
-        1
+        3
     }
 
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
@@ -168,13 +167,17 @@ impl Force for AddedMass {
         if !input.jacobian {
             return;
         }
-        out.low_rank_coef[0] = -self.added_mass / input.dt;
-        for (u, w) in out.low_rank_u.chunks_mut(3).zip(&self.weights) {
-            u.copy_from_slice((*w * self.axis).as_slice());
+        let n = self.dofs.len();
+        out.low_rank_coef.fill(-self.added_mass / input.dt);
+        for (axis, u) in out.low_rank_u.chunks_mut(n).enumerate() {
+            u.fill(0.0);
+            for (uj, w) in u.chunks_mut(3).zip(&self.weights) {
+                uj[axis] = *w;
+            }
         }
     }
 
-    /// The accepted step's momentum becomes the next step's `P_n` (with the `M_a`, `e`, `w`
+    /// The accepted step's momentum becomes the next step's `P_n` (with the `M_a` and `w`
     /// it was computed with), then they follow the canopy's new shape.
     fn commit(&mut self, q: &[f64], v: &[f64]) {
         self.momentum = self.momentum_at(v);
@@ -182,15 +185,15 @@ impl Force for AddedMass {
     }
 
     fn history(&self) -> Vec<f64> {
-        let (e, p) = (self.axis, self.momentum);
-        [self.added_mass, e.x, e.y, e.z, p.x, p.y, p.z]
+        let p = self.momentum;
+        [self.added_mass, p.x, p.y, p.z]
             .into_iter()
             .chain(self.weights.iter().copied())
             .collect()
     }
 
     fn restore_history(&mut self, h: &[f64]) -> Result<(), HistoryError> {
-        let expected = 7 + self.weights.len();
+        let expected = 4 + self.weights.len();
         if h.len() != expected {
             return Err(HistoryError {
                 force: self.name().to_string(),
@@ -199,9 +202,8 @@ impl Force for AddedMass {
             });
         }
         self.added_mass = h[0];
-        self.axis = V3::new(h[1], h[2], h[3]);
-        self.momentum = V3::new(h[4], h[5], h[6]);
-        self.weights.copy_from_slice(&h[7..]);
+        self.momentum = V3::new(h[1], h[2], h[3]);
+        self.weights.copy_from_slice(&h[4..]);
         Ok(())
     }
 }

@@ -152,7 +152,7 @@ drag_matrix! {
     pressure_drag_permeable_stratified: Pressure, stratified, Some(leaky());
 }
 
-// The air's added mass: committed at one random draw (its lagged M_a, axis, weights and P_n
+// The air's added mass: committed at one random draw (its lagged M_a, weights and P_n
 // from there, in air whose density varies with height), evaluated at another; its velocity
 // Jacobian is all low-rank part.
 force_conformance!(added_mass, {
