@@ -42,8 +42,8 @@ pub fn app_err(e: AppError) -> PyErr {
 }
 
 /// The command line's message in the words of the Python call: an override is an entry of
-/// `set` (`set["load.weight_n"] = -5`, not `--set load.weight_n=-5`), and `--force` is
-/// `force=True`.
+/// `set` (`set["load.weight_n"] = -5`, not `--set load.weight_n=-5`), `--force` is
+/// `force=True` and `--out DIR` the argument `out`.
 pub fn python_words(msg: &str) -> String {
     let mut out = String::with_capacity(msg.len());
     let mut rest = msg;
@@ -63,6 +63,8 @@ pub fn python_words(msg: &str) -> String {
     }
     out.push_str(rest);
     out.replace("--force", "force=True")
+        .replace("--out DIR", "`out`")
+        .replace("--out", "`out`")
 }
 
 fn run_dir_err(e: RunDirError) -> PyErr {

@@ -62,8 +62,9 @@ def test_a_non_empty_output_directory_needs_force(tmp_path):
     out.mkdir()
     (out / "keep.txt").write_text("mine")
     set = {**ROD_SET, "time.duration_s": 0.01}
-    with pytest.raises(chute.ScenarioError, match="force=True"):
+    with pytest.raises(chute.ScenarioError, match="force=True") as e:
         chute.run(ROD, set=set, out=out)
+    assert "--" not in str(e.value), e.value  # the call's words, not the command line's
     # --force replaces only an earlier chute run, never a directory chute did not write.
     with pytest.raises(chute.ScenarioError, match="not a chute run directory"):
         chute.run(ROD, set=set, out=out, force=True)

@@ -175,7 +175,9 @@ pub fn main(args: &ValidateArgs) -> Result<(), AppError> {
         refuse_out(dir)?;
         crate::app::ensure_dir(dir)?;
     }
-    let checks = run_suite(args);
+    let checks = run_suite_with(args, |name, i, n| {
+        crate::err_line!("validate: case {name} ({i} of {n}) …")
+    });
     if let Some(dir) = &args.out {
         let path = dir.join("validation_table.md");
         crate::output::atomic::write_atomic(&path, markdown(&checks).as_bytes())
@@ -248,16 +250,24 @@ fn refuse_empty_selection(args: &ValidateArgs) -> Result<(), AppError> {
 
 /// Run the suite; returns the checks (caller prints and sets the exit code).
 pub fn run_suite(opts: &ValidateArgs) -> Vec<Check> {
+    run_suite_with(opts, |_, _, _| {})
+}
+
+/// [`run_suite`], calling `announce(case, i, n)` as the `i`-th of `n` cases starts (the
+/// command line's progress on stderr: its table comes only at the end).
+fn run_suite_with(opts: &ValidateArgs, announce: impl Fn(&str, usize, usize)) -> Vec<Check> {
     let mut all = Vec::new();
-    for case in cases::all() {
-        if opts.quick && !case.quick {
-            continue;
-        }
-        if let Some(f) = &opts.case {
-            if !case.name.contains(f.as_str()) {
-                continue;
-            }
-        }
+    let selected: Vec<_> = cases::all()
+        .into_iter()
+        .filter(|c| !opts.quick || c.quick)
+        .filter(|c| {
+            opts.case
+                .as_ref()
+                .is_none_or(|f| c.name.contains(f.as_str()))
+        })
+        .collect();
+    for (i, case) in selected.iter().enumerate() {
+        announce(case.name, i + 1, selected.len());
         let start = Instant::now();
         let mut checks =
             (case.run)(opts.quick).unwrap_or_else(|e| vec![Check::failed(case.name, &e)]);

@@ -185,7 +185,7 @@ pub fn table(costs: &[ElementCost]) -> String {
         "µs/family",
         "×/family",
         "force ns/el",
-        "×/elem"
+        "×/force"
     );
     for c in costs {
         s += &format!(
@@ -201,5 +201,8 @@ pub fn table(costs: &[ElementCost]) -> String {
             c.ratio_force_per_element
         );
     }
+    s += "ns/elem: one evaluation with the Jacobian, per element; µs/family: one evaluation \
+          of the whole family; force ns/el: the force alone (no Jacobian), per element; ×: \
+          over the report's law of the same kind (springs or hinges)\n";
     s
 }

@@ -31,9 +31,9 @@
 //!
 //! Models with a low-rank part always factorise in double precision: where the part
 //! dominates (an added mass many times the canopy's own), single-precision factors made the
-//! chord and Newton iterations stall near the tolerance. Measured on the 3 m fabric canopy's
-//! opening at 0.25 m (1 s, CST membrane): 40 s with `f32` factors against 2.4 s with `f64`
-//! (docs/notes/added-mass-2026-12-07.md).
+//! chord and Newton iterations stall near the tolerance. Measured on the 3 m canopy's opening
+//! at 0.25 m (1 s, CST membrane, the law's first, axial-only version): 40 s with `f32` factors
+//! against 2.4 s with `f64` (docs/notes/added-mass-2026-12-07.md).
 //!
 //! **Keys.** The factors are valid for one `(c_m, c_v, σ)`: a step of another size, or a
 //! shifted matrix, needs new ones. Whether held factors from earlier steps are still good
