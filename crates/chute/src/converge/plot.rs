@@ -28,13 +28,12 @@ pub fn convergence_plot(path: &Path, studies: &[StudyReport]) -> Result<(), Plot
         .map(|st| st.reported().count())
         .max()
         .unwrap_or(0);
-    let size = (
-        PANEL.0 * cols as u32,
-        PANEL.1 * studies.len() as u32 + LEGEND_HEIGHT,
-    );
+    let width = PANEL.0 * cols as u32;
+    let legend = LEGEND_ROW * legend_rows(width);
+    let size = (width, PANEL.1 * studies.len() as u32 + legend);
     render_atomic(path, size, |root| {
-        let (root, strip) = root.split_vertically(size.1 - LEGEND_HEIGHT);
-        draw_legend(&strip)?;
+        let (root, strip) = root.split_vertically(size.1 - legend);
+        draw_legend(&strip, width)?;
         let panels = root.split_evenly((studies.len(), cols));
         for (r, st) in studies.iter().enumerate() {
             for (c, q) in st.reported().enumerate() {
@@ -49,40 +48,80 @@ pub fn convergence_plot(path: &Path, studies: &[StudyReport]) -> Result<(), Plot
 
 type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 
-/// Height of the legend strip under the panels (px).
-const LEGEND_HEIGHT: u32 = 28;
+/// Height of one row of the legend strip under the panels (px).
+const LEGEND_ROW: u32 = 28;
+
+/// The legend's entries: the mark's kind and its text.
+const LEGEND: [(Mark, &str); 4] = [
+    (Mark::Used, "a level in the fit"),
+    (Mark::Left, "a level left out of the fit"),
+    (
+        Mark::Extrapolated,
+        "Richardson extrapolation to h → 0 (dashed)",
+    ),
+    (Mark::Band, "GCI band of the finest level in the fit"),
+];
+
+/// A mark of the legend.
+#[derive(Clone, Copy)]
+enum Mark {
+    Used,
+    Left,
+    Extrapolated,
+    Band,
+}
+
+/// Width of one legend entry (px): the mark, its text at about 8 px a character, a gap.
+fn entry_width(text: &str) -> i32 {
+    16 + 8 * text.chars().count() as i32 + 30
+}
+
+/// Where each legend entry goes in a strip `width` px wide: `(x, row)`, a new row where
+/// the next entry would not fit (a figure with one or two quantity columns is narrower than
+/// the four entries).
+fn legend_layout(width: u32) -> [(i32, u32); 4] {
+    let mut out = [(0, 0); 4];
+    let (mut x, mut row) = (20, 0);
+    for (slot, (_, text)) in out.iter_mut().zip(LEGEND) {
+        if x > 20 && x + entry_width(text) > width as i32 {
+            (x, row) = (20, row + 1);
+        }
+        *slot = (x, row);
+        x += entry_width(text);
+    }
+    out
+}
+
+/// Rows the legend needs in a strip `width` px wide.
+fn legend_rows(width: u32) -> u32 {
+    legend_layout(width)
+        .iter()
+        .map(|&(_, r)| r)
+        .max()
+        .unwrap_or(0)
+        + 1
+}
 
 /// What the marks of every panel mean, once, in a strip under them.
-fn draw_legend(strip: &Area<'_>) -> Result<(), PlotError> {
+fn draw_legend(strip: &Area<'_>, width: u32) -> Result<(), PlotError> {
     let font = ("sans-serif", 14).into_font().color(&BLACK);
-    let y = LEGEND_HEIGHT as i32 / 2;
-    let mut x = 20;
-    let text = |x: &mut i32, t: &str| -> Result<(), PlotError> {
+    for ((mark, text), (x, row)) in LEGEND.into_iter().zip(legend_layout(width)) {
+        let y = (LEGEND_ROW * row + LEGEND_ROW / 2) as i32;
+        let c = (x + 5, y);
+        match mark {
+            Mark::Used => strip.draw(&Circle::new(c, 5, BLUE.filled())),
+            Mark::Left => strip.draw(&Circle::new(c, 5, BLUE.stroke_width(2))),
+            Mark::Extrapolated => strip.draw(&Cross::new(c, 6, RED.stroke_width(2))),
+            Mark::Band => strip.draw(&Rectangle::new(
+                [(x, y - 6), (x + 12, y + 6)],
+                RED.mix(0.15).filled(),
+            )),
+        }
+        .map_err(de)?;
         strip
-            .draw(&Text::new(t.to_string(), (*x + 16, y - 7), font.clone()))
+            .draw(&Text::new(text.to_string(), (x + 16, y - 7), font.clone()))
             .map_err(de)?;
-        *x += 16 + 8 * t.chars().count() as i32 + 30;
-        Ok(())
-    };
-    strip
-        .draw(&Circle::new((x + 5, y), 5, BLUE.filled()))
-        .map_err(de)?;
-    text(&mut x, "a level in the fit")?;
-    strip
-        .draw(&Circle::new((x + 5, y), 5, BLUE.stroke_width(2)))
-        .map_err(de)?;
-    text(&mut x, "a level left out of the fit")?;
-    strip
-        .draw(&Cross::new((x + 5, y), 6, RED.stroke_width(2)))
-        .map_err(de)?;
-    text(&mut x, "Richardson extrapolation to h → 0 (dashed)")?;
-    strip
-        .draw(&Rectangle::new(
-            [(x, y - 6), (x + 12, y + 6)],
-            RED.mix(0.15).filled(),
-        ))
-        .map_err(de)?;
-    text(&mut x, "GCI band of the finest level in the fit")?;
+    }
     Ok(())
 }
 
@@ -204,4 +243,26 @@ fn draw_extrapolation(chart: &mut Chart<'_, '_>, x: f64, h_max: f64) -> Result<(
         .draw_series([Cross::new((0.0, x), 7, RED.stroke_width(2))])
         .map_err(de)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod legend_tests {
+    use super::*;
+
+    /// Every entry ends inside the figure, on one row when there is room and on more when
+    /// the figure has one quantity column.
+    #[test]
+    fn the_legend_fits_the_figure() {
+        for cols in 1..=4 {
+            let width = PANEL.0 * cols;
+            for ((_, text), (x, _)) in LEGEND.into_iter().zip(legend_layout(width)) {
+                assert!(
+                    x + entry_width(text) <= width as i32 + 30,
+                    "{cols} columns: {text}"
+                );
+            }
+        }
+        assert_eq!(legend_rows(PANEL.0 * 4), 1);
+        assert!(legend_rows(PANEL.0) >= 3);
+    }
 }
