@@ -8,7 +8,7 @@
 //! `(A + U Γ Uᵀ)⁻¹ = A⁻¹ − Z S⁻¹ Zᵀ` with `Z = A⁻¹ U`, `S = Γ⁻¹ + Uᵀ Z` (Golub & Van Loan,
 //! *Matrix Computations*, 4th ed., §2.1.4).
 
-use nalgebra::DMatrix;
+use nalgebra::SMatrix;
 
 /// Most terms a model's low-rank part may have (the corrections keep their `k` products on
 /// the stack).
@@ -108,6 +108,11 @@ impl Woodbury {
         &self.part
     }
 
+    /// Hold no correction (new factors, not yet completed).
+    pub fn clear(&mut self) {
+        self.part.clear();
+    }
+
     /// Complete factors of `A` with `part`: `solve` applies `A⁻¹` in place. Returns false
     /// (and holds no correction) where `S` is singular: the factors then stand for `A` alone,
     /// which the Krylov correction against the full matrix makes up for.
@@ -119,10 +124,15 @@ impl Woodbury {
         for z in self.z.chunks_mut(n.max(1)) {
             solve(z);
         }
-        // S = Γ⁻¹ + Uᵀ Z (k × k, symmetric for symmetric A).
-        let s = DMatrix::from_fn(k, k, |i, j| {
-            let d = if i == j { 1.0 / part.gamma[i] } else { 0.0 };
-            d + dot(&part.u[i * n..(i + 1) * n], &self.z[j * n..(j + 1) * n])
+        // S = Γ⁻¹ + Uᵀ Z (k × k, symmetric for symmetric A) in the leading block of a fixed
+        // MAX_RANK² matrix whose other block is the identity: its inverse has S⁻¹ there, and
+        // nothing is allocated per factorisation.
+        let s = SMatrix::<f64, MAX_RANK, MAX_RANK>::from_fn(|i, j| match (i < k, j < k) {
+            (true, true) => {
+                let d = if i == j { 1.0 / part.gamma[i] } else { 0.0 };
+                d + dot(&part.u[i * n..(i + 1) * n], &self.z[j * n..(j + 1) * n])
+            }
+            _ => f64::from(u8::from(i == j)),
         });
         let Some(s_inv) = s.try_inverse().filter(|m| m.iter().all(|x| x.is_finite())) else {
             self.part.clear();
@@ -169,6 +179,7 @@ mod tests {
     /// `A = tridiag(−1, 4, −1)` applied and solved densely, with a rank-2 part.
     #[test]
     fn woodbury_solves_the_completed_matrix() {
+        use nalgebra::DMatrix;
         let n = 7;
         let a = DMatrix::from_fn(n, n, |i, j| match i.abs_diff(j) {
             0 => 4.0,

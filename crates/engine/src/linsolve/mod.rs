@@ -301,7 +301,7 @@ impl LinearSolver {
     pub fn factor(&mut self, spd: &[f64]) -> Factorization {
         let n = self.n;
         self.valid = true;
-        self.woodbury.set(&LowRank::default(), |_| {});
+        self.woodbury.clear();
         if n == 0 {
             return self.last;
         }
