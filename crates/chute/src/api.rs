@@ -10,10 +10,15 @@ use std::path::{Path, PathBuf};
 
 pub use crate::app::view::Viewed;
 pub use crate::app::{AppError, Prepared, Resumable, RunOptions, RunOutcome, Watch};
+pub use crate::bench::BenchArgs;
 pub use crate::converge::{ConvergeOptions, ConvergeOutcome};
+pub use crate::output::console::{print_run_report, stdout_error};
 pub use crate::output::run_dir::{FrameMesh, FrameState, RunDirError};
+pub use crate::output::run_files::SUMMARY;
 pub use crate::output::viewer::ViewerReport;
+pub use crate::output::viewer::VIEWER_HTML;
 pub use crate::runner::Session;
+pub use crate::scenario::derived::sig4;
 pub use crate::scenario::{Scenario, ScenarioError};
 pub use crate::study::{
     mark_resumed, Case, CaseStatus, Runner, Shard, Study, StudyOptions, StudyReport, Table,
@@ -147,4 +152,15 @@ pub fn converge(opts: &ConvergeOptions) -> Result<ConvergeOutcome, AppError> {
 /// Where `chute converge` writes a ladder of `scenario` by default.
 pub fn converge_out_dir(scenario: &Path, set: &[String]) -> Result<PathBuf, AppError> {
     crate::converge::default_out_dir(scenario, set)
+}
+
+/// `chute validate`: run the suite, print its table (or JSON) and write its reports;
+/// `Err(ValidationFailed)` when a check fails.
+pub fn validate_command(args: &ValidateArgs) -> Result<(), AppError> {
+    crate::verify::main(args)
+}
+
+/// `chute bench`: the benchmark ladder, or with `--case` one case in this process.
+pub fn bench_command(args: &BenchArgs) -> Result<(), AppError> {
+    crate::bench::main(args)
 }

@@ -1,5 +1,5 @@
-//! The `chute` command line (clap derive): argument parsing and dispatch to [`crate::app`]
-//! and [`crate::study`]. Every error is printed as `error: <message>` on stderr and mapped to
+//! The `chute` command line (clap derive): argument parsing and dispatch to [`crate::api`],
+//! its only way into chute. Every error is printed as `error: <message>` on stderr and mapped to
 //! [`AppError::exit_code`]; see `docs/cli.md`.
 
 use std::io::IsTerminal;
@@ -39,9 +39,9 @@ pub enum Command {
     /// and GCI; write convergence.json, convergence.md and convergence.png.
     Converge(ConvergeArgs),
     /// Run the verification cases against analytic references.
-    Validate(crate::verify::ValidateArgs),
+    Validate(api::ValidateArgs),
     /// Time the solver on a ladder of mesh sizes.
-    Bench(crate::bench::BenchArgs),
+    Bench(api::BenchArgs),
     /// Write RUN_DIR/viewer.html: the run in 3-D in a browser (one offline file).
     View(ViewArgs),
 }
@@ -193,8 +193,8 @@ pub fn main() -> ExitCode {
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| dispatch(cli)));
     let code = match result {
         // The work is done, but its results did not all reach stdout (a full disk behind it).
-        Ok(Ok(())) if crate::output::console::stdout_error().is_some() => {
-            let why = crate::output::console::stdout_error().unwrap_or_default();
+        Ok(Ok(())) if api::stdout_error().is_some() => {
+            let why = api::stdout_error().unwrap_or_default();
             crate::err_line!("error: the results could not be written to stdout: {why}");
             1
         }
@@ -222,8 +222,8 @@ pub fn dispatch(cli: Cli) -> Result<(), AppError> {
         Command::Study(a) => cmd_study(&a),
         Command::Collect(a) => cmd_collect(&a),
         Command::Converge(a) => cmd_converge(&a),
-        Command::Validate(a) => crate::verify::main(&a),
-        Command::Bench(a) => crate::bench::main(&a),
+        Command::Validate(a) => api::validate_command(&a),
+        Command::Bench(a) => api::bench_command(&a),
         Command::View(a) => cmd_view(&a),
     }
 }
@@ -264,7 +264,7 @@ fn print_plausibility(s: &Scenario) {
 /// parent that forwards its copy (`timeout`, `srun`) delivers two within microseconds.
 const SECOND_SIGNAL_AFTER: std::time::Duration = std::time::Duration::from_millis(500);
 
-/// Route Ctrl-C / SIGTERM / SIGHUP to [`crate::runner::STOP`]: runs stop at their next step
+/// Route Ctrl-C / SIGTERM / SIGHUP to [`api::request_stop`]: runs stop at their next step
 /// with a checkpoint and valid partial outputs. A second signal, at least
 /// [`SECOND_SIGNAL_AFTER`] after the first, exits at once (status 130).
 fn install_stop_handler() {
@@ -354,13 +354,13 @@ fn run_and_report(
         }
     } else if opts.resume.is_some() {
         // The viewer of the run before it stopped would show a partial run as this one.
-        let stale = out.join(crate::output::viewer::VIEWER_HTML);
+        let stale = out.join(api::VIEWER_HTML);
         if std::fs::symlink_metadata(&stale).is_ok_and(|m| m.is_file()) {
             let _ = std::fs::remove_file(&stale);
         }
     }
-    let summary_path = out.join(crate::output::run_files::SUMMARY);
-    crate::output::console::print_run_report(out, &outcome.summary, r.json, r.quiet)
+    let summary_path = out.join(api::SUMMARY);
+    api::print_run_report(out, &outcome.summary, r.json, r.quiet)
         .map_err(|e| AppError::io(summary_path, e))?;
     match (outcome.complete, &outcome.message) {
         (true, Some(m)) => crate::err_line!("warning: {m}"),
@@ -385,7 +385,7 @@ fn next_step(dir: &Path) -> String {
         Some((_, true)) => format!("continue with `chute resume {}`", dir.display()),
         Some((t, false)) => format!(
             "its checkpoint holds the last good state (t = {} s) for inspection; resuming would repeat the failure: change the scenario (e.g. a smaller time.dt_s, or time.adaptive = true) and run it again",
-            crate::scenario::derived::sig4(t)
+            api::sig4(t)
         ),
         None => "it has no checkpoint to resume from: run it again".into(),
     }

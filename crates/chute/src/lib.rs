@@ -2,6 +2,10 @@
 //! chute: parachute scenarios, builders, metrics, outputs and the command line. How the
 //! layers fit together (scenario → builders → engine → observers → outputs, and how a
 //! scenario key flows) is described in docs/architecture.md §Application.
+//!
+//! The interface is [`api`]: the command line ([`cli`]) and the Python bindings use nothing
+//! else. The other modules are internal, public only so that the integration tests can reach
+//! them; they may change without notice.
 
 pub mod api;
 pub mod app;

@@ -37,6 +37,7 @@ pub mod dt_policy;
 mod flight;
 mod observe;
 mod persist;
+mod progress;
 mod recovery;
 mod session;
 pub use advance::{new_stepper, Driver};
@@ -212,7 +213,7 @@ pub fn simulate_with(
         None => Run::fresh(built, cfg, out_dir)?,
         Some(c) => Run::resume(built, cfg, out_dir, c)?,
     };
-    let bar = progress_bar(cfg);
+    let bar = progress::bar(cfg);
     let tol = run.flight.dt.time_tol;
     let next_multiple = |every: f64, t: f64| ((t + tol) / every).floor() as u64 + 1;
     let mut next_ckpt = ctl
@@ -264,7 +265,7 @@ pub fn simulate_with(
             t.store(built.state.t.to_bits(), Ordering::Relaxed);
         }
         if let Some(bar) = &bar {
-            show_progress(bar, built.state.t, cfg, run.flight.steps, &wall, iterations);
+            progress::show(bar, built.state.t, cfg, run.flight.steps, &wall, iterations);
         }
         if !run.flight.passed_sync(built.state.t) {
             continue;
@@ -283,22 +284,6 @@ pub fn simulate_with(
     }
     let end = run.end(stop_reason, &wall, stepper.counters());
     run.finish(built, cfg, out_dir, end)
-}
-
-/// Show the simulated time, the step rate and the last step's Newton iterations.
-fn show_progress(
-    bar: &indicatif::ProgressBar,
-    t: f64,
-    cfg: &RunConfig,
-    steps: u64,
-    wall: &Instant,
-    iterations: usize,
-) {
-    bar.set_position((t / cfg.duration_s * 1000.0) as u64);
-    let rate = steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);
-    bar.set_message(format!(
-        "t = {t:.3} s, {rate:.0} steps/s, {iterations} Newton it/step"
-    ));
 }
 
 /// A flight and the outputs it streams into its run directory: what a checkpoint saves and
@@ -523,39 +508,4 @@ fn failure_message(b: &Built, e: &StepError, t: f64, dt: f64) -> String {
         "step failed at t = {t:.6} s even with dt = {:.3e} s: {e}{at}",
         2.0 * dt
     )
-}
-
-fn progress_bar(cfg: &RunConfig) -> Option<indicatif::ProgressBar> {
-    use std::io::IsTerminal;
-    if !cfg.progress || !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let bar = indicatif::ProgressBar::new(1000);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:40} {percent:>3}% [{elapsed_precise} < {mean_eta}] {msg}",
-        )
-        .map(|st| st.with_key("mean_eta", mean_eta))
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    Some(bar)
-}
-
-/// Fraction of the simulated time after which the progress bar estimates the time left.
-const ETA_AFTER: f64 = 0.05;
-
-/// The time left at the run's mean pace so far (wall time per simulated time since the
-/// start). indicatif's own estimate follows the latest steps, which swings by orders of
-/// magnitude across an opening (a step there costs 100× one at terminal speed); the mean
-/// is steadier and, as the hard part comes early, errs long. Before [`ETA_AFTER`] of the run
-/// it is `?`: the opening alone would set it.
-fn mean_eta(state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write) {
-    let done = state.fraction() as f64;
-    let elapsed = state.elapsed().as_secs_f64();
-    if done < ETA_AFTER || elapsed <= 0.0 {
-        let _ = write!(w, "?");
-        return;
-    }
-    let left = (elapsed * (1.0 - done) / done).round() as u64;
-    let _ = write!(w, "{}:{:02}:{:02}", left / 3600, left / 60 % 60, left % 60);
 }
