@@ -26,9 +26,11 @@ pub trait Element: Send + Sync + 'static {
     const STENCIL: usize;
     /// Which Jacobians [`Element::evaluate`] writes (see also [`Element::kind`]).
     const KIND: JacobianKind;
-    /// True when the force is `−∇E` of the energy added by [`Element::add_energy`] and does
-    /// not depend on velocity (see [`Force::conservative`]).
-    const CONSERVATIVE: bool = false;
+    /// True when the force is `−∇E` of the energy added by [`Element::add_energy`] (see
+    /// [`Force::conservative`]): by default every law whose [`Element::KIND`] has no
+    /// velocity dependence and a symmetric `∂f/∂q` (elastic laws and constant loads), since
+    /// such a field is a gradient; each of them implements `add_energy`.
+    const CONSERVATIVE: bool = !Self::KIND.dv && Self::KIND.symmetric;
     /// Per-element constants.
     type Data: Send + Sync;
 

@@ -71,13 +71,11 @@ pub fn install_shell(
 ) -> Result<Option<FabricMembrane>, BuildError> {
     let mat = shell_material(s);
     let wrinkles = install_membrane(s, tri, model, q)?;
+    let parts = engine::shell::ShellParts::try_new(tri, &mat, model, q)?;
+    parts.masses(model);
     match s.shell.bending.unwrap_or(Bending::Hinge) {
-        Bending::Hinge => {
-            engine::shell::install_hinges(tri, &mat, model, q)?;
-            engine::shell::install_masses(tri, &mat, model, q)?;
-        }
+        Bending::Hinge => parts.hinges(model),
         Bending::Midedge => {
-            engine::shell::install_masses(tri, &mat, model, q)?;
             midedge::install(tri, &plate_bending(s), mat.density, model, q, first_twist)?;
         }
     }
@@ -116,7 +114,9 @@ pub fn install_membrane(
     let name = engine::shell::STRETCH_NAME;
     let m = &s.material;
     match s.shell.membrane.unwrap_or(Membrane::Springs) {
-        Membrane::Springs => engine::shell::install_springs(tri, &shell_material(s), model, q)?,
+        Membrane::Springs => {
+            engine::shell::ShellParts::try_new(tri, &shell_material(s), model, q)?.springs(model)
+        }
         Membrane::Cst => {
             let h = s.canopy.thickness_m;
             let (e, nu) = (m.youngs_modulus_pa, m.poisson_ratio);

@@ -124,7 +124,7 @@ mod tests {
     fn time_left_follows_the_recent_pace() {
         let t0 = Instant::now();
         let mut p = RecentPace::default();
-        let mut at = |done: f64, s: f64, p: &mut RecentPace| {
+        let at = |done: f64, s: f64, p: &mut RecentPace| {
             let now = t0 + Duration::from_secs_f64(s);
             p.record(done, now);
             seconds_left(p.samples.front().copied(), done, now)

@@ -159,7 +159,9 @@ fn model_with(sheet: &Sheet, membrane: Membrane) -> Result<Model, String> {
                 thickness: H,
                 density: 1.0,
             };
-            shell::install_springs(&sheet.tri, &mat, &mut model, q).map_err(err)?;
+            shell::ShellParts::try_new(&sheet.tri, &mat, &model, q)
+                .map_err(err)?
+                .springs(&mut model);
         }
     }
     Ok(model)

@@ -53,7 +53,9 @@ pub fn bending_model(m: &CanopyMesh, law: Law) -> Result<(Model, Vec<f64>, TriMe
     match law {
         Law::Hinge => shell::install(&tri, &MAT, &mut model, &q).map_err(err)?,
         Law::Midedge => {
-            shell::install_stretch_and_mass(&tri, &MAT, &mut model, &q).map_err(err)?;
+            let parts = shell::ShellParts::try_new(&tri, &MAT, &model, &q).map_err(err)?;
+            parts.springs(&mut model);
+            parts.masses(&mut model);
             midedge::install(&tri, &PLATE, MAT.density, &mut model, &q, 0).map_err(err)?;
         }
     }

@@ -71,16 +71,17 @@ pub fn midside_displacement(
         density: 1.0,
     };
     let err = |e: engine::EngineError| e.to_string();
+    let parts = shell::ShellParts::try_new(&tri, &mat, &model, &q).map_err(err)?;
+    parts.masses(&mut model);
     if membrane == RoofMembrane::Cst {
         let cst = CstMembrane::new(shell::STRETCH_NAME, &tri.faces, &q, E, 0.0, T)
             .map_err(|e| e.to_string())?;
         model.add_force(cst);
-        shell::install_masses(&tri, &mat, &mut model, &q).map_err(err)?;
     } else {
-        shell::install_stretch_and_mass(&tri, &mat, &mut model, &q).map_err(err)?;
+        parts.springs(&mut model);
     }
     match law {
-        Law::Hinge => shell::install_hinges(&tri, &mat, &mut model, &q).map_err(err)?,
+        Law::Hinge => parts.hinges(&mut model),
         Law::Midedge => {
             let plate = PlateBending {
                 youngs_modulus: E,

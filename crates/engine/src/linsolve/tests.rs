@@ -38,6 +38,15 @@ fn system(n: usize, skew: f64, rng: &mut StdRng) -> (Vec<usize>, Vec<usize>, Vec
     (col_ptr, row_idx, vals)
 }
 
+/// The values of `(A + Aᵀ)/2` on the pattern `(col_ptr, row_idx)`, column by column.
+fn symmetric_part(a: &DMatrix<f64>, col_ptr: &[usize], row_idx: &[usize]) -> Vec<f64> {
+    let sym = 0.5 * (a + a.transpose());
+    (0..col_ptr.len() - 1)
+        .flat_map(|c| (col_ptr[c]..col_ptr[c + 1]).map(move |k| (row_idx[k], c)))
+        .map(|ij| sym[ij])
+        .collect()
+}
+
 fn dense(n: usize, col_ptr: &[usize], row_idx: &[usize], v: &[f64]) -> DMatrix<f64> {
     let mut a = DMatrix::zeros(n, n);
     for c in 0..n {
@@ -55,13 +64,7 @@ fn krylov_correction_solves_the_nonsymmetric_system() {
     for skew in [0.3, 1.0, 3.0] {
         let (cp, ri, full) = system(n, skew, &mut rng);
         let a = dense(n, &cp, &ri, &full);
-        let sym = 0.5 * (&a + a.transpose());
-        let mut sym_vals = Vec::with_capacity(full.len());
-        for c in 0..n {
-            for k in cp[c]..cp[c + 1] {
-                sym_vals.push(sym[(ri[k], c)]);
-            }
-        }
+        let sym_vals = symmetric_part(&a, &cp, &ri);
         let mut solver = LinearSolver::new(n, &cp, &ri).unwrap();
         assert_eq!(solver.factor(&sym_vals), Factorization::Llt);
         let b: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
@@ -169,13 +172,7 @@ fn precision_switch_resizes_the_krylov_workspace() {
     let n = 300;
     let (cp, ri, full) = system(n, 1.0, &mut rng);
     let a = dense(n, &cp, &ri, &full);
-    let sym = 0.5 * (&a + a.transpose());
-    let mut sym_vals = Vec::with_capacity(full.len());
-    for c in 0..n {
-        for k in cp[c]..cp[c + 1] {
-            sym_vals.push(sym[(ri[k], c)]);
-        }
-    }
+    let sym_vals = symmetric_part(&a, &cp, &ri);
     let mut solver = LinearSolver::new_ordered(n, &cp, &ri, super::Precision::Single).unwrap();
     let b: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
     let bv = DVector::from_column_slice(&b);

@@ -36,7 +36,6 @@ impl ConstantForces {
 impl Element for ConstantLoad {
     const STENCIL: usize = 3;
     const KIND: JacobianKind = JacobianKind::CONSTANT;
-    const CONSERVATIVE: bool = true;
     type Data = [f64; 3];
 
     fn evaluate(&self, w: &[f64; 3], _: &[usize], _: &EvalInput<'_>, b: BlockMut<'_>) {

@@ -23,7 +23,6 @@ impl DofForces {
 impl Element for DofLoad {
     const STENCIL: usize = 1;
     const KIND: JacobianKind = JacobianKind::CONSTANT;
-    const CONSERVATIVE: bool = true;
     type Data = f64;
 
     fn evaluate(&self, &value: &f64, _: &[usize], _: &EvalInput<'_>, b: BlockMut<'_>) {

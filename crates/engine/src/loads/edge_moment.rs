@@ -54,7 +54,6 @@ impl EdgeMomentLaw {
 impl Element for EdgeMomentLaw {
     const STENCIL: usize = 6;
     const KIND: JacobianKind = JacobianKind::ELASTIC;
-    const CONSERVATIVE: bool = true;
     type Data = ();
 
     fn evaluate(&self, _: &(), st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {

@@ -162,26 +162,6 @@ pub fn kevlar_sheet(
     })
 }
 
-/// [`kevlar_sheet`] with the report's triangle drag law (C_D,n 1.75, C_D,t 0.5) instead of
-/// the pressure drag: its Jacobian is not symmetric, so Newton runs on the symmetric
-/// approximation with Krylov corrections.
-pub fn kevlar_sheet_report_drag(
-    nx: usize,
-    ny: usize,
-    lx: f64,
-    ly: f64,
-    corner_n: f64,
-) -> (crate::Model, crate::State) {
-    kevlar_sheet_with(nx, ny, lx, ly, corner_n, |s| {
-        Box::new(crate::aero::TriangleDrag::new(
-            &s.tris,
-            1.75,
-            0.5,
-            &crate::aero::Fluid::air(),
-        ))
-    })
-}
-
 /// [`kevlar_sheet`] with the drag force `drag` makes from the sheet (e.g. none: an empty
 /// `DofForces`).
 pub fn kevlar_sheet_with(

@@ -312,7 +312,6 @@ impl BendTwistLaw {
 impl Element for BendTwistLaw {
     const STENCIL: usize = 11;
     const KIND: JacobianKind = JacobianKind::ELASTIC;
-    const CONSERVATIVE: bool = true;
     type Data = BendTwistData;
 
     /// Local force (11) and `∂f/∂q` (11×11, row-major) of one element.

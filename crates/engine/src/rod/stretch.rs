@@ -343,7 +343,6 @@ fn kinematics(q: &[f64], st: &[usize], rest: f64) -> (V3, f64, f64) {
 impl Element for StretchLaw {
     const STENCIL: usize = 6;
     const KIND: JacobianKind = JacobianKind::ELASTIC;
-    const CONSERVATIVE: bool = true;
     type Data = EdgeSpring;
 
     fn evaluate(&self, el: &EdgeSpring, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {

@@ -90,7 +90,6 @@ impl CstMembrane {
 impl Element for CstLaw {
     const STENCIL: usize = 9;
     const KIND: JacobianKind = JacobianKind::ELASTIC;
-    const CONSERVATIVE: bool = true;
     type Data = RestTriangle;
 
     fn evaluate(&self, el: &RestTriangle, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {

@@ -170,7 +170,6 @@ impl FabricMembrane {
 impl Element for FabricLaw {
     const STENCIL: usize = 9;
     const KIND: JacobianKind = JacobianKind::ELASTIC;
-    const CONSERVATIVE: bool = true;
     type Data = RestTriangle;
 
     fn evaluate(&self, el: &RestTriangle, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {

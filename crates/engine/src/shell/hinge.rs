@@ -103,7 +103,6 @@ impl HingeBending {
 impl Element for HingeLaw {
     const STENCIL: usize = 12;
     const KIND: JacobianKind = JacobianKind::ELASTIC;
-    const CONSERVATIVE: bool = true;
     type Data = HingeData;
 
     fn evaluate(&self, el: &HingeData, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {

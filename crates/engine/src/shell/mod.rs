@@ -120,8 +120,8 @@ impl ShellMaterial {
 /// `k_s = (√3/2) E h |ē|`, hinges ([`BEND_NAME`]) with `k_b = (2/√3) E h³/12`, and lumped
 /// masses `ρ h A/3` per vertex of every face. Rest lengths, rest angles and areas are
 /// measured in `q_rest`. Empty families (no edges or no interior edges) are not added.
-/// The same as [`install_springs`], [`install_hinges`] and [`install_masses`] in turn (a
-/// model with another membrane calls the last two itself).
+/// The same as [`ShellParts`]' three parts in turn (a model with another membrane or
+/// bending law adds the parts it wants).
 ///
 /// Errors ([`InvalidModel::MeshTooLarge`]) if the mesh has more nodes than the model or
 /// `q_rest` is too short; the model is then unchanged.
@@ -131,53 +131,58 @@ pub fn install(
     model: &mut Model,
     q_rest: &[f64],
 ) -> Result<(), EngineError> {
-    check_fits(mesh, model, q_rest)?;
-    install_springs(mesh, mat, model, q_rest)?;
-    install_hinges(mesh, mat, model, q_rest)?;
-    install_masses(mesh, mat, model, q_rest)
-}
-
-/// [`install`] without the hinges: the edge springs and the lumped masses only, for a shell
-/// whose bending is another law (e.g. [`midedge::install`]).
-pub fn install_stretch_and_mass(
-    mesh: &TriMesh,
-    mat: &ShellMaterial,
-    model: &mut Model,
-    q_rest: &[f64],
-) -> Result<(), EngineError> {
-    check_fits(mesh, model, q_rest)?;
-    install_springs(mesh, mat, model, q_rest)?;
-    install_masses(mesh, mat, model, q_rest)
-}
-
-/// [`InvalidModel::MeshTooLarge`] unless the mesh fits the model and `q_rest`.
-fn check_fits(mesh: &TriMesh, model: &Model, q_rest: &[f64]) -> Result<(), EngineError> {
-    if mesh.n_nodes > model.layout.n_nodes || q_rest.len() < 3 * mesh.n_nodes {
-        return Err(InvalidModel::MeshTooLarge {
-            mesh_nodes: mesh.n_nodes,
-            model_nodes: model.layout.n_nodes,
-            q_len: q_rest.len(),
-        }
-        .into());
-    }
+    let parts = ShellParts::try_new(mesh, mat, model, q_rest)?;
+    parts.springs(model);
+    parts.hinges(model);
+    parts.masses(model);
     Ok(())
 }
 
-/// Add the edge springs of [`install`] (none if the mesh has no edges).
-pub fn install_springs(
-    mesh: &TriMesh,
-    mat: &ShellMaterial,
-    model: &mut Model,
-    q_rest: &[f64],
-) -> Result<(), EngineError> {
-    check_fits(mesh, model, q_rest)?;
-    if !mesh.edges.is_empty() {
+/// A shell's mesh, material and rest positions, checked to fit a model, whose parts
+/// (edge springs, hinges, lumped masses) a builder adds one by one: a shell whose membrane
+/// or bending is another law (e.g. [`midedge::install`]) leaves that part out.
+#[derive(Clone, Copy)]
+pub struct ShellParts<'a> {
+    mesh: &'a TriMesh,
+    mat: &'a ShellMaterial,
+    q_rest: &'a [f64],
+}
+
+impl<'a> ShellParts<'a> {
+    /// The parts of `mesh` with `mat`, rest shape `q_rest`, for `model`;
+    /// [`InvalidModel::MeshTooLarge`] unless the mesh fits the model and `q_rest`.
+    pub fn try_new(
+        mesh: &'a TriMesh,
+        mat: &'a ShellMaterial,
+        model: &Model,
+        q_rest: &'a [f64],
+    ) -> Result<Self, EngineError> {
+        if mesh.n_nodes > model.layout.n_nodes || q_rest.len() < 3 * mesh.n_nodes {
+            return Err(InvalidModel::MeshTooLarge {
+                mesh_nodes: mesh.n_nodes,
+                model_nodes: model.layout.n_nodes,
+                q_len: q_rest.len(),
+            }
+            .into());
+        }
+        Ok(Self { mesh, mat, q_rest })
+    }
+
+    /// Add the edge springs of [`install`] (none if the mesh has no edges).
+    pub fn springs(&self, model: &mut Model) {
+        let (mesh, q) = (self.mesh, self.q_rest);
+        if mesh.edges.is_empty() {
+            return;
+        }
         let rest_len: Vec<f64> = mesh
             .edges
             .iter()
-            .map(|&[a, b]| (node(q_rest, b) - node(q_rest, a)).norm())
+            .map(|&[a, b]| (node(q, b) - node(q, a)).norm())
             .collect();
-        let ks = rest_len.iter().map(|&l| mat.stretch_stiffness(l)).collect();
+        let ks = rest_len
+            .iter()
+            .map(|&l| self.mat.stretch_stiffness(l))
+            .collect();
         model.add_force(Stretch::with_rest_lengths(
             STRETCH_NAME,
             &mesh.edges,
@@ -185,38 +190,24 @@ pub fn install_springs(
             ks,
         ));
     }
-    Ok(())
-}
 
-/// Add the bending hinges of [`install`] (none if the mesh has no interior edges).
-pub fn install_hinges(
-    mesh: &TriMesh,
-    mat: &ShellMaterial,
-    model: &mut Model,
-    q_rest: &[f64],
-) -> Result<(), EngineError> {
-    check_fits(mesh, model, q_rest)?;
-    if !mesh.hinges.is_empty() {
-        let kb = vec![mat.hinge_stiffness(); mesh.hinges.len()];
-        model.add_force(HingeBending::new(BEND_NAME, &mesh.hinges, q_rest, kb));
-    }
-    Ok(())
-}
-
-/// Add the lumped masses `ρ h A/3` of [`install`] to every vertex of every face.
-pub fn install_masses(
-    mesh: &TriMesh,
-    mat: &ShellMaterial,
-    model: &mut Model,
-    q_rest: &[f64],
-) -> Result<(), EngineError> {
-    check_fits(mesh, model, q_rest)?;
-    for f in &mesh.faces {
-        let [a, b, c] = f.map(|i| node(q_rest, i));
-        let area = 0.5 * (b - a).cross(&(c - a)).norm();
-        for &i in f {
-            model.add_node_mass(i, mat.areal_density() * area / 3.0);
+    /// Add the bending hinges of [`install`] (none if the mesh has no interior edges).
+    pub fn hinges(&self, model: &mut Model) {
+        let hinges = &self.mesh.hinges;
+        if !hinges.is_empty() {
+            let kb = vec![self.mat.hinge_stiffness(); hinges.len()];
+            model.add_force(HingeBending::new(BEND_NAME, hinges, self.q_rest, kb));
         }
     }
-    Ok(())
+
+    /// Add the lumped masses `ρ h A/3` of [`install`] to every vertex of every face.
+    pub fn masses(&self, model: &mut Model) {
+        for f in &self.mesh.faces {
+            let [a, b, c] = f.map(|i| node(self.q_rest, i));
+            let area = 0.5 * (b - a).cross(&(c - a)).norm();
+            for &i in f {
+                model.add_node_mass(i, self.mat.areal_density() * area / 3.0);
+            }
+        }
+    }
 }

@@ -20,16 +20,15 @@
 //! (fixed or error-controlled), shortened to end on the caller's next event; an accepted
 //! step is judged by its local error (adaptive), committed, and the policy learns from it.
 
-use super::convergence::Convergence;
 use super::error_control::raw_estimate;
 use super::implicit_euler::{velocities, Trial};
-use super::linearization::{precision, Linearization};
+use super::linearization::Linearization;
 use super::options::{Counters, NewtonOptions, StepReport};
 use super::predictor::PredictorState;
 use super::retry_ledger::RetryLedger;
 use super::stage::held;
 use super::stage::homotopy::{self, HomotopyBuffers};
-use super::stage::{continuation, newton, Ctx, Mixing};
+use super::stage::{continuation, newton, Core};
 use super::step_size::StepSizes;
 use super::workspace::{Target, Workspace};
 use crate::error::{EngineError, StepError};
@@ -105,11 +104,7 @@ pub enum Attempt {
 /// Implicit-Euler stepper for one model (its sparsity pattern is fixed at construction):
 /// the ladder of stages and the step-size policy.
 pub struct ImplicitEuler {
-    opts: NewtonOptions,
-    ws: Workspace,
-    lin: Linearization,
-    conv: Convergence,
-    mix: Mixing,
+    core: Core,
     homotopy: HomotopyBuffers,
     ledger: RetryLedger,
     backoff: HeldBackoff,
@@ -129,11 +124,9 @@ impl ImplicitEuler {
     pub fn new(model: &Model, opts: NewtonOptions) -> Result<Self, EngineError> {
         model.validate(true)?;
         let n = model.n_dofs();
-        let ws = Workspace::new(model, 8 * opts.max_iterations + opts.held_iterations + 2);
+        let history = 8 * opts.max_iterations + opts.held_iterations + 2;
         Ok(Self {
-            lin: Linearization::new(&ws, precision(&opts))?,
-            conv: Convergence::new(&opts, model.total_mass()),
-            mix: Mixing::new(opts.anderson_depth, &ws.mass, model.n_dofs()),
+            core: Core::new(model, opts, history)?,
             homotopy: HomotopyBuffers::new(n),
             ledger: RetryLedger::default(),
             backoff: HeldBackoff::default(),
@@ -144,14 +137,12 @@ impl ImplicitEuler {
             v_new: vec![0.0; n],
             err_est: vec![0.0; n],
             filter: false,
-            ws,
-            opts,
         })
     }
 
     /// The workspace and the held factors (unit-cost measurements).
     pub(crate) fn parts(&mut self) -> (&mut Workspace, &mut Linearization) {
-        (&mut self.ws, &mut self.lin)
+        (&mut self.core.ws, &mut self.core.lin)
     }
 
     /// Filter every trial's local error estimate through the step's own factorisation
@@ -163,44 +154,44 @@ impl ImplicitEuler {
 
     /// Number of free DOFs in the Newton system.
     pub fn n_free(&self) -> usize {
-        self.ws.n_free()
+        self.core.ws.n_free()
     }
 
     /// Nonzeros of the Jacobian pattern.
     pub fn nnz(&self) -> usize {
-        self.ws.asm.nnz()
+        self.core.ws.asm.nnz()
     }
 
     /// Memory held by the linear solver (bytes): `(factor values, scratch)`.
     pub fn solver_memory_bytes(&self) -> (usize, usize) {
-        self.lin.memory_bytes()
+        self.core.lin.memory_bytes()
     }
 
     /// Whether the factors are computed in single precision: as asked by
     /// [`NewtonOptions::single_precision_factors`], until a matrix too ill-conditioned for
     /// them switched the stepper to double precision (docs/engine.md §Precision).
     pub fn single_precision_factors(&self) -> bool {
-        self.lin.single_precision()
+        self.core.lin.single_precision()
     }
 
     /// The settings in force.
     pub fn options(&self) -> &NewtonOptions {
-        &self.opts
+        &self.core.opts
     }
 
     /// What the solves did since construction or the last [`ImplicitEuler::reset_counters`].
     pub fn counters(&self) -> &Counters {
-        &self.ws.counters
+        &self.core.ws.counters
     }
 
     /// Zero the accumulated [`Counters`] (e.g. after a benchmark's warm-up).
     pub fn reset_counters(&mut self) {
-        self.ws.counters = Counters::default();
+        self.core.ws.counters = Counters::default();
     }
 
     /// `‖R‖∞` (N) of every iterate of the last step, over all the stages it went through.
     pub fn residual_history(&self) -> &[f64] {
-        &self.ws.history
+        &self.core.ws.history
     }
 
     /// Drop the held factors so that the next step starts as a fresh stepper would.
@@ -211,8 +202,8 @@ impl ImplicitEuler {
     /// predictor's history, the held stage's back-off, the retry ledger and the measured
     /// round-off are dropped too, for the same reason.
     pub fn invalidate_factorization(&mut self) {
-        self.lin.invalidate();
-        self.ws.forget_noise();
+        self.core.lin.invalidate();
+        self.core.ws.forget_noise();
         self.ledger.reset();
         self.backoff = HeldBackoff::default();
         self.predictor.reset();
@@ -274,7 +265,7 @@ impl ImplicitEuler {
         state: &State,
         dt: f64,
     ) -> Result<Trial<'_>, StepError> {
-        let predictor = self.opts.predictor;
+        let predictor = self.core.opts.predictor;
         self.predictor.guess(
             predictor,
             model,
@@ -314,25 +305,16 @@ impl ImplicitEuler {
         model: &Model,
         tg: &Target<'_>,
     ) -> Result<StepReport, StepError> {
-        self.ws.history.clear();
-        self.ws.counters.solves += 1;
-        let f0 = self.ws.counters.factorizations;
+        let f0 = self.core.ws.counters.factorizations;
         let mut q = std::mem::take(&mut self.q_new);
         q.copy_from_slice(&self.q_guess);
-        let mut cx = Ctx {
-            model,
-            ws: &mut self.ws,
-            lin: &mut self.lin,
-            mix: &mut self.mix,
-            conv: &self.conv,
-            opts: &self.opts,
-        };
+        let mut cx = self.core.begin_solve(model);
         let mut held_report = StepReport::default();
         let mut res = Err(StepError::NonFinite {
             what: "step (no stage ran)",
             dof: 0,
         });
-        if self.opts.hold_factors && cx.lin.held_for(tg) && self.backoff.allows() {
+        if cx.opts.hold_factors && cx.lin.held_for(tg) && self.backoff.allows() {
             let r = held::run(&mut cx, tg, &mut q);
             cx.ws.counters.held.record(r.is_ok());
             self.backoff.record(r.is_ok());
@@ -352,13 +334,13 @@ impl ImplicitEuler {
         // A residual that is not finite at the predictor (a force model blowing up at this
         // step size) leaves nothing for a later stage to start from: the step is halved.
         let start_finite = cx.ws.history.first().is_none_or(|r| r.is_finite());
-        let budget = self.opts.max_iterations;
+        let budget = cx.opts.max_iterations;
         if res.is_err() && start_finite {
             res = newton::run(&mut cx, tg, &mut q, budget);
             cx.ws.counters.newton.record(res.is_ok());
         }
         let start_finite = start_finite && cx.ws.history.first().is_none_or(|r| r.is_finite());
-        if res.is_err() && start_finite && self.opts.continuation {
+        if res.is_err() && start_finite && cx.opts.continuation {
             if self.ledger.allows_retry() {
                 res = continuation::run(&mut cx, tg, &mut q, 4 * budget);
                 cx.ws.counters.continuation.record(res.is_ok());
@@ -366,7 +348,7 @@ impl ImplicitEuler {
                 cx.ws.counters.stages_skipped += 1;
             }
         }
-        if res.is_err() && start_finite && self.opts.step_homotopy {
+        if res.is_err() && start_finite && cx.opts.step_homotopy {
             if self.ledger.allows_retry() {
                 res = homotopy::run(&mut cx, tg, &mut q, budget, &mut self.homotopy);
                 cx.ws.counters.homotopy.record(res.is_ok());
@@ -374,7 +356,7 @@ impl ImplicitEuler {
                 cx.ws.counters.stages_skipped += 1;
             }
         }
-        let facts = self.ws.counters.factorizations - f0;
+        let facts = self.core.ws.counters.factorizations - f0;
         self.ledger.record(res.is_ok(), facts);
         self.q_new = q;
         res.map(|mut rep| {
@@ -395,25 +377,25 @@ impl ImplicitEuler {
         if !self.filter {
             return false;
         }
-        if !self.lin.held_for(tg) {
-            self.ws.counters.error_filter_fallbacks += 1;
+        if !self.core.lin.held_for(tg) {
+            self.core.ws.counters.error_filter_fallbacks += 1;
             return false;
         }
-        let mut x = std::mem::take(&mut self.ws.delta);
-        for (r, &d) in self.ws.asm.dof_of.iter().enumerate() {
-            x[r] = tg.c_m * self.ws.mass[r] * self.err_est[d];
+        let mut x = std::mem::take(&mut self.core.ws.delta);
+        for (r, &d) in self.core.ws.asm.dof_of.iter().enumerate() {
+            x[r] = tg.c_m * self.core.ws.mass[r] * self.err_est[d];
         }
-        self.lin.apply(&mut self.ws, &mut x);
+        self.core.lin.apply(&mut self.core.ws, &mut x);
         let ok = x.iter().all(|v| v.is_finite());
         if ok {
-            for (r, &d) in self.ws.asm.dof_of.iter().enumerate() {
+            for (r, &d) in self.core.ws.asm.dof_of.iter().enumerate() {
                 self.err_est[d] = x[r];
             }
-            self.ws.counters.error_filters += 1;
+            self.core.ws.counters.error_filters += 1;
         } else {
-            self.ws.counters.error_filter_fallbacks += 1;
+            self.core.ws.counters.error_filter_fallbacks += 1;
         }
-        self.ws.delta = x;
+        self.core.ws.delta = x;
         ok
     }
 }

@@ -3,21 +3,15 @@
 //! to 1 in `n` increments, each solved from the previous equilibrium. Elements with history
 //! (DER reference frames) are committed after every increment, like a quasi-static step.
 
-use super::convergence::Convergence;
-use super::linearization::{precision, Linearization};
 use super::options::{NewtonOptions, StepReport};
-use super::stage::{newton, Ctx, Mixing};
-use super::workspace::{Target, Workspace};
+use super::stage::{newton, Core};
+use super::workspace::Target;
 use crate::error::{EngineError, StepError};
 use crate::model::{Model, State};
 
 /// Static solver for one model.
 pub struct StaticSolver {
-    opts: NewtonOptions,
-    ws: Workspace,
-    lin: Linearization,
-    conv: Convergence,
-    mix: Mixing,
+    core: Core,
     zeros: Vec<f64>,
 }
 
@@ -25,20 +19,16 @@ impl StaticSolver {
     /// Analyse the model's pattern. Masses are not needed.
     pub fn new(model: &Model, opts: NewtonOptions) -> Result<Self, EngineError> {
         model.validate(false)?;
-        let ws = Workspace::new(model, opts.max_iterations + 1);
+        let history = opts.max_iterations + 1;
         Ok(Self {
-            lin: Linearization::new(&ws, precision(&opts))?,
-            conv: Convergence::new(&opts, model.total_mass()),
-            mix: Mixing::new(opts.anderson_depth, &ws.mass, model.n_dofs()),
+            core: Core::new(model, opts, history)?,
             zeros: vec![0.0; model.n_dofs()],
-            ws,
-            opts,
         })
     }
 
     /// `‖R‖∞` (N) of every Newton iterate of the last load increment, the start first.
     pub fn residual_history(&self) -> &[f64] {
-        &self.ws.history
+        &self.core.ws.history
     }
 
     /// Solve for equilibrium in `load_steps` increments, starting from `state.q`. Returns the
@@ -64,17 +54,9 @@ impl StaticSolver {
                 q_n: &self.zeros,
                 t: state.t,
             };
-            self.ws.history.clear();
-            self.ws.counters.solves += 1;
-            let mut cx = Ctx {
-                model,
-                ws: &mut self.ws,
-                lin: &mut self.lin,
-                mix: &mut self.mix,
-                conv: &self.conv,
-                opts: &self.opts,
-            };
-            reports.push(newton::run(&mut cx, &tg, &mut q, self.opts.max_iterations)?);
+            let budget = self.core.opts.max_iterations;
+            let mut cx = self.core.begin_solve(model);
+            reports.push(newton::run(&mut cx, &tg, &mut q, budget)?);
             state.q.copy_from_slice(&q);
             for f in model.forces.iter_mut() {
                 f.commit(&state.q, &state.v);

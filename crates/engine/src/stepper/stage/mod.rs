@@ -25,6 +25,49 @@ use super::options::{NewtonOptions, Stage, StepReport};
 use super::workspace::{Target, Workspace};
 use crate::model::Model;
 
+/// What every step solver owns for its stages (dynamics and statics alike): the options,
+/// the buffers, the held factors, the convergence test and the mixing of chord iterations.
+pub(crate) struct Core {
+    pub opts: NewtonOptions,
+    pub ws: Workspace,
+    pub lin: Linearization,
+    pub conv: Convergence,
+    pub mix: Mixing,
+}
+
+impl Core {
+    /// The parts for `model` under `opts`, with room for `history` residuals per solve.
+    pub fn new(
+        model: &Model,
+        opts: NewtonOptions,
+        history: usize,
+    ) -> Result<Self, crate::error::EngineError> {
+        let ws = Workspace::new(model, history);
+        Ok(Self {
+            lin: Linearization::new(&ws, super::linearization::precision(&opts))?,
+            conv: Convergence::new(&opts, model.total_mass()),
+            mix: Mixing::new(opts.anderson_depth, &ws.mass, model.n_dofs()),
+            ws,
+            opts,
+        })
+    }
+
+    /// Start one solve on `model`: a fresh residual history, the solve counted, and the
+    /// parts lent to the stages.
+    pub fn begin_solve<'a>(&'a mut self, model: &'a Model) -> Ctx<'a> {
+        self.ws.history.clear();
+        self.ws.counters.solves += 1;
+        Ctx {
+            model,
+            ws: &mut self.ws,
+            lin: &mut self.lin,
+            mix: &mut self.mix,
+            conv: &self.conv,
+            opts: &self.opts,
+        }
+    }
+}
+
 /// What a stage works with: the model, the buffers, the held factors, the Anderson mixing of
 /// chord iterations, the convergence test and the options.
 pub(crate) struct Ctx<'a> {
