@@ -12,7 +12,7 @@ pub use crate::app::view::Viewed;
 pub use crate::app::{AppError, Prepared, Resumable, RunOptions, RunOutcome, Watch};
 pub use crate::bench::BenchArgs;
 pub use crate::converge::{ConvergeOptions, ConvergeOutcome};
-pub use crate::output::console::{print_run_report, stdout_error};
+pub use crate::output::console::{pairs_text, print_run_report, stdout_error};
 pub use crate::output::run_dir::{FrameMesh, FrameState, RunDirError};
 pub use crate::output::run_files::SUMMARY;
 pub use crate::output::viewer::ViewerReport;

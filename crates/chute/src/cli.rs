@@ -228,17 +228,6 @@ pub fn dispatch(cli: Cli) -> Result<(), AppError> {
     }
 }
 
-fn print_pairs(pairs: &[(String, String)]) {
-    let w = pairs
-        .iter()
-        .map(|(k, _)| k.chars().count())
-        .max()
-        .unwrap_or(0);
-    for (k, v) in pairs {
-        crate::out_line!("  {k:<w$}  {v}");
-    }
-}
-
 fn cmd_check(a: &CheckArgs) -> Result<(), AppError> {
     let s = api::load(&a.scenario, &a.set)?;
     if a.resolved {
@@ -247,7 +236,7 @@ fn cmd_check(a: &CheckArgs) -> Result<(), AppError> {
     }
     let derived = api::check(&s)?;
     crate::out_line!("scenario `{}` ({}) is valid", s.name, a.scenario.display());
-    print_pairs(&derived);
+    crate::out_text!("{}", api::pairs_text(&derived));
     print_plausibility(&s);
     Ok(())
 }

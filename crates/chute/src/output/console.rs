@@ -198,15 +198,7 @@ pub fn format_run_summary(s: &Summary, dir: &Path) -> String {
         s.dofs
     );
     out.push('\n');
-    let rows = key_results(s);
-    let w = rows
-        .iter()
-        .map(|(k, _)| k.chars().count())
-        .max()
-        .unwrap_or(0);
-    for (k, v) in rows {
-        let _ = writeln!(out, "  {k:<w$}  {v}");
-    }
+    out += &pairs_text(&key_results(s));
     if !s.warnings.is_empty() {
         out.push_str("\nwarnings:\n");
         for warning in &s.warnings {
@@ -226,6 +218,19 @@ pub fn format_run_summary(s: &Summary, dir: &Path) -> String {
         );
     }
     out
+}
+
+/// `(label, value)` pairs as indented lines, the values aligned in one column.
+pub fn pairs_text<K: AsRef<str>, V: std::fmt::Display>(pairs: &[(K, V)]) -> String {
+    let w = pairs
+        .iter()
+        .map(|(k, _)| k.as_ref().chars().count())
+        .max()
+        .unwrap_or(0);
+    pairs
+        .iter()
+        .map(|(k, v)| format!("  {:<w$}  {v}\n", k.as_ref()))
+        .collect()
 }
 
 /// After `chute run`: with `json`, `dir/summary.json` verbatim on stdout; otherwise, unless

@@ -233,7 +233,7 @@ pub fn velocity_plot(
             .map_err(de)?
             .label("vz (canopy, mass-weighted)")
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], line));
-        draw_legend(&mut chart)
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
     })
 }
 
@@ -291,12 +291,14 @@ fn draw_not_reached<DB: DrawingBackend>(
         .map_err(de)
 }
 
+/// The series' legend in the chart's corner `at`.
 fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
+    at: SeriesLabelPosition,
 ) -> Result<(), PlotError> {
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
+        .position(at)
         .label_font((FONT, 18))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
@@ -512,13 +514,6 @@ pub fn loglog_plot(
                     .map_err(de)?;
             }
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .label_font((FONT, 18))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(de)
+        draw_legend(&mut chart, SeriesLabelPosition::LowerRight)
     })
 }

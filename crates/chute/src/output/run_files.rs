@@ -93,6 +93,25 @@ const fn exact(name: &'static str) -> RunFile {
     }
 }
 
+/// A run's numbered files `<prefix><number><suffix>`, shown in docs as `shown`.
+const fn numbered(
+    shown: &'static str,
+    (prefix, suffix): (&'static str, &'static str),
+    number: Number,
+    in_frames: bool,
+) -> RunFile {
+    RunFile {
+        shown,
+        pattern: Pattern::Numbered {
+            prefix,
+            suffix,
+            number,
+        },
+        in_frames,
+        role: Role::Run,
+    }
+}
+
 /// Every file a run (or a study case, or the process writing it) puts into its directory.
 pub const RUN_FILES: &[RunFile] = &[
     exact(RESOLVED_SCENARIO),
@@ -100,29 +119,21 @@ pub const RUN_FILES: &[RunFile] = &[
     exact(TIMESERIES),
     exact(SUMMARY),
     exact(PVD_NAME),
-    RunFile {
-        shown: "frames/frame_NNNNNN.vtu",
-        pattern: Pattern::Numbered {
-            prefix: "frame_",
-            suffix: ".vtu",
-            number: Number::Index,
-        },
-        in_frames: true,
-        role: Role::Run,
-    },
+    numbered(
+        "frames/frame_NNNNNN.vtu",
+        ("frame_", ".vtu"),
+        Number::Index,
+        true,
+    ),
     exact(super::plots::VELOCITY_PNG),
     exact(super::plots::HEIGHT_PNG),
     exact(super::plots::SHAPE_PNG),
-    RunFile {
-        shown: "snapshot_<t>s.png",
-        pattern: Pattern::Numbered {
-            prefix: "snapshot_",
-            suffix: "s.png",
-            number: Number::Decimal,
-        },
-        in_frames: false,
-        role: Role::Run,
-    },
+    numbered(
+        "snapshot_<t>s.png",
+        ("snapshot_", "s.png"),
+        Number::Decimal,
+        false,
+    ),
     exact(super::plots::WRINKLES_PNG),
     exact(super::viewer::VIEWER_HTML),
     exact(super::control_files::LINES_CSV),

@@ -58,6 +58,12 @@ impl<'a> Checker<'a> {
         self.push(key, e);
     }
 
+    /// Of two keys whose values conflict, the one [`Self::changed`] blames, with its value.
+    fn blame<'k>(&self, pair: [(&'k str, f64); 2]) -> (&'k str, f64) {
+        let key = self.changed(&[pair[0].0, pair[1].0]);
+        pair.into_iter().find(|p| p.0 == key).unwrap_or(pair[0])
+    }
+
     /// The key a cross-key rule blames: the first of `keys` the user changed with `--set`,
     /// else the first (the key the rule is about).
     fn changed<'k>(&self, keys: &[&'k str]) -> &'k str {
@@ -243,10 +249,10 @@ fn canopy(c: &mut Checker, s: &Scenario) {
     let sized = in_plane_size(s).filter(|(x, _, _)| *x > 0.0);
     if let Some((size, size_key, size_value)) = sized {
         if cn.thickness_m > 0.1 * size {
-            let (key, value) = match c.changed(&["canopy.thickness_m", size_key]) {
-                "canopy.thickness_m" => ("canopy.thickness_m", cn.thickness_m),
-                _ => (size_key, size_value),
-            };
+            let (key, value) = c.blame([
+                ("canopy.thickness_m", cn.thickness_m),
+                (size_key, size_value),
+            ]);
             c.fail(
                 key,
                 value,
@@ -258,10 +264,10 @@ fn canopy(c: &mut Checker, s: &Scenario) {
     if s.model.kind == ModelKind::Shell && cn.edge_length_m > 0.0 {
         if let (Some((size, size_key, size_value)), Some(area)) = (sized, s.planform_area_m2()) {
             if cn.edge_length_m > 0.5 * size {
-                let (key, value) = match c.changed(&["canopy.edge_length_m", size_key]) {
-                    "canopy.edge_length_m" => ("canopy.edge_length_m", cn.edge_length_m),
-                    _ => (size_key, size_value),
-                };
+                let (key, value) = c.blame([
+                    ("canopy.edge_length_m", cn.edge_length_m),
+                    (size_key, size_value),
+                ]);
                 c.fail(
                     key,
                     value,
