@@ -184,8 +184,6 @@ pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
         // recommended factors; `newton_strict` also solves with double-precision factors.
         .without_accuracy_test_if(s.time.newton_tolerance_n.is_some())
         .strict_if(s.time.newton_strict),
-        air_density: s.fluid.density_kg_m3,
-        air_viscosity: s.fluid.viscosity_pa_s,
         quadratic_drag: s.fluid.drag == DragLaw::Quadratic,
         air: crate::build::drag::fluid(s),
         altitude_m: s.atmosphere.altitude_m,

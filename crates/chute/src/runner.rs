@@ -67,14 +67,9 @@ pub struct RunConfig {
     pub snapshots_s: Vec<f64>,
     /// Newton settings.
     pub newton: NewtonOptions,
-    /// Air density (kg/m³) and viscosity (Pa·s) for the metrics.
-    pub air_density: f64,
-    /// Dynamic viscosity (Pa·s).
-    pub air_viscosity: f64,
     /// Whether drag is quadratic (regime warning).
     pub quadratic_drag: bool,
-    /// The air at every height (the metrics take ρ and μ from it; a uniform fluid gives
-    /// `air_density` and `air_viscosity`).
+    /// The air at every height (the metrics take ρ and μ from it).
     pub air: engine::aero::Fluid,
     /// Geometric altitude of the model's z = 0 (m).
     pub altitude_m: f64,

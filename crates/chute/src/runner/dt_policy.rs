@@ -209,8 +209,6 @@ mod tests {
             frame_interval_s: 0.05,
             snapshots_s: vec![],
             newton: engine::NewtonOptions::default(),
-            air_density: 1.225,
-            air_viscosity: 1.81e-5,
             quadratic_drag: true,
             air: engine::aero::Fluid::air(),
             altitude_m: 0.0,

@@ -6,11 +6,11 @@ use crate::build::Built;
 use crate::metrics::descent::{self, RecoveryParams};
 use crate::output::timeseries::DecimatedSeries;
 
-/// (ρ, μ) of the summary's one-density metrics: the scenario's constants for a uniform
-/// fluid, otherwise the air at the time-weighted mean canopy height of the final window.
+/// (ρ, μ) of the summary's one-density metrics: the fluid's constants when it is uniform,
+/// otherwise the air at the time-weighted mean canopy height of the final window.
 pub(super) fn window_air(dec: &DecimatedSeries, cfg: &RunConfig) -> (f64, f64) {
     if cfg.air.is_uniform() {
-        return (cfg.air_density, cfg.air_viscosity);
+        return (cfg.air.density, cfg.air.viscosity);
     }
     let air = descent::window_air(&dec.t_s, &dec.z_m, &cfg.air);
     (air.density, air.viscosity)
