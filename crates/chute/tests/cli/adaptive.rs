@@ -84,9 +84,9 @@ fn adaptive_run_lands_on_the_end_and_every_output_time() {
     assert_eq!(v["rejected_steps_newton"], 0);
     // The resolved scenario records the filled-in settings.
     let resolved = std::fs::read_to_string(dir.join("scenario.resolved.toml")).unwrap();
-    assert!(
-        resolved.contains("adaptive = true") && resolved.contains("error_tolerance_m = 0.00001"),
-        "{resolved}"
+    assert_contains(
+        &resolved,
+        &["adaptive = true", "error_tolerance_m = 0.00001"],
     );
 
     // A 10× looser tolerance takes fewer steps (h ∝ √tol: ~3× fewer where controlled).
@@ -141,13 +141,7 @@ fn adaptive_newton_failures_halve_the_step_and_are_counted() {
         after.iter().all(|&h| h <= cap * (1.0 + 1e-12)),
         "{cap}: {after:?}"
     );
-    let rejected = r
-        .summary
-        .warnings
-        .iter()
-        .filter(|w| w.contains("step rejected"))
-        .count();
-    assert_eq!(rejected, 3);
+    assert_eq!(count_containing(&r.summary.warnings, "step rejected"), 3);
 }
 
 /// Each new key with a bad value: exit status 2, a message naming the key (and where it came
@@ -184,26 +178,20 @@ fn bad_adaptive_keys_exit_2_naming_the_key() {
 
 #[test]
 fn check_shows_the_adaptive_settings() {
-    let dir = tempfile::tempdir().unwrap();
-    let f = repo().join("scenarios/report-rod-200n.toml");
-    let o = chute(
-        dir.path(),
-        &["check", f.to_str().unwrap(), "--set", "time.adaptive=true"],
-    );
-    assert_eq!(o.status.code(), Some(0));
+    let o = check_bundled("report-rod-200n.toml", &["time.adaptive=true"]);
+    assert_exit(&o, 0);
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        out.contains("adaptive, local error ≤ 1e-5 m per step")
-            && out.contains("first dt = 0.001 s")
-            && out.contains("9.7656e-7, 0.05] s"),
-        "{out}"
+    assert_contains(
+        &out,
+        &[
+            "adaptive, local error ≤ 1e-5 m per step",
+            "first dt = 0.001 s",
+            "9.7656e-7, 0.05] s",
+        ],
     );
-    let o = chute(dir.path(), &["check", f.to_str().unwrap()]);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        out.contains("10000 (dt = 0.001 s, 10 s)") && !out.contains("adaptive,"),
-        "{out}"
-    );
+    let out = stdout(&check_bundled("report-rod-200n.toml", &[]));
+    assert!(out.contains("10000 (dt = 0.001 s, 10 s)"), "{out}");
+    assert!(!out.contains("adaptive,"), "{out}");
 }
 
 /// An adaptive run extended by `resume` from its end is the longer run bit for bit, also
@@ -212,8 +200,8 @@ fn check_shows_the_adaptive_settings() {
 #[test]
 fn an_adaptive_run_extended_from_an_end_off_the_binary_grid_is_the_longer_run() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = repo().join("scenarios/report-rod-20n.toml");
-    let rod = rod.to_str().unwrap();
+    let rod = bundled("report-rod-20n.toml");
+    let rod = rod.as_str();
     let a = [
         "--set",
         "time.adaptive=true",
@@ -229,15 +217,14 @@ fn an_adaptive_run_extended_from_an_end_off_the_binary_grid_is_the_longer_run() 
             extra,
         ]
         .concat();
-        assert_eq!(chute(tmp.path(), &args).status.code(), Some(0));
+        chute_ok(tmp.path(), &args);
     };
     run("long", "0.6", &[]);
     run("ext", "0.3", &["--checkpoint-every", "0.05"]);
-    let o = chute(
+    chute_ok(
         tmp.path(),
         &["resume", "ext", "--set", "time.duration_s=0.6", "-q"],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let ts = |d: &str| std::fs::read(tmp.path().join(d).join("timeseries.csv")).unwrap();
     assert!(
         ts("long") == ts("ext"),

@@ -6,7 +6,7 @@
 
 use chute::bench::CaseResult;
 
-use crate::common::{chute, repo, stderr, stdout};
+use crate::common::{assert_contains, chute, repo, stderr, stdout};
 
 /// `chute bench --json --tiny EXTRA…`: its stdout, after checking it succeeded.
 fn tiny_bench_json(extra: &[&str]) -> String {
@@ -121,9 +121,12 @@ fn bench_rejects_a_bad_override() {
     let out = chute(&repo(), &["bench", "--tiny", "--set", "canopy.spam_m=1"]);
     assert_eq!(out.status.code(), Some(2));
     let err = stderr(&out);
-    assert!(
-        err.contains("unknown key `canopy.spam_m`") && err.contains("did you mean `canopy.span_m`"),
-        "{err}"
+    assert_contains(
+        &err,
+        &[
+            "unknown key `canopy.spam_m`",
+            "did you mean `canopy.span_m`",
+        ],
     );
 }
 

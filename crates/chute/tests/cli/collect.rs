@@ -25,6 +25,15 @@ pub(crate) fn write_other_study(dir: &std::path::Path) {
     std::fs::write(dir.join("other.toml"), other).unwrap();
 }
 
+/// A new temporary directory holding the study of [`write_other_study`] and an empty
+/// directory `o` for its output.
+pub(crate) fn other_study_in_tmp() -> tempfile::TempDir {
+    let tmp = tempfile::tempdir().unwrap();
+    write_other_study(tmp.path());
+    std::fs::create_dir(tmp.path().join("o")).unwrap();
+    tmp
+}
+
 /// The arguments of `chute study other.toml --out OUT` of 0.02 s flights
 /// ([`write_other_study`]).
 pub(crate) fn other_study_args(out: &str) -> [&str; 6] {
@@ -38,16 +47,24 @@ pub(crate) fn other_study_args(out: &str) -> [&str; 6] {
     ]
 }
 
+/// The text of `studies/table1.toml` with the path of its base scenario made absolute, so that
+/// a copy of it elsewhere runs the same cases.
+fn table1_text_anywhere() -> String {
+    let base = format!("base = \"{}\"", bundled("report-rod-200n.toml"));
+    std::fs::read_to_string(repo().join("studies/table1.toml"))
+        .unwrap()
+        .replace("base = \"../scenarios/report-rod-200n.toml\"", &base)
+}
+
 /// Report Table I as a study of 0.02 s flights in `out` of a new temporary directory.
 pub(crate) fn table1_study_in(out: &str) -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
     let study = repo().join("studies/table1.toml").display().to_string();
     let set = ["--set", "time.duration_s=0.02"];
-    let o = chute(
+    chute_ok(
         tmp.path(),
         &[&["study", &study, "--out", out][..], &set].concat(),
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     tmp
 }
 
@@ -58,7 +75,7 @@ pub(crate) fn table1_study_again(dir: &std::path::Path) -> String {
     let set = ["--set", "time.duration_s=0.02"];
     let o = chute(dir, &[&["study", &study, "--out", "s"][..], &set].concat());
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert_exit(&o, 0);
     err
 }
 
@@ -67,7 +84,7 @@ pub(crate) fn table1_study_again(dir: &std::path::Path) -> String {
 pub(crate) fn incomplete_collect(dir: &std::path::Path) -> String {
     let o = chute(dir, &["collect", "s", "--out", "m"]);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert_exit(&o, 3);
     err
 }
 
@@ -78,8 +95,7 @@ fn collect_of_cases_without_a_recipe_cannot_call_the_table_complete() {
     let tmp = table1_study_in("s");
     for case in ["20N", "200N", "2000N"] {
         let done = tmp.path().join("s").join(case).join("done.json");
-        let mut j: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+        let mut j = read_json(&done);
         j.as_object_mut().unwrap().remove("recipe");
         std::fs::write(&done, j.to_string()).unwrap();
     }
@@ -111,7 +127,7 @@ fn collect_of_some_shards_names_the_missing_case_and_fails() {
     let tmp = tempfile::tempdir().unwrap();
     let study = repo().join("studies/table1.toml").display().to_string();
     for (out, shard) in [("a", "0/3"), ("b", "1/3")] {
-        let o = chute(
+        chute_ok(
             tmp.path(),
             &[
                 "study",
@@ -124,14 +140,13 @@ fn collect_of_some_shards_names_the_missing_case_and_fails() {
                 "time.duration_s=0.02",
             ],
         );
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     }
     let o = chute(tmp.path(), &["collect", "a", "b", "--out", "m"]);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(
-        err.contains("2 of 3 case(s) found complete") && err.contains("case `2000N` is missing"),
-        "{err}"
+    assert_exit(&o, 3);
+    assert_contains(
+        &err,
+        &["2 of 3 case(s) found complete", "case `2000N` is missing"],
     );
     // The table is still written, with the missing case's row.
     let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
@@ -149,8 +164,7 @@ fn collect_of_some_shards_names_the_missing_case_and_fails() {
 fn collect_flags_a_recorded_case_count_that_disagrees_with_the_study() {
     let tmp = table1_study_in("s");
     let done = tmp.path().join("s/200N/done.json");
-    let mut j: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+    let mut j = read_json(&done);
     assert_eq!(j["recipe"]["case_count"], 3, "{j}");
     j["recipe"]["case_count"] = 5.into();
     std::fs::write(&done, j.to_string()).unwrap();
@@ -162,14 +176,12 @@ fn collect_flags_a_recorded_case_count_that_disagrees_with_the_study() {
     // Every case recording the same wrong count: still flagged.
     for case in ["20N", "2000N"] {
         let done = tmp.path().join("s").join(case).join("done.json");
-        let mut j: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+        let mut j = read_json(&done);
         j["recipe"]["case_count"] = 5.into();
         std::fs::write(&done, j.to_string()).unwrap();
     }
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    assert!(stderr(&o).contains("recorded 5:"), "{}", stderr(&o));
+    assert_exit_says(&o, 3, &["recorded 5:"]);
 }
 
 /// A `done.json` that cannot be read (here a directory) makes its case unreadable, named, but
@@ -181,7 +193,7 @@ fn an_unreadable_record_is_named_and_the_case_list_still_known() {
     std::fs::remove_file(&done).unwrap();
     std::fs::create_dir(&done).unwrap();
     let err = incomplete_collect(tmp.path());
-    assert!(err.contains("200N") && err.contains("done.json"), "{err}");
+    assert_contains(&err, &["200N", "done.json"]);
     assert!(
         !err.contains("unknown") && !err.contains("no recipe"),
         "{err}"
@@ -197,13 +209,7 @@ fn a_study_file_at_a_path_that_is_not_utf8_runs() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join(std::ffi::OsStr::from_bytes(b"st\xffudies"));
     std::fs::create_dir(&dir).unwrap();
-    let base = repo().join("scenarios/report-rod-200n.toml");
-    let text = std::fs::read_to_string(repo().join("studies/table1.toml"))
-        .unwrap()
-        .replace(
-            "base = \"../scenarios/report-rod-200n.toml\"",
-            &format!("base = \"{}\"", base.display()),
-        );
+    let text = table1_text_anywhere();
     std::fs::write(dir.join("t.toml"), text).unwrap();
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_chute"))
         .arg("study")
@@ -213,12 +219,11 @@ fn a_study_file_at_a_path_that_is_not_utf8_runs() {
         .output()
         .unwrap();
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert_exit(&o, 0);
     assert!(!err.contains("panicked"), "{err}");
     assert!(tmp.path().join("s/study.csv").is_file());
     // Its cases record their names: the table gathered again knows it is whole.
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(tmp.path(), &["collect", "s", "--out", "m"]);
 }
 
 /// A case whose later run was killed (its `run.json` says `running` and no process holds
@@ -228,12 +233,11 @@ fn a_study_file_at_a_path_that_is_not_utf8_runs() {
 fn a_case_whose_later_run_was_killed_is_not_complete() {
     let tmp = table1_study_in("s");
     let record = tmp.path().join("s/200N/run.json");
-    let mut j: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
+    let mut j = read_json(&record);
     j["status"] = "running".into();
     std::fs::write(&record, j.to_string()).unwrap();
     let err = incomplete_collect(tmp.path());
-    assert!(err.contains("200N") && err.contains("killed"), "{err}");
+    assert_contains(&err, &["200N", "killed"]);
     // Its status says what happened, not `missing` (which means no directory at all).
     let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
     let row = table.lines().find(|l| l.starts_with("200N,")).unwrap();
@@ -261,8 +265,7 @@ fn a_slurm_variable_that_is_not_utf8_is_refused() {
         .current_dir(tmp.path())
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("SLURM_ARRAY_TASK_ID"), "{}", stderr(&o));
+    assert_exit_says(&o, 2, &["SLURM_ARRAY_TASK_ID"]);
 }
 
 /// A FIFO named like one of chute's files (a run's lock, a case's marker) is not one of them:
@@ -279,15 +282,10 @@ fn a_fifo_named_like_a_run_file_is_named_not_waited_on() {
     fifo("s/200N/done.json");
     let o = chute_within(tmp.path(), &["collect", "s", "--out", "m"], 60);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(
-        err.contains("200N/done.json") && err.contains("not a plain file"),
-        "{err}"
-    );
+    assert_exit(&o, 3);
+    assert_contains(&err, &["200N/done.json", "not a plain file"]);
     let o = chute_within(tmp.path(), &["view", "s/20N"], 60);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains(".chute.lock is not a plain file"), "{err}");
+    assert_exit_says(&o, 2, &[".chute.lock is not a plain file"]);
 }
 
 /// A study's tables and runs never go among a run's files: `collect --out`, `study --out` and
@@ -307,9 +305,7 @@ fn tables_are_never_written_inside_a_run_directory() {
         &["run", &rod, "--out", "s/20N/frames/x"],
     ] {
         let o = chute(tmp.path(), args);
-        let err = stderr(&o);
-        assert_eq!(o.status.code(), Some(2), "{err}");
-        assert!(err.contains("lies inside the run directory"), "{err}");
+        assert_exit_says(&o, 2, &["lies inside the run directory"]);
     }
     assert!(!tmp.path().join("s/20N/frames/study.csv").exists());
     assert!(!tmp.path().join("s/20N/inner").exists());
@@ -317,7 +313,7 @@ fn tables_are_never_written_inside_a_run_directory() {
     // Nor through a link that leads into one.
     std::os::unix::fs::symlink(tmp.path().join("s/20N/frames"), tmp.path().join("lnk")).unwrap();
     let o = chute(tmp.path(), &["run", &rod, "--out", "lnk/x"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     assert!(stderr(&o).contains("lies inside the run directory"));
 }
 
@@ -330,10 +326,7 @@ fn a_summary_swapped_between_cases_is_not_taken_as_the_case_result() {
     let s = tmp.path().join("s");
     std::fs::copy(s.join("2000N/summary.json"), s.join("20N/summary.json")).unwrap();
     let err = incomplete_collect(tmp.path());
-    assert!(
-        err.contains("20N") && err.contains("is not the summary its run wrote"),
-        "{err}"
-    );
+    assert_contains(&err, &["20N", "is not the summary its run wrote"]);
     let err = table1_study_again(tmp.path());
     assert!(
         err.contains(
@@ -341,12 +334,10 @@ fn a_summary_swapped_between_cases_is_not_taken_as_the_case_result() {
         ),
         "{err}"
     );
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(tmp.path(), &["collect", "s", "--out", "m"]);
     // A record without the digest (edited, or an older chute's) cannot vouch for its summary.
     let done = s.join("200N/done.json");
-    let mut j: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+    let mut j = read_json(&done);
     j.as_object_mut().unwrap().remove("summary_digest");
     std::fs::write(&done, j.to_string()).unwrap();
     let err = incomplete_collect(tmp.path());
@@ -360,11 +351,10 @@ fn a_summary_swapped_between_cases_is_not_taken_as_the_case_result() {
 fn two_studies_sharing_a_case_name_are_not_mixed() {
     let tmp = table1_study_in("s");
     write_other_study(tmp.path());
-    let o = chute(tmp.path(), &other_study_args("o"));
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(tmp.path(), &other_study_args("o"));
     let o = chute(tmp.path(), &["collect", "s", "o", "--out", "m"]);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_exit(&o, 2);
     for want in ["case `20N`", "s/20N", "o/20N", "table1.toml", "other.toml"] {
         assert!(err.contains(want), "want `{want}` in: {err}");
     }
@@ -386,14 +376,13 @@ fn two_studies_of_one_name_from_two_files_are_not_mixed() {
     std::fs::create_dir(tmp.path().join("b")).unwrap();
     std::fs::write(tmp.path().join("b/table1.toml"), other).unwrap();
     let set = ["--set", "time.duration_s=0.02"];
-    let o = chute(
+    chute_ok(
         tmp.path(),
         &[&["study", "b/table1.toml", "--out", "o"][..], &set].concat(),
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let o = chute(tmp.path(), &["collect", "s", "o", "--out", "m"]);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_exit(&o, 2);
     for want in ["studies/table1.toml", "b/table1.toml", "o/x"] {
         assert!(err.contains(want), "want `{want}` in: {err}");
     }
@@ -409,15 +398,12 @@ fn two_studies_of_one_name_from_two_files_are_not_mixed() {
         );
     std::fs::write(tmp.path().join("c/table1.toml"), edited).unwrap();
     let shard = ["--shard", "2/3"];
-    let o = chute(
+    chute_ok(
         tmp.path(),
         &[&["study", "c/table1.toml", "--out", "o3"][..], &set, &shard].concat(),
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let o = chute(tmp.path(), &["collect", "s", "o3", "--out", "m"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("c/table1.toml"), "{err}");
+    assert_exit_says(&o, 2, &["c/table1.toml"]);
     // Byte-identical study files whose relative base is another scenario: other inputs,
     // another study (each copy runs one shard).
     let rod = std::fs::read_to_string(repo().join("scenarios/report-rod-200n.toml")).unwrap();
@@ -433,10 +419,10 @@ fn two_studies_of_one_name_from_two_files_are_not_mixed() {
             &set,
         ]
         .concat();
-        assert_eq!(chute(tmp.path(), &args).status.code(), Some(0));
+        chute_ok(tmp.path(), &args);
     }
     let o = chute(tmp.path(), &["collect", "k1/o", "k2/o", "--out", "km"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
 }
 
 /// A case found in two directories with other states or study-wide overrides is never
@@ -446,11 +432,10 @@ fn two_studies_of_one_name_from_two_files_are_not_mixed() {
 fn a_case_found_twice_with_other_inputs_is_named_with_the_one_shown() {
     let tmp = table1_study_in("s");
     let o = table1_study_of(tmp.path(), "t", "0.03");
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     // The newer attempt of 20N stopped early.
     let done = tmp.path().join("t/20N/done.json");
-    let mut j: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+    let mut j = read_json(&done);
     j["status"] = "incomplete".into();
     j["message"] = "interrupted".into();
     std::fs::write(&done, j.to_string()).unwrap();
@@ -471,15 +456,9 @@ fn a_case_found_twice_with_other_inputs_is_named_with_the_one_shown() {
 #[test]
 fn a_recorded_study_file_that_became_a_fifo_is_named_not_waited_on() {
     let tmp = tempfile::tempdir().unwrap();
-    let base = repo().join("scenarios/report-rod-200n.toml");
-    let text = std::fs::read_to_string(repo().join("studies/table1.toml"))
-        .unwrap()
-        .replace(
-            "base = \"../scenarios/report-rod-200n.toml\"",
-            &format!("base = \"{}\"", base.display()),
-        );
+    let text = table1_text_anywhere();
     std::fs::write(tmp.path().join("t.toml"), text).unwrap();
-    let o = chute(
+    chute_ok(
         tmp.path(),
         &[
             "study",
@@ -490,7 +469,6 @@ fn a_recorded_study_file_that_became_a_fifo_is_named_not_waited_on() {
             "time.duration_s=0.02",
         ],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     std::fs::remove_file(tmp.path().join("t.toml")).unwrap();
     tool(tmp.path(), "mkfifo", &["t.toml".as_ref()]);
     let o = chute_within(tmp.path(), &["collect", "s", "--out", "m"], 60);
@@ -511,11 +489,10 @@ fn a_copy_of_a_case_under_another_name_does_not_stand_for_it() {
     );
     std::fs::write(s.join("20N.old/summary.json"), "{}").unwrap();
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
-    assert!(
-        err.contains("`s/20N.old` holds a record of case `20N` but is not named after it"),
-        "{err}"
+    assert_exit_says(
+        &o,
+        0,
+        &["`s/20N.old` holds a record of case `20N` but is not named after it"],
     );
     let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
     assert_eq!(table.lines().count(), 4, "{table}");
@@ -527,10 +504,10 @@ fn a_copy_of_a_case_under_another_name_does_not_stand_for_it() {
 fn collect_never_replaces_another_studys_table() {
     let tmp = table1_study_in("s");
     let o = table1_study_of(tmp.path(), "b", "0.03");
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     let before = std::fs::read(tmp.path().join("b/study.csv")).unwrap();
     let o = chute(tmp.path(), &["collect", "s", "--out", "b"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     assert!(stderr(&o).contains("holds the cases of a study of its own"));
     assert_eq!(
         std::fs::read(tmp.path().join("b/study.csv")).unwrap(),
@@ -544,7 +521,7 @@ fn collect_never_replaces_another_studys_table() {
     )
     .unwrap();
     let o = chute(tmp.path(), &["collect", "s", "--out", "c"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     assert!(!tmp.path().join("c/study.csv").exists());
 }
 

@@ -5,16 +5,9 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::common::{chute_command, forge_input_digest, hex_project, repo, FAILING_PULL_SETS};
+use crate::common::*;
 
-fn rod() -> String {
-    repo()
-        .join("scenarios/report-rod-200n.toml")
-        .display()
-        .to_string()
-}
-
-fn converge(cwd: &Path, args: &[&str]) -> Output {
+fn converge<S: AsRef<std::ffi::OsStr>>(cwd: &Path, args: &[S]) -> Output {
     chute_command()
         .current_dir(cwd)
         .arg("converge")
@@ -26,7 +19,7 @@ fn converge(cwd: &Path, args: &[&str]) -> Output {
 /// `chute converge` of the rod over `levels` of `canopy.nodes`, 0.02 s flights, into `cv`
 /// of `dir`, with `extra` arguments.
 pub(crate) fn short_ladder(dir: &Path, levels: &str, extra: &[&str]) -> Output {
-    let rod = rod();
+    let rod = rod_file();
     let vary = format!("canopy.nodes={levels}");
     let mut a = vec![
         rod.as_str(),
@@ -41,8 +34,21 @@ pub(crate) fn short_ladder(dir: &Path, levels: &str, extra: &[&str]) -> Output {
     converge(dir, &a)
 }
 
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+/// The arguments of `chute converge` of the rod varying `vary` (`KEY=VALUES`) into `out`, two
+/// levels at a time, with short flights ([`FAST`]) and then `extra`.
+fn rod_ladder_args(vary: &str, out: &str, extra: &[&str]) -> Vec<String> {
+    let head = [&rod_file(), "--vary", vary, "--out", out, "-j", "2"];
+    let tail = FAST.iter().chain(extra);
+    head.into_iter()
+        .chain(tail.copied())
+        .map(String::from)
+        .collect()
+}
+
+/// `chute converge ARGS` in `dir`, which must succeed: the report it wrote to `out`.
+fn converged(dir: &Path, args: &[String], out: &str) -> serde_json::Value {
+    assert_exit(&converge(dir, args), 0);
+    read_json(dir.join(out).join("convergence.json"))
 }
 
 /// Short and cheap: 8 s of flight at dt = 1e-2 s (the steady state of implicit Euler does not
@@ -64,20 +70,8 @@ const FAST: [&str; 8] = [
 #[test]
 fn rod_ladder_is_round_off_at_the_analytic_speed() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod();
-    let mut args = vec![
-        rod.as_str(),
-        "--vary",
-        "canopy.nodes=31,61,121",
-        "--out",
-        "c",
-        "-j",
-        "2",
-    ];
-    args.extend(FAST);
-    let o = converge(tmp.path(), &args);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let c = json(&tmp.path().join("c/convergence.json"));
+    let args = rod_ladder_args("canopy.nodes=31,61,121", "c", &[]);
+    let c = converged(tmp.path(), &args, "c");
     let st = &c["studies"][0];
     assert_eq!(st["key"], "canopy.nodes");
     assert_eq!(st["values"], serde_json::json!([31.0, 61.0, 121.0]));
@@ -119,13 +113,13 @@ fn rod_ladder_is_round_off_at_the_analytic_speed() {
         "{err}"
     );
     assert_eq!(
-        json(&tmp.path().join("c/convergence.json"))["studies"],
+        read_json(tmp.path().join("c/convergence.json"))["studies"],
         c["studies"]
     );
     // Other inputs into the same directory: every level re-run (the study's rule), never
     // reported from the old runs.
     let mut other = args.clone();
-    other.extend(["--set", "load.weight_n=20"]);
+    other.extend(["--set".into(), "load.weight_n=20".into()]);
     let o = converge(tmp.path(), &other);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
@@ -135,14 +129,14 @@ fn rod_ladder_is_round_off_at_the_analytic_speed() {
         3,
         "{err}"
     );
-    let light = json(&tmp.path().join("c/convergence.json"));
+    let light = read_json(tmp.path().join("c/convergence.json"));
     assert_ne!(light["studies"], c["studies"]);
 }
 
 #[test]
 fn bad_ladders_exit_2_naming_key_and_value() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod();
+    let rod = rod_file();
     let shell = repo()
         .join("scenarios/report-shell-4-sites.toml")
         .display()
@@ -229,10 +223,8 @@ fn a_failing_level_is_reported_and_exits_3() {
     ]
     .concat();
     let o = converge(tmp.path(), &args);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(err.contains("step failed at t = 0.2"), "{err}");
-    let c = json(&tmp.path().join("f/convergence.json"));
+    assert_exit_says(&o, 3, &["step failed at t = 0.2"]);
+    let c = read_json(tmp.path().join("f/convergence.json"));
     let levels = c["studies"][0]["levels"].as_array().unwrap();
     let failed: Vec<_> = levels
         .iter()
@@ -243,10 +235,7 @@ fn a_failing_level_is_reported_and_exits_3() {
         assert_eq!(l["used"], false, "{l}");
     }
     let md = std::fs::read_to_string(tmp.path().join("f/convergence.md")).unwrap();
-    assert!(
-        md.contains("incomplete") && md.contains("at least two"),
-        "{md}"
-    );
+    assert_contains(&md, &["incomplete", "at least two"]);
 }
 
 /// A field of an array-of-tables entry set by index (`--set control[0].start_s=…`)
@@ -254,11 +243,10 @@ fn a_failing_level_is_reported_and_exits_3() {
 #[test]
 fn indexed_control_field_set_reaches_every_level() {
     let tmp = tempfile::tempdir().unwrap();
-    let steer = repo().join("scenarios/control-steer.toml");
     let out = converge(
         tmp.path(),
         &[
-            &steer.display().to_string(),
+            &bundled("control-steer.toml"),
             "--vary",
             "time.dt_s=0.02,0.01",
             "--set",
@@ -271,11 +259,7 @@ fn indexed_control_field_set_reaches_every_level() {
             "1",
         ],
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_exit(&out, 0);
     for level in ["dt_s-0.02", "dt_s-0.01"] {
         let text = std::fs::read_to_string(
             tmp.path()
@@ -296,22 +280,9 @@ fn indexed_control_field_set_reaches_every_level() {
 #[test]
 fn tolerance_ladder_of_adaptive_runs_has_h_the_root_of_the_tolerance() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod();
-    let mut args = vec![
-        rod.as_str(),
-        "--vary",
-        "time.error_tolerance_m=4e-4,1e-4,2.5e-5",
-        "--set",
-        "time.adaptive=true",
-        "--out",
-        "t",
-        "-j",
-        "2",
-    ];
-    args.extend(FAST);
-    let o = converge(tmp.path(), &args);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let c = json(&tmp.path().join("t/convergence.json"));
+    let vary = "time.error_tolerance_m=4e-4,1e-4,2.5e-5";
+    let adaptive = rod_ladder_args(vary, "t", &["--set", "time.adaptive=true"]);
+    let c = converged(tmp.path(), &adaptive, "t");
     let st = &c["studies"][0];
     assert_eq!(st["key"], "time.error_tolerance_m");
     assert_eq!(st["axis"], "tolerance");
@@ -333,26 +304,17 @@ fn tolerance_ladder_of_adaptive_runs_has_h_the_root_of_the_tolerance() {
 #[test]
 fn drop_ladder_estimates_landing_velocity_and_flight_time() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod();
-    let mut args = vec![
-        rod.as_str(),
-        "--vary",
-        "canopy.nodes=31,61,121",
+    let drop = [
         "--set",
         "atmosphere.altitude_m=80",
         "--set",
         "atmosphere.ground_altitude_m=0",
-        "--out",
-        "d",
-        "-j",
-        "2",
+        // An upper bound: the ground ends every level first.
+        "--set",
+        "time.duration_s=30",
     ];
-    args.extend(FAST);
-    // An upper bound: the ground ends every level first.
-    args.extend(["--set", "time.duration_s=30"]);
-    let o = converge(tmp.path(), &args);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let c = json(&tmp.path().join("d/convergence.json"));
+    let args = rod_ladder_args("canopy.nodes=31,61,121", "d", &drop);
+    let c = converged(tmp.path(), &args, "d");
     let q = &c["studies"][0]["quantities"];
     let w: f64 = 200.0 + 1440.0 * 6.0 * 3.0 * 0.002 * 9.81;
     let analytic = -(2.0 * w / (1.225 * 1.75 * 18.0)).sqrt();
@@ -395,10 +357,9 @@ fn a_ladder_rerun_into_another_ladders_directory_does_not_drop_a_level() {
     // The next ladder as an array of three shards, the third of which never runs.
     ladder("21,41,81", Some("0/3"));
     ladder("21,41,81", Some("1/3"));
-    let o = crate::common::chute(tmp.path(), &["collect", "cv", "--out", "t"]);
+    let o = chute(tmp.path(), &["collect", "cv", "--out", "t"]);
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(err.contains("nodes-81"), "{err}");
+    assert_exit_says(&o, 3, &["nodes-81"]);
     // The first ladder's own level is kept, but not as current: the directory's ladder is
     // the second one.
     let csv = std::fs::read_to_string(tmp.path().join("t/study.csv")).unwrap();
@@ -417,11 +378,13 @@ fn an_unwritable_picture_warns_and_an_unusable_level_says_why() {
     std::fs::write(tmp.path().join("cv/nodes-41"), "a file of the user's").unwrap();
     let o = short_ladder(tmp.path(), "11,21,41", &[]);
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(err.contains("convergence.png was not written"), "{err}");
-    assert!(
-        err.contains("`cv/nodes-41` is a file, not a directory"),
-        "{err}"
+    assert_exit_says(
+        &o,
+        3,
+        &[
+            "convergence.png was not written",
+            "`cv/nodes-41` is a file, not a directory",
+        ],
     );
     assert!(!err.contains("stopped first"), "{err}");
     // The reports say why, as the console does.
@@ -430,9 +393,7 @@ fn an_unwritable_picture_warns_and_an_unusable_level_says_why() {
     // The level's place freed: the ladder completes, the picture still warned of.
     std::fs::remove_file(tmp.path().join("cv/nodes-41")).unwrap();
     let o = short_ladder(tmp.path(), "11,21,41", &[]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(0), "{err}");
-    assert!(err.contains("convergence.png was not written"), "{err}");
+    assert_exit_says(&o, 0, &["convergence.png was not written"]);
 }
 
 /// A shard of a ladder reads the other shards' levels from the directory: one left there by
@@ -443,16 +404,11 @@ fn a_shard_never_takes_an_earlier_ladders_level_as_its_own() {
     let tmp = tempfile::tempdir().unwrap();
     let ladder = |extra: &[&str]| {
         let o = short_ladder(tmp.path(), "11,21,41", extra);
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        assert_exit(&o, 0);
     };
     ladder(&["--set", "fluid.drag_coefficient=1.5"]);
     ladder(&["--shard", "0/2"]);
-    let report = json(&tmp.path().join("cv/convergence.json"));
+    let report = read_json(tmp.path().join("cv/convergence.json"));
     let levels = report["studies"][0]["levels"].as_array().unwrap();
     let middle = levels.iter().find(|l| l["case"] == "nodes-21").unwrap();
     assert_eq!(middle["status"], "not run", "{middle}");
@@ -462,7 +418,7 @@ fn a_shard_never_takes_an_earlier_ladders_level_as_its_own() {
     // Nor when that level's record is gone: its summary is no number of this ladder.
     std::fs::remove_file(tmp.path().join("cv/nodes-21/done.json")).unwrap();
     ladder(&["--shard", "0/2"]);
-    let report = json(&tmp.path().join("cv/convergence.json"));
+    let report = read_json(tmp.path().join("cv/convergence.json"));
     let vt = &report["studies"][0]["quantities"]["terminal_velocity_mps"]["results"];
     assert!(vt[1].is_null(), "an unrecorded level's number shown: {vt}");
 }
@@ -473,12 +429,7 @@ fn a_shard_never_takes_an_earlier_ladders_level_as_its_own() {
 fn the_report_never_lists_a_varied_key_as_set_on_every_level() {
     let tmp = tempfile::tempdir().unwrap();
     let o = short_ladder(tmp.path(), "11,21,41", &["--set", "canopy.nodes=5"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 0);
     let md = std::fs::read_to_string(tmp.path().join("cv/convergence.md")).unwrap();
     let line = md
         .lines()
@@ -496,14 +447,9 @@ fn the_report_never_lists_a_varied_key_as_set_on_every_level() {
 fn a_ladder_of_another_scenario_file_never_replaces_one_of_the_same_name() {
     let tmp = tempfile::tempdir().unwrap();
     let o = short_ladder(tmp.path(), "11,21,41", &[]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 0);
     let copy = tmp.path().join("copy.toml");
-    let text = std::fs::read_to_string(rod())
+    let text = std::fs::read_to_string(rod_file())
         .unwrap()
         .replace("weight_n = 200.0", "weight_n = 300.0");
     std::fs::write(&copy, text).unwrap();
@@ -520,9 +466,7 @@ fn a_ladder_of_another_scenario_file_never_replaces_one_of_the_same_name() {
             "cv",
         ],
     );
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("holds the cases of study"), "{err}");
+    assert_exit_says(&o, 2, &["holds the cases of study"]);
 }
 
 /// A level whose run read other bytes of its mesh than the file has now (edited while the
@@ -556,20 +500,10 @@ fn a_level_whose_run_read_another_mesh_is_not_fitted() {
         .stdin(std::fs::File::open(tmp.path().join("hex.toml")).unwrap())
         .output()
         .unwrap();
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 0);
     forge_input_digest(&tmp.path().join("cv/dt_s-0.005"));
     let o = ladder(&["--shard", "0/2"]);
     let report = std::fs::read_to_string(tmp.path().join("cv/convergence.md")).unwrap();
     assert!(report.contains("its run read canopy.mesh_file"), "{report}");
-    assert_eq!(
-        o.status.code(),
-        Some(3),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 3);
 }

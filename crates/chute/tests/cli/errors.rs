@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::common::{chute, chute_command, repo, stderr, stdout};
+use crate::common::*;
 
 /// Exit code `code` and a final `error: ` line; stderr contains every `want`.
 fn assert_error(o: &Output, code: i32, want: &[&str]) {
@@ -36,51 +36,25 @@ const HEAD: &str = "name = \"t\"\n[model]\nkind = \"shell\"\n";
 
 #[test]
 fn check_prints_derived_quantities() {
-    let dir = tempfile::tempdir().unwrap();
-    let f = repo().join("scenarios/report-rod-200n.toml");
-    let o = chute(dir.path(), &["check", f.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = check_bundled("report-rod-200n.toml", &[]);
+    assert_exit(&o, 0);
     let out = stdout(&o);
-    assert!(
-        out.contains("scenario `report-rod-200n`") && out.contains("is valid"),
-        "{out}"
-    );
+    assert_contains(&out, &["scenario `report-rod-200n`", "is valid"]);
     // Flat-plate terminal speed √(2 W /(ρ C_D A)) with W = 200 N + 51.84 kg · 9.81 = 708.6 N.
-    assert!(
-        out.contains("total weight") && out.contains("708.6 N"),
-        "{out}"
-    );
-    assert!(
-        out.contains("flat-canopy terminal speed") && out.contains("6.060 m/s"),
-        "{out}"
-    );
-    let o = chute(
-        dir.path(),
-        &["check", f.to_str().unwrap(), "--set", "load.weight_n=2000"],
-    );
+    assert_contains(&out, &["total weight", "708.6 N"]);
+    assert_contains(&out, &["flat-canopy terminal speed", "6.060 m/s"]);
+    let o = check_bundled("report-rod-200n.toml", &["load.weight_n=2000"]);
     assert!(stdout(&o).contains("2509 N"), "{}", stdout(&o));
 }
 
 #[test]
 fn check_resolved_prints_a_scenario_that_resolves_to_itself() {
     let dir = tempfile::tempdir().unwrap();
-    let f = repo().join("scenarios/round-parachute.toml");
-    let o = chute(
-        dir.path(),
-        &[
-            "check",
-            f.to_str().unwrap(),
-            "--resolved",
-            "--set",
-            "load.weight_n=50",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let args = ["--resolved", "--set", "load.weight_n=50"];
+    let o = chute_bundled(dir.path(), "check", "round-parachute.toml", &args);
+    assert_exit(&o, 0);
     let text = stdout(&o);
-    assert!(
-        text.contains("weight_n = 50.0") && text.contains("rim_site_count = 12"),
-        "{text}"
-    );
+    assert_contains(&text, &["weight_n = 50.0", "rim_site_count = 12"]);
     std::fs::write(dir.path().join("r.toml"), &text).unwrap();
     let again = chute(dir.path(), &["check", "r.toml", "--resolved"]);
     assert_eq!(stdout(&again), text);
@@ -205,7 +179,7 @@ fn missing_file_and_bad_overrides_exit_2() {
             ),
         ],
     );
-    let o = chute(
+    chute_ok(
         dir.path(),
         &[
             "check",
@@ -216,7 +190,6 @@ fn missing_file_and_bad_overrides_exit_2() {
             "fluid.wind_mps=[4,0,0]",
         ],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
 #[test]
@@ -244,8 +217,7 @@ fn run_refuses_to_overwrite_and_checks_writability() {
     ];
     let mut args = vec!["run", "s.toml", "--force", "--quiet"];
     args.extend(short);
-    let o = chute(dir.path(), &args);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(dir.path(), &args);
     let summary = std::fs::read_to_string(dir.path().join("runs/t/summary.json")).unwrap();
     assert!(summary.contains("terminal_velocity_mps"), "{summary}");
     // A fresh directory is created, and removed again when the run produced nothing (here the
@@ -354,7 +326,7 @@ fn study_runs_cases_and_reports_failures_with_exit_3() {
         .env_remove("SLURM_ARRAY_TASK_MIN")
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     let done: Vec<bool> = ["weight_n-10", "weight_n-20", "weight_n-30"]
         .iter()
         .map(|c| dir.path().join("slurm").join(c).join("done.json").exists())
@@ -424,17 +396,7 @@ fn validate_parses() {
 
 #[test]
 fn a_ground_above_the_payload_is_a_sentence_naming_the_key() {
-    let dir = tempfile::tempdir().unwrap();
-    let round = repo().join("scenarios/round-parachute.toml");
-    let o = chute(
-        dir.path(),
-        &[
-            "check",
-            &round.display().to_string(),
-            "--set",
-            "atmosphere.ground_altitude_m=-1",
-        ],
-    );
+    let o = check_bundled("round-parachute.toml", &["atmosphere.ground_altitude_m=-1"]);
     assert_error(
         &o,
         2,
@@ -516,9 +478,9 @@ fn an_output_directory_that_takes_no_files_is_refused_before_any_work() {
     for args in [["study", &study, "--out", out], ["run", &rod, "--out", out]] {
         let o = chute(tmp.path(), &args);
         assert_error(&o, 2, &["is not writable"]);
-        assert!(!stderr(&o).contains("case "), "{}", stderr(&o));
+        assert_stderr_lacks(&o, &["case "]);
         // The probe's random name is no part of the reason.
-        assert!(!stderr(&o).contains(".chute-probe"), "{}", stderr(&o));
+        assert_stderr_lacks(&o, &[".chute-probe"]);
     }
 }
 
@@ -543,12 +505,7 @@ fn a_full_stdout_or_stderr_is_no_panic() {
         .stdout(full())
         .output()
         .unwrap();
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(
-        err.contains("the results could not be written to stdout"),
-        "{err}"
-    );
+    assert_exit_says(&o, 1, &["the results could not be written to stdout"]);
     assert!(tmp.path().join("r/summary.json").is_file());
     let study = repo().join("studies/table1.toml");
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_chute"))

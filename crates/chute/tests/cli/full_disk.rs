@@ -7,6 +7,25 @@ use crate::integrity::rod_run;
 
 use std::path::{Path, PathBuf};
 
+/// A temporary directory for a test of a full tmpfs, or `None` (skip the test) when
+/// `CHUTE_NO_TMPFS` is set.
+fn tmpfs_test_dir() -> Option<tempfile::TempDir> {
+    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+        return None;
+    }
+    Some(tempfile::tempdir().unwrap())
+}
+
+/// [`in_small_tmpfs`], then what the script wrote to `out/code` (its command's exit status,
+/// which must be there) and to `out/err` (its stderr).
+fn code_and_err_in_small_tmpfs(cwd: &Path, script: &str) -> (String, String) {
+    let o = in_small_tmpfs(cwd, script);
+    let code = std::fs::read_to_string(cwd.join("out/code"))
+        .unwrap_or_else(|_| panic!("no tmpfs run: {}", stderr(&o)));
+    let err = std::fs::read_to_string(cwd.join("out/err")).unwrap();
+    (code, err)
+}
+
 /// The test's tmpfs: `sh -c SCRIPT` in a private mount namespace (root only).
 fn in_small_tmpfs(cwd: &Path, script: &str) -> std::process::Output {
     let o = std::process::Command::new("unshare")
@@ -24,10 +43,9 @@ fn in_small_tmpfs(cwd: &Path, script: &str) -> std::process::Output {
 
 #[test]
 fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
-    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+    let Some(tmp) = tmpfs_test_dir() else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
+    };
     let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
     let quote = |args: Vec<String>| {
         let q: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
@@ -73,8 +91,7 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
     // Whole rows only, every one of them numbers.
     let rows = csv_rows(&dir.join("timeseries.csv"));
     assert!(rows.len() > 100 && rows.iter().all(|r| r.len() == 16));
-    let record: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    let record = read_json(dir.join("run.json"));
     assert_eq!(record["status"], "failed", "{record}");
     // Naming the file that could not be written (a frame, the collection, the time series),
     // not only the directory.
@@ -85,8 +102,7 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
     );
     // What was written can still be read.
     let o = chute(tmp.path(), &["view", "out/d"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(stderr(&o).contains("the run failed: "), "{}", stderr(&o));
+    assert_exit_says(&o, 0, &["the run failed: "]);
 }
 
 /// A study on a full file system: a case whose directory cannot take its lock and reserve is
@@ -94,10 +110,9 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
 /// the first case as if the input were bad (status 2).
 #[test]
 fn a_study_on_a_full_file_system_goes_through_every_case() {
-    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+    let Some(tmp) = tmpfs_test_dir() else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
+    };
     let bin = PathBuf::from(env!("CARGO_BIN_EXE_chute"));
     let study = repo().join("studies/table1.toml").display().to_string();
     let script = format!(
@@ -110,10 +125,7 @@ fn a_study_on_a_full_file_system_goes_through_every_case() {
          if [ -e small/C ]; then echo left > out/cleft; fi",
         bin = bin.display()
     );
-    let o = in_small_tmpfs(tmp.path(), &script);
-    let code = std::fs::read_to_string(tmp.path().join("out/code"))
-        .unwrap_or_else(|_| panic!("no tmpfs run: {}", String::from_utf8_lossy(&o.stderr)));
-    let err = std::fs::read_to_string(tmp.path().join("out/err")).unwrap();
+    let (code, err) = code_and_err_in_small_tmpfs(tmp.path(), &script);
     // The table cannot be written either: an I/O error (1), not bad input (2).
     assert_eq!(code.trim(), "1", "{err}");
     for case in ["20N", "200N", "2000N"] {
@@ -141,20 +153,16 @@ fn a_study_on_a_full_file_system_goes_through_every_case() {
 /// warning of `summary.json` (and so on the console), never silently absent.
 #[test]
 fn a_picture_that_cannot_be_written_is_named_in_a_warning() {
-    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+    let Some(tmp) = tmpfs_test_dir() else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
+    };
     let run = quoted_rod_run("small/r", "0.05", &[]);
     let script = format!(
         "mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small && \
          head -c 850K /dev/zero > small/filler && {run} 2> out/err; echo $? > out/code; \
          cp small/r/summary.json out/ 2>/dev/null; ls small/r > out/files"
     );
-    let o = in_small_tmpfs(tmp.path(), &script);
-    let code = std::fs::read_to_string(tmp.path().join("out/code"))
-        .unwrap_or_else(|_| panic!("no tmpfs run: {}", String::from_utf8_lossy(&o.stderr)));
-    let err = std::fs::read_to_string(tmp.path().join("out/err")).unwrap();
+    let (code, err) = code_and_err_in_small_tmpfs(tmp.path(), &script);
     assert_eq!(code.trim(), "0", "{err}");
     let files = std::fs::read_to_string(tmp.path().join("out/files")).unwrap();
     let summary: serde_json::Value = serde_json::from_str(
@@ -184,10 +192,9 @@ fn a_picture_that_cannot_be_written_is_named_in_a_warning() {
 /// reaches as far as the last frame it wrote.
 #[test]
 fn no_fill_level_leaves_a_record_saying_running() {
-    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+    let Some(tmp) = tmpfs_test_dir() else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
+    };
     // A frame every 0.01 s: the disk fills between frames as often as at the end.
     let run = quoted_rod_run("small/r", "0.2", &["--set", "output.frame_interval_s=0.01"]);
     let mut script = String::from("mkdir -p small out && mount -t tmpfs -o size=1m tmpfs small");
@@ -256,10 +263,9 @@ fn quoted_rod_run(out: &str, duration: &str, extra: &[&str]) -> String {
 /// and the resolved scenario holds the duration it was asked for).
 #[test]
 fn a_resume_without_room_changes_nothing_and_exits_1() {
-    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+    let Some(tmp) = tmpfs_test_dir() else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
+    };
     let run = quoted_rod_run(
         "small/r",
         "0.5",
@@ -280,10 +286,7 @@ fn a_resume_without_room_changes_nothing_and_exits_1() {
          cp -r small/r out/after",
         bin = bin.display()
     );
-    let o = in_small_tmpfs(tmp.path(), &script);
-    let code = std::fs::read_to_string(tmp.path().join("out/code"))
-        .unwrap_or_else(|_| panic!("no tmpfs run: {}", String::from_utf8_lossy(&o.stderr)));
-    let err = std::fs::read_to_string(tmp.path().join("out/err")).unwrap();
+    let (code, err) = code_and_err_in_small_tmpfs(tmp.path(), &script);
     assert_eq!(code.trim(), "1", "{err}");
     assert!(
         err.contains("No space left") && !err.contains(" at path "),
@@ -306,10 +309,9 @@ fn a_resume_without_room_changes_nothing_and_exits_1() {
 /// file keeps its bytes, each command fails naming a frame, and the run can still be viewed.
 #[test]
 fn a_run_with_a_file_that_cannot_be_removed_is_left_whole() {
-    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+    let Some(tmp) = tmpfs_test_dir() else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
+    };
     // Its checkpoint is at the sync point t = 0.128 s (the first after 0.1 s), so the frames
     // at 0.15 and 0.2 s come after it: a resume removes them.
     let run = quoted_rod_run("r", "0.2", &["--checkpoint-every", "0.1"]);
@@ -341,7 +343,7 @@ fn a_run_with_a_file_that_cannot_be_removed_is_left_whole() {
         assert_eq!(before.len(), after.len(), "{err}");
     }
     let o = chute(tmp.path(), &["view", "r"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
 }
 
 /// `run --force` over an earlier run on a disk with room for the lock but not for the new
@@ -351,10 +353,9 @@ fn a_run_with_a_file_that_cannot_be_removed_is_left_whole() {
 /// ran, or failed leaving the earlier run byte for byte.
 #[test]
 fn a_forced_run_that_cannot_write_its_record_leaves_the_earlier_run_whole() {
-    if std::env::var_os("CHUTE_NO_TMPFS").is_some() {
+    let Some(tmp) = tmpfs_test_dir() else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
+    };
     let lefts = [60, 64, 68, 72, 76, 80];
     let steps: Vec<String> = lefts
         .iter()

@@ -38,24 +38,11 @@ fn unused_vertex_is_an_input_error_before_any_output() {
 
 #[test]
 fn implausible_material_is_warned_about_by_check() {
-    let tmp = tempfile::tempdir().unwrap();
-    let f = repo().join("scenarios/report-rod-200n.toml");
-    let o = chute(
-        tmp.path(),
-        &[
-            "check",
-            f.to_str().unwrap(),
-            "--set",
-            "material.youngs_modulus_pa=55e3",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains(
-            "warning: material.youngs_modulus_pa = 55000 Pa is far below any real fabric"
-        ),
-        "{}",
-        stderr(&o)
+    let o = check_bundled("report-rod-200n.toml", &["material.youngs_modulus_pa=55e3"]);
+    assert_exit_says(
+        &o,
+        0,
+        &["warning: material.youngs_modulus_pa = 55000 Pa is far below any real fabric"],
     );
 }
 
@@ -71,22 +58,12 @@ fn an_endless_study_file_is_refused_at_its_limit() {
     let tmp = tempfile::tempdir().unwrap();
     std::os::unix::fs::symlink(pagemap, tmp.path().join("pm.toml")).unwrap();
     let o = chute(tmp.path(), &["study", "pm.toml"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("cannot read study file"), "{err}");
+    assert_exit_says(&o, 2, &["cannot read study file"]);
 }
 
 /// `chute check scenarios/<file> --set <set>` exits 2 with every one of `want` in its message.
 fn check_refuses(file: &str, set: &str, want: &[&str]) {
-    let tmp = tempfile::tempdir().unwrap();
-    let path = repo().join("scenarios").join(file);
-    let o = chute(tmp.path(), &["check", path.to_str().unwrap(), "--set", set]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(
-        want.iter().all(|w| err.contains(w)),
-        "want {want:?} in: {err}"
-    );
+    assert_refused(&check_bundled(file, &[set]), want);
 }
 
 /// An imported mesh's lines (its rod edges, of the lines' material) are held to the same

@@ -9,13 +9,6 @@ use std::time::{Duration, Instant};
 
 use chute::output::run_files;
 
-fn rod_file() -> String {
-    repo()
-        .join("scenarios/report-rod-200n.toml")
-        .to_string_lossy()
-        .into_owned()
-}
-
 /// `chute run` of the coarse rod for `duration` s into `out`, with `extra` arguments.
 pub(crate) fn rod_run(duration: &str, out: &str, extra: &[&str]) -> Vec<String> {
     let mut a: Vec<String> = ["run", &rod_file(), "--quiet", "--out", out]
@@ -32,6 +25,15 @@ pub(crate) fn rod_run(duration: &str, out: &str, extra: &[&str]) -> Vec<String> 
 fn run(cwd: &Path, args: &[String]) -> std::process::Output {
     let a: Vec<&str> = args.iter().map(String::as_str).collect();
     chute(cwd, &a)
+}
+
+/// A new temporary directory holding `out`: 0.1 s of the coarse rod, checkpointed every
+/// 0.05 s, without the viewer (the run must succeed).
+fn checkpointed_rod_in_tmp(out: &str) -> tempfile::TempDir {
+    let tmp = tempfile::tempdir().unwrap();
+    let args = rod_run("0.1", out, &["--checkpoint-every", "0.05", "--no-viewer"]);
+    assert_exit(&run(tmp.path(), &args), 0);
+    tmp
 }
 
 /// A long run started in the background, once it holds `dir` (its record says `running`).
@@ -79,7 +81,7 @@ fn a_second_writer_is_refused_naming_the_holder_and_a_dead_holder_blocks_nobody(
     // The kernel released the dead process's lock; its stale lock file blocks nobody.
     assert!(tmp.path().join("d").join(run_files::LOCK).exists());
     let after = run(tmp.path(), &rod_run("0.05", "d", &["--force"]));
-    assert_eq!(after.status.code(), Some(0), "{}", stderr(&after));
+    assert_exit(&after, 0);
     let dir = tmp.path().join("d");
     assert!(!dir.join(run_files::LOCK).exists() && !dir.join(run_files::RESERVE).exists());
     let rows = csv_rows(&dir.join("timeseries.csv"));
@@ -93,12 +95,7 @@ fn a_killed_run_is_recorded_as_abandoned_and_view_says_so() {
     first.kill().unwrap();
     first.wait().unwrap();
     let o = chute(tmp.path(), &["view", "k"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("the run ended without finishing"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit_says(&o, 0, &["the run ended without finishing"]);
     let o = chute(tmp.path(), &["resume", "k"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
@@ -107,6 +104,15 @@ fn a_killed_run_is_recorded_as_abandoned_and_view_says_so() {
         stderr(&o)
     );
 }
+
+/// The optional files [`every_file_run`] writes (a plain rod run writes none of them).
+const OPTIONAL_FILES: [&str; 5] = [
+    "lines.csv",
+    "track.csv",
+    "track.png",
+    "wrinkles.png",
+    "snapshot_0.05s.png",
+];
 
 /// Arguments of a square shell canopy with a line pull and a no-compression fabric, so that
 /// the run writes every optional file: lines.csv, track.csv, track.png, wrinkles.png and a
@@ -137,17 +143,10 @@ fn every_file_run(out: &str) -> Vec<String> {
 fn every_file_a_run_writes_is_registered_and_force_clears_them_all() {
     let tmp = tempfile::tempdir().unwrap();
     let o = run(tmp.path(), &every_file_run("d"));
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     let dir = tmp.path().join("d");
     let written: Vec<String> = files(&dir).into_keys().collect();
-    for f in [
-        "lines.csv",
-        "track.csv",
-        "track.png",
-        "wrinkles.png",
-        "snapshot_0.05s.png",
-        "run.json",
-    ] {
+    for f in OPTIONAL_FILES.iter().chain(&["run.json"]) {
         assert!(
             written.iter().any(|w| w == f),
             "{f} not written: {written:?}"
@@ -166,16 +165,9 @@ fn every_file_a_run_writes_is_registered_and_force_clears_them_all() {
         tmp.path(),
         &rod_run("0.05", "d", &["--force", "--no-viewer"]),
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     let now: Vec<String> = files(&dir).into_keys().collect();
-    for gone in [
-        "lines.csv",
-        "track.csv",
-        "track.png",
-        "wrinkles.png",
-        "snapshot_0.05s.png",
-        "viewer.html",
-    ] {
+    for gone in OPTIONAL_FILES.iter().chain(&["viewer.html"]) {
         assert!(
             !now.iter().any(|w| w == gone),
             "{gone} left behind: {now:?}"
@@ -189,12 +181,7 @@ fn every_file_a_run_writes_is_registered_and_force_clears_them_all() {
 
 #[test]
 fn resume_cleans_the_temporaries_of_a_killed_writer() {
-    let tmp = tempfile::tempdir().unwrap();
-    let o = run(
-        tmp.path(),
-        &rod_run("0.1", "r", &["--checkpoint-every", "0.05", "--no-viewer"]),
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let tmp = checkpointed_rod_in_tmp("r");
     let dir = tmp.path().join("r");
     let left = [
         dir.join("frames/.frame_000003.vtu.Ab12Cd.tmp"),
@@ -204,8 +191,7 @@ fn resume_cleans_the_temporaries_of_a_killed_writer() {
     for f in &left {
         std::fs::write(f, "half a file").unwrap();
     }
-    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
     for f in &left {
         assert!(!f.exists(), "{f:?} left behind");
     }
@@ -217,12 +203,7 @@ fn resume_cleans_the_temporaries_of_a_killed_writer() {
 #[cfg(unix)]
 #[test]
 fn a_linked_frames_directory_is_refused() {
-    let tmp = tempfile::tempdir().unwrap();
-    let o = run(
-        tmp.path(),
-        &rod_run("0.1", "r", &["--checkpoint-every", "0.05", "--no-viewer"]),
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let tmp = checkpointed_rod_in_tmp("r");
     let ext = tmp.path().join("ext");
     std::fs::create_dir(&ext).unwrap();
     std::fs::write(ext.join("frame_000000.vtu"), "mine").unwrap();
@@ -234,9 +215,7 @@ fn a_linked_frames_directory_is_refused() {
         run(tmp.path(), &force),
         chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]),
     ] {
-        let err = stderr(&o);
-        assert_eq!(o.status.code(), Some(2), "{err}");
-        assert!(err.contains("is a symbolic link"), "{err}");
+        assert_exit_says(&o, 2, &["is a symbolic link"]);
     }
     assert_eq!(
         std::fs::read_to_string(ext.join("frame_000000.vtu")).unwrap(),
@@ -268,7 +247,7 @@ fn a_refused_run_removes_the_directories_it_created() {
                 "--quiet",
             ],
         );
-        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert_exit(&o, 2);
     }
     assert!(!tmp.path().join("nest").exists());
     assert!(tmp.path().join("keep").is_dir() && !tmp.path().join("keep/a").exists());
@@ -295,21 +274,13 @@ fn files_of(dir: &Path) -> Vec<(String, Vec<u8>)> {
 /// another run's checkpoint copied in.
 #[test]
 fn a_refused_resume_leaves_the_run_directory_as_it_was() {
-    let tmp = tempfile::tempdir().unwrap();
-    let o = run(
-        tmp.path(),
-        &rod_run("0.1", "r", &["--checkpoint-every", "0.05", "--no-viewer"]),
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let tmp = checkpointed_rod_in_tmp("r");
     std::fs::remove_file(tmp.path().join("r/frames/frame_000001.vtu")).unwrap();
     let before = files_of(&tmp.path().join("r"));
     let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("frame_000001.vtu") && err.contains("is missing"),
-        "{err}"
-    );
+    assert_exit(&o, 2);
+    assert_contains(&err, &["frame_000001.vtu", "is missing"]);
     assert!(files_of(&tmp.path().join("r")) == before, "files changed");
     // Another model's checkpoint: refused for its shape, nothing changed either.
     let o = run(
@@ -320,7 +291,7 @@ fn a_refused_resume_leaves_the_run_directory_as_it_was() {
             &["--checkpoint-every", "0.05", "--no-viewer", "--force"],
         ),
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     let mut other = rod_run("0.1", "o", &["--checkpoint-every", "0.05", "--no-viewer"]);
     other.extend(["--set".into(), "canopy.nodes=31".into()]);
     assert_eq!(run(tmp.path(), &other).status.code(), Some(0));
@@ -328,7 +299,7 @@ fn a_refused_resume_leaves_the_run_directory_as_it_was() {
     std::fs::copy(tmp.path().join("o/checkpoint.bin"), &ckpt).unwrap();
     let before = files_of(&tmp.path().join("r"));
     let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     assert!(files_of(&tmp.path().join("r")) == before, "files changed");
     // Its scenario copied in too: the time series does not end at the checkpoint's state.
     let resolved = "scenario.resolved.toml";
@@ -339,24 +310,17 @@ fn a_refused_resume_leaves_the_run_directory_as_it_was() {
     .unwrap();
     let before = files_of(&tmp.path().join("r"));
     let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("not of one run"), "{}", stderr(&o));
+    assert_exit_says(&o, 2, &["not of one run"]);
     assert!(files_of(&tmp.path().join("r")) == before, "files changed");
 }
 
 #[test]
 fn resume_keeps_no_viewer() {
-    let tmp = tempfile::tempdir().unwrap();
-    let o = run(
-        tmp.path(),
-        &rod_run("0.1", "r", &["--checkpoint-every", "0.05", "--no-viewer"]),
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let o = chute(
+    let tmp = checkpointed_rod_in_tmp("r");
+    chute_ok(
         tmp.path(),
         &["resume", "r", "--set", "time.duration_s=0.15"],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(!tmp.path().join("r/viewer.html").exists());
 }
 
@@ -410,45 +374,34 @@ fn resume_refuses_a_changed_mesh_naming_the_key_and_the_file() {
     .map(|s| s.to_string())
     .collect();
     let o = run(tmp.path(), &args);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let record: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("m/run.json")).unwrap())
-            .unwrap();
+    assert_exit(&o, 0);
+    let record = read_json(tmp.path().join("m/run.json"));
     assert_eq!(record["inputs"][0]["key"], "canopy.mesh_file", "{record}");
     // Every node × 1.2: the same name, other contents.
     std::fs::write(&mesh, hex_mesh(1.2)).unwrap();
     let o = chute(tmp.path(), &["resume", "m", "--set", "time.duration_s=0.8"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    for want in [
+    let want = [
         "canopy.mesh_file",
         "canopy.txt",
         "has changed since the run started",
-    ] {
-        assert!(stderr(&o).contains(want), "{}", stderr(&o));
-    }
+    ];
+    assert_exit_says(&o, 2, &want);
     // A record edited to list no inputs cannot hide the change: the file it omits is named.
     let path = tmp.path().join("m/run.json");
     let mut without = record.clone();
     without["inputs"] = serde_json::json!([]);
     std::fs::write(&path, without.to_string()).unwrap();
     let o = chute(tmp.path(), &["resume", "m", "--set", "time.duration_s=0.8"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("does not list"), "{}", stderr(&o));
+    assert_exit_says(&o, 2, &["does not list"]);
     std::fs::write(&path, record.to_string()).unwrap();
     // The run is untouched and resumes once the file is back.
     std::fs::write(&mesh, hex_mesh(1.0)).unwrap();
-    let o = chute(tmp.path(), &["resume", "m", "--set", "time.duration_s=0.8"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(tmp.path(), &["resume", "m", "--set", "time.duration_s=0.8"]);
 }
 
 #[test]
 fn a_resumed_study_case_says_how_it_ended_in_its_marker() {
-    let tmp = tempfile::tempdir().unwrap();
-    let o = run(
-        tmp.path(),
-        &rod_run("0.1", "s/c", &["--checkpoint-every", "0.05", "--no-viewer"]),
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let tmp = checkpointed_rod_in_tmp("s/c");
     // The marker of a case the study saw stop early.
     let done = tmp.path().join("s/c/done.json");
     let marker = serde_json::json!({
@@ -456,13 +409,11 @@ fn a_resumed_study_case_says_how_it_ended_in_its_marker() {
         "message": "interrupted at t = 0.1 s", "wall_time_s": 1.0, "inputs": "fnv1a64:0",
     });
     std::fs::write(&done, marker.to_string()).unwrap();
-    let o = chute(
+    chute_ok(
         tmp.path(),
         &["resume", "s/c", "--set", "time.duration_s=0.15"],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let after: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&done).unwrap()).unwrap();
+    let after = read_json(&done);
     assert_eq!(after["status"], "complete", "{after}");
     assert!(after["message"].is_null(), "{after}");
     assert!(after["wall_time_s"].as_f64().unwrap() > 1.0, "{after}");
@@ -492,7 +443,7 @@ fn a_run_directory_named_in_bytes_that_are_not_utf8_runs() {
         .current_dir(tmp.path())
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     assert!(tmp.path().join(name).join("summary.json").is_file());
 }
 
@@ -503,7 +454,7 @@ fn a_run_directory_named_in_bytes_that_are_not_utf8_runs() {
 fn a_huge_jobs_count_starts_no_more_workers_than_cases() {
     let tmp = tempfile::tempdir().unwrap();
     let study = repo().join("studies/table1.toml").display().to_string();
-    let o = chute(
+    chute_ok(
         tmp.path(),
         &[
             "study",
@@ -516,7 +467,6 @@ fn a_huge_jobs_count_starts_no_more_workers_than_cases() {
             "time.duration_s=0.02",
         ],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(tmp.path().join("s/study.csv").is_file());
 }
 
@@ -526,10 +476,10 @@ fn a_huge_jobs_count_starts_no_more_workers_than_cases() {
 fn view_names_a_frame_collection_that_is_not_one() {
     let tmp = tempfile::tempdir().unwrap();
     let o = run(tmp.path(), &rod_run("0.02", "r", &["--no-viewer"]));
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     std::fs::write(tmp.path().join("r/canopy.pvd"), "not xml at all\n").unwrap();
     let o = chute(tmp.path(), &["view", "r"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     assert!(
         stderr(&o).contains("canopy.pvd") && stderr(&o).contains("not a ParaView collection"),
         "{}",

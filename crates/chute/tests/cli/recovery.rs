@@ -2,18 +2,11 @@
 //! `[material]` (bad input exits 2 naming the key), `chute check`'s lines on the air and the
 //! fall to the ground, the ignored-key warning with `isa1976`, and a run that lands (exit 0).
 
-use crate::common::{chute, repo, stderr, stdout};
+use crate::common::*;
 
 fn round() -> String {
     repo()
         .join("scenarios/round-parachute.toml")
-        .display()
-        .to_string()
-}
-
-fn rod() -> String {
-    repo()
-        .join("scenarios/report-rod-200n.toml")
         .display()
         .to_string()
 }
@@ -96,7 +89,7 @@ fn bad_atmosphere_and_fabric_inputs_exit_2_naming_the_key() {
             &["material.forchheimer_coefficient", "permeable"],
         ),
         (
-            &rod(),
+            &rod_file(),
             &["material.permeability_m2=1e-10"],
             &["material.permeability_m2", "shell"],
         ),
@@ -126,7 +119,7 @@ fn check_prints_the_air_and_the_fall_to_the_ground() {
             "atmosphere.ground_altitude_m=5000",
         ],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     let out = stdout(&o);
     for want in [
         "air at the start (11000 m)",
@@ -155,7 +148,7 @@ fn check_prints_the_air_and_the_fall_to_the_ground() {
 #[test]
 fn a_run_that_reaches_the_ground_is_complete() {
     let dir = tempfile::tempdir().unwrap();
-    let f = rod();
+    let f = rod_file();
     let o = chute(
         dir.path(),
         &[
@@ -178,7 +171,7 @@ fn a_run_that_reaches_the_ground_is_complete() {
             "atmosphere.ground_altitude_m=5",
         ],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     let j: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(j["complete"], true, "{j}");
     assert_eq!(j["stop_reason"], "ground", "{j}");

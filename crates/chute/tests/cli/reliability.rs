@@ -9,13 +9,6 @@ use std::time::{Duration, Instant};
 
 use chute::checkpoint::Checkpoint;
 
-fn rod_file() -> String {
-    repo()
-        .join("scenarios/report-rod-200n.toml")
-        .to_string_lossy()
-        .into_owned()
-}
-
 const COARSE: [&str; 4] = [
     "--set",
     "canopy.nodes=21",
@@ -59,7 +52,7 @@ fn a_failing_run_exits_3_with_reason_and_valid_partial_outputs() {
     args.extend(FAILING_PULL_SETS.iter().map(|s| s.to_string()));
     let o = run(tmp.path(), &args);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert_exit(&o, 3);
     for want in [
         "step failed at t = ",
         "residual",
@@ -71,8 +64,7 @@ fn a_failing_run_exits_3_with_reason_and_valid_partial_outputs() {
     // A failed step's checkpoint is the last good state, not a point to continue from.
     assert!(!err.contains("chute resume"), "{err}");
     let dir = tmp.path().join("f");
-    let summary: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
+    let summary = read_json(dir.join("summary.json"));
     assert_eq!(summary["complete"], false);
     let c = Checkpoint::read(&dir).unwrap();
     let rows = csv_rows(&dir.join("timeseries.csv"));
@@ -93,17 +85,14 @@ fn sigterm_leaves_a_checkpoint_and_the_resumed_run_equals_the_uninterrupted_one(
     let tmp = tempfile::tempdir().unwrap();
     let dur = "time.duration_s=1";
     let o = run(tmp.path(), &run_args("full", dur, &[]));
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
 
     let args = run_args("part", dur, &["--checkpoint-every", "0.1"]);
     // Signal once the run is under way (its fifth frame, t = 0.2 s, is written).
     let o = term_once_written(tmp.path(), &args, "part/frames/frame_000004.vtu");
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(err.contains("interrupted"), "{err}");
+    assert_exit_says(&o, 3, &["interrupted"]);
     let dir = tmp.path().join("part");
-    let summary: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
+    let summary = read_json(dir.join("summary.json"));
     assert_eq!(summary["complete"], false);
     let c = Checkpoint::read(&dir).unwrap();
     assert!(c.synced);
@@ -111,8 +100,7 @@ fn sigterm_leaves_a_checkpoint_and_the_resumed_run_equals_the_uninterrupted_one(
 
     // The directory alone: its record holds the scenario and the --set options (among them
     // the duration, 1 s, where the file says 10 s).
-    let o = chute(tmp.path(), &["resume", "part", "--quiet"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(tmp.path(), &["resume", "part", "--quiet"]);
     assert_same_outputs(&tmp.path().join("full"), &dir);
 }
 
@@ -135,8 +123,7 @@ fn same_inputs_give_identical_files_whatever_the_jobs() {
     for (out, jobs) in [("j1", "1"), ("j3", "3")] {
         let mut a = vec!["study", "det.toml", "--out", out, "--jobs", jobs];
         a.extend(sets);
-        let o = chute(tmp.path(), &a);
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        chute_ok(tmp.path(), &a);
     }
     for case in ["weight_n-20", "weight_n-200", "weight_n-2000"] {
         assert_same_outputs(
@@ -161,7 +148,7 @@ fn same_inputs_give_identical_files_whatever_the_jobs() {
                 ],
             ),
         );
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert_exit(&o, 0);
     }
     assert_same_outputs(&tmp.path().join("a"), &tmp.path().join("b"));
     assert_same_outputs(&tmp.path().join("a"), &tmp.path().join("j3/weight_n-200"));
@@ -174,27 +161,23 @@ fn an_unwritable_directory_is_refused_before_the_run_even_for_root() {
     let tmp = tempfile::tempdir().unwrap();
     let a = run_args("/proc/self", "time.duration_s=0.01", &["--force"]);
     let o = run(tmp.path(), &a);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("is not writable"), "{err}");
+    assert_exit_says(&o, 2, &["is not writable"]);
 }
 
 #[test]
 fn resume_without_a_checkpoint_is_an_input_error() {
     let tmp = tempfile::tempdir().unwrap();
     let o = run(tmp.path(), &run_args("r", "time.duration_s=0.01", &[]));
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     // No --checkpoint-every: a completed run keeps no checkpoint.
     let o = chute(tmp.path(), &["resume", "r"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     // It says what to do instead: run again, longer.
-    for want in [
+    let want = [
         "kept no checkpoint",
         "--checkpoint-every",
         "chute run r/scenario.resolved.toml --out r --force --set time.duration_s=T",
-    ] {
-        assert!(stderr(&o).contains(want), "{}", stderr(&o));
-    }
+    ];
+    assert_exit_says(&o, 2, &want);
 }
 
 #[test]
@@ -216,7 +199,7 @@ fn parallel_element_loops_give_identical_files_whatever_the_threads() {
             .current_dir(tmp.path())
             .output()
             .unwrap();
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert_exit(&o, 0);
     }
     let dofs = std::fs::read_to_string(tmp.path().join("t1/summary.json")).unwrap();
     assert!(dofs.contains("\"dofs\": "), "{dofs}");
@@ -237,8 +220,7 @@ fn a_stopped_study_does_not_begin_its_remaining_cases() {
         .collect();
     let o = term_once_written(tmp.path(), &args, "s/20N/frames/frame_000002.vtu");
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(err.contains("not run: the study was stopped"), "{err}");
+    assert_exit_says(&o, 3, &["not run: the study was stopped"]);
     for later in ["200N", "2000N"] {
         assert!(!tmp.path().join("s").join(later).exists(), "{later}: {err}");
     }

@@ -2,7 +2,7 @@
 //! ladder tells them from a user's files of those names (docs/reliability.md §5): a user's
 //! file is refused (status 2) and kept, chute's own are replaced by the next run.
 
-use crate::common::stderr;
+use crate::common::*;
 use crate::converge::short_ladder;
 
 /// Each report name in turn holds a user's file that looks like chute's (a PNG chute drew
@@ -11,10 +11,10 @@ use crate::converge::short_ladder;
 fn a_users_file_named_like_a_ladders_report_is_refused_and_kept() {
     let tmp = tempfile::tempdir().unwrap();
     let o = short_ladder(tmp.path(), "11,21", &[]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     // chute's own reports are its own: the ladder runs again into the same directory.
     let o = short_ladder(tmp.path(), "11,21", &["--force"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     // A picture chute drew, of another name (a level's velocity plot).
     let level_png = std::fs::read_dir(tmp.path().join("cv"))
         .unwrap()
@@ -61,12 +61,12 @@ fn validate_never_replaces_a_users_report_nor_writes_into_a_run() {
     std::fs::write(&mine, "my notes\n").unwrap();
     let args = ["validate", "--quick", "--case", "elastica", "--out"];
     let o = crate::common::chute(tmp.path(), &[&args[..], &["v"]].concat());
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     assert_eq!(std::fs::read_to_string(&mine).unwrap(), "my notes\n");
     std::fs::create_dir(tmp.path().join("r")).unwrap();
     let record = r#"{"status": "complete", "reason": null, "inputs": [], "viewer": true}"#;
     std::fs::write(tmp.path().join("r/run.json"), record).unwrap();
     let o = crate::common::chute(tmp.path(), &[&args[..], &["r"]].concat());
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     assert!(!tmp.path().join("r/validation_table.md").exists());
 }

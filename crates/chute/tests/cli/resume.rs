@@ -6,13 +6,6 @@ use crate::common::*;
 use std::path::Path;
 use std::process::Output;
 
-fn rod_file() -> String {
-    repo()
-        .join("scenarios/report-rod-200n.toml")
-        .to_string_lossy()
-        .into_owned()
-}
-
 /// `chute run` of the coarse rod into `out` with `extra` arguments.
 fn run(cwd: &Path, out: &str, extra: &[&str]) -> Output {
     let f = rod_file();
@@ -44,12 +37,21 @@ fn ok(o: &Output) {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(o));
 }
 
-fn refused(o: &Output, want: &[&str]) {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    for w in want {
-        assert!(err.contains(w), "want `{w}` in: {err}");
-    }
+/// A new temporary directory holding `r`, a [`CHECKPOINTED`] run (which must succeed), and the
+/// path of `r`.
+fn checkpointed_in_tmp() -> (tempfile::TempDir, std::path::PathBuf) {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let r = tmp.path().join("r");
+    (tmp, r)
+}
+
+/// A run with `extra` arguments into `out` of `cwd` is refused saying `want`, and every file of
+/// `out` is left as it was.
+fn refused_leaving_whole(cwd: &Path, out: &str, extra: &[&str], want: &str) {
+    assert_untouched(&cwd.join(out), || {
+        assert_refused(&run(cwd, out, extra), &[want]);
+    });
 }
 
 #[test]
@@ -83,20 +85,15 @@ fn shorter_duration_resume_is_refused() {
     let tmp = tempfile::tempdir().unwrap();
     let args = ["--set", "time.duration_s=0.2", "--checkpoint-every", "0.1"];
     ok(&run(tmp.path(), "r", &args));
-    let before = files(&tmp.path().join("r"));
-    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.1"]);
-    refused(
-        &o,
-        &[
-            "time.duration_s = 0.1 s",
-            "recorded run's 0.2 s",
-            "extended",
-        ],
-    );
-    assert!(
-        before == files(&tmp.path().join("r")),
-        "the run was changed"
-    );
+    let want = [
+        "time.duration_s = 0.1 s",
+        "recorded run's 0.2 s",
+        "extended",
+    ];
+    assert_untouched(&tmp.path().join("r"), || {
+        let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.1"]);
+        assert_refused(&o, &want);
+    });
 }
 
 #[test]
@@ -107,23 +104,23 @@ fn resume_refuses_overrides_other_than_the_duration() {
         "r",
         &["--set", "time.duration_s=0.15", "--checkpoint-every", "0.1"],
     ));
-    refused(
+    assert_refused(
         &chute(tmp.path(), &["resume", "r", "--set", "load.weight_n=20"]),
         &["only time.duration_s may change", "chute run"],
     );
-    refused(
+    assert_refused(
         &chute(tmp.path(), &["resume", "r", "--checkpoint-every", "-1"]),
         &["--checkpoint-every -1: must be a positive number"],
     );
-    refused(
+    assert_refused(
         &chute(tmp.path(), &["resume", "r", "--checkpoint-every", "-inf"]),
         &["--checkpoint-every -inf: must be a positive number"],
     );
-    refused(
+    assert_refused(
         &chute(tmp.path(), &["resume", "nowhere"]),
         &["not a directory"],
     );
-    refused(
+    assert_refused(
         &chute(tmp.path(), &["run", &rod_file(), "--resume", "r"]),
         &["retired", "chute resume r"],
     );
@@ -155,28 +152,15 @@ fn force_leaves_nothing_old() {
         chute(tmp.path(), &a)
     };
     let o = failing("fresh", false);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert_exit(&o, 3);
     let o = failing("d", true);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert_exit(&o, 3);
     assert_same_outputs(&tmp.path().join("fresh"), &tmp.path().join("d"));
     // A run that cannot start (an input error) leaves the earlier run whole.
-    let before = files(&tmp.path().join("d"));
-    let o = run(
-        tmp.path(),
-        "d",
-        &[
-            "--force",
-            "--set",
-            "lines.length_m=1",
-            "--set",
-            "load.mode=payload",
-        ],
-    );
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        before == files(&tmp.path().join("d")),
-        "the earlier run was changed"
-    );
+    let bad = ["--set", "lines.length_m=1", "--set", "load.mode=payload"];
+    assert_untouched(&tmp.path().join("d"), || {
+        assert_exit(&run(tmp.path(), "d", &[&["--force"][..], &bad].concat()), 2);
+    });
 }
 
 #[test]
@@ -186,7 +170,7 @@ fn force_never_deletes_files_chute_did_not_write() {
     // Not a run directory: refused, untouched.
     std::fs::create_dir(tmp.path().join("mine")).unwrap();
     std::fs::write(tmp.path().join("mine/notes.txt"), "keep").unwrap();
-    refused(
+    assert_refused(
         &run(tmp.path(), "mine", &short),
         &["not a chute run directory"],
     );
@@ -205,15 +189,14 @@ fn force_never_deletes_files_chute_did_not_write() {
 /// user's elsewhere) is refused before anything is written, and the linked file is untouched.
 #[test]
 fn resume_refuses_a_run_file_that_is_a_link() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let (tmp, _) = checkpointed_in_tmp();
     let ts = tmp.path().join("r/timeseries.csv");
     let outside = tmp.path().join("elsewhere.csv");
     std::fs::rename(&ts, &outside).unwrap();
     std::os::unix::fs::symlink(&outside, &ts).unwrap();
     let before = std::fs::read(&outside).unwrap();
     let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
-    refused(&o, &["timeseries.csv", "symbolic link"]);
+    assert_refused(&o, &["timeseries.csv", "symbolic link"]);
     assert!(
         std::fs::read(&outside).unwrap() == before,
         "the linked file changed"
@@ -224,11 +207,10 @@ fn resume_refuses_a_run_file_that_is_a_link() {
 /// refuses it as bad input (status 2) saying what is missing.
 #[test]
 fn resume_without_the_resolved_scenario_is_bad_input() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let (tmp, _) = checkpointed_in_tmp();
     std::fs::remove_file(tmp.path().join("r/scenario.resolved.toml")).unwrap();
     let o = chute(tmp.path(), &["resume", "r"]);
-    refused(&o, &["scenario.resolved.toml"]);
+    assert_refused(&o, &["scenario.resolved.toml"]);
 }
 
 /// A run that ends before its first sync point (64 steps) writes no checkpoint whatever
@@ -257,8 +239,7 @@ fn a_run_too_short_for_a_checkpoint_says_so() {
 /// every byte of the original as it was.
 #[test]
 fn a_hard_linked_copy_is_resumed_and_rerun_without_changing_the_original() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let (tmp, _) = checkpointed_in_tmp();
     let cp = |to: &str| {
         tool(
             tmp.path(),
@@ -291,16 +272,14 @@ fn a_hard_linked_copy_is_resumed_and_rerun_without_changing_the_original() {
 /// replaced by a link, is refused and the directory is left exactly as it was.
 #[test]
 fn resume_refuses_frames_it_could_not_keep_or_remove_before_touching_anything() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
-    let r = tmp.path().join("r");
+    let (tmp, r) = checkpointed_in_tmp();
     let later = r.join("frames/frame_000099.vtu");
     std::fs::create_dir(&later).unwrap();
     std::fs::write(later.join("inside"), "x").unwrap();
-    let before = files(&r);
-    let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
-    refused(&o, &["frame_000099.vtu", "is a directory"]);
-    assert!(before == files(&r), "the run was changed");
+    assert_untouched(&r, || {
+        let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
+        assert_refused(&o, &["frame_000099.vtu", "is a directory"]);
+    });
     std::fs::remove_dir_all(&later).unwrap();
 
     let kept = r.join("frames/frame_000000.vtu");
@@ -308,7 +287,7 @@ fn resume_refuses_frames_it_could_not_keep_or_remove_before_touching_anything() 
     std::fs::rename(&kept, &outside).unwrap();
     std::os::unix::fs::symlink(&outside, &kept).unwrap();
     let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
-    refused(&o, &["frame_000000.vtu", "symbolic link"]);
+    assert_refused(&o, &["frame_000000.vtu", "symbolic link"]);
 }
 
 /// A run that failed before it wrote its scenario (a full disk) leaves only its record: resume
@@ -322,7 +301,7 @@ fn a_directory_with_only_a_failed_record_says_why_on_resume_and_view() {
     let record = r#"{"status": "failed", "reason": "writing r/x: No space left on device (os error 28)", "inputs": [], "viewer": true}"#;
     std::fs::write(r.join("run.json"), record).unwrap();
     let o = chute(tmp.path(), &["resume", "r"]);
-    refused(
+    assert_refused(
         &o,
         &[
             "no scenario.resolved.toml",
@@ -331,7 +310,7 @@ fn a_directory_with_only_a_failed_record_says_why_on_resume_and_view() {
         ],
     );
     let o = chute(tmp.path(), &["view", "r"]);
-    refused(&o, &["its run did not finish", "No space left on device"]);
+    assert_refused(&o, &["its run did not finish", "No space left on device"]);
 }
 
 /// `--force` replaces only what is chute's: a user's pictures named like a snapshot but
@@ -339,9 +318,7 @@ fn a_directory_with_only_a_failed_record_says_why_on_resume_and_view() {
 /// another tool's is not a chute run, so `--force` refuses it (status 2) and changes nothing.
 #[test]
 fn force_replaces_only_chute_files_and_runs() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
-    let r = tmp.path().join("r");
+    let (tmp, r) = checkpointed_in_tmp();
     for name in ["snapshot_of_the_bags.png", "snapshot_v2s.png"] {
         std::fs::write(r.join(name), "the user's").unwrap();
     }
@@ -353,10 +330,12 @@ fn force_replaces_only_chute_files_and_runs() {
     std::fs::create_dir(&other).unwrap();
     std::fs::write(other.join("run.json"), r#"{"my": "config"}"#).unwrap();
     std::fs::write(other.join("summary.json"), r#"{"mine": 1}"#).unwrap();
-    let before = files(&other);
-    let o = run(tmp.path(), "other", &["--force"]);
-    refused(&o, &["not a chute run directory"]);
-    assert!(before == files(&other), "the user's files changed");
+    refused_leaving_whole(
+        tmp.path(),
+        "other",
+        &["--force"],
+        "not a chute run directory",
+    );
 }
 
 /// A directory copied with hard links shares the original's lock and reserve files: the
@@ -364,8 +343,7 @@ fn force_replaces_only_chute_files_and_runs() {
 /// dead one's description) keeps its bytes and never blocks the copy.
 #[test]
 fn a_hard_linked_copy_gets_its_own_lock() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let (tmp, _) = checkpointed_in_tmp();
     let lock = tmp.path().join("r/.chute.lock");
     std::fs::write(&lock, "pid=1\nhost=elsewhere\n").unwrap();
     tool(
@@ -387,24 +365,22 @@ fn a_hard_linked_copy_gets_its_own_lock() {
 /// `--force` clears the earlier run, which is left whole.
 #[test]
 fn force_over_a_frames_file_is_refused_before_clearing() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
-    let r = tmp.path().join("r");
+    let (tmp, r) = checkpointed_in_tmp();
     std::fs::remove_dir_all(r.join("frames")).unwrap();
     std::fs::write(r.join("frames"), "not a directory").unwrap();
-    let before = files(&r);
-    let o = run(tmp.path(), "r", &["--force"]);
-    refused(&o, &["`r/frames` is not a directory"]);
-    assert!(before == files(&r), "the earlier run was changed");
+    refused_leaving_whole(
+        tmp.path(),
+        "r",
+        &["--force"],
+        "`r/frames` is not a directory",
+    );
 }
 
 /// A directory where a run writes one of its files (`canopy.pvd/`, a frame's name) is refused
 /// (status 2) before `--force` clears the earlier run or a resume cuts it back: it is left whole.
 #[test]
 fn force_over_a_directory_named_like_a_run_file_is_refused_before_clearing() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
-    let r = tmp.path().join("r");
+    let (tmp, r) = checkpointed_in_tmp();
     for taken in ["canopy.pvd", "frames/frame_000001.vtu"] {
         let path = r.join(taken);
         let kept = std::fs::read(&path).unwrap();
@@ -412,7 +388,7 @@ fn force_over_a_directory_named_like_a_run_file_is_refused_before_clearing() {
         std::fs::create_dir(&path).unwrap();
         let before = std::fs::read_dir(&r).unwrap().count();
         let o = run(tmp.path(), "r", &["--force"]);
-        refused(
+        assert_refused(
             &o,
             &[&format!(
                 "`r/{taken}` is a directory: a run writes a file of that name"
@@ -427,7 +403,7 @@ fn force_over_a_directory_named_like_a_run_file_is_refused_before_clearing() {
         // Nor does a resume cut its time series back first.
         let series = std::fs::read(r.join("timeseries.csv")).unwrap();
         let o = chute(tmp.path(), &["resume", "r", "--quiet"]);
-        refused(&o, &[&format!("`r/{taken}` is a directory")]);
+        assert_refused(&o, &[&format!("`r/{taken}` is a directory")]);
         assert_eq!(series, std::fs::read(r.join("timeseries.csv")).unwrap());
         std::fs::remove_dir(&path).unwrap();
         std::fs::write(&path, kept).unwrap();
@@ -454,59 +430,48 @@ fn a_killed_clearing_leaves_a_directory_force_can_still_replace() {
     ));
     std::fs::create_dir(r.join(".chute.old")).unwrap();
     std::fs::write(r.join(".chute.old/notes.txt"), "mine").unwrap();
-    let before = files(&r);
-    let o = run(tmp.path(), "r", &["--force", "--no-viewer"]);
-    refused(&o, &["`r/.chute.old` holds files chute did not put there"]);
-    assert!(before == files(&r), "the earlier run was changed");
+    let held = "`r/.chute.old` holds files chute did not put there";
+    refused_leaving_whole(tmp.path(), "r", &["--force", "--no-viewer"], held);
     // Nor does a resume touch the run (its record included).
-    let o = chute(tmp.path(), &["resume", "r", "--quiet"]);
-    refused(&o, &["`r/.chute.old` holds files chute did not put there"]);
-    assert!(before == files(&r), "the earlier run was changed");
+    assert_untouched(&r, || {
+        assert_refused(&chute(tmp.path(), &["resume", "r", "--quiet"]), &[held]);
+    });
 }
 
 /// A directory whose `--force` clearing was killed after its record was moved aside is not
 /// a complete run: `view` notes an unfinished run, and resume does not call it complete.
 #[test]
 fn a_half_cleared_run_is_not_described_as_complete() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
-    let r = tmp.path().join("r");
+    let (tmp, r) = checkpointed_in_tmp();
     std::fs::create_dir(r.join(".chute.old")).unwrap();
     std::fs::rename(r.join("run.json"), r.join(".chute.old/0")).unwrap();
     std::fs::remove_file(r.join("checkpoint.bin")).unwrap();
     let o = chute(tmp.path(), &["view", "r"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(stderr(&o).contains("unfinished run"), "{}", stderr(&o));
+    assert_exit_says(&o, 0, &["unfinished run"]);
     let o = chute(tmp.path(), &["resume", "r"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        !stderr(&o).contains("the run is complete"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit(&o, 2);
+    assert_stderr_lacks(&o, &["the run is complete"]);
 }
 
 /// A run whose record was deleted, beside a checkpoint of a chute that always writes one, is
 /// not resumed on trust: nothing could check its input files against the run's.
 #[test]
 fn a_resume_without_the_record_its_checkpoint_implies_is_refused() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let (tmp, _) = checkpointed_in_tmp();
     std::fs::remove_file(tmp.path().join("r/run.json")).unwrap();
     let o = chute(tmp.path(), &["resume", "r", "--set", "time.duration_s=0.2"]);
-    refused(&o, &["run.json", "is missing", "chute run"]);
+    assert_refused(&o, &["run.json", "is missing", "chute run"]);
 }
 
 /// A frame its run listed that is gone (a resume killed while it moved later frames aside)
 /// is the run's state: `view` says which file is missing (status 2), not a bare I/O error.
 #[test]
 fn view_names_a_missing_frame_of_its_run() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
+    let (tmp, _) = checkpointed_in_tmp();
     let frame = tmp.path().join("r/frames/frame_000001.vtu");
     std::fs::remove_file(&frame).unwrap();
     let o = chute(tmp.path(), &["view", "r"]);
-    refused(&o, &["frame_000001.vtu", "a file of its run, is missing"]);
+    assert_refused(&o, &["frame_000001.vtu", "a file of its run, is missing"]);
 }
 
 /// A run with pulled lines is not resumed without its `lines.csv` (its rows up to the
@@ -535,12 +500,12 @@ fn a_pulled_run_without_its_lines_file_is_not_resumed() {
         .map(|(_, l)| l)
         .collect();
     std::fs::write(&lines, kept.join("\n") + "\n").unwrap();
-    refused(
+    assert_refused(
         &chute(tmp.path(), &resume),
         &["lines.csv", "run the scenario again"],
     );
     std::fs::remove_file(&lines).unwrap();
-    refused(
+    assert_refused(
         &chute(tmp.path(), &resume),
         &["lines.csv", "run the scenario again"],
     );
@@ -565,9 +530,7 @@ fn a_resume_without_a_viewer_leaves_no_stale_one() {
 /// temporary behind.
 #[test]
 fn a_picture_that_cannot_be_renamed_leaves_no_temporary() {
-    let tmp = tempfile::tempdir().unwrap();
-    ok(&run(tmp.path(), "r", &CHECKPOINTED));
-    let r = tmp.path().join("r");
+    let (tmp, r) = checkpointed_in_tmp();
     std::fs::remove_file(r.join("velocity.png")).unwrap();
     std::fs::create_dir(r.join("velocity.png")).unwrap();
     std::fs::write(r.join("velocity.png/mine"), "x").unwrap();

@@ -3,7 +3,8 @@
 //! record is taken only when it is exactly the case's, and another study's directory is never
 //! run into.
 use crate::collect::{
-    other_study_args, table1_study, table1_study_again, table1_study_in, write_other_study,
+    other_study_args, other_study_in_tmp, table1_study, table1_study_again, table1_study_in,
+    write_other_study,
 };
 use crate::common::*;
 
@@ -26,8 +27,7 @@ fn users_run(dir: &std::path::Path, out: &str) {
         &set,
     ]
     .concat();
-    let o = chute(dir, &args);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(dir, &args);
 }
 
 /// `chute study` skips a case only when its summary reads too: a "complete" case whose
@@ -42,8 +42,7 @@ fn a_study_reruns_a_complete_case_without_its_summary() {
         "{err}"
     );
     assert!(tmp.path().join("s/200N/summary.json").is_file());
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(tmp.path(), &["collect", "s", "--out", "m"]);
 }
 
 /// A case directory that is a link (to a run elsewhere) is not run through: the case is
@@ -59,15 +58,12 @@ fn a_study_does_not_write_through_a_linked_case_directory() {
     let o = table1_study(tmp.path(), "s");
     let err = stderr(&o);
     assert_ne!(o.status.code(), Some(0), "{err}");
-    assert!(
-        err.contains("200N") && err.contains("symbolic link"),
-        "{err}"
-    );
+    assert_contains(&err, &["200N", "symbolic link"]);
     let left: Vec<_> = std::fs::read_dir(&elsewhere).unwrap().collect();
     assert_eq!(left.len(), 1, "the linked directory was written to");
     // Linked to another study's finished case, the link is no case of this table either.
     let other = table1_study(tmp.path(), "t");
-    assert_eq!(other.status.code(), Some(0), "{}", stderr(&other));
+    assert_exit(&other, 0);
     std::fs::remove_file(tmp.path().join("s/200N")).unwrap();
     std::os::unix::fs::symlink(tmp.path().join("t/200N"), tmp.path().join("s/200N")).unwrap();
     let o = table1_study(tmp.path(), "s");
@@ -89,7 +85,7 @@ fn a_study_tables_only_its_own_cases() {
     users_run(tmp.path(), "s/other");
 
     let o = table1_study(tmp.path(), "s");
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     let table = std::fs::read_to_string(tmp.path().join("s/study.csv")).unwrap();
     assert_eq!(table.lines().count(), 4, "{table}");
     assert!(!table.contains("other"), "{table}");
@@ -121,30 +117,22 @@ fn a_study_replaces_a_run_it_did_not_record_only_when_forced() {
         chute(tmp.path(), &args.concat())
     };
     let o = again(&[]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(
-        err.contains("case 20N: not run: `s/20N` holds a run that was not made for this case (no done.json, and its run.json names no case table1/20N); --force replaces it"),
-        "{err}"
-    );
+    assert_exit_says(&o, 3, &["case 20N: not run: `s/20N` holds a run that was not made for this case (no done.json, and its run.json names no case table1/20N); --force replaces it"]);
     assert_eq!(summary(), users, "the user's run was touched");
     // Nor when its record is damaged (or missing, from an older chute).
     let record = tmp.path().join("s/20N/run.json");
     std::fs::write(&record, "{").unwrap();
     let o = again(&[]);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert_exit(&o, 3);
     assert_eq!(summary(), users, "the user's run was touched");
     std::fs::remove_file(&record).unwrap();
     assert_eq!(again(&[]).status.code(), Some(3));
     assert_eq!(summary(), users, "the user's run was touched");
     let o = again(&["--force"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
-    assert!(
-        err.contains(
-            "case 20N: `s/20N` holds a run this study did not record (no done.json); replacing it"
-        ),
-        "{err}"
+    assert_exit_says(
+        &o,
+        0,
+        &["case 20N: `s/20N` holds a run this study did not record (no done.json); replacing it"],
     );
     assert_ne!(summary(), users);
 }
@@ -165,8 +153,7 @@ fn a_finished_unrecorded_run_of_the_case_is_recorded_not_rerun() {
         std::fs::read(tmp.path().join("s/20N/summary.json")).unwrap(),
         summary
     );
-    let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(tmp.path(), &["collect", "s", "--out", "m"]);
 }
 
 /// A case whose directory cannot be used (a file in its place, a marker that is a
@@ -179,16 +166,14 @@ fn an_unusable_case_directory_does_not_stop_the_study() {
     std::fs::write(tmp.path().join("s/200N"), "a file of the user's").unwrap();
     std::fs::create_dir_all(tmp.path().join("s/2000N/done.json")).unwrap();
     let o = table1_study(tmp.path(), "s");
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    assert!(err.contains("case 20N: complete"), "{err}");
-    assert!(
-        err.contains("case 200N: not run: `s/200N` is a file, not a directory"),
-        "{err}"
-    );
-    assert!(
-        err.contains("case 2000N: not run: its marker `s/2000N/done.json` cannot be removed"),
-        "{err}"
+    assert_exit_says(
+        &o,
+        3,
+        &[
+            "case 20N: complete",
+            "case 200N: not run: `s/200N` is a file, not a directory",
+            "case 2000N: not run: its marker `s/2000N/done.json` cannot be removed",
+        ],
     );
     assert!(tmp.path().join("s/study.csv").is_file());
     assert_eq!(
@@ -211,9 +196,7 @@ fn a_study_never_runs_into_another_studys_directory() {
     };
     let before = files(&tmp.path().join("s"));
     let o = study_into_s("other.toml");
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("holds the cases of study `table1`"), "{err}");
+    assert_exit_says(&o, 2, &["holds the cases of study `table1`"]);
     assert!(
         before == files(&tmp.path().join("s")),
         "the other study changed"
@@ -230,7 +213,7 @@ fn a_study_never_runs_into_another_studys_directory() {
         .replace("load.weight_n=2000\"", "load.weight_n=1500\"");
     std::fs::write(tmp.path().join("copy/table1.toml"), text).unwrap();
     let o = study_into_s("copy/table1.toml");
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     assert!(
         before == files(&tmp.path().join("s")),
         "the other study changed"
@@ -242,13 +225,11 @@ fn a_study_never_runs_into_another_studys_directory() {
     }
     assert!(tmp.path().join("s/.chute-study.json").is_file());
     let o = study_into_s("copy/table1.toml");
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("(`s/.chute-study.json`)"), "{err}");
+    assert_exit_says(&o, 2, &["(`s/.chute-study.json`)"]);
     // The same study file reached through a link is the same study.
     std::os::unix::fs::symlink(repo().join("studies"), tmp.path().join("linked")).unwrap();
     let o = study_into_s("linked/table1.toml");
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
 }
 
 /// An unrecorded run made for the case is taken as the case only when it is exactly the
@@ -295,8 +276,7 @@ fn a_run_of_its_own_beside_the_cases_is_not_a_case() {
     let tmp = table1_study_in("s");
     users_run(tmp.path(), "s/myrun");
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert_exit(&o, 0);
     // Nor a directory of the user's that holds no run record at all, nor a backup copy of a
     // case whose run had not finished (its record names the case `20N`, not `20N.bak`).
     std::fs::create_dir(tmp.path().join("s/notes")).unwrap();
@@ -313,7 +293,7 @@ fn a_run_of_its_own_beside_the_cases_is_not_a_case() {
     std::fs::write(tmp.path().join("s/zzz/run.json"), other).unwrap();
     let o = chute(tmp.path(), &["collect", "s", "--out", "m"]);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert_exit(&o, 0);
     let table = std::fs::read_to_string(tmp.path().join("m/study.csv")).unwrap();
     assert!(
         !table.contains("myrun") && !err.contains("myrun"),
@@ -354,19 +334,9 @@ fn a_moved_study_file_keeps_its_directory_and_no_namesake_takes_it() {
     )
     .unwrap();
     let o = run("two/w.toml");
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("holds the cases of study `w`"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit_says(&o, 2, &["holds the cases of study `w`"]);
     let o = run("moved/w.toml");
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("already complete, skipped"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit_says(&o, 0, &["already complete, skipped"]);
     // A byte-identical study file whose relative base is another scenario runs other inputs:
     // another study.
     let rod = std::fs::read_to_string(&base).unwrap();
@@ -380,19 +350,10 @@ fn a_moved_study_file_keeps_its_directory_and_no_namesake_takes_it() {
     let run = |file: &str| chute(tmp.path(), &["study", file, "--out", "rout"]);
     assert_eq!(run("r1/r.toml").status.code(), Some(0));
     let o = run("r2/r.toml");
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("holds the cases of study `r`"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit_says(&o, 2, &["holds the cases of study `r`"]);
     // The recorded study file is still there, so it was not moved: no advice to remove the
     // record (which would only meet the cases' own records).
-    assert!(
-        !stderr(&o).contains("remove `.chute-study.json`"),
-        "{}",
-        stderr(&o)
-    );
+    assert_stderr_lacks(&o, &["remove `.chute-study.json`"]);
 }
 
 /// A study read through `/dev/stdin` is the file it was redirected from: recorded as that
@@ -426,7 +387,7 @@ fn a_study_read_from_standard_input_is_the_file_it_came_from() {
         "{owner}"
     );
     let o = run("w30.toml");
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     let done = std::fs::read_to_string(tmp.path().join("out/a/scenario.resolved.toml")).unwrap();
     assert!(done.contains("weight_n = 20.0"), "{done}");
 }
@@ -464,8 +425,7 @@ fn a_study_and_a_ladder_of_the_same_name_do_not_share_a_directory() {
         rod.display()
     );
     std::fs::write(tmp.path().join("s.toml"), study).unwrap();
-    let o = chute(tmp.path(), &["study", "s.toml", "--out", "l"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(tmp.path(), &["study", "s.toml", "--out", "l"]);
     let vary = [
         "--vary",
         "time.dt_s=0.002,0.001",
@@ -478,18 +438,12 @@ fn a_study_and_a_ladder_of_the_same_name_do_not_share_a_directory() {
     ]
     .concat();
     let o = chute(tmp.path(), &args);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("holds the cases of study"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit_says(&o, 2, &["holds the cases of study"]);
     // Also when the owner record is gone (an older chute's directory): the cases' records say
     // which kind made them.
     std::fs::remove_file(tmp.path().join("l/.chute-study.json")).unwrap();
     let o = chute(tmp.path(), &args);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("l/a/done.json"), "{}", stderr(&o));
+    assert_exit_says(&o, 2, &["l/a/done.json"]);
 }
 
 /// A `chute run` and a `chute study` started together on one new directory: the study
@@ -527,14 +481,11 @@ fn a_run_and_a_study_started_together_never_share_a_directory() {
 /// (status 2), not taken for a full disk and written through.
 #[test]
 fn a_linked_lock_file_in_a_studys_directory_is_refused() {
-    let tmp = tempfile::tempdir().unwrap();
-    write_other_study(tmp.path());
-    std::fs::create_dir(tmp.path().join("o")).unwrap();
+    let tmp = other_study_in_tmp();
     std::fs::write(tmp.path().join("victim"), "mine").unwrap();
     std::os::unix::fs::symlink("../victim", tmp.path().join("o/.chute.lock")).unwrap();
-    let args = other_study_args("o");
-    let o = chute(tmp.path(), &args);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let o = chute(tmp.path(), &other_study_args("o"));
+    assert_exit(&o, 2);
     assert_eq!(
         std::fs::read_to_string(tmp.path().join("victim")).unwrap(),
         "mine"
@@ -547,9 +498,7 @@ fn a_linked_lock_file_in_a_studys_directory_is_refused() {
 #[test]
 fn a_study_waiting_for_the_directorys_lock_stops_on_a_signal() {
     use std::io::Write;
-    let tmp = tempfile::tempdir().unwrap();
-    write_other_study(tmp.path());
-    std::fs::create_dir(tmp.path().join("o")).unwrap();
+    let tmp = other_study_in_tmp();
     // The lock as a run holds it, whatever its command line says: refused at once.
     let mut lock = std::fs::File::create(tmp.path().join("o/.chute.lock")).unwrap();
     lock.lock().unwrap();
@@ -559,7 +508,7 @@ fn a_study_waiting_for_the_directorys_lock_stops_on_a_signal() {
     )
     .unwrap();
     let o = chute(tmp.path(), &other_study_args("o"));
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     // As a collect of `o` holds it (this test process keeps it throughout).
     lock.set_len(0).unwrap();
     std::io::Seek::rewind(&mut lock).unwrap();
@@ -615,28 +564,17 @@ fn a_study_waiting_for_the_directorys_lock_stops_on_a_signal() {
 /// would write its table is refused (status 2), never removed or replaced.
 #[test]
 fn a_users_file_named_like_a_table_is_never_replaced() {
-    let tmp = tempfile::tempdir().unwrap();
-    write_other_study(tmp.path());
-    std::fs::create_dir(tmp.path().join("o")).unwrap();
+    let tmp = other_study_in_tmp();
     // A user's case list: its header even starts like chute's.
     std::fs::write(tmp.path().join("o/study.csv"), "case,weight\n1,2\n").unwrap();
-    let args = other_study_args("o");
-    let o = chute(tmp.path(), &args);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("is not a table or report chute wrote"),
-        "{}",
-        stderr(&o)
-    );
+    let o = chute(tmp.path(), &other_study_args("o"));
+    assert_exit_says(&o, 2, &["is not a table or report chute wrote"]);
     let kept = std::fs::read_to_string(tmp.path().join("o/study.csv")).unwrap();
     assert_eq!(kept, "case,weight\n1,2\n");
     // A study of its own elsewhere, collected into `o`: refused too.
-    assert_eq!(
-        chute(tmp.path(), &other_study_args("s")).status.code(),
-        Some(0)
-    );
+    chute_ok(tmp.path(), &other_study_args("s"));
     let o = chute(tmp.path(), &["collect", "s", "--out", "o"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit(&o, 2);
     let kept = std::fs::read_to_string(tmp.path().join("o/study.csv")).unwrap();
     assert_eq!(kept, "case,weight\n1,2\n");
 }

@@ -9,6 +9,19 @@ fn table1() -> String {
     repo().join("studies/table1.toml").display().to_string()
 }
 
+/// `chute study studies/table1.toml --out OUT` of [`SHORT`] flights in `dir`.
+fn short_table1(dir: &std::path::Path, out: &str) -> std::process::Output {
+    chute(dir, &["study", &table1(), "--out", out, "--set", SHORT])
+}
+
+/// A new temporary directory holding `o`, Table I's study of [`SHORT`] flights (which must
+/// succeed).
+fn short_table1_in_tmp() -> tempfile::TempDir {
+    let tmp = tempfile::tempdir().unwrap();
+    assert_exit(&short_table1(tmp.path(), "o"), 0);
+    tmp
+}
+
 #[test]
 fn changed_inputs_rerun_the_case_saying_why_into_a_replaced_directory() {
     let tmp = tempfile::tempdir().unwrap();
@@ -20,17 +33,16 @@ fn changed_inputs_rerun_the_case_saying_why_into_a_replaced_directory() {
         )
     };
     let o = run(SHORT);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     let case = tmp.path().join("o/20N");
     // A file the user put there and one an earlier (longer) run wrote and this one will not.
     std::fs::write(case.join("notes.txt"), "mine").unwrap();
     std::fs::write(case.join("snapshot_9s.png"), "old").unwrap();
     let o = run("time.duration_s=0.06");
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
-    assert!(
-        err.contains("case 20N: inputs changed since the recorded run; re-running"),
-        "{err}"
+    assert_exit_says(
+        &o,
+        0,
+        &["case 20N: inputs changed since the recorded run; re-running"],
     );
     assert!(
         case.join("notes.txt").is_file(),
@@ -59,16 +71,14 @@ fn collect_warns_about_the_stale_case() {
     std::fs::write(tmp.path().join("base.toml"), &base).unwrap();
     let study = "base = \"base.toml\"\n[[case]]\nname = \"light\"\nset = [\"load.weight_n=20\"]\n[[case]]\nname = \"heavy\"\nset = [\"load.weight_n=2000\"]\n";
     std::fs::write(tmp.path().join("s.toml"), study).unwrap();
-    let o = chute(
+    chute_ok(
         tmp.path(),
         &["study", "s.toml", "--out", "o", "--set", SHORT],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     std::fs::write(tmp.path().join("s.toml"), study.replace("=2000", "=1000")).unwrap();
     let o = chute(tmp.path(), &["collect", "o"]);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
-    assert!(err.contains("warning: case `heavy`: stale"), "{err}");
+    assert_exit_says(&o, 0, &["warning: case `heavy`: stale"]);
     assert!(!err.contains("case `light`"), "{err}");
     assert!(stdout(&o).contains("| true | changed |"), "{}", stdout(&o));
 }
@@ -78,18 +88,13 @@ fn collect_on_empty_and_run_directories_exits_2_writing_nothing() {
     let tmp = tempfile::tempdir().unwrap();
     std::fs::create_dir(tmp.path().join("empty")).unwrap();
     let o = chute(tmp.path(), &["collect", "empty"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("no cases found in `empty`"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit_says(&o, 2, &["no cases found in `empty`"]);
     assert_eq!(
         std::fs::read_dir(tmp.path().join("empty")).unwrap().count(),
         0
     );
     let scenario = repo().join("scenarios/report-rod-200n.toml");
-    let o = chute(
+    chute_ok(
         tmp.path(),
         &[
             "run",
@@ -101,15 +106,9 @@ fn collect_on_empty_and_run_directories_exits_2_writing_nothing() {
             SHORT,
         ],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let before = files(&tmp.path().join("r"));
     let o = chute(tmp.path(), &["collect", "r"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("`r` is a run directory"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit_says(&o, 2, &["`r` is a run directory"]);
     assert!(
         files(&tmp.path().join("r")) == before,
         "nothing written into the run directory"
@@ -118,12 +117,7 @@ fn collect_on_empty_and_run_directories_exits_2_writing_nothing() {
     std::fs::create_dir(tmp.path().join("runs")).unwrap();
     std::fs::rename(tmp.path().join("r"), tmp.path().join("runs/r")).unwrap();
     let o = chute(tmp.path(), &["collect", "runs"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("no cases found in `runs`"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit_says(&o, 2, &["no cases found in `runs`"]);
     assert_eq!(
         std::fs::read_dir(tmp.path().join("runs")).unwrap().count(),
         1
@@ -137,10 +131,7 @@ fn collect_on_empty_and_run_directories_exits_2_writing_nothing() {
 #[test]
 fn a_case_whose_run_read_other_bytes_is_rerun_and_not_current() {
     let (tmp, p) = mesh_study_project();
-    assert_eq!(
-        chute(&p, &["study", "m.toml", "--out", "o"]).status.code(),
-        Some(0)
-    );
+    chute_ok(&p, &["study", "m.toml", "--out", "o"]);
     forge_input_digest(&p.join("o/a"));
     let o = chute(&p, &["collect", "o"]);
     let err = stderr(&o);
@@ -152,7 +143,7 @@ fn a_case_whose_run_read_other_bytes_is_rerun_and_not_current() {
     std::fs::rename(tmp.path().join("p"), &p).unwrap();
     let o = chute(&p, &["study", "m.toml", "--out", "o"]);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert_exit(&o, 0);
     let why = "its run's record does not show it read the input files as they are now";
     assert!(err.contains(why), "{err}");
     // A run of a mesh case whose record cannot be read: what it read cannot be checked, so
@@ -176,7 +167,7 @@ fn a_study_killed_while_replacing_a_case_leaves_no_stale_table() {
     };
     std::fs::write(tmp.path().join("k.toml"), study(30, "0.02")).unwrap();
     let o = chute(tmp.path(), &["study", "k.toml", "--out", "o"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&o, 0);
     assert!(tmp.path().join("o/study.csv").is_file());
     // Other inputs, a long run: started, then killed once its case is under way.
     std::fs::write(tmp.path().join("k.toml"), study(40, "60")).unwrap();
@@ -203,19 +194,13 @@ fn a_study_killed_while_replacing_a_case_leaves_no_stale_table() {
 #[test]
 fn a_moved_project_with_a_mesh_keeps_its_cases() {
     let (tmp, p) = mesh_study_project();
-    let o = chute(&p, &["study", "m.toml", "--out", "o"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    chute_ok(&p, &["study", "m.toml", "--out", "o"]);
     std::fs::rename(&p, tmp.path().join("moved")).unwrap();
     let o = chute(
         &tmp.path().join("moved"),
         &["study", "m.toml", "--out", "o"],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("already complete, skipped"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit_says(&o, 0, &["already complete, skipped"]);
 }
 
 /// A project `p` in a new temporary directory: [`hex_project`] and a one-case study `m.toml`
@@ -235,29 +220,23 @@ fn mesh_study_project() -> (tempfile::TempDir, std::path::PathBuf) {
 /// linked `frames` makes it "not run" (status 3), a linked file is replaced by a run of its own.
 #[test]
 fn links_inside_a_finished_case_are_not_its_run() {
-    let tmp = tempfile::tempdir().unwrap();
-    let study = table1();
-    let run = || chute(tmp.path(), &["study", &study, "--out", "o", "--set", SHORT]);
-    assert_eq!(run().status.code(), Some(0));
+    let tmp = short_table1_in_tmp();
+    let run = || short_table1(tmp.path(), "o");
     let o = tmp.path().join("o");
     std::fs::remove_dir_all(o.join("20N/frames")).unwrap();
     std::os::unix::fs::symlink("../200N/frames", o.join("20N/frames")).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
-    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
-    assert!(stderr(&c).contains("symbolic link"), "{}", stderr(&c));
+    assert_exit_says(&c, 3, &["symbolic link"]);
     let r = run();
     let err = stderr(&r);
-    assert_eq!(r.status.code(), Some(3), "{err}");
-    assert!(
-        err.contains("20N: not run") && err.contains("symbolic link"),
-        "{err}"
-    );
+    assert_exit(&r, 3);
+    assert_contains(&err, &["20N: not run", "symbolic link"]);
     // A linked time series instead: the case runs again, into files of its own.
     std::fs::remove_file(o.join("20N/frames")).unwrap();
     std::fs::remove_file(o.join("20N/timeseries.csv")).unwrap();
     std::os::unix::fs::symlink("../200N/timeseries.csv", o.join("20N/timeseries.csv")).unwrap();
     let r = run();
-    assert_eq!(r.status.code(), Some(0), "{}", stderr(&r));
+    assert_exit(&r, 0);
     let meta = std::fs::symlink_metadata(o.join("20N/timeseries.csv")).unwrap();
     assert!(meta.is_file(), "the time series is still a link");
     assert!(
@@ -281,17 +260,8 @@ fn a_directory_with_only_a_run_record_is_a_run_directory() {
         tmp.path(),
         &["run", rod, "--out", "d/sub", "--set", SHORT, "-q"],
     );
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("lies inside the run directory"),
-        "{}",
-        stderr(&o)
-    );
-    let o = chute(
-        tmp.path(),
-        &["study", &table1(), "--out", "d", "--set", SHORT],
-    );
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_exit_says(&o, 2, &["lies inside the run directory"]);
+    assert_exit(&short_table1(tmp.path(), "d"), 2);
     assert!(!d.join("sub").exists() && !d.join("20N").exists());
 }
 
@@ -300,10 +270,8 @@ fn a_directory_with_only_a_run_record_is_a_run_directory() {
 /// says so (status 3) and the study runs it again into files of its own.
 #[test]
 fn a_finished_case_missing_a_file_or_with_a_linked_frame_runs_again() {
-    let tmp = tempfile::tempdir().unwrap();
-    let study = table1();
-    let run = || chute(tmp.path(), &["study", &study, "--out", "o", "--set", SHORT]);
-    assert_eq!(run().status.code(), Some(0));
+    let tmp = short_table1_in_tmp();
+    let run = || short_table1(tmp.path(), "o");
     let o = tmp.path().join("o");
     let frame = |case: &str| {
         let mut f: Vec<_> = std::fs::read_dir(o.join(case).join("frames"))
@@ -319,25 +287,22 @@ fn a_finished_case_missing_a_file_or_with_a_linked_frame_runs_again() {
     std::fs::remove_file(o.join("2000N/timeseries.csv")).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
     let err = stderr(&c);
-    assert_eq!(c.status.code(), Some(3), "{err}");
-    assert!(
-        err.contains("symbolic link") && err.contains("timeseries.csv is missing"),
-        "{err}"
-    );
+    assert_exit(&c, 3);
+    assert_contains(&err, &["symbolic link", "timeseries.csv is missing"]);
     let r = run();
-    assert_eq!(r.status.code(), Some(0), "{}", stderr(&r));
+    assert_exit(&r, 0);
     assert!(
         std::fs::symlink_metadata(&mine).unwrap().is_file(),
         "the frame is still a link"
     );
     assert!(o.join("2000N/timeseries.csv").is_file());
-    assert_eq!(chute(tmp.path(), &["collect", "o"]).status.code(), Some(0));
+    chute_ok(tmp.path(), &["collect", "o"]);
     // Its frame list gone, or listing another case's frame: no finished case.
     let pvd = o.join("20N/canopy.pvd");
     let text = std::fs::read_to_string(&pvd).unwrap();
     std::fs::write(&pvd, text.replacen("frames/", "../200N/frames/", 1)).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
-    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
+    assert_exit(&c, 3);
     std::fs::write(&pvd, text.replace("file=\"", "file='")).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
     assert!(
@@ -367,8 +332,7 @@ fn a_finished_case_missing_a_file_or_with_a_linked_frame_runs_again() {
     // Its record deleted (this chute always writes one): no finished case either.
     std::fs::remove_file(o.join("200N/run.json")).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
-    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
-    assert!(stderr(&c).contains("run.json is missing"), "{}", stderr(&c));
+    assert_exit_says(&c, 3, &["run.json is missing"]);
     assert_eq!(run().status.code(), Some(0));
     assert!(o.join("200N/run.json").is_file());
 }
@@ -378,32 +342,23 @@ fn a_finished_case_missing_a_file_or_with_a_linked_frame_runs_again() {
 /// study's OUT.
 #[test]
 fn a_case_with_another_cases_record_is_not_its_run() {
-    let tmp = tempfile::tempdir().unwrap();
-    let study = table1();
-    let run = |out: &str| chute(tmp.path(), &["study", &study, "--out", out, "--set", SHORT]);
-    assert_eq!(run("o").status.code(), Some(0));
+    let tmp = short_table1_in_tmp();
+    let run = |out: &str| short_table1(tmp.path(), out);
     let o = tmp.path().join("o");
     std::fs::copy(o.join("200N/run.json"), o.join("20N/run.json")).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
-    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
-    assert!(
-        stderr(&c).contains("is of case `table1/200N`"),
-        "{}",
-        stderr(&c)
-    );
+    assert_exit_says(&c, 3, &["is of case `table1/200N`"]);
     assert_eq!(run("o").status.code(), Some(0));
-    assert_eq!(chute(tmp.path(), &["collect", "o"]).status.code(), Some(0));
+    chute_ok(tmp.path(), &["collect", "o"]);
     // Its own record says the run did not complete: a marker saying so is not believed.
     let rec = o.join("20N/run.json");
     let text = std::fs::read_to_string(&rec).unwrap();
     std::fs::write(&rec, text.replace("\"complete\"", "\"incomplete\"")).unwrap();
     let c = chute(tmp.path(), &["collect", "o"]);
-    assert_eq!(c.status.code(), Some(3), "{}", stderr(&c));
-    assert!(stderr(&c).contains("did not complete"), "{}", stderr(&c));
+    assert_exit_says(&c, 3, &["did not complete"]);
     let t = tmp.path().join("t");
     std::fs::create_dir_all(t.join(".chute.old")).unwrap();
     std::fs::write(t.join(".chute.old/0"), "a moved run file").unwrap();
     let r = run("t");
-    assert_eq!(r.status.code(), Some(2), "{}", stderr(&r));
-    assert!(stderr(&r).contains("is a run directory"), "{}", stderr(&r));
+    assert_exit_says(&r, 2, &["is a run directory"]);
 }

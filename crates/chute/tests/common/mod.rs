@@ -37,6 +37,13 @@ pub fn chute(cwd: &Path, args: &[&str]) -> Output {
         .expect("binary runs")
 }
 
+/// [`chute`], which must succeed (exit status 0).
+pub fn chute_ok(cwd: &Path, args: &[&str]) -> Output {
+    let o = chute(cwd, args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    o
+}
+
 /// [`chute`], failing the test instead of hanging when it has not ended within `secs` (a
 /// command that would wait forever, on a FIFO say, must not stall the suite).
 pub fn chute_within(cwd: &Path, args: &[&str], secs: u64) -> Output {
@@ -68,6 +75,82 @@ pub fn stderr(o: &Output) -> String {
 /// The process's stdout as text.
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Assert that `o` exited with `code`, showing its stderr otherwise.
+pub fn assert_exit(o: &Output, code: i32) {
+    assert_eq!(o.status.code(), Some(code), "{}", stderr(o));
+}
+
+/// Assert that `o` exited with `code` and that its stderr contains every one of `want`.
+pub fn assert_exit_says(o: &Output, code: i32, want: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "{err}");
+    for w in want {
+        assert!(err.contains(w), "want `{w}` in: {err}");
+    }
+}
+
+/// Assert that `o` was refused (exit status 2) with every one of `want` in its stderr.
+pub fn assert_refused(o: &Output, want: &[&str]) {
+    assert_exit_says(o, 2, want);
+}
+
+/// The path of the bundled scenario `scenarios/NAME`, as text.
+pub fn bundled(name: &str) -> String {
+    repo().join("scenarios").join(name).display().to_string()
+}
+
+/// The path of the report's rod (`scenarios/report-rod-200n.toml`), as text.
+pub fn rod_file() -> String {
+    bundled("report-rod-200n.toml")
+}
+
+/// `chute SUB scenarios/NAME ARGS…` in `cwd`: a subcommand of a bundled scenario.
+pub fn chute_bundled(cwd: &Path, sub: &str, name: &str, args: &[&str]) -> Output {
+    let path = bundled(name);
+    chute(cwd, &[&[sub, path.as_str()][..], args].concat())
+}
+
+/// `chute check scenarios/NAME --set S…` (one `--set` for each of `sets`) in a fresh
+/// directory.
+pub fn check_bundled(name: &str, sets: &[&str]) -> Output {
+    let tmp = tempfile::tempdir().unwrap();
+    let args: Vec<&str> = sets.iter().flat_map(|s| ["--set", s]).collect();
+    chute_bundled(tmp.path(), "check", name, &args)
+}
+
+/// The JSON file at `path` (a run's `summary.json` or record, say), which must be there.
+pub fn read_json(path: impl AsRef<Path>) -> serde_json::Value {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{path:?}: {e}"))
+}
+
+/// Assert that `text` contains every one of `want`.
+pub fn assert_contains(text: &str, want: &[&str]) {
+    for w in want {
+        assert!(text.contains(w), "want `{w}` in: {text}");
+    }
+}
+
+/// How many of `lines` (the warnings of a summary, say) contain `needle`.
+pub fn count_containing(lines: &[String], needle: &str) -> usize {
+    lines.iter().filter(|l| l.contains(needle)).count()
+}
+
+/// The first of `lines` (the warnings of a summary, say) that contains `needle`; there must be one.
+pub fn find_containing<'a>(lines: &'a [String], needle: &str) -> &'a str {
+    let found = lines.iter().find(|l| l.contains(needle));
+    found.unwrap_or_else(|| panic!("no `{needle}` in {lines:?}"))
+}
+
+/// Assert that the stderr of `o` contains none of `unwanted`.
+pub fn assert_stderr_lacks(o: &Output, unwanted: &[&str]) {
+    let err = stderr(o);
+    for u in unwanted {
+        assert!(!err.contains(u), "`{u}` in: {err}");
+    }
 }
 
 /// The rod strip of the report, coarse (21 nodes) and short: ~0.3 s of wall time per 0.1 s.
@@ -201,6 +284,22 @@ impl Force for Trigger {
             out.f[0] = f64::NAN;
         }
     }
+}
+
+/// Run `act` and assert that it left every file under `dir` as it was (names and bytes).
+pub fn assert_untouched(dir: &Path, act: impl FnOnce()) {
+    let before = files(dir);
+    act();
+    assert!(before == files(dir), "{dir:?} was changed");
+}
+
+/// A new temporary directory holding each `(name, text)` of `files`.
+pub fn tmp_with_files(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let tmp = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        std::fs::write(tmp.path().join(name), text).unwrap();
+    }
+    tmp
 }
 
 /// Every file under `dir`, by relative path.
@@ -383,8 +482,7 @@ pub fn hex_project(dir: &Path) {
 /// run started after the file was edited would).
 pub fn forge_input_digest(dir: &Path) {
     let record = dir.join("run.json");
-    let mut r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
+    let mut r = read_json(&record);
     r["inputs"][0]["digest"] = "fnv1a64:0123456789abcdef".into();
     std::fs::write(&record, r.to_string()).unwrap();
 }

@@ -5,6 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
+use crate::common::{assert_contains, assert_exit};
+
 use chute::output::console::{format_run_summary, human_duration, key_results, not_reached_reason};
 use chute::output::{Stepping, Summary};
 
@@ -136,12 +138,7 @@ fn rod_run(dir: &Path, extra: &[&str]) -> Output {
         .args(extra)
         .output()
         .unwrap();
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 0);
     o
 }
 
@@ -175,10 +172,7 @@ fn default_output_is_for_people_and_quiet_is_quiet() {
         text.starts_with("run `report-rod-200n` complete: 0.1000 s simulated"),
         "{text}"
     );
-    assert!(
-        text.contains("\n  terminal velocity  ") && text.contains(" m/s ± "),
-        "{text}"
-    );
+    assert_contains(&text, &["\n  terminal velocity  ", " m/s ± "]);
     assert!(
         text.contains("\nwarnings:\n  snapshots at 5 s, 6 s, 7 s not drawn"),
         "{text}"

@@ -1,5 +1,6 @@
 //! DisMech and OBJ importers: the bundled parachute meshes, rod chains, and malformed input
 //! reported as `path:line: message` without panicking.
+use crate::common::assert_contains;
 use chute::mesh::{dismech, obj, CanopyMesh, MeshFileError};
 use std::path::PathBuf;
 
@@ -81,6 +82,20 @@ fn obj_faces_polygons_and_negative_indices() {
 
 fn err(r: Result<CanopyMesh, MeshFileError>) -> String {
     r.expect_err("malformed input must be rejected").to_string()
+}
+
+/// Each `(text, want)` of `cases`: `parse` refuses `text` with a message starting with `want`.
+fn assert_each_refused(
+    cases: &[(String, &str)],
+    parse: impl Fn(&str) -> Result<CanopyMesh, MeshFileError>,
+) {
+    for (text, want) in cases {
+        let got = err(parse(text));
+        assert!(
+            got.starts_with(want),
+            "input {text:?}:\n got  {got}\n want {want}…"
+        );
+    }
 }
 
 const HEAD: &str = "*Nodes\n0 0 0\n1 0 0\n0 1 0\n";
@@ -165,13 +180,7 @@ fn malformed_dismech_files_name_file_and_line() {
             "m.txt:2: node index 1 out of range",
         ),
     ];
-    for (text, want) in &cases {
-        let got = err(dismech::parse(text, "m.txt"));
-        assert!(
-            got.starts_with(want),
-            "input {text:?}:\n got  {got}\n want {want}…"
-        );
-    }
+    assert_each_refused(&cases, |text| dismech::parse(text, "m.txt"));
     // Headers are case-insensitive; commas, spaces, tabs and trailing comments all work.
     let ok = dismech::parse(
         "*NODES\n0,0,0\n1 , 0 0\n0\t1 0 # apex\n*triangles\n1,2,3\n",
@@ -219,13 +228,7 @@ fn malformed_obj_files_name_file_and_line() {
             "o.obj:5: degenerate triangle 1 2 4: zero area",
         ),
     ];
-    for (text, want) in &cases {
-        let got = err(obj::parse(text, "o.obj"));
-        assert!(
-            got.starts_with(want),
-            "input {text:?}:\n got  {got}\n want {want}…"
-        );
-    }
+    assert_each_refused(&cases, |text| obj::parse(text, "o.obj"));
 }
 
 #[test]
@@ -258,10 +261,7 @@ fn unused_vertex_is_rejected_naming_file_line_and_node() {
         )),
         "{got}"
     );
-    assert!(
-        got.contains("60 more unused nodes") && got.contains("*Edges"),
-        "{got}"
-    );
+    assert_contains(&got, &["60 more unused nodes", "*Edges"]);
     // An OBJ with a stray vertex.
     let got = err(obj::parse(
         "v 0 0 0\nv 1 0 0\nv 5 5 5\nv 0 1 0\nf 1 2 4\n",

@@ -1,13 +1,14 @@
 //! The study machinery with a fake case runner: parallel cases, done markers, skipping,
 //! failures, sharding (also via SLURM variables) and `collect`.
 
+use crate::common::{assert_contains, read_json};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use chute::app::{AppError, RunOptions, RunOutcome};
 use chute::scenario::Scenario;
-use chute::study::{self, CaseStatus, Shard, Study, StudyOptions};
+use chute::study::{self, CaseStatus, Row, Shard, Study, StudyOptions, Table};
 
 const BASE: &str = "[model]\nkind = \"rod\"\n[load]\nweight_n = 200\n";
 
@@ -87,6 +88,23 @@ pub(crate) fn fake(s: &Scenario, o: &RunOptions) -> Result<RunOutcome, AppError>
     })
 }
 
+/// Each row of `t` as its case and a word of it (`word`: its status, its inputs' state), in
+/// one line: `20N complete, 200N missing`.
+pub(crate) fn case_words(t: &Table, word: impl Fn(&Row) -> &'static str) -> String {
+    let rows: Vec<String> = t
+        .rows
+        .iter()
+        .map(|r| format!("{} {}", r.case, word(r)))
+        .collect();
+    rows.join(", ")
+}
+
+/// Assert that `lines` (a table's notes, say) is one line, starting with `start`.
+pub(crate) fn assert_one_line_starting(lines: &[String], start: &str) {
+    assert_eq!(lines.len(), 1, "{lines:?}");
+    assert!(lines[0].starts_with(start), "{lines:?}");
+}
+
 pub(crate) fn csv(out: &Path) -> Vec<Vec<String>> {
     let mut r = csv::Reader::from_path(out.join("study.csv")).unwrap();
     let mut rows = vec![r.headers().unwrap().iter().map(str::to_string).collect()];
@@ -149,8 +167,7 @@ fn list_study_runs_every_case_and_tabulates() {
         ),
         "{md}"
     );
-    let done: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("20N/done.json")).unwrap()).unwrap();
+    let done = read_json(out.join("20N/done.json"));
     assert_eq!(done["status"], "complete");
     assert_eq!(done["index"], 0);
     // Atomic writes leave no temporary files behind.
@@ -210,9 +227,7 @@ fn failures_and_early_stops_are_recorded_and_rerun() {
     let rep = study::run_study_with(&st, &opts(&out), &runner).unwrap();
     assert_eq!(rep.failures(), 2);
     assert!(matches!(&rep.cases[0].1, CaseStatus::Failed(m) if m.contains("Newton diverged")));
-    let done: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("200N/done.json")).unwrap())
-            .unwrap();
+    let done = read_json(out.join("200N/done.json"));
     assert_eq!(
         (done["status"].as_str(), done["message"].as_str()),
         (Some("incomplete"), Some("wall-clock limit"))
@@ -248,12 +263,7 @@ fn input_errors_stop_the_study_before_any_case_runs() {
     let e = study::run_study_with(&st, &opts(&dir.path().join("out")), &runner).unwrap_err();
     assert_eq!(e.exit_code(), 2);
     let msg = e.to_string();
-    assert!(
-        msg.contains("case `200N`")
-            && msg.contains("load.weight_n")
-            && msg.contains("must be positive"),
-        "{msg}"
-    );
+    assert_contains(&msg, &["case `200N`", "load.weight_n", "must be positive"]);
     assert_eq!(calls.load(Ordering::SeqCst), 0);
 }
 
@@ -560,25 +570,9 @@ fn collect_lists_every_missing_failed_and_unreadable_case() {
     }
     let merged = dir.path().join("merged");
     let t = study::collect(&[a.clone(), b.clone()], &merged).unwrap();
-    let states: Vec<(&str, &str)> = t
-        .rows
-        .iter()
-        .map(|r| (r.case.as_str(), r.state.word()))
-        .collect();
-    assert_eq!(
-        states,
-        [
-            ("20N", "complete"),
-            ("200N", "complete"),
-            ("2000N", "missing")
-        ]
-    );
-    let missing = t.unfinished();
-    assert_eq!(missing.len(), 1, "{missing:?}");
-    assert!(
-        missing[0].starts_with("case `2000N` is missing: not run"),
-        "{missing:?}"
-    );
+    let states = case_words(&t, |r| r.state.word());
+    assert_eq!(states, "20N complete, 200N complete, 2000N missing");
+    assert_one_line_starting(&t.unfinished(), "case `2000N` is missing: not run");
     // The missing row keeps its overrides and has no numbers.
     let r = &t.rows[2];
     assert_eq!(r.overrides["load.weight_n"], "2000");

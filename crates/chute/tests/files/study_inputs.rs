@@ -2,14 +2,16 @@
 //! resolved scenario and the mesh file, hashed into `done.json`. With the fake case runner of
 //! `study.rs`; `collect` on directories that hold no study.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+use crate::common::read_json;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use chute::app::{AppError, RunOptions, RunOutcome};
 use chute::scenario::Scenario;
 use chute::study::{self, CaseStatus, InputsState, Study, StudyOptions};
 
-use super::study::{csv, fake, opts, setup, LIST};
+use super::study::{assert_one_line_starting, case_words, csv, fake, opts, setup, LIST};
 
 /// A fake runner that counts its calls.
 fn counting(
@@ -21,22 +23,28 @@ fn counting(
     }
 }
 
+/// A study of [`LIST`] in a new directory, run once into its `out` by a runner [`counting`]
+/// its calls in `calls`.
+fn study_run_once_counting(calls: &AtomicUsize) -> (tempfile::TempDir, Study, PathBuf) {
+    let (dir, st) = setup(LIST);
+    let out = dir.path().join("out");
+    study::run_study_with(&st, &opts(&out), &counting(calls)).unwrap();
+    (dir, st, out)
+}
+
 fn statuses(rep: &study::StudyReport) -> Vec<CaseStatus> {
     rep.cases.iter().map(|(_, s)| s.clone()).collect()
 }
 
 fn done(out: &Path, case: &str) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(out.join(case).join("done.json")).unwrap())
-        .unwrap()
+    read_json(out.join(case).join("done.json"))
 }
 
 #[test]
 fn identical_inputs_are_skipped() {
-    let (dir, st) = setup(LIST);
-    let out = dir.path().join("out");
     let calls = AtomicUsize::new(0);
+    let (dir, st, out) = study_run_once_counting(&calls);
     let run = counting(&calls);
-    study::run_study_with(&st, &opts(&out), &run).unwrap();
     assert!(done(&out, "20N")["inputs"]
         .as_str()
         .is_some_and(|d| d.starts_with("fnv1a64:")));
@@ -82,11 +90,9 @@ fn changed_duration_override_reruns_the_case() {
 
 #[test]
 fn edited_base_scenario_reruns_the_case() {
-    let (dir, st) = setup(LIST);
-    let out = dir.path().join("out");
     let calls = AtomicUsize::new(0);
+    let (dir, st, out) = study_run_once_counting(&calls);
     let run = counting(&calls);
-    study::run_study_with(&st, &opts(&out), &run).unwrap();
     let base = dir.path().join("scenarios/base.toml");
     let text = std::fs::read_to_string(&base).unwrap();
     std::fs::write(&base, format!("{text}[time]\nduration_s = 2.0\n")).unwrap();
@@ -151,25 +157,9 @@ fn collect_flags_the_stale_case() {
     .unwrap();
     let merged = dir.path().join("merged");
     let t = study::collect(std::slice::from_ref(&out), &merged).unwrap();
-    let state: Vec<(&str, &str)> = t
-        .rows
-        .iter()
-        .map(|r| (r.case.as_str(), r.inputs.word()))
-        .collect();
-    assert_eq!(
-        state,
-        [
-            ("20N", "current"),
-            ("200N", "changed"),
-            ("2000N", "current")
-        ]
-    );
-    let warnings = t.input_warnings();
-    assert_eq!(warnings.len(), 1, "{warnings:?}");
-    assert!(
-        warnings[0].starts_with("case `200N`: stale"),
-        "{warnings:?}"
-    );
+    let state = case_words(&t, |r| r.inputs.word());
+    assert_eq!(state, "20N current, 200N changed, 2000N current");
+    assert_one_line_starting(&t.input_warnings(), "case `200N`: stale");
     let rows = csv(&merged);
     assert_eq!(rows[0].last().unwrap(), "inputs");
     assert_eq!(rows[2][0], "200N");

@@ -6,6 +6,8 @@
 use std::fs;
 use std::path::Path;
 
+use crate::common::{assert_contains, assert_exit};
+
 use chute::output::run_dir::frame_selection;
 use chute::output::viewer::{base64, viewer_html, write_viewer, write_viewer_capped, VIEWER_HTML};
 use chute::output::vtk::{point_roles, VtkSeries, ROLE_LINE, ROLE_LOAD_SITE, ROLE_PAYLOAD};
@@ -295,16 +297,10 @@ fn bad_run_directories_are_named_errors() {
     let text = fs::read_to_string(&frame).unwrap();
     fs::write(&frame, text.replace("0 2 3", "0 3 2")).unwrap();
     let e = viewer_html(dir.path(), 1 << 20).unwrap_err().to_string();
-    assert!(
-        e.contains("frame_000002.vtu") && e.contains("differs"),
-        "{e}"
-    );
+    assert_contains(&e, &["frame_000002.vtu", "differs"]);
     fs::write(&frame, "<VTKFile>").unwrap();
     let e = viewer_html(dir.path(), 1 << 20).unwrap_err().to_string();
-    assert!(
-        e.contains("frame_000002.vtu") && e.contains("Points"),
-        "{e}"
-    );
+    assert_contains(&e, &["frame_000002.vtu", "Points"]);
 }
 
 #[test]
@@ -352,27 +348,16 @@ fn chute_view_writes_the_viewer_or_says_why_not() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("not a run directory"));
     fake_run(dir.path(), 3, "fake");
     let o = view(dir.path());
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 0);
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        out.contains("viewer.html") && out.contains("3 of 3 frames"),
-        "{out}"
-    );
+    assert_contains(&out, &["viewer.html", "3 of 3 frames"]);
     assert!(dir.path().join(VIEWER_HTML).is_file());
     // A summary that is not text is a file chute did not write: bad input (2), named.
     fs::write(dir.path().join("summary.json"), [0xff, 0xfe, 0x00, 0x81]).unwrap();
     let o = view(dir.path());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("summary.json") && err.contains("not UTF-8"),
-        "{err}"
-    );
+    assert_exit(&o, 2);
+    assert_contains(&err, &["summary.json", "not UTF-8"]);
 }
 
 #[cfg(unix)]

@@ -101,8 +101,7 @@ fn a_lasting_blowup_stops_with_reason_and_valid_partial_outputs() {
         "{why}"
     );
 
-    let summary: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
+    let summary = read_json(dir.join("summary.json"));
     assert_eq!(summary["complete"], false);
     assert!(summary["stop_reason"]
         .as_str()

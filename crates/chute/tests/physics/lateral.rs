@@ -3,7 +3,7 @@
 
 use chute::metrics::{compute, Params, Series, LATERAL_VISIBLE};
 
-use crate::common::{chute_command, repo};
+use crate::common::{chute_command, read_json, repo};
 
 fn params() -> Params {
     Params {
@@ -135,7 +135,7 @@ fn pressure_drag_run(strict: bool) -> serde_json::Value {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    serde_json::from_slice(&std::fs::read(tmp.path().join("r/summary.json")).unwrap()).unwrap()
+    read_json(tmp.path().join("r/summary.json"))
 }
 
 /// The growth rate (/s) the lateral-growth warning of a summary reports.

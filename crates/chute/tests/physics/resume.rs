@@ -5,7 +5,7 @@
 //! unknown.
 use crate::common::*;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
 use chute::checkpoint::Checkpoint;
@@ -49,8 +49,7 @@ pub(crate) fn stop_and_resume(s: &Scenario, stop_at: f64, every: Option<f64>) {
     let r = run(s, &part, Some(stop_at), every, false);
     assert!(!r.complete);
     assert!(r.stop_reason.as_deref().unwrap().contains("interrupted"));
-    let summary: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(part.join("summary.json")).unwrap()).unwrap();
+    let summary = read_json(part.join("summary.json"));
     assert_eq!(summary["complete"], false);
     let c = Checkpoint::read(&part).unwrap();
     assert!(
@@ -73,9 +72,7 @@ pub(crate) fn stop_and_resume(s: &Scenario, stop_at: f64, every: Option<f64>) {
     assert!(r.complete, "{:?}", r.stop_reason);
     assert_same_outputs(&full, &part);
     // The summaries' solver counts (so the whole summaries but for wall times) are equal.
-    let summary = |d: &Path| -> serde_json::Value {
-        serde_json::from_slice(&std::fs::read(d.join("summary.json")).unwrap()).unwrap()
-    };
+    let summary = |d: &Path| -> serde_json::Value { read_json(d.join("summary.json")) };
     let (a, b) = (
         without_wall_times(summary(&full)),
         without_wall_times(summary(&part)),
@@ -111,12 +108,19 @@ fn downgrade_to_version_3(dir: &Path) {
     std::fs::write(&path, body).unwrap();
 }
 
-#[test]
-fn version_3_checkpoint_resumes_with_the_solver_counters_marked_unknown() {
+/// In a new temporary directory: `long`, 0.3 s of the rod, and `ext`, its first 0.2 s with
+/// checkpoints every 0.1 s (which must complete), to be extended to 0.3 s.
+fn long_and_extendable_rod_runs() -> (tempfile::TempDir, PathBuf, PathBuf) {
     let tmp = tempfile::tempdir().unwrap();
     let (long, ext) = (tmp.path().join("long"), tmp.path().join("ext"));
     run(&rod(0.3, &[]), &long, None, None, false);
     assert!(run(&rod(0.2, &[]), &ext, None, Some(0.1), false).complete);
+    (tmp, long, ext)
+}
+
+#[test]
+fn version_3_checkpoint_resumes_with_the_solver_counters_marked_unknown() {
+    let (_tmp, long, ext) = long_and_extendable_rod_runs();
     downgrade_to_version_3(&ext);
     let c = Checkpoint::read(&ext).unwrap();
     assert_eq!(c.solver, None);
@@ -130,8 +134,7 @@ fn version_3_checkpoint_resumes_with_the_solver_counters_marked_unknown() {
             "{f}"
         );
     }
-    let s: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(ext.join("summary.json")).unwrap()).unwrap();
+    let s = read_json(ext.join("summary.json"));
     assert!(s["solver"].is_null(), "{}", s["solver"]);
     assert!(r.summary.solver.is_none());
     let warned = |w: &serde_json::Value| {
@@ -216,10 +219,7 @@ fn shell_with_added_mass_resumed_after_stop_equals_uninterrupted() {
 fn resume_can_extend_a_finished_run() {
     // A finished run's last periodic checkpoint continues to a longer duration exactly as a
     // longer uninterrupted run.
-    let tmp = tempfile::tempdir().unwrap();
-    let (long, ext) = (tmp.path().join("long"), tmp.path().join("ext"));
-    run(&rod(0.3, &[]), &long, None, None, false);
-    assert!(run(&rod(0.2, &[]), &ext, None, Some(0.1), false).complete);
+    let (_tmp, long, ext) = long_and_extendable_rod_runs();
     assert!(run(&rod(0.3, &[]), &ext, None, Some(0.1), true).complete);
     assert_same_outputs(&long, &ext);
 }

@@ -9,7 +9,7 @@ use chute::build::{build, Built};
 use chute::runner::{simulate, RunResult};
 use chute::scenario::Scenario;
 
-use crate::common::repo;
+use crate::common::{read_json, repo};
 
 fn scenario(file: &str, set: &[&str]) -> Scenario {
     let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
@@ -23,7 +23,7 @@ fn run(s: &Scenario, dir: &Path) -> (Built, RunResult) {
 }
 
 fn json(dir: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+    read_json(dir.join("summary.json"))
 }
 
 /// `file` with the overrides `set`, run to its end in a scratch directory: the scenario, the

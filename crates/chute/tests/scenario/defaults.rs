@@ -1,5 +1,6 @@
 //! Defaults: the report's values, and the context-dependent ones (name, sites, snapshots).
 
+use crate::common::assert_contains;
 use chute::scenario::schema;
 use chute::scenario::{CanopyShape, DragLaw, LoadMode, Scenario, ShellDrag, SiteSet, Sites};
 
@@ -169,10 +170,7 @@ fn adaptive_defaults_are_filled_and_resolved() {
         (Some(1e-4), Some(1e-6), Some(0.01))
     );
     let text = s.to_toml();
-    assert!(
-        text.contains("adaptive = true") && text.contains("dt_max_s = 0.01"),
-        "{text}"
-    );
+    assert_contains(&text, &["adaptive = true", "dt_max_s = 0.01"]);
     assert_eq!(parse(&text), s);
     // Fixed step: no adaptive key in the resolved scenario, and no settings.
     let s = parse("[model]\nkind = \"rod\"\n");

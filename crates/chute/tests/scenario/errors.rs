@@ -1,6 +1,7 @@
 //! Each class of scenario error, through the library: the variant, the key, the origin (file
 //! line or `--set`) and a message a user can act on.
 
+use crate::common::assert_contains;
 use std::path::Path;
 
 use chute::scenario::{Origin, Scenario, ScenarioError};
@@ -17,6 +18,20 @@ fn err_with(text: &str, set: &[&str]) -> ScenarioError {
 
 fn err(body: &str) -> ScenarioError {
     err_with(&format!("{HEAD}{body}"), &[])
+}
+
+/// Assert that the error `e` matches a pattern (a variant, its fields, a guard); else show it.
+macro_rules! assert_is {
+    ($e:expr, $p:pat $(if $g:expr)?) => {
+        assert!(matches!($e, $p $(if $g)?), "{:?}", $e)
+    };
+}
+
+/// The error of `body` (after [`HEAD`]), which must name line `line` of the file.
+fn err_at(body: &str, line: usize) -> ScenarioError {
+    let e = err(body);
+    at_line(&e, line);
+    e
 }
 
 fn at_line(e: &ScenarioError, line: usize) {
@@ -40,10 +55,7 @@ fn missing_file_names_the_path() {
     let e = Scenario::load(Path::new("/no/such/dir/scen.toml"), &[]).unwrap_err();
     assert!(matches!(e, ScenarioError::Read { .. }));
     let msg = e.to_string();
-    assert!(
-        msg.contains("/no/such/dir/scen.toml") && msg.contains("cannot read"),
-        "{msg}"
-    );
+    assert_contains(&msg, &["/no/such/dir/scen.toml", "cannot read"]);
 }
 
 #[test]
@@ -63,22 +75,22 @@ fn syntax_error_has_file_line_and_column() {
 
 #[test]
 fn unknown_key_suggests_the_closest() {
-    let e = err("[canopy]\nspan_m = 6\nwidht_m = 3\n");
-    assert!(
-        matches!(&e, ScenarioError::UnknownKey { key, .. } if key == "canopy.widht_m"),
-        "{e:?}"
-    );
-    at_line(&e, 6);
+    let e = err_at("[canopy]\nspan_m = 6\nwidht_m = 3\n", 6);
+    assert_is!(&e, ScenarioError::UnknownKey { key, .. } if key == "canopy.widht_m");
     assert!(
         e.to_string().ends_with("did you mean `canopy.width_m`?"),
         "{e}"
     );
     // The right key in the wrong section.
-    let e = err("[canopy]\ndensity_kg_m3 = 1000\n");
-    says(&e, &["did you mean `material.density_kg_m3`?"]);
+    says(
+        &err("[canopy]\ndensity_kg_m3 = 1000\n"),
+        &["did you mean `material.density_kg_m3`?"],
+    );
     // A misspelt section.
-    let e = err("[canopee]\nspan_m = 6\n");
-    says(&e, &["unknown key `canopee`", "[canopy]"]);
+    says(
+        &err("[canopee]\nspan_m = 6\n"),
+        &["unknown key `canopee`", "[canopy]"],
+    );
     // Nothing close: no suggestion.
     let e = err("[canopy]\nzzzzzzzzzzzz = 1\n");
     assert!(
@@ -93,29 +105,24 @@ fn unknown_key_suggests_the_closest() {
     );
     // Reported in reading order: the first of two unknown keys.
     let e = err("[time]\nxx_dt = 1\n[canopy]\naaa = 1\n");
-    assert!(
-        matches!(&e, ScenarioError::UnknownKey { key, .. } if key == "time.xx_dt"),
-        "{e:?}"
-    );
+    assert_is!(&e, ScenarioError::UnknownKey { key, .. } if key == "time.xx_dt");
 }
 
 #[test]
 fn wrong_type_names_key_expected_type_and_line() {
-    let e = err("[canopy]\nspan_m = \"six\"\n");
-    assert!(
-        matches!(&e, ScenarioError::WrongType { key, expected: "a number", .. } if key == "canopy.span_m"),
-        "{e:?}"
-    );
-    at_line(&e, 5);
+    let e = err_at("[canopy]\nspan_m = \"six\"\n", 5);
+    assert_is!(&e, ScenarioError::WrongType { key, expected: "a number", .. } if key == "canopy.span_m");
     says(&e, &["found the string \"six\""]);
-    let e = err("[canopy]\nnodes = 6.5\n");
-    says(&e, &["`canopy.nodes`", "an integer"]);
-    let e = err("[fluid]\nwind_mps = [1, 2]\n");
-    says(&e, &["three numbers"]);
-    let e = err_with("canopy = 3\n[model]\nkind = \"rod\"\n", &[]);
-    says(&e, &["`canopy`", "a table"]);
-    let e = err("[load]\nsites = [[1, \"a\"]]\n");
-    says(&e, &["`load.sites`"]);
+    says(
+        &err("[canopy]\nnodes = 6.5\n"),
+        &["`canopy.nodes`", "an integer"],
+    );
+    says(&err("[fluid]\nwind_mps = [1, 2]\n"), &["three numbers"]);
+    says(
+        &err_with("canopy = 3\n[model]\nkind = \"rod\"\n", &[]),
+        &["`canopy`", "a table"],
+    );
+    says(&err("[load]\nsites = [[1, \"a\"]]\n"), &["`load.sites`"]);
 }
 
 #[test]
@@ -133,46 +140,52 @@ fn non_positive_physical_quantities_say_why() {
         ("[time]\ndt_s = 0.0\n", "time.dt_s", 5),
         ("[lines]\nradius_m = -0.001\n", "lines.radius_m", 5),
     ] {
-        let e = err(body);
+        let e = err_at(body, line);
         assert!(
             matches!(&e, ScenarioError::Invalid { key: k, .. } if k == key),
             "{body}: {e:?}"
         );
-        at_line(&e, line);
         says(&e, &["must be positive"]);
     }
-    let e = err("[canopy]\nnodes = -3\n");
-    says(&e, &["must be between 3 and 100000"]);
-    let e = err("[material]\npoisson_ratio = 0.7\n");
-    says(&e, &["(−1, 0.5]"]);
-    let e = err("[canopy]\nthickness_m = 2\n");
-    says(&e, &["is it in metres"]);
-    let e = err("[time]\ndt_s = 20\n");
-    says(&e, &["longer than time.duration_s"]);
+    says(
+        &err("[canopy]\nnodes = -3\n"),
+        &["must be between 3 and 100000"],
+    );
+    says(&err("[material]\npoisson_ratio = 0.7\n"), &["(−1, 0.5]"]);
+    says(&err("[canopy]\nthickness_m = 2\n"), &["is it in metres"]);
+    says(
+        &err("[time]\ndt_s = 20\n"),
+        &["longer than time.duration_s"],
+    );
     // Snapshots after the end are skipped with a warning (so short test runs of a bundled
     // scenario need no override); negative ones are errors.
-    let e = err("[output]\nsnapshots_s = [1, -1]\n");
-    says(&e, &["`output.snapshots_s`", "must not be negative"]);
+    says(
+        &err("[output]\nsnapshots_s = [1, -1]\n"),
+        &["`output.snapshots_s`", "must not be negative"],
+    );
 }
 
 #[test]
 fn rod_needs_enough_nodes() {
-    let e = err_with("[model]\nkind = \"rod\"\n[canopy]\nnodes = 2\n", &[]);
-    says(&e, &["`canopy.nodes` (t.toml:4) = 2 is invalid"]);
+    says(
+        &err_with("[model]\nkind = \"rod\"\n[canopy]\nnodes = 2\n", &[]),
+        &["`canopy.nodes` (t.toml:4) = 2 is invalid"],
+    );
 }
 
 #[test]
 fn nan_and_infinity_are_refused() {
     for v in ["nan", "inf", "-inf", "+nan"] {
-        let e = err(&format!("[canopy]\nspan_m = {v}\n"));
+        let e = err_at(&format!("[canopy]\nspan_m = {v}\n"), 5);
         assert!(
             e.to_string().contains("must be a finite number"),
             "{v}: {e}"
         );
-        at_line(&e, 5);
     }
-    let e = err("[fluid]\nwind_mps = [0, nan, 0]\n");
-    says(&e, &["`fluid.wind_mps`", "finite"]);
+    says(
+        &err("[fluid]\nwind_mps = [0, nan, 0]\n"),
+        &["`fluid.wind_mps`", "finite"],
+    );
 }
 
 #[test]
@@ -182,8 +195,10 @@ fn out_of_set_values_list_the_allowed_ones() {
         e.to_string(),
         "`model.kind` (t.toml:2) = \"membrane\" is not allowed; allowed values: \"rod\", \"shell\""
     );
-    let e = err("[fluid]\ndrag = \"cubic\"\n");
-    says(&e, &["\"quadratic\", \"linear\""]);
+    says(
+        &err("[fluid]\ndrag = \"cubic\"\n"),
+        &["\"quadratic\", \"linear\""],
+    );
     // Allowed in general, but not for this model.
     let e = err_with(
         "[model]\nkind = \"rod\"\n[load]\nsites = \"corners\"\n",
@@ -193,15 +208,21 @@ fn out_of_set_values_list_the_allowed_ones() {
         &e,
         &["not allowed for a rod canopy; allowed values: \"ends\", \"center\""],
     );
-    let e = err_with(
-        "[model]\nkind = \"rod\"\n[canopy]\nshape = \"circle\"\n",
-        &[],
+    says(
+        &err_with(
+            "[model]\nkind = \"rod\"\n[canopy]\nshape = \"circle\"\n",
+            &[],
+        ),
+        &["for a rod model"],
     );
-    says(&e, &["for a rod model"]);
-    let e = err("[canopy]\nshape = \"circle\"\n[load]\nsites = \"corners\"\n");
-    says(&e, &["\"rim\", \"center\""]);
-    let e = err("[load]\nmode = \"node_mass_scale\"\n");
-    says(&e, &["`load.mode`", "mesh"]);
+    says(
+        &err("[canopy]\nshape = \"circle\"\n[load]\nsites = \"corners\"\n"),
+        &["\"rim\", \"center\""],
+    );
+    says(
+        &err("[load]\nmode = \"node_mass_scale\"\n"),
+        &["`load.mode`", "mesh"],
+    );
 }
 
 #[test]
@@ -209,42 +230,35 @@ fn load_sites_outside_the_canopy() {
     // Rectangle 6 × 3 centred on the origin: x ∈ [−3, 3], y ∈ [−1.5, 1.5].
     let ok = format!("{HEAD}[load]\nsites = [[3, 1.5], [-3, -1.5], [0, 0]]\n");
     Scenario::from_str_with_name(&ok, "t.toml", &[]).unwrap();
-    let e = err("[load]\nsites = [[0, 0], [3.01, 0]]\n");
-    assert!(
-        matches!(&e, ScenarioError::SiteOutside { index: 1, .. }),
-        "{e:?}"
-    );
-    at_line(&e, 5);
+    let e = err_at("[load]\nsites = [[0, 0], [3.01, 0]]\n", 5);
+    assert_is!(&e, ScenarioError::SiteOutside { index: 1, .. });
     says(&e, &["(3.01, 0)", "rectangle"]);
     // Hexagon of circumradius 1 with a corner on +x: the corner is inside, (0, 0.9) is beyond
     // the apothem √3/2 ≈ 0.866.
     let hex = "[canopy]\nshape = \"hexagon\"\nradius_m = 1\n";
     let ok = format!("{HEAD}{hex}[load]\nsites = [[1, 0], [0, 0.866]]\n");
     Scenario::from_str_with_name(&ok, "t.toml", &[]).unwrap();
-    let e = err(&format!("{hex}[load]\nsites = [[0, 0.9]]\n"));
-    says(&e, &["hexagon"]);
+    says(
+        &err(&format!("{hex}[load]\nsites = [[0, 0.9]]\n")),
+        &["hexagon"],
+    );
     let circle = "[canopy]\nshape = \"circle\"\nradius_m = 1\n";
-    let e = err(&format!("{circle}[load]\nsites = [[0.8, 0.8]]\n"));
-    says(&e, &["circle of radius 1 m"]);
+    says(
+        &err(&format!("{circle}[load]\nsites = [[0.8, 0.8]]\n")),
+        &["circle of radius 1 m"],
+    );
 }
 
 #[test]
 fn mesh_file_must_exist_and_be_given() {
     let e = err("[canopy]\nshape = \"mesh\"\nmesh_file = \"nope/mesh.txt\"\n");
-    assert!(matches!(&e, ScenarioError::MeshMissing { .. }), "{e:?}");
+    assert_is!(&e, ScenarioError::MeshMissing { .. });
     let msg = e.to_string();
-    assert!(
-        msg.contains("`canopy.mesh_file` (t.toml:6)") && msg.contains("nope/mesh.txt"),
-        "{msg}"
-    );
+    assert_contains(&msg, &["`canopy.mesh_file` (t.toml:6)", "nope/mesh.txt"]);
     let e = err("[canopy]\nshape = \"mesh\"\n");
-    assert!(
-        matches!(&e, ScenarioError::Missing { key, .. } if key == "canopy.mesh_file"),
-        "{e:?}"
-    );
-    let e = err("[canopy]\nmesh_file = \"m.txt\"\n");
+    assert_is!(&e, ScenarioError::Missing { key, .. } if key == "canopy.mesh_file");
     says(
-        &e,
+        &err("[canopy]\nmesh_file = \"m.txt\"\n"),
         &["is invalid: only used with `canopy.shape = \"mesh\"`"],
     );
 }
@@ -252,9 +266,10 @@ fn mesh_file_must_exist_and_be_given() {
 #[test]
 fn relative_mesh_paths_resolve_against_the_scenario_file() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::create_dir_all(dir.path().join("meshes")).unwrap();
+    for folder in ["meshes", "scen"] {
+        std::fs::create_dir_all(dir.path().join(folder)).unwrap();
+    }
     std::fs::write(dir.path().join("meshes/m.txt"), "").unwrap();
-    std::fs::create_dir_all(dir.path().join("scen")).unwrap();
     let file = dir.path().join("scen/s.toml");
     std::fs::write(
         &file,
@@ -271,13 +286,12 @@ fn relative_mesh_paths_resolve_against_the_scenario_file() {
 #[test]
 fn missing_required_keys() {
     let e = err_with("name = \"x\"\n", &[]);
-    assert!(
-        matches!(&e, ScenarioError::Missing { key, .. } if key == "model.kind"),
-        "{e:?}"
-    );
+    assert_is!(&e, ScenarioError::Missing { key, .. } if key == "model.kind");
     says(&e, &["missing required key `model.kind`"]);
-    let e = err("[fluid]\ndrag = \"linear\"\n");
-    says(&e, &["fluid.linear_drag_coefficient_n_s_m"]);
+    says(
+        &err("[fluid]\ndrag = \"linear\"\n"),
+        &["fluid.linear_drag_coefficient_n_s_m"],
+    );
 }
 
 #[test]
@@ -310,20 +324,22 @@ fn override_errors_say_they_came_from_set() {
         e.to_string(),
         "unknown key `canopy.spam_m` (from `--set canopy.spam_m=1`); did you mean `canopy.span_m`?"
     );
-    let e = err_with(HEAD, &["fluid.drag=cubic"]);
-    says(&e, &["from `--set fluid.drag=cubic`", "\"linear\""]);
-    let e = err_with(HEAD, &["canopy.nodes=many"]);
     says(
-        &e,
+        &err_with(HEAD, &["fluid.drag=cubic"]),
+        &["from `--set fluid.drag=cubic`", "\"linear\""],
+    );
+    says(
+        &err_with(HEAD, &["canopy.nodes=many"]),
         &["`canopy.nodes` (from `--set canopy.nodes=many`) must be an integer"],
     );
     let e = err_with(HEAD, &["canopy.span_m"]);
-    assert!(matches!(&e, ScenarioError::BadOverride { .. }), "{e:?}");
+    assert_is!(&e, ScenarioError::BadOverride { .. });
     says(&e, &["expected KEY=VALUE"]);
-    let e = err_with(HEAD, &["=3"]);
-    says(&e, &["key before `=` is empty"]);
-    let e = err_with(HEAD, &["load.sites=[[9, 0]]"]);
-    says(&e, &["from `--set load.sites=[[9, 0]]`", "outside"]);
+    says(&err_with(HEAD, &["=3"]), &["key before `=` is empty"]);
+    says(
+        &err_with(HEAD, &["load.sites=[[9, 0]]"]),
+        &["from `--set load.sites=[[9, 0]]`", "outside"],
+    );
 }
 
 /// Every error about a key names it in its message.
@@ -353,12 +369,8 @@ fn every_keyed_error_names_its_key() {
 /// interval`, and refused without `time.adaptive = true`; each error names its key and line.
 #[test]
 fn adaptive_keys_are_checked() {
-    let e = err("[time]\nadaptive = \"yes\"\n");
-    assert!(
-        matches!(&e, ScenarioError::WrongType { key, .. } if key == "time.adaptive"),
-        "{e:?}"
-    );
-    at_line(&e, 5);
+    let e = err_at("[time]\nadaptive = \"yes\"\n", 5);
+    assert_is!(&e, ScenarioError::WrongType { key, .. } if key == "time.adaptive");
     says(&e, &["a boolean (true or false)"]);
     let cases: &[(&str, &str, usize, &str)] = &[
         (
@@ -405,31 +417,27 @@ fn adaptive_keys_are_checked() {
         ),
     ];
     for (body, key, line, why) in cases {
-        let e = err(body);
+        let e = err_at(body, *line);
         assert!(
             matches!(&e, ScenarioError::Invalid { key: k, .. } if k == key),
             "{body}: {e:?}"
         );
-        at_line(&e, *line);
         assert!(e.to_string().contains(why), "{body}: {e}");
     }
-    let e = err("[time]\nadaptive = true\ndt_max_s = nan\n");
-    says(&e, &["`time.dt_max_s` (t.toml:6)", "finite"]);
+    says(
+        &err("[time]\nadaptive = true\ndt_max_s = nan\n"),
+        &["`time.dt_max_s` (t.toml:6)", "finite"],
+    );
     // A bad default follows from a bad first step: the first step is reported.
     let e = err("[time]\nadaptive = true\ndt_s = -1\n");
-    assert!(
-        matches!(&e, ScenarioError::Invalid { key, .. } if key == "time.dt_s"),
-        "{e:?}"
-    );
+    assert_is!(&e, ScenarioError::Invalid { key, .. } if key == "time.dt_s");
     // Overrides name their origin.
-    let e = err_with(HEAD, &["time.adaptive=true", "time.error_tolerance_m=-1"]);
     says(
-        &e,
+        &err_with(HEAD, &["time.adaptive=true", "time.error_tolerance_m=-1"]),
         &["`time.error_tolerance_m` (from `--set time.error_tolerance_m=-1`)"],
     );
-    let e = err_with(HEAD, &["time.adaptive=maybe"]);
     says(
-        &e,
+        &err_with(HEAD, &["time.adaptive=maybe"]),
         &["`time.adaptive` (from `--set time.adaptive=maybe`) must be a boolean"],
     );
 }

@@ -5,7 +5,7 @@
 
 use chute::scenario::{Scenario, ScenarioError};
 
-use crate::common::repo;
+use crate::common::{assert_contains, repo};
 
 fn load(file: &str, set: &[&str]) -> Result<Scenario, ScenarioError> {
     let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
@@ -112,10 +112,7 @@ fn a_large_circle_canopy_is_warned_of_naming_its_cause() {
             .find(|w| w.contains("triangles"))
     };
     let w = warned("load.rim_site_count=600").expect("warned");
-    assert!(
-        w.contains("100 rings") && w.contains("load.rim_site_count = 600"),
-        "{w}"
-    );
+    assert_contains(&w, &["100 rings", "load.rim_site_count = 600"]);
     let w = warned("canopy.edge_length_m=0.01").expect("warned");
     assert!(w.contains("canopy.edge_length_m = 0.01 m makes it"), "{w}");
     assert_eq!(warned("load.rim_site_count=12"), None);

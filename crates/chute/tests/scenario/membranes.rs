@@ -2,6 +2,7 @@
 //! membrane builds into a model with the named stretching force, and each bad input is
 //! refused naming its key and line.
 
+use crate::common::assert_contains;
 use chute::scenario::{Membrane, Scenario, ScenarioError};
 
 const HEAD: &str = "name = \"t\"\n[model]\nkind = \"shell\"\n"; // lines 1–3
@@ -201,8 +202,5 @@ fn a_regularisation_that_would_shape_the_canopy_is_warned_of_or_refused() {
     let e = err(&format!("{KEVLAR}wrinkle_strain = 1e-3\n"));
     assert_eq!(e.key(), Some("material.wrinkle_strain"), "{e}");
     let msg = e.to_string();
-    assert!(
-        msg.contains("t.toml:12") && msg.contains("≤ 1.134e-4"),
-        "{msg}"
-    );
+    assert_contains(&msg, &["t.toml:12", "≤ 1.134e-4"]);
 }

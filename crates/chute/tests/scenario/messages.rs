@@ -3,7 +3,7 @@
 
 use chute::scenario::{plausibility, Scenario};
 
-use crate::common::repo;
+use crate::common::{assert_contains, repo};
 
 /// The error of the report's rod scenario under `set`.
 fn rod_error(set: &[&str]) -> String {
@@ -79,9 +79,9 @@ fn a_mesh_file_that_is_a_directory_says_so() {
     );
     let e = Scenario::from_str_with_name(&text, "t.toml", &[]).unwrap_err();
     let msg = e.to_string();
-    assert!(
-        msg.contains("`canopy.mesh_file` (t.toml:6)") && msg.contains("it is a directory"),
-        "{msg}"
+    assert_contains(
+        &msg,
+        &["`canopy.mesh_file` (t.toml:6)", "it is a directory"],
     );
     assert!(!msg.contains("does not exist"), "{msg}");
 }
