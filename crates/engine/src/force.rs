@@ -34,6 +34,20 @@ pub struct EvalInput<'a> {
 /// [`EvalInput::dt`] where no step is taken.
 pub const NO_STEP: f64 = f64::INFINITY;
 
+impl<'a> EvalInput<'a> {
+    /// An evaluation at `(q, v)` and time `t` that no time step leads to ([`NO_STEP`]):
+    /// statics, observers reading a state, tests of a law.
+    pub fn outside_step(q: &'a [f64], v: &'a [f64], t: f64, jacobian: bool) -> Self {
+        Self {
+            q,
+            v,
+            t,
+            dt: NO_STEP,
+            jacobian,
+        }
+    }
+}
+
 /// Which Jacobians a force provides.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct JacobianKind {

@@ -156,13 +156,7 @@ pub fn measure() -> Result<Vec<ElementCost>, AppError> {
 fn time_one(s: &Subject, jacobian: bool) -> f64 {
     let f = &s.model.forces[s.force];
     let v = vec![0.0; s.q.len()];
-    let input = engine::EvalInput {
-        q: &s.q,
-        v: &v,
-        t: 0.0,
-        jacobian,
-        dt: engine::force::NO_STEP,
-    };
+    let input = engine::EvalInput::outside_step(&s.q, &v, 0.0, jacobian);
     let mut blocks = f.new_blocks();
     f.evaluate(&input, &mut blocks);
     let (mut reps, t0) = (0u32, Instant::now());

@@ -79,13 +79,7 @@ impl Observer {
         let Some(p) = b.payload_node else {
             return total;
         };
-        let input = engine::EvalInput {
-            q,
-            v,
-            t,
-            jacobian: false,
-            dt: engine::force::NO_STEP,
-        };
+        let input = engine::EvalInput::outside_step(q, v, t, false);
         for (i, blocks) in &mut self.line_forces {
             let force = &b.model.forces[*i];
             force.evaluate(&input, blocks);
@@ -124,13 +118,7 @@ impl Observer {
     /// Total drag (N) and, for the triangle family, per-triangle drag.
     pub fn drag(&mut self, b: &Built, q: &[f64], v: &[f64], t: f64) -> [f64; 3] {
         let n_pos = 3 * b.model.layout.n_nodes;
-        let input = engine::EvalInput {
-            q,
-            v,
-            t,
-            jacobian: false,
-            dt: engine::force::NO_STEP,
-        };
+        let input = engine::EvalInput::outside_step(q, v, t, false);
         let mut total = [0.0; 3];
         for (k, &id) in b.drag_forces.iter().enumerate() {
             let force = b.model.force(id);

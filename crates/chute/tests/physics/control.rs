@@ -52,13 +52,7 @@ fn fly(s: &Scenario) -> (Summary, f64) {
     let v: Vec<f64> = (0..q.len())
         .map(|d| if d < n_pos && d % 3 == 2 { -1.0 } else { 0.0 })
         .collect();
-    let input = engine::EvalInput {
-        q,
-        v: &v,
-        t: b.state.t,
-        jacobian: false,
-        dt: engine::force::NO_STEP,
-    };
+    let input = engine::EvalInput::outside_step(q, &v, b.state.t, false);
     let mut fz = 0.0;
     for &id in &b.drag_forces {
         let f = b.model.force(id);

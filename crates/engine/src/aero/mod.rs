@@ -51,16 +51,7 @@ use crate::force::{EvalInput, Force};
 /// meant for observers, not the Newton loop.
 pub fn resultant(force: &dyn Force, layout: &DofLayout, q: &[f64], v: &[f64]) -> [f64; 3] {
     let mut blocks = force.new_blocks();
-    force.evaluate(
-        &EvalInput {
-            q,
-            v,
-            t: 0.0,
-            jacobian: false,
-            dt: crate::force::NO_STEP,
-        },
-        &mut blocks,
-    );
+    force.evaluate(&EvalInput::outside_step(q, v, 0.0, false), &mut blocks);
     let n_pos = 3 * layout.n_nodes;
     let mut total = [0.0; 3];
     for (&d, &f) in force.stencils().iter().zip(&blocks.f) {

@@ -62,13 +62,7 @@ fn shell_model(nx: usize, ny: usize) -> (Model, Vec<f64>, Vec<f64>) {
 
 /// Evaluation with the Jacobian at `(q, v)`, t = 0.
 fn jacobian_input<'a>(q: &'a [f64], v: &'a [f64]) -> EvalInput<'a> {
-    EvalInput {
-        q,
-        v,
-        t: 0.0,
-        jacobian: true,
-        dt: crate::force::NO_STEP,
-    }
+    EvalInput::outside_step(q, v, 0.0, true)
 }
 
 /// Implicit-Euler-like coefficients (dt = 1 ms).

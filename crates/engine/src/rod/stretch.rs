@@ -470,13 +470,7 @@ mod tests {
         let q = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 4.0, 0.0, 0.0];
         let tension = |f: &Stretch, t: f64| {
             let mut b = f.new_blocks();
-            let input = EvalInput {
-                q: &q,
-                v: &[0.0; 9],
-                t,
-                jacobian: false,
-                dt: crate::force::NO_STEP,
-            };
+            let input = EvalInput::outside_step(&q, &[0.0; 9], t, false);
             f.evaluate(&input, &mut b);
             b.f[0] // pull on node 0 towards node 1 = k ε
         };

@@ -189,13 +189,8 @@ fn psd_projection_keeps_psd_blocks_and_removes_negative_modes() {
         let mut x: Vec<f64> = q.iter().map(|v| s * v + rng.symmetric(0.02)).collect();
         large_deformation(&mut rng, &mut x);
         let mut exact = m.new_blocks();
-        let input = engine::EvalInput {
-            q: &x,
-            v: &vec![0.0; x.len()],
-            t: 0.0,
-            jacobian: true,
-            dt: engine::force::NO_STEP,
-        };
+        let v = vec![0.0; x.len()];
+        let input = engine::EvalInput::outside_step(&x, &v, 0.0, true);
         m.evaluate(&input, &mut exact);
         let proj = cst().0.with_psd_projection(true);
         let mut projected = proj.new_blocks();

@@ -10,55 +10,40 @@ use engine::force::{EvalInput, Force, JacobianKind, LocalBlocks};
 use engine::{ImplicitEuler, Model, NewtonOptions, State};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
-/// TriangleDrag with its ∂F/∂x dropped (the "simplified Jacobian").
-struct NoDq(TriangleDrag);
-impl Force for NoDq {
-    fn name(&self) -> &str {
-        "triangle-drag-without-dq"
-    }
-    fn stencil_size(&self) -> usize {
-        9
-    }
-    fn stencils(&self) -> &[usize] {
-        self.0.stencils()
-    }
-    fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind {
-            dq: false,
-            dv: true,
-            symmetric: false,
-        }
-    }
-    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
-        let mut full = self.0.new_blocks();
-        self.0.evaluate(input, &mut full);
-        out.f.copy_from_slice(&full.f);
-        out.dfdv.copy_from_slice(&full.dfdv);
-    }
+/// `inner` with part of its Jacobian dropped (a "simplified Jacobian"): it declares `kind`
+/// and no low-rank part, and writes only the blocks that `kind` has.
+struct Simplified<F: Force> {
+    inner: F,
+    name: &'static str,
+    kind: JacobianKind,
 }
 
-/// AddedMass with its low-rank Jacobian dropped.
-struct NoLowRank(AddedMass);
-impl Force for NoLowRank {
+impl<F: Force> Force for Simplified<F> {
     fn name(&self) -> &str {
-        "added-mass-without-jacobian"
+        self.name
     }
     fn stencil_size(&self) -> usize {
-        3
+        self.inner.stencil_size()
     }
     fn stencils(&self) -> &[usize] {
-        self.0.stencils()
+        self.inner.stencils()
     }
     fn jacobian_kind(&self) -> JacobianKind {
-        JacobianKind::CONSTANT
+        self.kind
     }
     fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
-        let mut full = self.0.new_blocks();
-        self.0.evaluate(input, &mut full);
+        let mut full = self.inner.new_blocks();
+        self.inner.evaluate(input, &mut full);
         out.f.copy_from_slice(&full.f);
+        if self.kind.dq {
+            out.dfdq.copy_from_slice(&full.dfdq);
+        }
+        if self.kind.dv {
+            out.dfdv.copy_from_slice(&full.dfdv);
+        }
     }
     fn commit(&mut self, q: &[f64], v: &[f64]) {
-        self.0.commit(q, v);
+        self.inner.commit(q, v);
     }
 }
 
@@ -83,7 +68,14 @@ fn model(variant: Variant) -> (Model, State) {
     let drag = TriangleDrag::new(&s.tris, 1.75, 0.5, &air);
     let added = || AddedMass::new(&s.tris, &state.q, &state.v, &air);
     match variant {
-        Variant::DragWithoutDq => model.add_force(NoDq(drag)),
+        Variant::DragWithoutDq => model.add_force(Simplified {
+            inner: drag,
+            name: "triangle-drag-without-dq",
+            kind: JacobianKind {
+                dq: false,
+                ..JacobianKind::GENERAL
+            },
+        }),
         _ => model.add_force(drag),
     };
     match variant {
@@ -91,7 +83,11 @@ fn model(variant: Variant) -> (Model, State) {
             model.add_force(added());
         }
         Variant::AddedMassWithoutJacobian => {
-            model.add_force(NoLowRank(added()));
+            model.add_force(Simplified {
+                inner: added(),
+                name: "added-mass-without-jacobian",
+                kind: JacobianKind::CONSTANT,
+            });
         }
         _ => {}
     }

@@ -48,13 +48,7 @@ fn two_passes_equal_the_per_face_kernel() {
         .collect();
     let v = vec![0.0; q.len()];
     for jacobian in [true, false] {
-        let input = EvalInput {
-            q: &q,
-            v: &v,
-            t: 0.0,
-            jacobian,
-            dt: crate::force::NO_STEP,
-        };
+        let input = EvalInput::outside_step(&q, &v, 0.0, jacobian);
         let mut blocks = force.new_blocks();
         force.evaluate(&input, &mut blocks);
         let mut bare = LocalBlocks::new(NS, force.len(), JacobianKind::ELASTIC);
