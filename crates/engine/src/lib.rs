@@ -62,6 +62,7 @@ pub mod model;
 pub mod reference;
 pub mod rod;
 pub mod shell;
+pub mod stability;
 pub mod stepper;
 pub(crate) mod vec3;
 

@@ -1,0 +1,139 @@
+//! The steady descent and its modes against closed forms and a dense eigen-solve.
+
+use faer::{c64, Mat};
+
+use super::*;
+use crate::aero::{Fluid, LinearDrag};
+use crate::reference::falling::{point_mass, G, VT};
+use crate::rod::Stretch;
+use crate::{DofLayout, Model};
+
+/// Iterative modes are the companion matrix's eigenvalues to this relative accuracy.
+const EIG_TOL: f64 = 1e-7;
+
+#[test]
+fn a_point_mass_descends_at_its_terminal_velocity_in_the_wind() {
+    let fluid = Fluid {
+        wind: [2.0, -1.0, 0.0],
+        ..Fluid::air()
+    };
+    let (model, state) = point_mass(&fluid, 100.0);
+    let opts = SteadyOptions::recommended(&model, G, 0);
+    let s = steady_descent(&model, &state.q, [0.3, 0.2, -1.0], 0.0, &opts).unwrap();
+    let want = [2.0, -1.0, -VT];
+    for k in 0..3 {
+        assert!((s.velocity[k] - want[k]).abs() < 1e-9 * VT, "{:?}", s.velocity);
+    }
+    assert!(s.residual_n <= opts.tolerance_n);
+    assert_eq!(s.q, state.q, "the held node stays");
+}
+
+#[test]
+fn a_held_node_outside_the_model_is_an_error() {
+    let (model, state) = point_mass(&Fluid::air(), 0.0);
+    let opts = SteadyOptions::recommended(&model, G, 3);
+    let e = steady_descent(&model, &state.q, [0.0; 3], 0.0, &opts).unwrap_err();
+    assert!(matches!(e, StabilityError::NoSuchNode { node: 3, .. }), "{e}");
+}
+
+/// At terminal speed V the drag's ∂F/∂v is −ρC_DA V along the motion and half that across
+/// it, with K = 0: modes λ = 0 (position, three), −g/V (across, two), −2g/V (along).
+#[test]
+fn a_falling_point_has_the_drag_relaxation_modes() {
+    let (model, state) = point_mass(&Fluid::air(), 0.0);
+    let opts = SteadyOptions::recommended(&model, G, 0);
+    let s = steady_descent(&model, &state.q, [0.0, 0.0, -1.0], 0.0, &opts).unwrap();
+    let lin = Linearized::at(&model, &s.q, &s.v, 0.0);
+    let found = modes(&lin, &ModeOptions::default()).unwrap();
+    let mut re: Vec<f64> = found.iter().map(|m| m.eigenvalue.re).collect();
+    re.sort_by(f64::total_cmp);
+    let want = [-2.0 * G / VT, -G / VT, -G / VT, 0.0, 0.0, 0.0];
+    assert_eq!(re.len(), 6, "{re:?}");
+    for (got, want) in re.iter().zip(want) {
+        assert!((got - want).abs() < EIG_TOL * G / VT, "{re:?} vs {want}");
+    }
+    assert!(found.iter().all(|m| m.eigenvalue.im.abs() < EIG_TOL));
+}
+
+/// A mass on a spring along x with a linear damper, its other end held: along x,
+/// `m λ² + c λ + k = 0`; across (an unloaded string has no lateral stiffness), λ = 0 and −c/m.
+#[test]
+fn a_damped_oscillator_has_its_closed_form_modes() {
+    let (m, c, k) = (2.0, 0.6, 50.0);
+    let mut model = Model::new(DofLayout::new(2, 0));
+    let q = vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+    model.add_node_mass(1, m);
+    model.fix_node(0);
+    model.add_force(Stretch::new("spring", &[[0, 1]], &q, vec![k]));
+    model.add_force(LinearDrag::new(&[1], &[c], &Fluid::air()));
+    let lin = Linearized::at(&model, &q, &[0.0; 6], 0.0);
+    let found = modes(&lin, &ModeOptions::default()).unwrap();
+    assert_eq!(found.len(), 6);
+    let disc = (4.0 * m * k - c * c).sqrt();
+    let pair = c64::new(-c / (2.0 * m), disc / (2.0 * m));
+    let want = [pair, pair.conj(), 0.0.into(), 0.0.into(), (-c / m).into(), (-c / m).into()];
+    for w in want {
+        let near = found.iter().filter(|f| (f.eigenvalue - w).norm() < EIG_TOL * pair.norm());
+        assert!(near.count() >= 1, "{w} not in {:?}", eigenvalues(&found));
+    }
+    for f in &found {
+        assert!(f.backward_error < 1e-12, "{f:?}");
+    }
+    // The oscillating pair moves along x only.
+    let osc = found.iter().find(|f| f.eigenvalue.im > 0.0).unwrap();
+    assert!((osc.shape[3].norm() - 1.0).abs() < 1e-12 && osc.shape[4].norm() < 1e-9);
+}
+
+fn eigenvalues(modes: &[Mode]) -> Vec<c64> {
+    modes.iter().map(|m| m.eigenvalue).collect()
+}
+
+/// On a crumpled sheet with drag (non-symmetric K and C, compressed springs that buckle),
+/// every mode found is an eigenvalue of the dense companion matrix, and no eigenvalue the
+/// Cayley map ranks clearly above the last one found is missing.
+#[test]
+fn modes_match_a_dense_eigen_solve_on_a_crumpled_sheet() {
+    let (mut model, state) = crate::reference::sheet::kevlar_sheet(4, 3, 1.0, 0.8, 5.0);
+    // A held corner: no free translation, whose triple λ = 0 is ill-conditioned.
+    model.fix_node(0);
+    let q: Vec<f64> = state
+        .q
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x + 0.03 * ((i as f64 * 0.7548776662).fract() - 0.5))
+        .collect();
+    let v: Vec<f64> = (0..q.len()).map(|d| if d % 3 == 2 { -4.0 } else { 0.3 }).collect();
+    let lin = Linearized::at(&model, &q, &v, 0.0);
+    let opts = ModeOptions::default();
+    let found = modes(&lin, &opts).unwrap();
+    assert!(found.len() >= 2, "{} converged", found.len());
+    let dense = dense_eigenvalues(&lin);
+    let theta = |l: c64| ((l + opts.shift) / (l - opts.shift)).norm();
+    for f in &found {
+        let nearest = dense.iter().map(|d| (d - f.eigenvalue).norm()).fold(f64::MAX, f64::min);
+        assert!(nearest < 1e-6 * (1.0 + f.eigenvalue.norm()), "{} not an eigenvalue", f.eigenvalue);
+        assert!(f.backward_error <= opts.max_backward_error, "{f:?}");
+    }
+    let cut = found.iter().map(|f| theta(f.eigenvalue)).fold(f64::MAX, f64::min);
+    for d in dense.iter().filter(|d| theta(**d) > cut * (1.0 + 1e-3)) {
+        let got = found.iter().any(|f| (f.eigenvalue - d).norm() < 1e-6 * (1.0 + d.norm()));
+        assert!(got, "{d} (|θ| = {}) missing", theta(*d));
+    }
+}
+
+/// Eigenvalues of `[[0, I], [M⁻¹K, M⁻¹C]]`, dense.
+fn dense_eigenvalues(lin: &Linearized) -> Vec<c64> {
+    let n = lin.n_free;
+    let mut a = Mat::<f64>::zeros(2 * n, 2 * n);
+    for i in 0..n {
+        a[(i, n + i)] = 1.0;
+    }
+    for col in 0..n {
+        for k in lin.col_ptr[col]..lin.col_ptr[col + 1] {
+            let row = lin.row_idx[k];
+            a[(n + row, col)] = lin.k[k] / lin.mass[row];
+            a[(n + row, n + col)] = lin.c[k] / lin.mass[row];
+        }
+    }
+    a.eigenvalues().unwrap()
+}
