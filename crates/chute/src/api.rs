@@ -20,6 +20,7 @@ pub use crate::output::viewer::VIEWER_HTML;
 pub use crate::runner::Session;
 pub use crate::scenario::derived::sig4;
 pub use crate::scenario::{Scenario, ScenarioError};
+pub use crate::steady::{ModeRecord, SteadyReport, STABILITY_JSON};
 pub use crate::study::{
     mark_resumed, Case, CaseStatus, Runner, Shard, Study, StudyOptions, StudyReport, Table,
 };
@@ -163,4 +164,25 @@ pub fn validate_command(args: &ValidateArgs) -> Result<(), AppError> {
 /// `chute bench`: the benchmark ladder, or with `--case` one case in this process.
 pub fn bench_command(args: &BenchArgs) -> Result<(), AppError> {
     crate::bench::main(args)
+}
+
+/// `chute steady`: fly `s` for `time.duration_s`, then solve its steady descent and the modes
+/// about it (docs/cli.md §`chute steady`).
+pub fn steady(s: &Scenario) -> Result<SteadyReport, AppError> {
+    crate::steady::steady(s)
+}
+
+/// The console table of a [`steady`] report.
+pub fn stability_table(r: &SteadyReport) -> String {
+    crate::steady::table(r)
+}
+
+/// Refuse `dir` as [`write_stability`]'s directory when it holds anything else.
+pub fn check_stability_out(dir: &Path) -> Result<(), AppError> {
+    crate::steady::check_out(dir)
+}
+
+/// Write a [`steady`] report as `dir/stability.json`.
+pub fn write_stability(r: &SteadyReport, dir: &Path) -> Result<(), AppError> {
+    crate::steady::write(r, dir)
 }

@@ -38,6 +38,8 @@ pub enum Command {
     /// Solution verification: run mesh or time-step ladders, estimate order, extrapolation
     /// and GCI; write convergence.json, convergence.md and convergence.png.
     Converge(ConvergeArgs),
+    /// The steady descent as an equilibrium, and the modes of the motion about it.
+    Steady(SteadyArgs),
     /// Run the verification cases against analytic references.
     Validate(api::ValidateArgs),
     /// Time the solver on a ladder of mesh sizes.
@@ -118,6 +120,22 @@ pub struct CheckArgs {
     /// Print the fully resolved scenario (every default filled in) as TOML instead.
     #[arg(long)]
     pub resolved: bool,
+}
+
+/// `chute steady`.
+#[derive(Debug, Args)]
+pub struct SteadyArgs {
+    /// Scenario file (TOML); it is flown for `time.duration_s` first.
+    pub scenario: PathBuf,
+    /// Override a scenario key (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Write `stability.json` into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print `stability.json` on stdout instead of the table.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `chute study`.
@@ -222,6 +240,7 @@ pub fn dispatch(cli: Cli) -> Result<(), AppError> {
         Command::Study(a) => cmd_study(&a),
         Command::Collect(a) => cmd_collect(&a),
         Command::Converge(a) => cmd_converge(&a),
+        Command::Steady(a) => cmd_steady(&a),
         Command::Validate(a) => api::validate_command(&a),
         Command::Bench(a) => api::bench_command(&a),
         Command::View(a) => cmd_view(&a),
@@ -550,4 +569,23 @@ fn cmd_converge(a: &ConvergeArgs) -> Result<(), AppError> {
 /// that it is refused as a bad value, not taken as unset (which would run every case).
 fn slurm_var(key: &str) -> Option<String> {
     std::env::var_os(key).map(|v| v.to_string_lossy().into_owned())
+}
+
+fn cmd_steady(a: &SteadyArgs) -> Result<(), AppError> {
+    let s = api::load(&a.scenario, &a.set)?;
+    if let Some(dir) = &a.out {
+        api::check_stability_out(dir)?;
+    }
+    print_plausibility(&s);
+    let r = api::steady(&s)?;
+    if let Some(dir) = &a.out {
+        api::write_stability(&r, dir)?;
+    }
+    if a.json {
+        let text = serde_json::to_string_pretty(&r).map_err(|e| AppError::Input(e.to_string()))?;
+        crate::out_line!("{text}");
+    } else {
+        crate::out_text!("{}", api::stability_table(&r));
+    }
+    Ok(())
 }

@@ -20,6 +20,7 @@ pub mod metrics;
 pub mod output;
 pub mod runner;
 pub mod scenario;
+pub mod steady;
 pub mod study;
 pub mod verify;
 

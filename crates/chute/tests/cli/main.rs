@@ -17,6 +17,7 @@ mod reliability;
 mod reports;
 mod resume;
 mod shell_laws;
+mod steady;
 mod study_dirs;
 mod study_inputs;
 mod validate;

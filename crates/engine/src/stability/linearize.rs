@@ -110,9 +110,10 @@ impl Linearized {
 
     /// The sparse LU factors of `values` on the pattern.
     pub fn lu(&self, values: &[f64]) -> Result<Lu<usize, f64>, StabilityError> {
-        let symbolic =
-            SymbolicLu::try_new(self.pattern()).map_err(|e| StabilityError::Singular(e.to_string()))?;
+        let symbolic = SymbolicLu::try_new(self.pattern())
+            .map_err(|e| StabilityError::Singular(e.to_string()))?;
         let mat = SparseColMatRef::new(self.pattern(), values);
-        Lu::try_new_with_symbolic(symbolic, mat).map_err(|e| StabilityError::Singular(format!("{e:?}")))
+        Lu::try_new_with_symbolic(symbolic, mat)
+            .map_err(|e| StabilityError::Singular(format!("{e:?}")))
     }
 }

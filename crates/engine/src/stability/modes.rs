@@ -140,7 +140,9 @@ pub fn modes(lin: &Linearized, opts: &ModeOptions) -> Result<Vec<Mode>, Stabilit
     let mut vecs = Mat::<c64>::zeros(n2, count);
     let mut vals = vec![c64::new(0.0, 0.0); count];
     // A fixed, generic start (no constant vector, which is a rigid-body motion).
-    let v0 = Col::<f64>::from_fn(n2, |i| ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() - 0.5);
+    let v0 = Col::<f64>::from_fn(n2, |i| {
+        ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() - 0.5
+    });
     let info = partial_eigen(
         vecs.as_mut(),
         &mut vals,

@@ -22,7 +22,11 @@ fn a_point_mass_descends_at_its_terminal_velocity_in_the_wind() {
     let s = steady_descent(&model, &state.q, [0.3, 0.2, -1.0], 0.0, &opts).unwrap();
     let want = [2.0, -1.0, -VT];
     for k in 0..3 {
-        assert!((s.velocity[k] - want[k]).abs() < 1e-9 * VT, "{:?}", s.velocity);
+        assert!(
+            (s.velocity[k] - want[k]).abs() < 1e-9 * VT,
+            "{:?}",
+            s.velocity
+        );
     }
     assert!(s.residual_n <= opts.tolerance_n);
     assert_eq!(s.q, state.q, "the held node stays");
@@ -33,7 +37,10 @@ fn a_held_node_outside_the_model_is_an_error() {
     let (model, state) = point_mass(&Fluid::air(), 0.0);
     let opts = SteadyOptions::recommended(&model, G, 3);
     let e = steady_descent(&model, &state.q, [0.0; 3], 0.0, &opts).unwrap_err();
-    assert!(matches!(e, StabilityError::NoSuchNode { node: 3, .. }), "{e}");
+    assert!(
+        matches!(e, StabilityError::NoSuchNode { node: 3, .. }),
+        "{e}"
+    );
 }
 
 /// At terminal speed V the drag's ∂F/∂v is −ρC_DA V along the motion and half that across
@@ -71,9 +78,18 @@ fn a_damped_oscillator_has_its_closed_form_modes() {
     assert_eq!(found.len(), 6);
     let disc = (4.0 * m * k - c * c).sqrt();
     let pair = c64::new(-c / (2.0 * m), disc / (2.0 * m));
-    let want = [pair, pair.conj(), 0.0.into(), 0.0.into(), (-c / m).into(), (-c / m).into()];
+    let want = [
+        pair,
+        pair.conj(),
+        0.0.into(),
+        0.0.into(),
+        (-c / m).into(),
+        (-c / m).into(),
+    ];
     for w in want {
-        let near = found.iter().filter(|f| (f.eigenvalue - w).norm() < EIG_TOL * pair.norm());
+        let near = found
+            .iter()
+            .filter(|f| (f.eigenvalue - w).norm() < EIG_TOL * pair.norm());
         assert!(near.count() >= 1, "{w} not in {:?}", eigenvalues(&found));
     }
     for f in &found {
@@ -102,7 +118,9 @@ fn modes_match_a_dense_eigen_solve_on_a_crumpled_sheet() {
         .enumerate()
         .map(|(i, x)| x + 0.03 * ((i as f64 * 0.7548776662).fract() - 0.5))
         .collect();
-    let v: Vec<f64> = (0..q.len()).map(|d| if d % 3 == 2 { -4.0 } else { 0.3 }).collect();
+    let v: Vec<f64> = (0..q.len())
+        .map(|d| if d % 3 == 2 { -4.0 } else { 0.3 })
+        .collect();
     let lin = Linearized::at(&model, &q, &v, 0.0);
     let opts = ModeOptions::default();
     let found = modes(&lin, &opts).unwrap();
@@ -110,13 +128,25 @@ fn modes_match_a_dense_eigen_solve_on_a_crumpled_sheet() {
     let dense = dense_eigenvalues(&lin);
     let theta = |l: c64| ((l + opts.shift) / (l - opts.shift)).norm();
     for f in &found {
-        let nearest = dense.iter().map(|d| (d - f.eigenvalue).norm()).fold(f64::MAX, f64::min);
-        assert!(nearest < 1e-6 * (1.0 + f.eigenvalue.norm()), "{} not an eigenvalue", f.eigenvalue);
+        let nearest = dense
+            .iter()
+            .map(|d| (d - f.eigenvalue).norm())
+            .fold(f64::MAX, f64::min);
+        assert!(
+            nearest < 1e-6 * (1.0 + f.eigenvalue.norm()),
+            "{} not an eigenvalue",
+            f.eigenvalue
+        );
         assert!(f.backward_error <= opts.max_backward_error, "{f:?}");
     }
-    let cut = found.iter().map(|f| theta(f.eigenvalue)).fold(f64::MAX, f64::min);
+    let cut = found
+        .iter()
+        .map(|f| theta(f.eigenvalue))
+        .fold(f64::MAX, f64::min);
     for d in dense.iter().filter(|d| theta(**d) > cut * (1.0 + 1e-3)) {
-        let got = found.iter().any(|f| (f.eigenvalue - d).norm() < 1e-6 * (1.0 + d.norm()));
+        let got = found
+            .iter()
+            .any(|f| (f.eigenvalue - d).norm() < 1e-6 * (1.0 + d.norm()));
         assert!(got, "{d} (|θ| = {}) missing", theta(*d));
     }
 }
@@ -136,4 +166,47 @@ fn dense_eigenvalues(lin: &Linearized) -> Vec<c64> {
         }
     }
     a.eigenvalues().unwrap()
+}
+
+/// `K` and `C` are the sums of the forces' own Jacobians (each checked against finite
+/// differences by the conformance tests), scattered onto the free DOFs.
+#[test]
+fn k_and_c_are_the_forces_jacobians_on_the_free_dofs() {
+    let (mut model, state) = crate::reference::sheet::kevlar_sheet(4, 3, 1.0, 0.8, 5.0);
+    model.fix_node(4);
+    let q: Vec<f64> = state
+        .q
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x + 0.03 * ((i as f64 * 0.7548776662).fract() - 0.5))
+        .collect();
+    let v: Vec<f64> = (0..q.len())
+        .map(|d| if d % 3 == 2 { -4.0 } else { 0.3 })
+        .collect();
+    let lin = Linearized::at(&model, &q, &v, 0.0);
+    let n = q.len();
+    let (mut k, mut c) = (vec![0.0; n * n], vec![0.0; n * n]);
+    for f in &model.forces {
+        let (_, kf, cf) = crate::fdcheck::dense_eval(f.as_ref(), &q, &v);
+        k.iter_mut().zip(kf).for_each(|(a, b)| *a += b);
+        c.iter_mut().zip(cf).for_each(|(a, b)| *a += b);
+    }
+    assert_eq!(lin.n_free, n - 3);
+    let mut stored = 0.0;
+    for col in 0..lin.n_free {
+        for e in lin.col_ptr[col]..lin.col_ptr[col + 1] {
+            let (r, d) = (lin.dof_of[lin.row_idx[e]], lin.dof_of[col]);
+            // The same sums in another order: equal to round-off.
+            assert!((lin.k[e] - k[r * n + d]).abs() <= 1e-9 * (1.0 + k[r * n + d].abs()));
+            assert!((lin.c[e] - c[r * n + d]).abs() <= 1e-12 * (1.0 + c[r * n + d].abs()));
+            stored += k[r * n + d].abs();
+        }
+    }
+    // Every nonzero of the free block is in the pattern.
+    let free = |d: usize| !model.fixed[d];
+    let all: f64 = (0..n * n)
+        .filter(|i| free(i / n) && free(i % n))
+        .map(|i| k[i].abs())
+        .sum();
+    assert!((stored - all).abs() <= 1e-9 * all);
 }

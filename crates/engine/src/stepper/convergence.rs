@@ -40,6 +40,10 @@ pub(crate) enum Verdict {
     Continue(f64),
 }
 
+/// A stalled update (below the step tolerance) ends a solve whose residual is within this
+/// factor of the tolerance: the residual is then at the round-off of the forces.
+pub(crate) const STALL_FACTOR: f64 = 1e3;
+
 /// The tolerances of one model's solves.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Convergence {
@@ -90,7 +94,7 @@ impl Convergence {
     /// step tolerance while the residual `rinf` is within 1e3 of the tolerance (a stalled
     /// iteration is not taken for convergence).
     pub fn stalled_at_tolerance(&self, step: f64, rinf: f64, tol: &Tolerance) -> bool {
-        step <= self.step_tol && rinf <= 1e3 * tol.tol
+        step <= self.step_tol && rinf <= STALL_FACTOR * tol.tol
     }
 
     /// The verdict on iterate `q` (its residual in `ws`) of a stage that has taken

@@ -6,7 +6,7 @@
 //! `error_control.rs` for adaptive steps.
 mod anderson;
 mod controller;
-mod convergence;
+pub(crate) mod convergence;
 pub mod error_control;
 mod implicit_euler;
 mod linearization;

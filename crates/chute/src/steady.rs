@@ -1,0 +1,200 @@
+//! `chute steady`: a scenario's steady descent as an equilibrium and the modes of the motion
+//! about it (docs/cli.md §`chute steady`; the method is `engine::stability`).
+//!
+//! The scenario is flown for `time.duration_s` (no outputs) to come near the equilibrium;
+//! Newton then solves `F(q, V) = 0` in the falling frame, holding the payload (or the first
+//! canopy node) in place. The modes are those of the exact linearisation there.
+
+pub mod classify;
+
+use std::path::Path;
+
+use engine::stability::{self, Linearized, ModeOptions, SteadyOptions};
+use faer::c64;
+
+use crate::app::AppError;
+use crate::scenario::Scenario;
+
+/// File a `chute steady --out DIR` writes.
+pub const STABILITY_JSON: &str = "stability.json";
+
+/// One mode of [`SteadyReport::modes`] (a complex pair appears once, with its frequency).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ModeRecord {
+    /// `Re λ` (1/s): positive grows, negative decays.
+    pub growth_rate_per_s: f64,
+    /// `|Im λ| / 2π` (Hz); 0 for a mode that does not oscillate.
+    pub frequency_hz: f64,
+    /// `−Re λ / |λ|`; null for a neutral mode (λ = 0).
+    pub damping_ratio: Option<f64>,
+    /// λ as `[Re, Im]` (1/s).
+    pub eigenvalue: [f64; 2],
+    /// How exactly the mode solves the linearised equations (engine::stability::Mode).
+    pub backward_error: f64,
+    /// Shares of its kinetic energy by kind of motion.
+    pub shares: classify::Shares,
+    /// In words.
+    pub description: String,
+}
+
+/// What `chute steady` finds (the contents of `stability.json`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct SteadyReport {
+    /// Scenario name.
+    pub scenario_name: String,
+    /// The equilibrium's vertical velocity (m/s, signed like `summary.json`'s).
+    pub terminal_velocity_mps: f64,
+    /// The equilibrium's velocity (m/s).
+    pub velocity_mps: [f64; 3],
+    /// The transient's mean vertical velocity over its final 20 % (m/s), for comparison.
+    pub transient_terminal_velocity_mps: f64,
+    /// Simulated time of the transient (s).
+    pub transient_s: f64,
+    /// `‖F‖∞` at the equilibrium (N).
+    pub residual_n: f64,
+    /// Newton iterations from the transient's end.
+    pub newton_iterations: usize,
+    /// The Cayley shift σ of the mode search (1/s).
+    pub shift_per_s: f64,
+    /// The modes found, largest growth rate first.
+    pub modes: Vec<ModeRecord>,
+}
+
+/// Fly `s`, solve its steady descent and its modes.
+pub fn steady(s: &Scenario) -> Result<SteadyReport, AppError> {
+    let built = crate::build::build(s)?;
+    let cfg = crate::app::run_config(s, false);
+    let mut session =
+        crate::runner::Session::new(built, cfg).map_err(|e| AppError::RunFailed(e.to_string()))?;
+    session
+        .advance_to(s.time.duration_s)
+        .map_err(|e| AppError::RunFailed(format!("the transient stopped: {e}")))?;
+    let transient = session.summary();
+    let b = session.built();
+    let (model, state) = (&b.model, &b.state);
+    let hold = b
+        .payload_node
+        .or(b.canopy_nodes.first().copied())
+        .unwrap_or(0);
+    let opts = SteadyOptions::recommended(model, s.fluid.gravity_mps2, hold);
+    let eq = stability::steady_descent(
+        model,
+        &state.q,
+        mean_velocity(model, &state.v),
+        state.t,
+        &opts,
+    )
+    .map_err(|e| AppError::RunFailed(e.to_string()))?;
+    let lin = Linearized::at(model, &eq.q, &eq.v, state.t);
+    let mode_opts = ModeOptions::default();
+    let found =
+        stability::modes(&lin, &mode_opts).map_err(|e| AppError::RunFailed(e.to_string()))?;
+    let n_nodes = model.layout.n_nodes;
+    let modes = found
+        .iter()
+        .filter(|m| m.eigenvalue.im >= 0.0)
+        .map(|m| record(m, &eq.q, &model.mass, n_nodes))
+        .collect();
+    Ok(SteadyReport {
+        scenario_name: s.name.clone(),
+        terminal_velocity_mps: eq.velocity[2],
+        velocity_mps: eq.velocity,
+        transient_terminal_velocity_mps: transient.terminal_velocity_mps,
+        transient_s: state.t,
+        residual_n: eq.residual_n,
+        newton_iterations: eq.iterations,
+        shift_per_s: mode_opts.shift,
+        modes,
+    })
+}
+
+/// Mass-weighted mean velocity of the nodes (m/s).
+fn mean_velocity(model: &engine::Model, v: &[f64]) -> [f64; 3] {
+    let n = model.layout.n_nodes;
+    let mut p = [0.0; 3];
+    let mut m = 0.0;
+    for i in 0..n {
+        m += model.mass[3 * i];
+        for k in 0..3 {
+            p[k] += model.mass[3 * i + k] * v[3 * i + k];
+        }
+    }
+    p.map(|x| x / m)
+}
+
+fn record(m: &engine::stability::Mode, q: &[f64], mass: &[f64], n_nodes: usize) -> ModeRecord {
+    let l: c64 = m.eigenvalue;
+    let shares = classify::shares(m, q, mass, n_nodes);
+    ModeRecord {
+        growth_rate_per_s: l.re,
+        frequency_hz: l.im.abs() / std::f64::consts::TAU,
+        damping_ratio: (l.norm() >= classify::NEUTRAL).then(|| -l.re / l.norm()),
+        eigenvalue: [l.re, l.im],
+        backward_error: m.backward_error,
+        description: classify::describe(l, &shares),
+        shares,
+    }
+}
+
+/// The console table of `r`.
+pub fn table(r: &SteadyReport) -> String {
+    let mut out = format!(
+        "steady descent of `{}`: v_t = {:.4} m/s (the {:.3} s transient's: {:.4} m/s), ‖F‖∞ = {:.2e} N after {} Newton iterations\n",
+        r.scenario_name,
+        r.terminal_velocity_mps,
+        r.transient_s,
+        r.transient_terminal_velocity_mps,
+        r.residual_n,
+        r.newton_iterations
+    );
+    out += &format!(
+        "{:>4}  {:>12}  {:>10}  {:>8}  description\n",
+        "mode", "growth (1/s)", "freq (Hz)", "damping"
+    );
+    for (i, m) in r.modes.iter().enumerate() {
+        let zeta = m.damping_ratio.map_or("-".into(), |z| format!("{z:.3}"));
+        out += &format!(
+            "{:>4}  {:>12.4e}  {:>10.4}  {:>8}  {}\n",
+            i + 1,
+            m.growth_rate_per_s,
+            m.frequency_hz,
+            zeta,
+            m.description
+        );
+    }
+    out
+}
+
+/// Write `r` as `dir/stability.json` ([`check_out`] first; the directory is created when
+/// missing).
+pub fn write(r: &SteadyReport, dir: &Path) -> Result<(), AppError> {
+    check_out(dir)?;
+    std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
+    let path = dir.join(STABILITY_JSON);
+    let text = serde_json::to_string_pretty(r).map_err(|e| AppError::Input(e.to_string()))?;
+    crate::output::atomic::write_atomic(&path, text.as_bytes()).map_err(|e| AppError::io(&path, e))
+}
+
+/// Refuse `dir` as `chute steady`'s output when it holds anything but a `stability.json`
+/// (a run, a study), so that results never mix.
+pub fn check_out(dir: &Path) -> Result<(), AppError> {
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        let other = entries
+            .flatten()
+            .map(|e| e.file_name())
+            .find(|n| n != STABILITY_JSON);
+        if let Some(n) = other {
+            return Err(AppError::Input(format!(
+                "--out `{}` holds `{}`: it is not a `chute steady` directory; choose another --out",
+                dir.display(),
+                n.to_string_lossy()
+            )));
+        }
+    } else if dir.exists() {
+        return Err(AppError::Input(format!(
+            "--out `{}` is not a directory; choose another --out",
+            dir.display()
+        )));
+    }
+    Ok(())
+}
