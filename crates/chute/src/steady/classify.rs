@@ -22,7 +22,7 @@ pub struct Shares {
 
 /// `|λ|` below this (1/s) is a neutral mode: a change of position or heading that neither
 /// grows nor decays.
-pub const NEUTRAL: f64 = 1e-6;
+pub const NEUTRAL: f64 = engine::stability::NEUTRAL_RATE;
 
 /// The energy shares of `mode` for nodes at `q` with lumped masses `mass` (per DOF).
 pub fn shares(mode: &Mode, q: &[f64], mass: &[f64], n_nodes: usize) -> Shares {

@@ -21,7 +21,7 @@ mod steady;
 mod tests;
 
 pub use linearize::Linearized;
-pub use modes::{modes, Mode, ModeOptions};
+pub use modes::{modes, Mode, ModeOptions, DENSE_UP_TO, NEUTRAL_RATE};
 pub use steady::{steady_descent, Steady, SteadyOptions};
 
 /// Why an equilibrium or its modes could not be computed.
@@ -35,7 +35,7 @@ pub enum StabilityError {
     Singular(String),
     /// Newton did not reach the tolerance.
     #[error(
-        "no steady descent found: ‖R‖∞ = {residual:.3e} N after {iterations} Newton iterations (tolerance {tolerance:.3e} N)"
+        "no steady descent found: ‖R‖∞ = {residual:.3e} N after {iterations} Newton iterations (tolerance {tolerance:.3e} N); start nearer to it (a longer flight first)"
     )]
     NotConverged {
         /// Iterations done.

@@ -31,6 +31,9 @@ pub struct ModeOptions {
     /// stiff structural modes (`|λ| ≫ σ`) sit at `|θ| ≈ 1`, where an error in `θ` grows by
     /// `|λ|²/2σ` in `λ`.
     pub max_backward_error: f64,
+    /// Companion forms up to this size (`2 ×` free DOFs) are solved densely; default
+    /// [`DENSE_UP_TO`].
+    pub dense_up_to: usize,
 }
 
 impl Default for ModeOptions {
@@ -40,6 +43,7 @@ impl Default for ModeOptions {
             shift: 2.0,
             tolerance: 1e-10,
             max_backward_error: 1e-8,
+            dense_up_to: DENSE_UP_TO,
         }
     }
 }
@@ -57,16 +61,19 @@ pub struct Mode {
     pub backward_error: f64,
 }
 
-/// The Cayley operator of the companion form (module docs), on `2 n` vectors.
+/// A spectral transformation of the companion form (module docs), on `2 n` vectors.
 struct Cayley<'a> {
     lin: &'a Linearized,
     lu: Lu<usize, f64>,
     sigma: f64,
+    /// The Cayley operator `I + 2σ S` (the rightmost modes) or the shift-invert `S` itself
+    /// (the modes nearest σ).
+    cayley: bool,
 }
 
 impl std::fmt::Debug for Cayley<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Cayley(σ = {})", self.sigma)
+        write!(f, "Spectral(σ = {}, Cayley {})", self.sigma, self.cayley)
     }
 }
 
@@ -82,10 +89,15 @@ impl Cayley<'_> {
             cv[i] - s * self.lin.mass[i] * v1[i] - self.lin.mass[i] * v2[i]
         });
         self.lu.solve_in_place(w1.as_mat_mut());
+        let c = if self.cayley { 2.0 * s } else { 1.0 };
         for i in 0..n {
             let (a, b) = (w1[i], v1[i] + s * w1[i]);
-            w[i] = v1[i] + 2.0 * s * a;
-            w[n + i] = v2[i] + 2.0 * s * b;
+            w[i] = c * a;
+            w[n + i] = c * b;
+            if self.cayley {
+                w[i] += v1[i];
+                w[n + i] += v2[i];
+            }
         }
     }
 }
@@ -118,20 +130,130 @@ impl LinOp<f64> for Cayley<'_> {
     }
 }
 
+/// Companion forms up to this size (`2 ×` free DOFs) are solved densely: every eigenvalue at
+/// once, faster than the iteration on a small model whose many weakly damped structural modes
+/// crowd `|θ| ≈ 1` (a rod canopy: 2 s iterating against milliseconds).
+pub const DENSE_UP_TO: usize = 600;
+
+/// A mode whose `Re λ` exceeds this (1/s, an e-folding in 12 days) grows; below it, within
+/// the eigenvalues' resolution, it is neutral or decays.
+pub const NEUTRAL_RATE: f64 = 1e-6;
+
 /// The modes of `lin` with the largest real parts (module docs), sorted by decreasing
-/// `Re λ`; only those the iteration converged on, to [`ModeOptions::max_backward_error`].
+/// `Re λ`: the `count` of largest Cayley `|θ|`, solved to [`ModeOptions::max_backward_error`]
+/// (densely up to [`ModeOptions::dense_up_to`], else by the iteration, which keeps those it
+/// converged on).
 pub fn modes(lin: &Linearized, opts: &ModeOptions) -> Result<Vec<Mode>, StabilityError> {
     let n2 = 2 * lin.n_free;
     let count = opts.count.min(n2);
     if count == 0 {
         return Ok(Vec::new());
     }
-    let sigma = opts.shift;
-    let op = Cayley {
+    let norms = Norms::of(lin);
+    let candidates = if n2 <= opts.dense_up_to {
+        dense(lin, opts.shift)?
+    } else {
+        let mut c = iterate(lin, opts, count, true)?;
+        c.extend(iterate(lin, opts, count, false)?);
+        c
+    };
+    let mut all: Vec<Mode> = Vec::new();
+    for (lambda, phi) in candidates {
+        let m = mode(lin, lambda, phi, &norms);
+        // Both passes of the iteration may find a mode (same λ, parallel shape); a multiple
+        // eigenvalue's independent shapes are kept.
+        let seen = all.iter().any(|a| same_mode(a, &m));
+        if m.backward_error <= opts.max_backward_error && !seen {
+            all.push(m);
+        }
+    }
+    // Every growing mode, then the nearest to σ (the slow modes of the whole body).
+    let grows = |m: &Mode| m.eigenvalue.re > NEUTRAL_RATE;
+    let (mut out, mut rest): (Vec<Mode>, Vec<Mode>) = all.into_iter().partition(grows);
+    let dist = |m: &Mode| (m.eigenvalue - opts.shift).norm();
+    rest.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
+    let room = count.saturating_sub(out.len());
+    out.extend(rest.into_iter().take(room));
+    out.sort_by(|a, b| b.eigenvalue.re.total_cmp(&a.eigenvalue.re));
+    Ok(out)
+}
+
+/// Every eigenpair, from the shift-invert operator formed densely column by column (one
+/// solve each). The companion matrix itself would be as small but badly scaled: rod twists
+/// and stiff membranes put its norm at 10⁶ /s, and its eigenvalues near zero (the neutral
+/// modes) come out 10⁻⁵ /s wrong; through `θ = 1/(λ − σ)` they are resolved to round-off.
+fn dense(lin: &Linearized, sigma: f64) -> Result<Vec<(c64, Vec<c64>)>, StabilityError> {
+    let n2 = 2 * lin.n_free;
+    let op = spectral(lin, sigma, false)?;
+    let mut t = Mat::<f64>::zeros(n2, n2);
+    let (mut e, mut w) = (vec![0.0; n2], vec![0.0; n2]);
+    for j in 0..n2 {
+        e[j] = 1.0;
+        op.apply_one(&e, &mut w);
+        e[j] = 0.0;
+        for i in 0..n2 {
+            t[(i, j)] = w[i];
+        }
+    }
+    let evd = t
+        .eigen()
+        .map_err(|e| StabilityError::Singular(format!("dense eigen-solve: {e:?}")))?;
+    let (u, s) = (evd.U(), evd.S());
+    Ok((0..n2)
+        .filter(|&j| s[j].norm() > 0.0)
+        .map(|j| {
+            (
+                to_lambda(s[j], sigma, false),
+                (0..lin.n_free).map(|i| u[(i, j)]).collect(),
+            )
+        })
+        .collect())
+}
+
+/// Whether `a` and `b` are one mode: equal λ and parallel shapes.
+fn same_mode(a: &Mode, b: &Mode) -> bool {
+    let close = (a.eigenvalue - b.eigenvalue).norm() <= 1e-8 * (1.0 + a.eigenvalue.norm());
+    let dot: c64 = a
+        .shape
+        .iter()
+        .zip(&b.shape)
+        .map(|(x, y)| x.conj() * y)
+        .sum();
+    let norm = |m: &Mode| m.shape.iter().map(|x| x.norm_sqr()).sum::<f64>().sqrt();
+    close && dot.norm() >= 0.999 * norm(a) * norm(b)
+}
+
+/// λ of an eigenvalue θ of the Cayley operator, `σ (θ + 1)/(θ − 1)`, or of the shift-invert
+/// one, `σ + 1/θ`.
+fn to_lambda(theta: c64, sigma: f64, cayley: bool) -> c64 {
+    let one = c64::new(1.0, 0.0);
+    if cayley {
+        (theta + one) / (theta - one) * sigma
+    } else {
+        one / theta + sigma
+    }
+}
+
+/// The Cayley or shift-invert operator of `lin` with shift σ (one LU of `P(σ)`).
+fn spectral(lin: &Linearized, sigma: f64, cayley: bool) -> Result<Cayley<'_>, StabilityError> {
+    Ok(Cayley {
         lin,
         lu: lin.lu(&lin.pencil(sigma))?,
         sigma,
-    };
+        cayley,
+    })
+}
+
+/// The eigenpairs the Krylov–Schur iteration converged on: of the Cayley operator (the
+/// rightmost modes) or of the shift-invert one (the nearest σ).
+fn iterate(
+    lin: &Linearized,
+    opts: &ModeOptions,
+    count: usize,
+    cayley: bool,
+) -> Result<Vec<(c64, Vec<c64>)>, StabilityError> {
+    let n2 = 2 * lin.n_free;
+    let op = spectral(lin, opts.shift, cayley)?;
     let params = PartialEigenParams {
         max_restarts: 200,
         ..Default::default()
@@ -153,19 +275,12 @@ pub fn modes(lin: &Linearized, opts: &ModeOptions) -> Result<Vec<Mode>, Stabilit
         MemStack::new(&mut buf),
         params,
     );
-    let norms = Norms::of(lin);
-    let mut out: Vec<Mode> = (0..info.n_converged_eigen)
+    Ok((0..info.n_converged_eigen)
         .map(|j| {
-            let theta = vals[j];
-            let one = c64::new(1.0, 0.0);
-            let lambda = (theta + one) / (theta - one) * sigma;
-            let phi: Vec<c64> = (0..lin.n_free).map(|i| vecs[(i, j)]).collect();
-            mode(lin, lambda, phi, &norms)
+            let lambda = to_lambda(vals[j], opts.shift, cayley);
+            (lambda, (0..lin.n_free).map(|i| vecs[(i, j)]).collect())
         })
-        .filter(|m| m.backward_error <= opts.max_backward_error)
-        .collect();
-    out.sort_by(|a, b| b.eigenvalue.re.total_cmp(&a.eigenvalue.re));
-    Ok(out)
+        .collect())
 }
 
 /// ∞-norms of `M`, `C` and `K` (largest absolute row sum).

@@ -276,7 +276,14 @@ pub fn steady_descent(
             ));
         }
         let size = delta.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        (p, lin, r) = damped_step(model, &l, &lin, &lu, &p, &delta, t);
+        let Some(next) = damped_step(model, &l, &lin, &lu, &p, &delta, t) else {
+            return Err(StabilityError::NotConverged {
+                iterations,
+                residual: res,
+                tolerance: opts.tolerance_n,
+            });
+        };
+        (p, lin, r) = next;
         res = norm(&r);
         if size <= opts.step_tolerance && res <= STALL_FACTOR * opts.tolerance_n {
             break;
@@ -298,8 +305,8 @@ pub fn steady_descent(
 /// same factors, is shorter than `(1 − λ/4)` of the update (P. Deuflhard, *Newton Methods for
 /// Nonlinear Problems*, Springer 2004, §3.3). A residual test would refuse the steps a falling
 /// body needs: a small turn of a stiff canopy, linearised, stretches it by the turn squared,
-/// which raises `‖R‖` by orders of magnitude that the next iteration removes at once. At most
-/// ten halvings; the last trial is taken.
+/// which raises `‖R‖` by orders of magnitude that the next iteration removes at once. `None`
+/// when even a thousandth of the update fails the test (no equilibrium near).
 fn damped_step(
     model: &Model,
     l: &Layout,
@@ -308,7 +315,7 @@ fn damped_step(
     p: &Point,
     delta: &Col<f64>,
     t: f64,
-) -> (Point, Linearized, Vec<f64>) {
+) -> Option<(Point, Linearized, Vec<f64>)> {
     let m = l.position_cols.len();
     let size = delta.norm_l2();
     let mut step = 1.0;
@@ -326,8 +333,11 @@ fn damped_step(
         let (tl, tr) = l.eval(model, &trial, t);
         let mut bar = Col::<f64>::from_fn(tr.len(), |i| -tr[i]);
         lu.solve_in_place(bar.as_mat_mut());
-        if bar.norm_l2() < (1.0 - step / 4.0) * size || step < 1e-3 {
-            return (trial, tl, tr);
+        if bar.norm_l2() < (1.0 - step / 4.0) * size {
+            return Some((trial, tl, tr));
+        }
+        if step < 1e-3 {
+            return None;
         }
         step *= 0.5;
     }
