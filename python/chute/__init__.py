@@ -7,7 +7,8 @@ The same simulations as the ``chute`` command line, with numpy arrays in and out
   get a :class:`Result` (``summary``, ``timeseries``, ``frames``, ``out_dir``);
 - :class:`Simulation` — step a scenario from Python (``step``, ``positions``, ...);
 - :func:`study` — a study file's cases in parallel (rows, or a pandas DataFrame);
-- :func:`validate` — the verification suite.
+- :func:`validate` — the verification suite;
+- :func:`steady`, :func:`modes` — the steady descent as an equilibrium and its modes.
 
 Bad input raises :class:`ScenarioError` with the command line's message; a run that fails
 or stops early raises :class:`RunError` with its partial result.
@@ -16,6 +17,7 @@ or stops early raises :class:`RunError` with its partial result.
 from ._native import RunError, ScenarioError, __version__
 from ._api import Frames, Result, run, study, validate
 from ._simulation import Simulation
+from ._stability import modes, steady
 
 __all__ = [
     "Frames",
@@ -24,7 +26,9 @@ __all__ = [
     "ScenarioError",
     "Simulation",
     "__version__",
+    "modes",
     "run",
+    "steady",
     "study",
     "validate",
 ]

@@ -126,3 +126,28 @@ pub fn frames<'py>(py: Python<'py>, dir: &Path) -> PyResult<Bound<'py, PyTuple>>
     ];
     PyTuple::new(py, items)
 }
+
+/// A `chute steady` report for Python: `(json, positions (n, 3), shapes (modes, n, 3))`.
+pub fn steady<'py>(py: Python<'py>, r: &api::SteadyReport) -> PyResult<Bound<'py, PyTuple>> {
+    let json = serde_json::to_string(r).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let n = r.positions_m.len();
+    let pos: Vec<f64> = r.positions_m.iter().flatten().copied().collect();
+    let shapes: Vec<numpy::Complex64> = r
+        .modes
+        .iter()
+        .flat_map(|m| m.shape.iter().flatten())
+        .map(|z| numpy::Complex64::new(z.re, z.im))
+        .collect();
+    let items = [
+        json.into_pyobject(py)?.into_any(),
+        Array2::from_shape_vec((n, 3), pos)
+            .expect("3 per node")
+            .into_pyarray(py)
+            .into_any(),
+        Array3::from_shape_vec((r.modes.len(), n, 3), shapes)
+            .expect("3 per node and mode")
+            .into_pyarray(py)
+            .into_any(),
+    ];
+    PyTuple::new(py, items)
+}

@@ -163,6 +163,27 @@ fn validate(py: Python<'_>, quick: bool, case: Option<String>) -> PyResult<Strin
     serde_json::to_string(&checks).map_err(|e| RunError::new_err(format!("JSON: {e}")))
 }
 
+/// `chute steady`: the report as JSON text, the equilibrium's node positions `(n, 3)` and the
+/// modes' shapes `(modes, n, 3)` (complex); `out` also gets `stability.json`.
+#[pyfunction]
+#[pyo3(signature = (path, set, out=None))]
+fn steady<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    set: Vec<String>,
+    out: Option<PathBuf>,
+) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+    let s = api::load(&path, &set).map_err(convert::app_err)?;
+    if let Some(dir) = &out {
+        api::check_stability_out(dir).map_err(convert::app_err)?;
+    }
+    let r = watch::watched_detached(py, move || api::steady(&s))?.map_err(convert::app_err)?;
+    if let Some(dir) = &out {
+        api::write_stability(&r, dir).map_err(convert::app_err)?;
+    }
+    convert::steady(py, &r)
+}
+
 /// The frames of run directory `dir` (`canopy.pvd`): `(times, positions, velocities,
 /// triangles, segments)` with shapes (F,), (F, n, 3), (F, n, 3), (m, 3), (k, 2).
 #[pyfunction]
@@ -178,6 +199,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("RunError", py.get_type::<RunError>())?;
     m.add_class::<simulation::Simulation>()?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(steady, m)?)?;
     m.add_function(wrap_pyfunction!(study, m)?)?;
     m.add_function(wrap_pyfunction!(validate, m)?)?;
     m.add_function(wrap_pyfunction!(read_frames, m)?)?;

@@ -35,6 +35,9 @@ pub struct ModeRecord {
     pub shares: classify::Shares,
     /// In words.
     pub description: String,
+    /// The shape on every node (x, y, z; complex), largest component 1 (not in the JSON).
+    #[serde(skip)]
+    pub shape: Vec<[c64; 3]>,
 }
 
 /// What `chute steady` finds (the contents of `stability.json`).
@@ -44,8 +47,10 @@ pub struct SteadyReport {
     pub scenario_name: String,
     /// The equilibrium's vertical velocity (m/s, signed like `summary.json`'s).
     pub terminal_velocity_mps: f64,
-    /// The equilibrium's velocity (m/s).
+    /// The equilibrium's velocity (m/s; the held node's when it turns).
     pub velocity_mps: [f64; 3],
+    /// Its turn rate about the vertical (rad/s, anticlockwise seen from above).
+    pub spin_rad_s: f64,
     /// The transient's mean vertical velocity over its final 20 % (m/s), for comparison.
     pub transient_terminal_velocity_mps: f64,
     /// Simulated time of the transient (s).
@@ -58,6 +63,9 @@ pub struct SteadyReport {
     pub shift_per_s: f64,
     /// The modes found, largest growth rate first.
     pub modes: Vec<ModeRecord>,
+    /// The equilibrium's node positions (m; not in the JSON).
+    #[serde(skip)]
+    pub positions_m: Vec<[f64; 3]>,
 }
 
 /// Fly `s`, solve its steady descent and its modes.
@@ -99,12 +107,16 @@ pub fn steady(s: &Scenario) -> Result<SteadyReport, AppError> {
         scenario_name: s.name.clone(),
         terminal_velocity_mps: eq.velocity[2],
         velocity_mps: eq.velocity,
+        spin_rad_s: eq.spin,
         transient_terminal_velocity_mps: transient.terminal_velocity_mps,
         transient_s: state.t,
         residual_n: eq.residual_n,
         newton_iterations: eq.iterations,
         shift_per_s: mode_opts.shift,
         modes,
+        positions_m: (0..n_nodes)
+            .map(|i| [eq.q[3 * i], eq.q[3 * i + 1], eq.q[3 * i + 2]])
+            .collect(),
     })
 }
 
@@ -133,6 +145,9 @@ fn record(m: &engine::stability::Mode, q: &[f64], mass: &[f64], n_nodes: usize) 
         backward_error: m.backward_error,
         description: classify::describe(l, &shares),
         shares,
+        shape: (0..n_nodes)
+            .map(|i| [0, 1, 2].map(|k| m.shape[3 * i + k]))
+            .collect(),
     }
 }
 

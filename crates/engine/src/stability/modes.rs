@@ -160,9 +160,9 @@ pub fn modes(lin: &Linearized, opts: &ModeOptions) -> Result<Vec<Mode>, Stabilit
     let mut all: Vec<Mode> = Vec::new();
     for (lambda, phi) in candidates {
         let m = mode(lin, lambda, phi, &norms);
-        // Both passes of the iteration may find a mode (same λ, parallel shape); a multiple
-        // eigenvalue's independent shapes are kept.
-        let seen = all.iter().any(|a| same_mode(a, &m));
+        // Both passes of the iteration may find a mode, or another combination of a multiple
+        // eigenvalue's shapes; only shapes outside the span already found are kept.
+        let seen = in_span(&all, &m);
         if m.backward_error <= opts.max_backward_error && !seen {
             all.push(m);
         }
@@ -210,17 +210,30 @@ fn dense(lin: &Linearized, sigma: f64) -> Result<Vec<(c64, Vec<c64>)>, Stability
         .collect())
 }
 
-/// Whether `a` and `b` are one mode: equal λ and parallel shapes.
-fn same_mode(a: &Mode, b: &Mode) -> bool {
-    let close = (a.eigenvalue - b.eigenvalue).norm() <= 1e-8 * (1.0 + a.eigenvalue.norm());
-    let dot: c64 = a
-        .shape
-        .iter()
-        .zip(&b.shape)
-        .map(|(x, y)| x.conj() * y)
-        .sum();
-    let norm = |m: &Mode| m.shape.iter().map(|x| x.norm_sqr()).sum::<f64>().sqrt();
-    close && dot.norm() >= 0.999 * norm(a) * norm(b)
+/// Whether `m`'s shape lies in the span of the shapes of the modes of `kept` with its λ
+/// (Gram–Schmidt; within 1 % of its norm).
+fn in_span(kept: &[Mode], m: &Mode) -> bool {
+    let close =
+        |a: &Mode| (a.eigenvalue - m.eigenvalue).norm() <= 1e-6 * (1.0 + m.eigenvalue.norm());
+    let dot = |x: &[c64], y: &[c64]| -> c64 { x.iter().zip(y).map(|(a, b)| a.conj() * b).sum() };
+    let mut basis: Vec<Vec<c64>> = Vec::new();
+    for a in kept.iter().filter(|a| close(a)) {
+        let mut v = a.shape.clone();
+        for b in &basis {
+            let c = dot(b, &v);
+            v.iter_mut().zip(b).for_each(|(x, y)| *x -= c * y);
+        }
+        let n = dot(&v, &v).re.sqrt();
+        if n > 0.0 {
+            basis.push(v.into_iter().map(|x| x / n).collect());
+        }
+    }
+    let mut r = m.shape.clone();
+    for b in &basis {
+        let c = dot(b, &r);
+        r.iter_mut().zip(b).for_each(|(x, y)| *x -= c * y);
+    }
+    dot(&r, &r).re.sqrt() <= 0.01 * dot(&m.shape, &m.shape).re.sqrt()
 }
 
 /// λ of an eigenvalue θ of the Cayley operator, `σ (θ + 1)/(θ − 1)`, or of the shift-invert
