@@ -52,34 +52,88 @@ fn the_rod_canopy_steady_descent_is_the_long_flights() {
 }
 
 /// The 4-site canopy under the pressure drag (the lateral-instability flight of
-/// tests/physics/lateral.rs) has a growing sideways mode, at the rate the flights measure
-/// (1.2–2.2 /s on its meshes).
+/// tests/physics/lateral.rs) has two growing sideways modes, and its flight shows both: the
+/// slower dominates the lateral speed first, the faster from about 7 s until the growth turns
+/// nonlinear near 10 s. Each window's log-linear rate equals its mode's, mapped through
+/// implicit Euler at the flight's step (`−ln(1 − hλ)/h`).
 #[test]
-fn the_lateral_instability_is_a_growing_mode() {
+fn the_lateral_instability_is_the_flights_growth() {
     let tmp = tempfile::tempdir().unwrap();
+    let file = bundled("report-shell-4-sites.toml");
     let sets = [
         "fluid.shell_drag=pressure",
         "time.dt_s=1e-2",
         "shell.membrane=springs",
         "shell.bending=hinge",
         "canopy.edge_length_m=0.5",
-        "time.duration_s=4",
         "canopy.imperfection_m=2e-4",
+        "output.snapshots_s=[]",
     ];
-    let mut args = vec!["steady", "--json"];
-    let file = bundled("report-shell-4-sites.toml");
-    args.insert(1, &file);
-    for s in &sets {
-        args.extend(["--set", s]);
-    }
-    let o = chute_ok(tmp.path(), &args);
+    let with = |extra: &[&str], head: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = head.iter().map(|x| x.to_string()).collect();
+        for s in sets.iter().chain(extra) {
+            a.extend(["--set".to_string(), s.to_string()]);
+        }
+        a
+    };
+    let args = with(&["time.duration_s=4"], &["steady", &file, "--json"]);
+    let o = chute_ok(
+        tmp.path(),
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
     let s: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
-    let top = &s["modes"][0];
-    let rate = top["growth_rate_per_s"].as_f64().unwrap();
-    assert!((1.2..2.2).contains(&rate), "{top}");
-    assert_eq!(top["frequency_hz"].as_f64().unwrap(), 0.0);
-    let d = top["description"].as_str().unwrap();
-    assert!(d.starts_with("grows: sideways drift"), "{d}");
+    let growing: Vec<&serde_json::Value> = s["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["description"].as_str().unwrap().starts_with("grows"))
+        .collect();
+    assert_eq!(growing.len(), 2, "{}", s["modes"]);
+    for m in &growing {
+        assert_eq!(m["frequency_hz"].as_f64().unwrap(), 0.0);
+        let d = m["description"].as_str().unwrap();
+        assert!(d.starts_with("grows: sideways drift"), "{d}");
+    }
+    let h = 1e-2;
+    let through_ie = |m: &serde_json::Value| {
+        let l = m["growth_rate_per_s"].as_f64().unwrap();
+        -(1.0 - h * l).ln() / h
+    };
+    let args = with(
+        &["time.duration_s=9.5"],
+        &["run", &file, "--out", "flight", "-q", "--no-viewer"],
+    );
+    chute_ok(
+        tmp.path(),
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    let rows = csv_rows(&tmp.path().join("flight/timeseries.csv"));
+    let rate = |a: f64, b: f64| {
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| (a..=b).contains(&r[0]))
+            .map(|r| (r[0], r[3].hypot(r[4]).ln()))
+            .collect();
+        let n = pts.len() as f64;
+        let (mx, my) = pts
+            .iter()
+            .fold((0.0, 0.0), |s, p| (s.0 + p.0 / n, s.1 + p.1 / n));
+        let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+        sxy / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>()
+    };
+    // Measured 1.6083 against 1.6116, and 0.505 against 0.501 (the slower window still holds
+    // a little of the faster mode and of the approach to terminal speed).
+    let (fast, slow) = (through_ie(growing[0]), through_ie(growing[1]));
+    let late = rate(8.0, 9.5);
+    assert!(
+        (late - fast).abs() < 0.01 * fast,
+        "flight {late} /s, mode {fast} /s"
+    );
+    let early = rate(2.0, 4.0);
+    assert!(
+        (early - slow).abs() < 0.05 * slow,
+        "flight {early} /s, mode {slow} /s"
+    );
 }
 
 /// `--out` never mixes results: a run directory is refused before anything is computed.
