@@ -20,7 +20,7 @@ pub use crate::output::viewer::VIEWER_HTML;
 pub use crate::runner::Session;
 pub use crate::scenario::derived::sig4;
 pub use crate::scenario::{Scenario, ScenarioError};
-pub use crate::steady::{ModeRecord, SteadyReport, STABILITY_JSON};
+pub use crate::steady::{ModeRecord, SteadyReport, MODES_HTML, STABILITY_JSON};
 pub use crate::study::{
     mark_resumed, Case, CaseStatus, Runner, Shard, Study, StudyOptions, StudyReport, Table,
 };

@@ -9,6 +9,7 @@ pub mod atomic;
 pub mod console;
 pub mod control_files;
 pub mod lock;
+pub mod mode_viewer;
 pub mod plots;
 pub mod record;
 pub mod run_dir;

@@ -15,8 +15,9 @@ use faer::c64;
 use crate::app::AppError;
 use crate::scenario::Scenario;
 
-/// File a `chute steady --out DIR` writes.
+/// Files a `chute steady --out DIR` writes.
 pub const STABILITY_JSON: &str = "stability.json";
+pub use crate::output::mode_viewer::MODES_HTML;
 
 /// One mode of [`SteadyReport::modes`] (a complex pair appears once, with its frequency).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -66,6 +67,12 @@ pub struct SteadyReport {
     /// The equilibrium's node positions (m; not in the JSON).
     #[serde(skip)]
     pub positions_m: Vec<[f64; 3]>,
+    /// The canopy's triangles (node indices; not in the JSON).
+    #[serde(skip)]
+    pub triangles: Vec<[usize; 3]>,
+    /// Rod edges: canopy strip and lines (node indices; not in the JSON).
+    #[serde(skip)]
+    pub segments: Vec<[usize; 2]>,
 }
 
 /// Fly `s`, solve its steady descent and its modes.
@@ -117,6 +124,8 @@ pub fn steady(s: &Scenario) -> Result<SteadyReport, AppError> {
         positions_m: (0..n_nodes)
             .map(|i| [eq.q[3 * i], eq.q[3 * i + 1], eq.q[3 * i + 2]])
             .collect(),
+        triangles: b.triangles.clone(),
+        segments: b.segments.clone(),
     })
 }
 
@@ -180,24 +189,31 @@ pub fn table(r: &SteadyReport) -> String {
     out
 }
 
-/// Write `r` as `dir/stability.json` ([`check_out`] first; the directory is created when
-/// missing).
+/// Write `r` as `dir/stability.json` and the page animating its modes, `dir/modes.html`
+/// ([`check_out`] first; the directory is created when missing).
 pub fn write(r: &SteadyReport, dir: &Path) -> Result<(), AppError> {
     check_out(dir)?;
     std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
-    let path = dir.join(STABILITY_JSON);
     let text = serde_json::to_string_pretty(r).map_err(|e| AppError::Input(e.to_string()))?;
-    crate::output::atomic::write_atomic(&path, text.as_bytes()).map_err(|e| AppError::io(&path, e))
+    let html = crate::output::mode_viewer::modes_html(r);
+    for (name, bytes) in [
+        (STABILITY_JSON, text.as_bytes()),
+        (MODES_HTML, html.as_bytes()),
+    ] {
+        let path = dir.join(name);
+        crate::output::atomic::write_atomic(&path, bytes).map_err(|e| AppError::io(&path, e))?;
+    }
+    Ok(())
 }
 
-/// Refuse `dir` as `chute steady`'s output when it holds anything but a `stability.json`
+/// Refuse `dir` as `chute steady`'s output when it holds anything but `stability.json` and `modes.html`
 /// (a run, a study), so that results never mix.
 pub fn check_out(dir: &Path) -> Result<(), AppError> {
     if let Ok(entries) = std::fs::read_dir(dir) {
         let other = entries
             .flatten()
             .map(|e| e.file_name())
-            .find(|n| n != STABILITY_JSON);
+            .find(|n| n != STABILITY_JSON && n != MODES_HTML);
         if let Some(n) = other {
             return Err(AppError::Input(format!(
                 "--out `{}` holds `{}`: it is not a `chute steady` directory; choose another --out",

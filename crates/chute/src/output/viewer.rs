@@ -83,12 +83,12 @@ pub fn base64(bytes: &[u8]) -> String {
     out
 }
 
-fn f32_base64(values: impl Iterator<Item = f64>) -> String {
+pub(super) fn f32_base64(values: impl Iterator<Item = f64>) -> String {
     let bytes: Vec<u8> = values.flat_map(|v| (v as f32).to_le_bytes()).collect();
     base64(&bytes)
 }
 
-fn u32_base64(values: impl Iterator<Item = u32>) -> String {
+pub(super) fn u32_base64(values: impl Iterator<Item = u32>) -> String {
     let bytes: Vec<u8> = values.flat_map(u32::to_le_bytes).collect();
     base64(&bytes)
 }
@@ -172,7 +172,7 @@ fn frames_json(
 }
 
 /// Centre of the bounding box of `points`.
-fn centre(points: &[[f64; 3]]) -> [f64; 3] {
+pub(super) fn centre(points: &[[f64; 3]]) -> [f64; 3] {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in points {
@@ -249,19 +249,7 @@ pub fn viewer_html(dir: &Path, cap_bytes: usize) -> Result<(String, ViewerReport
         "series": series,
         "notes": notes,
     });
-    // `<` only occurs inside JSON strings; escaping it keeps `</script>` and `<!--` in a
-    // scenario name or file from ending the data block early.
-    let data = data.to_string().replace('<', "\\u003c");
-    let title = html_escape(&name);
-    let html = fill(
-        TEMPLATE,
-        &[
-            ("/*CHUTE_STYLE*/", STYLE),
-            ("/*CHUTE_SCRIPT*/", SCRIPT),
-            ("CHUTE_TITLE", &title),
-            ("/*CHUTE_DATA*/", &data),
-        ],
-    );
+    let html = page(&name, &data);
     let report = ViewerReport {
         path: PathBuf::new(),
         bytes: 0,
@@ -270,6 +258,23 @@ pub fn viewer_html(dir: &Path, cap_bytes: usize) -> Result<(String, ViewerReport
         triangles,
     };
     Ok((html, report))
+}
+
+/// The page: the template with the stylesheet, the script, the title `name` and `data`.
+pub(super) fn page(name: &str, data: &Value) -> String {
+    // `<` only occurs inside JSON strings; escaping it keeps `</script>` and `<!--` in a
+    // scenario name or file from ending the data block early.
+    let data = data.to_string().replace('<', "\\u003c");
+    let title = html_escape(name);
+    fill(
+        TEMPLATE,
+        &[
+            ("/*CHUTE_STYLE*/", STYLE),
+            ("/*CHUTE_SCRIPT*/", SCRIPT),
+            ("CHUTE_TITLE", &title),
+            ("/*CHUTE_DATA*/", &data),
+        ],
+    )
 }
 
 /// `template` with each slot marker replaced by its text, in one pass over the template (so

@@ -360,3 +360,65 @@ fn viewer_draws_the_requested_times_in_a_real_browser() {
         );
     }
 }
+
+/// `chute steady`'s `modes.html` in a real browser: the 4-site canopy's modes (its lateral
+/// instability first) after a 2 s transient. Checked as the run viewer: the frame nearest the
+/// requested time is drawn with every triangle, and two modes look different.
+#[test]
+fn modes_page_draws_the_modes_in_a_real_browser() {
+    let Some(browser) = find_chromium() else {
+        if std::env::var("CHUTE_NO_BROWSER").as_deref() == Ok("1") {
+            eprintln!("skipped: chromium is not installed and CHUTE_NO_BROWSER=1");
+            return;
+        }
+        panic!("chromium is not installed; install it with `apt-get install -y chromium`");
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("steady");
+    let mut cmd = crate::common::chute_command();
+    cmd.arg("steady")
+        .arg(repo().join("scenarios/report-shell-4-sites.toml"))
+        .arg("--out")
+        .arg(&out);
+    for set in [
+        "fluid.shell_drag=pressure",
+        "time.dt_s=1e-2",
+        "shell.membrane=springs",
+        "shell.bending=hinge",
+        "canopy.edge_length_m=0.5",
+        "time.duration_s=2",
+    ] {
+        cmd.args(["--set", set]);
+    }
+    let o = cmd.output().expect("chute runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let page = out.join("modes.html");
+    // Mode 1 a quarter into its cycle, mode 2 at its start (24 frames per cycle).
+    let requested = [0.25, 1.0];
+    let shots: Vec<Shot> = requested
+        .iter()
+        .map(|&t| load_at(&browser, dir.path(), &page, t))
+        .collect();
+    for (shot, &t) in shots.iter().zip(&requested) {
+        assert!(
+            (shot.drawn_time - t).abs() < 1e-12,
+            "drew {} for #t={t}",
+            shot.drawn_time
+        );
+        // The 6 m × 3 m canopy at 0.5 m: 13 × 7 nodes, 12 × 6 cells of 2 triangles.
+        assert_eq!(shot.triangles, 144, "triangles drawn at #t={t}");
+    }
+    let (a, b) = (shots[0].bbox, shots[1].bbox);
+    let union = (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3));
+    let (ra, rb) = (shots[0].image.region(union), shots[1].image.region(union));
+    let changed = ra
+        .iter()
+        .zip(&rb)
+        .filter(|(p, q)| distance(**p, **q) > 24)
+        .count() as f64
+        / ra.len() as f64;
+    assert!(
+        changed > 0.02,
+        "only {changed:.3} of the canopy region differs between modes"
+    );
+}
