@@ -21,7 +21,7 @@ mod steady;
 mod tests;
 
 pub use linearize::Linearized;
-pub use modes::{modes, Mode, ModeOptions, DENSE_UP_TO, NEUTRAL_RATE};
+pub use modes::{modes, Mode, ModeOptions, DENSE_UP_TO, NEUTRAL_RATE, NEUTRAL_SHOWN};
 pub use steady::{steady_descent, Steady, SteadyOptions};
 
 /// Why an equilibrium or its modes could not be computed.

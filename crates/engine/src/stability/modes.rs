@@ -135,9 +135,15 @@ impl LinOp<f64> for Cayley<'_> {
 /// crowd `|θ| ≈ 1` (a rod canopy: 2 s iterating against milliseconds).
 pub const DENSE_UP_TO: usize = 600;
 
-/// A mode whose `Re λ` exceeds this (1/s, an e-folding in 12 days) grows; below it, within
-/// the eigenvalues' resolution, it is neutral or decays.
-pub const NEUTRAL_RATE: f64 = 1e-6;
+/// A mode with `|λ|` below this (1/s: an e-folding in 1,000 s, longer than a descent from
+/// 5 km) is neutral: a change of position or heading, or a slack fabric's wrinkle. Near-zero
+/// eigenvalues of a slack cloth come out 10⁻⁵ /s from zero, so a finer line would call round-off
+/// growth.
+pub const NEUTRAL_RATE: f64 = 1e-3;
+
+/// Neutral modes listed at most (after every growing mode and the others nearest σ): the
+/// three positions and the heading.
+pub const NEUTRAL_SHOWN: usize = 4;
 
 /// The modes of `lin` with the largest real parts (module docs), sorted by decreasing
 /// `Re λ`: the `count` of largest Cayley `|θ|`, solved to [`ModeOptions::max_backward_error`]
@@ -153,8 +159,10 @@ pub fn modes(lin: &Linearized, opts: &ModeOptions) -> Result<Vec<Mode>, Stabilit
     let candidates = if n2 <= opts.dense_up_to {
         dense(lin, opts.shift)?
     } else {
-        let mut c = iterate(lin, opts, count, true)?;
-        c.extend(iterate(lin, opts, count, false)?);
+        // Twice the count: room for the neutral modes the selection passes over.
+        let wanted = (2 * count).min(n2);
+        let mut c = iterate(lin, opts, wanted, true)?;
+        c.extend(iterate(lin, opts, wanted, false)?);
         c
     };
     let mut all: Vec<Mode> = Vec::new();
@@ -168,12 +176,17 @@ pub fn modes(lin: &Linearized, opts: &ModeOptions) -> Result<Vec<Mode>, Stabilit
         }
     }
     // Every growing mode, then the nearest to σ (the slow modes of the whole body).
+    // Every growing mode, then the others nearest σ (the slow modes of the whole body), then
+    // a few neutral ones: a slack fabric has hundreds.
+    let neutral = |m: &Mode| m.eigenvalue.norm() < NEUTRAL_RATE;
+    let (neutrals, moving): (Vec<Mode>, Vec<Mode>) = all.into_iter().partition(neutral);
     let grows = |m: &Mode| m.eigenvalue.re > NEUTRAL_RATE;
-    let (mut out, mut rest): (Vec<Mode>, Vec<Mode>) = all.into_iter().partition(grows);
+    let (mut out, mut rest): (Vec<Mode>, Vec<Mode>) = moving.into_iter().partition(grows);
     let dist = |m: &Mode| (m.eigenvalue - opts.shift).norm();
     rest.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
-    let room = count.saturating_sub(out.len());
+    let room = count.saturating_sub(out.len() + neutrals.len().min(NEUTRAL_SHOWN));
     out.extend(rest.into_iter().take(room));
+    out.extend(neutrals.into_iter().take(NEUTRAL_SHOWN));
     out.sort_by(|a, b| b.eigenvalue.re.total_cmp(&a.eigenvalue.re));
     Ok(out)
 }

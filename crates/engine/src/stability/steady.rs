@@ -277,6 +277,11 @@ pub fn steady_descent(
         }
         let size = delta.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let Some(next) = damped_step(model, &l, &lin, &lu, &p, &delta, t) else {
+            // Within the stall band no update can be told from round-off (as in the step
+            // solver): the residual is the forces' round-off floor.
+            if res <= STALL_FACTOR * opts.tolerance_n {
+                break;
+            }
             return Err(StabilityError::NotConverged {
                 iterations,
                 residual: res,
