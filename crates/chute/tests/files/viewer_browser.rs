@@ -165,6 +165,32 @@ fn short_run(dir: &Path) -> PathBuf {
     out
 }
 
+/// `chromium`, or `None` with `CHUTE_NO_BROWSER=1` (the test is skipped, saying so); without
+/// either the test fails, saying how to install it.
+fn browser_or_skip() -> Option<PathBuf> {
+    let browser = find_chromium();
+    if browser.is_none() {
+        if std::env::var("CHUTE_NO_BROWSER").as_deref() == Ok("1") {
+            eprintln!("skipped: chromium is not installed and CHUTE_NO_BROWSER=1");
+            return None;
+        }
+        panic!(
+            "chromium is not installed; install it with `apt-get update && apt-get install -y \
+             chromium` (Debian), or set CHUTE_NO_BROWSER=1 to skip this test"
+        );
+    }
+    browser
+}
+
+/// The fraction of the two shots' joint canopy box whose pixels differ visibly.
+fn changed_fraction(a: &Shot, b: &Shot) -> f64 {
+    let (x, y) = (a.bbox, b.bbox);
+    let union = (x.0.min(y.0), x.1.min(y.1), x.2.max(y.2), x.3.max(y.3));
+    let (ra, rb) = (a.image.region(union), b.image.region(union));
+    let differ = ra.iter().zip(&rb).filter(|(p, q)| distance(**p, **q) > 24);
+    differ.count() as f64 / ra.len() as f64
+}
+
 /// The most frequent colour (the background of the 3-D view in its half of the page).
 fn most_common(pixels: &[[u8; 3]]) -> [u8; 3] {
     let mut counts = std::collections::HashMap::new();
@@ -260,15 +286,8 @@ fn load_at(browser: &Path, dir: &Path, viewer: &Path, t: f64) -> Shot {
 
 #[test]
 fn viewer_draws_the_requested_times_in_a_real_browser() {
-    let Some(browser) = find_chromium() else {
-        if std::env::var("CHUTE_NO_BROWSER").as_deref() == Ok("1") {
-            eprintln!("skipped: chromium is not installed and CHUTE_NO_BROWSER=1");
-            return;
-        }
-        panic!(
-            "chromium is not installed; install it with `apt-get update && apt-get install -y \
-             chromium` (Debian), or set CHUTE_NO_BROWSER=1 to skip this test"
-        );
+    let Some(browser) = browser_or_skip() else {
+        return;
     };
     let dir = tempfile::tempdir().unwrap();
     let run = short_run(dir.path());
@@ -326,15 +345,7 @@ fn viewer_draws_the_requested_times_in_a_real_browser() {
         );
     }
     // The canopy changes between the two times (shape and height colours).
-    let (a, b) = (shots[0].bbox, shots[1].bbox);
-    let union = (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3));
-    let (ra, rb) = (shots[0].image.region(union), shots[1].image.region(union));
-    let changed = ra
-        .iter()
-        .zip(&rb)
-        .filter(|(p, q)| distance(**p, **q) > 24)
-        .count() as f64
-        / ra.len() as f64;
+    let changed = changed_fraction(&shots[0], &shots[1]);
     assert!(
         changed > 0.1,
         "only {changed:.3} of the canopy region changed"
@@ -366,12 +377,8 @@ fn viewer_draws_the_requested_times_in_a_real_browser() {
 /// requested time is drawn with every triangle, and two modes look different.
 #[test]
 fn modes_page_draws_the_modes_in_a_real_browser() {
-    let Some(browser) = find_chromium() else {
-        if std::env::var("CHUTE_NO_BROWSER").as_deref() == Ok("1") {
-            eprintln!("skipped: chromium is not installed and CHUTE_NO_BROWSER=1");
-            return;
-        }
-        panic!("chromium is not installed; install it with `apt-get install -y chromium`");
+    let Some(browser) = browser_or_skip() else {
+        return;
     };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("steady");
@@ -408,15 +415,7 @@ fn modes_page_draws_the_modes_in_a_real_browser() {
         // The 6 m × 3 m canopy at 0.5 m: 13 × 7 nodes, 12 × 6 cells of 2 triangles.
         assert_eq!(shot.triangles, 144, "triangles drawn at #t={t}");
     }
-    let (a, b) = (shots[0].bbox, shots[1].bbox);
-    let union = (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3));
-    let (ra, rb) = (shots[0].image.region(union), shots[1].image.region(union));
-    let changed = ra
-        .iter()
-        .zip(&rb)
-        .filter(|(p, q)| distance(**p, **q) > 24)
-        .count() as f64
-        / ra.len() as f64;
+    let changed = changed_fraction(&shots[0], &shots[1]);
     assert!(
         changed > 0.02,
         "only {changed:.3} of the canopy region differs between modes"

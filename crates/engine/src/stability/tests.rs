@@ -120,6 +120,23 @@ fn oscillator_modes(found: &[Mode], m: f64, c: f64, k: f64) {
     assert!((osc.shape[3].norm() - 1.0).abs() < 1e-12 && osc.shape[4].norm() < 1e-9);
 }
 
+/// The stiff sheet of `reference::sheet` crumpled by ±1.5 cm, moving down and sideways,
+/// with node `held` fixed: `(model, q, v)`.
+fn crumpled_sheet(held: usize) -> (Model, Vec<f64>, Vec<f64>) {
+    let (mut model, state) = crate::reference::sheet::kevlar_sheet(4, 3, 1.0, 0.8, 5.0);
+    model.fix_node(held);
+    let q: Vec<f64> = state
+        .q
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x + 0.03 * ((i as f64 * 0.7548776662).fract() - 0.5))
+        .collect();
+    let v = (0..q.len())
+        .map(|d| if d % 3 == 2 { -4.0 } else { 0.3 })
+        .collect();
+    (model, q, v)
+}
+
 fn eigenvalues(modes: &[Mode]) -> Vec<c64> {
     modes.iter().map(|m| m.eigenvalue).collect()
 }
@@ -129,18 +146,8 @@ fn eigenvalues(modes: &[Mode]) -> Vec<c64> {
 /// Cayley map ranks clearly above the last one found is missing.
 #[test]
 fn modes_match_a_dense_eigen_solve_on_a_crumpled_sheet() {
-    let (mut model, state) = crate::reference::sheet::kevlar_sheet(4, 3, 1.0, 0.8, 5.0);
     // A held corner: no free translation, whose triple λ = 0 is ill-conditioned.
-    model.fix_node(0);
-    let q: Vec<f64> = state
-        .q
-        .iter()
-        .enumerate()
-        .map(|(i, x)| x + 0.03 * ((i as f64 * 0.7548776662).fract() - 0.5))
-        .collect();
-    let v: Vec<f64> = (0..q.len())
-        .map(|d| if d % 3 == 2 { -4.0 } else { 0.3 })
-        .collect();
+    let (model, q, v) = crumpled_sheet(0);
     let lin = Linearized::at(&model, &q, &v, 0.0);
     // The iteration, not the dense path that small models take.
     let opts = ModeOptions {
@@ -209,17 +216,7 @@ fn dense_eigenvalues(lin: &Linearized) -> Vec<c64> {
 /// differences by the conformance tests), scattered onto the free DOFs.
 #[test]
 fn k_and_c_are_the_forces_jacobians_on_the_free_dofs() {
-    let (mut model, state) = crate::reference::sheet::kevlar_sheet(4, 3, 1.0, 0.8, 5.0);
-    model.fix_node(4);
-    let q: Vec<f64> = state
-        .q
-        .iter()
-        .enumerate()
-        .map(|(i, x)| x + 0.03 * ((i as f64 * 0.7548776662).fract() - 0.5))
-        .collect();
-    let v: Vec<f64> = (0..q.len())
-        .map(|d| if d % 3 == 2 { -4.0 } else { 0.3 })
-        .collect();
+    let (model, q, v) = crumpled_sheet(4);
     let lin = Linearized::at(&model, &q, &v, 0.0);
     let n = q.len();
     let (mut k, mut c) = (vec![0.0; n * n], vec![0.0; n * n]);
