@@ -19,6 +19,9 @@ use super::{Linearized, StabilityError};
 use crate::model::Model;
 use crate::stepper::convergence::STALL_FACTOR;
 
+/// The pseudo-time of the angles' pseudo-inertia in the Newton matrix (s).
+const TWIST_TAU: f64 = 1.0;
+
 /// How the equilibrium is solved.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SteadyOptions {
@@ -175,7 +178,20 @@ fn jacobian(lin: &Linearized, l: &Layout, p: &Point, model: &Model) -> Vec<f64> 
         let d = lin.dof_of[col];
         let range = lin.col_ptr[col]..lin.col_ptr[col + 1];
         vals.extend_from_slice(&lin.k[range.clone()]);
-        if d >= l.nt || w == 0.0 {
+        if d >= l.nt {
+            // A rod's uniform twist between ends free to turn (a suspension line) costs no
+            // energy: a pseudo-inertia M/τ² on the angles keeps the matrix regular. It changes
+            // the update, not the equations, so Newton still converges on them (linearly, at
+            // the ratio of this term to the twist stiffness, where that is not zero).
+            let base = vals.len() - range.len();
+            for (j, k) in range.enumerate() {
+                if lin.row_idx[k] == col {
+                    vals[base + j] -= model.mass[d] / (TWIST_TAU * TWIST_TAU);
+                }
+            }
+            continue;
+        }
+        if w == 0.0 {
             continue;
         }
         // vᵢ depends on xᵢ through Ω ẑ × rᵢ: ∂v_y/∂x = Ω, ∂v_x/∂y = −Ω (the same node's
