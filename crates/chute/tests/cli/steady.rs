@@ -157,3 +157,49 @@ fn a_run_directory_is_not_a_steady_output() {
     assert_refused(&o, &["not a `chute steady` directory"]);
     assert!(!tmp.path().join("r/stability.json").exists());
 }
+
+/// A canopy on suspension lines over a payload (the bundled round parachute, coarse): each
+/// line's uniform twist costs no energy, and the equilibrium is still found, its residual at
+/// the tolerance; the descent-speed mode relaxes at about 2g/V, as a point mass's does.
+#[test]
+fn a_canopy_on_lines_finds_its_equilibrium() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = bundled("round-parachute.toml");
+    let sets = [
+        "time.duration_s=4",
+        "canopy.edge_length_m=0.4",
+        "lines.segments=4",
+    ];
+    let mut args = vec!["steady", file.as_str(), "--json"];
+    for s in &sets {
+        args.extend(["--set", s]);
+    }
+    let o = chute_ok(tmp.path(), &args);
+    let s: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let v = s["terminal_velocity_mps"].as_f64().unwrap();
+    let vt = s["transient_terminal_velocity_mps"].as_f64().unwrap();
+    assert!(
+        (v - vt).abs() < 1e-3 * vt.abs(),
+        "{v} against the transient's {vt}"
+    );
+    assert!(
+        s["residual_n"].as_f64().unwrap() < 1e-6,
+        "{}",
+        s["residual_n"]
+    );
+    assert!(s["newton_iterations"].as_u64().unwrap() <= 10);
+    // Quadratic drag at speed V: the vertical speed relaxes at 2g/V (a point mass exactly;
+    // the canopy's drag area changes a little with speed).
+    let heave = s["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["description"].as_str().unwrap().contains("descent-speed"))
+        .unwrap_or_else(|| panic!("no descent-speed mode in {}", s["modes"]));
+    let rate = -heave["growth_rate_per_s"].as_f64().unwrap();
+    let point = 2.0 * 9.81 / v.abs();
+    assert!(
+        (rate - point).abs() < 0.05 * point,
+        "{rate} /s against 2g/V = {point} /s"
+    );
+}
