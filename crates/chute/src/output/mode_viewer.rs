@@ -34,48 +34,6 @@ pub fn modes_html(r: &SteadyReport) -> String {
         .fold([f64::MIN; 3], |m, p| [0, 1, 2].map(|c| m[c].max(p[c])));
     let a = AMPLITUDE * (0..3).map(|c| hi[c] - lo[c]).fold(0.0, f64::max);
     let modes = &r.modes[..r.modes.len().min(MODES_SHOWN)];
-    let (mut offsets, mut origins, mut shown, mut times) = (vec![], vec![], vec![], vec![]);
-    for (k, m) in modes.iter().enumerate() {
-        for p in 0..PHASES {
-            let theta = std::f64::consts::TAU * p as f64 / PHASES as f64;
-            let turn = faer::c64::new(theta.cos(), theta.sin());
-            let disp: Vec<[f64; 3]> = m
-                .shape
-                .iter()
-                .map(|z| z.map(|c| a * (c * turn).re))
-                .collect();
-            let pos: Vec<[f64; 3]> = q
-                .iter()
-                .zip(&disp)
-                .map(|(x, d)| [0, 1, 2].map(|c| x[c] + d[c]))
-                .collect();
-            let origin = centre(&pos);
-            origins.push(origin);
-            offsets.extend(pos.iter().flat_map(|x| [0, 1, 2].map(|c| x[c] - origin[c])));
-            shown.extend(
-                disp.iter()
-                    .map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()),
-            );
-            times.push(k as f64 + p as f64 / PHASES as f64);
-        }
-    }
-    let frames = if modes.is_empty() {
-        Value::Null
-    } else {
-        json!({
-            "nodes": q.len(),
-            "triangles": u32_base64(r.triangles.iter().flatten().map(|&i| i as u32)),
-            "triangle_count": r.triangles.len(),
-            "segments": u32_base64(r.segments.iter().flatten().map(|&i| i as u32)),
-            "segment_count": r.segments.len(),
-            "roles": Value::Null,
-            "times": times,
-            "total": times.len(),
-            "origins": origins,
-            "positions": f32_base64(offsets.into_iter()),
-            "speeds": f32_base64(shown.into_iter()),
-        })
-    };
     let mut notes: Vec<String> = modes
         .iter()
         .enumerate()
@@ -103,15 +61,62 @@ pub fn modes_html(r: &SteadyReport) -> String {
     .into_iter()
     .map(|(k, v)| json!([k, v]))
     .collect();
+    let name = format!("{}: modes", r.scenario_name);
     let data = json!({
         "format": 1,
-        "name": format!("{}: modes", r.scenario_name),
+        "name": name,
         "results": results,
         "terminal_velocity_mps": Value::Null,
         "scenario_toml": Value::Null,
-        "frames": frames,
+        "frames": frames(r, modes, a),
         "series": Value::Null,
         "notes": notes,
     });
-    page(&format!("{}: modes", r.scenario_name), &data)
+    page(&name, &data)
+}
+
+/// The viewer's frames of `modes` at amplitude `a` (m): one cycle each, in turn.
+fn frames(r: &SteadyReport, modes: &[crate::steady::ModeRecord], a: f64) -> Value {
+    if modes.is_empty() {
+        return Value::Null;
+    }
+    let q = &r.positions_m;
+    let (mut offsets, mut origins, mut shown, mut times) = (vec![], vec![], vec![], vec![]);
+    for (k, m) in modes.iter().enumerate() {
+        for p in 0..PHASES {
+            let theta = std::f64::consts::TAU * p as f64 / PHASES as f64;
+            let turn = faer::c64::new(theta.cos(), theta.sin());
+            let disp: Vec<[f64; 3]> = m
+                .shape
+                .iter()
+                .map(|z| z.map(|c| a * (c * turn).re))
+                .collect();
+            let pos: Vec<[f64; 3]> = q
+                .iter()
+                .zip(&disp)
+                .map(|(x, d)| [0, 1, 2].map(|c| x[c] + d[c]))
+                .collect();
+            let origin = centre(&pos);
+            origins.push(origin);
+            offsets.extend(pos.iter().flat_map(|x| [0, 1, 2].map(|c| x[c] - origin[c])));
+            shown.extend(
+                disp.iter()
+                    .map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()),
+            );
+            times.push(k as f64 + p as f64 / PHASES as f64);
+        }
+    }
+    json!({
+        "nodes": q.len(),
+        "triangles": u32_base64(r.triangles.iter().flatten().map(|&i| i as u32)),
+        "triangle_count": r.triangles.len(),
+        "segments": u32_base64(r.segments.iter().flatten().map(|&i| i as u32)),
+        "segment_count": r.segments.len(),
+        "roles": Value::Null,
+        "times": times,
+        "total": times.len(),
+        "origins": origins,
+        "positions": f32_base64(offsets.into_iter()),
+        "speeds": f32_base64(shown.into_iter()),
+    })
 }

@@ -237,15 +237,8 @@ fn jacobian(lin: &Linearized, l: &Layout, p: &Point, model: &Model) -> Vec<f64> 
     vals
 }
 
-/// The steady descent of `model` nearest to positions `q` and common node velocity
-/// `velocity` (a run's state near terminal speed), at time `t`.
-pub fn steady_descent(
-    model: &Model,
-    q: &[f64],
-    velocity: [f64; 3],
-    t: f64,
-    opts: &SteadyOptions,
-) -> Result<Steady, StabilityError> {
+/// A model that can fall as a whole, with a node to hold.
+fn check(model: &Model, opts: &SteadyOptions) -> Result<(), StabilityError> {
     let fixed = model.fixed.iter().filter(|&&f| f).count();
     if fixed > 0 {
         return Err(StabilityError::FixedDofs(fixed));
@@ -257,6 +250,19 @@ pub fn steady_descent(
             n_nodes,
         });
     }
+    Ok(())
+}
+
+/// The steady descent of `model` nearest to positions `q` and common node velocity
+/// `velocity` (a run's state near terminal speed), at time `t`.
+pub fn steady_descent(
+    model: &Model,
+    q: &[f64],
+    velocity: [f64; 3],
+    t: f64,
+    opts: &SteadyOptions,
+) -> Result<Steady, StabilityError> {
+    check(model, opts)?;
     let mut p = Point {
         q: q.to_vec(),
         vel: velocity,
