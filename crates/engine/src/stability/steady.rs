@@ -28,7 +28,7 @@ pub struct SteadyOptions {
     /// Converged when `‖R‖∞` on the free DOFs is at most this (N).
     pub tolerance_n: f64,
     /// Also converged when a Newton update is at most this (m, m/s, rad/s) while `‖R‖∞` is
-    /// within [`STALL_FACTOR`] of the tolerance: the residual is the forces' round-off (a body
+    /// within 1,000 times the tolerance: the residual is the forces' round-off (a body
     /// far from the origin, stiff rods), as in the step solver.
     pub step_tolerance: f64,
     /// Newton iterations at most.
