@@ -577,6 +577,11 @@ fn cmd_steady(a: &SteadyArgs) -> Result<(), AppError> {
         api::check_stability_out(dir)?;
     }
     print_plausibility(&s);
+    crate::err_line!(
+        "steady: flying `{}` for {} s first (no outputs; longer if no equilibrium is near), then its equilibrium and modes",
+        s.name,
+        s.time.duration_s
+    );
     let r = api::steady(&s)?;
     if let Some(dir) = &a.out {
         api::write_stability(&r, dir)?;

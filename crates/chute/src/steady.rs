@@ -75,31 +75,29 @@ pub struct SteadyReport {
     pub segments: Vec<[usize; 2]>,
 }
 
-/// Fly `s`, solve its steady descent and its modes.
+/// Fly `s` for `time.duration_s` (longer when no equilibrium is near its end:
+/// [`LONGER_FLIGHTS`]), solve its steady descent and its modes.
 pub fn steady(s: &Scenario) -> Result<SteadyReport, AppError> {
     let built = crate::build::build(s)?;
-    let cfg = crate::app::run_config(s, false);
+    let mut cfg = crate::app::run_config(s, false);
+    let leg = s.time.duration_s;
+    cfg.duration_s = leg * (1 + LONGER_FLIGHTS) as f64;
     let mut session =
         crate::runner::Session::new(built, cfg).map_err(|e| AppError::RunFailed(e.to_string()))?;
-    session
-        .advance_to(s.time.duration_s)
-        .map_err(|e| AppError::RunFailed(format!("the transient stopped: {e}")))?;
+    let mut tries = 0;
+    let eq = loop {
+        session
+            .advance_to(leg * (1 + tries) as f64)
+            .map_err(|e| AppError::RunFailed(format!("the transient stopped: {e}")))?;
+        match equilibrium(&session, s.fluid.gravity_mps2) {
+            Ok(eq) => break eq,
+            Err(_) if tries < LONGER_FLIGHTS && !session.finished() => tries += 1,
+            Err(e) => return Err(AppError::RunFailed(e.to_string())),
+        }
+    };
     let transient = session.summary();
     let b = session.built();
     let (model, state) = (&b.model, &b.state);
-    let hold = b
-        .payload_node
-        .or(b.canopy_nodes.first().copied())
-        .unwrap_or(0);
-    let opts = SteadyOptions::recommended(model, s.fluid.gravity_mps2, hold);
-    let eq = stability::steady_descent(
-        model,
-        &state.q,
-        mean_velocity(model, &state.v),
-        state.t,
-        &opts,
-    )
-    .map_err(|e| AppError::RunFailed(e.to_string()))?;
     let lin = Linearized::at(model, &eq.q, &eq.v, state.t);
     let mode_opts = ModeOptions::default();
     let found =
@@ -127,6 +125,26 @@ pub fn steady(s: &Scenario) -> Result<SteadyReport, AppError> {
         triangles: b.triangles.clone(),
         segments: b.segments.clone(),
     })
+}
+
+/// When Newton finds no equilibrium near the transient's end, the flight goes on for another
+/// `time.duration_s`, at most this many times.
+pub const LONGER_FLIGHTS: usize = 2;
+
+/// The steady descent nearest the session's state (the payload held, or a canopy node).
+fn equilibrium(
+    session: &crate::runner::Session,
+    gravity: f64,
+) -> Result<stability::Steady, stability::StabilityError> {
+    let b = session.built();
+    let (model, state) = (&b.model, &b.state);
+    let hold = b
+        .payload_node
+        .or(b.canopy_nodes.first().copied())
+        .unwrap_or(0);
+    let opts = SteadyOptions::recommended(model, gravity, hold);
+    let v = mean_velocity(model, &state.v);
+    stability::steady_descent(model, &state.q, v, state.t, &opts)
 }
 
 /// Mass-weighted mean velocity of the nodes (m/s).

@@ -203,3 +203,21 @@ fn a_canopy_on_lines_finds_its_equilibrium() {
         "{rate} /s against 2g/V = {point} /s"
     );
 }
+
+/// A transient too short for Newton (the rod canopy at 1 s, still slowing down) is flown on
+/// for another `time.duration_s`, and the report says how long it flew.
+#[test]
+fn a_short_transient_is_flown_on_until_an_equilibrium_is_near() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rod = rod_file();
+    let args = ["steady", &rod, "--set", "time.duration_s=1", "--json"];
+    let o = chute_ok(tmp.path(), &args);
+    let s: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let t = s["transient_s"].as_f64().unwrap();
+    assert!(
+        (t - 2.0).abs() < 1e-9 || (t - 3.0).abs() < 1e-9,
+        "transient {t} s"
+    );
+    assert!(s["residual_n"].as_f64().unwrap() < 1e-3);
+    assert_contains(&stderr(&o), &["flying `report-rod-200n` for 1 s first"]);
+}
