@@ -4,6 +4,22 @@
 
 use crate::common::*;
 
+/// `chute steady scenarios/NAME --set S… --json` in `cwd`, which must succeed: its report and
+/// the command's output.
+fn steady_json(
+    cwd: &std::path::Path,
+    name: &str,
+    sets: &[&str],
+) -> (serde_json::Value, std::process::Output) {
+    let file = bundled(name);
+    let mut args = vec!["steady", file.as_str(), "--json"];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let o = chute_ok(cwd, &args);
+    (serde_json::from_str(&stdout(&o)).unwrap(), o)
+}
+
 /// The report's rod canopy: the equilibrium after a 2 s transient has the 10 s flight's
 /// terminal velocity to 0.1 % (the acceptance check of `chute steady`).
 #[test]
@@ -76,12 +92,8 @@ fn the_lateral_instability_is_the_flights_growth() {
         }
         a
     };
-    let args = with(&["time.duration_s=4"], &["steady", &file, "--json"]);
-    let o = chute_ok(
-        tmp.path(),
-        &args.iter().map(String::as_str).collect::<Vec<_>>(),
-    );
-    let s: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let steady_sets: Vec<&str> = sets.iter().copied().chain(["time.duration_s=4"]).collect();
+    let (s, _) = steady_json(tmp.path(), "report-shell-4-sites.toml", &steady_sets);
     let growing: Vec<&serde_json::Value> = s["modes"]
         .as_array()
         .unwrap()
@@ -164,18 +176,12 @@ fn a_run_directory_is_not_a_steady_output() {
 #[test]
 fn a_canopy_on_lines_finds_its_equilibrium() {
     let tmp = tempfile::tempdir().unwrap();
-    let file = bundled("round-parachute.toml");
     let sets = [
         "time.duration_s=4",
         "canopy.edge_length_m=0.4",
         "lines.segments=4",
     ];
-    let mut args = vec!["steady", file.as_str(), "--json"];
-    for s in &sets {
-        args.extend(["--set", s]);
-    }
-    let o = chute_ok(tmp.path(), &args);
-    let s: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let (s, _) = steady_json(tmp.path(), "round-parachute.toml", &sets);
     let v = s["terminal_velocity_mps"].as_f64().unwrap();
     let vt = s["transient_terminal_velocity_mps"].as_f64().unwrap();
     assert!(
@@ -209,10 +215,7 @@ fn a_canopy_on_lines_finds_its_equilibrium() {
 #[test]
 fn a_short_transient_is_flown_on_until_an_equilibrium_is_near() {
     let tmp = tempfile::tempdir().unwrap();
-    let rod = rod_file();
-    let args = ["steady", &rod, "--set", "time.duration_s=1", "--json"];
-    let o = chute_ok(tmp.path(), &args);
-    let s: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let (s, o) = steady_json(tmp.path(), "report-rod-200n.toml", &["time.duration_s=1"]);
     let t = s["transient_s"].as_f64().unwrap();
     assert!(
         (t - 2.0).abs() < 1e-9 || (t - 3.0).abs() < 1e-9,

@@ -34,16 +34,36 @@ pub struct Linearized {
     pub n_dofs: usize,
     /// Translational DOFs of the model (`3 ×` nodes; they come first).
     pub n_translational: usize,
+    /// The assembler, kept for [`Linearized::update`] (its pattern and AMD order are built
+    /// once).
+    asm: Assembler,
 }
 
 impl Linearized {
     /// The linearisation of `model` at positions `q`, velocities `v` and time `t`.
     pub fn at(model: &Model, q: &[f64], v: &[f64], t: f64) -> Self {
-        let mut asm = Assembler::new(model);
+        let asm = Assembler::new(model);
+        let mut lin = Self {
+            n_free: asm.n_free,
+            dof_of: asm.dof_of.clone(),
+            col_ptr: asm.col_ptr.clone(),
+            row_idx: asm.row_idx.clone(),
+            diag: asm.diag.clone(),
+            k: vec![0.0; asm.nnz()],
+            c: vec![0.0; asm.nnz()],
+            mass: asm.dof_of.iter().map(|&d| model.mass[d]).collect(),
+            force: vec![0.0; model.n_dofs()],
+            n_dofs: model.n_dofs(),
+            n_translational: 3 * model.layout.n_nodes,
+            asm,
+        };
+        lin.update(model, q, v, t);
+        lin
+    }
+
+    /// The same model linearised at another state, in place (no new pattern, no allocation).
+    pub fn update(&mut self, model: &Model, q: &[f64], v: &[f64], t: f64) {
         let input = EvalInput::outside_step(q, v, t, true);
-        let mut force = vec![0.0; model.n_dofs()];
-        let mut k = vec![0.0; asm.nnz()];
-        let mut c = vec![0.0; asm.nnz()];
         // J = c_m M − c_q K − c_v C (crate::assembly): K alone, then C alone.
         let only_k = Coefficients {
             c_m: 0.0,
@@ -55,22 +75,9 @@ impl Linearized {
             c_q: 0.0,
             c_v: -1.0,
         };
-        asm.assemble(model, &input, &mut force, Some((&mut k, only_k)));
-        asm.assemble(model, &input, &mut force, Some((&mut c, only_c)));
-        let mass = asm.dof_of.iter().map(|&d| model.mass[d]).collect();
-        Self {
-            n_free: asm.n_free,
-            dof_of: asm.dof_of,
-            col_ptr: asm.col_ptr,
-            row_idx: asm.row_idx,
-            diag: asm.diag,
-            k,
-            c,
-            mass,
-            force,
-            n_dofs: model.n_dofs(),
-            n_translational: 3 * model.layout.n_nodes,
-        }
+        let asm = &mut self.asm;
+        asm.assemble(model, &input, &mut self.force, Some((&mut self.k, only_k)));
+        asm.assemble(model, &input, &mut self.force, Some((&mut self.c, only_c)));
     }
 
     /// The pattern as faer's symbolic matrix.

@@ -107,16 +107,14 @@ impl Layout {
         (v, a)
     }
 
-    /// The linearisation at `p` and `R = F − M a` on its free rows.
-    fn eval(&self, model: &Model, p: &Point, t: f64) -> (Linearized, Vec<f64>) {
+    /// `lin` updated to `p`, and `R = F − M a` on its free rows.
+    fn eval(&self, model: &Model, p: &Point, t: f64, lin: &mut Linearized) -> Vec<f64> {
         let (v, a) = self.motion(p);
-        let lin = Linearized::at(model, &p.q, &v, t);
-        let r = lin
-            .dof_of
+        lin.update(model, &p.q, &v, t);
+        lin.dof_of
             .iter()
             .map(|&d| lin.force[d] - model.mass[d] * a[d])
-            .collect();
-        (lin, r)
+            .collect()
     }
 }
 
@@ -268,13 +266,14 @@ pub fn steady_descent(
         vel: velocity,
         spin: 0.0,
     };
-    let lin0 = Linearized::at(model, q, &vec![0.0; q.len()], t);
-    let l = layout(model, &lin0, q, opts.hold);
-    let (col_ptr, row_idx) = pattern(&lin0, &l);
-    let n = lin0.n_free;
+    let mut lin = Linearized::at(model, q, &vec![0.0; q.len()], t);
+    let mut trial_lin = Linearized::at(model, q, &vec![0.0; q.len()], t);
+    let l = layout(model, &lin, q, opts.hold);
+    let (col_ptr, row_idx) = pattern(&lin, &l);
+    let n = lin.n_free;
     let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
     let symbolic = SymbolicLu::try_new(sym).map_err(|e| StabilityError::Singular(e.to_string()))?;
-    let (mut lin, mut r) = l.eval(model, &p, t);
+    let mut r = l.eval(model, &p, t, &mut lin);
     let norm = |r: &[f64]| r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let mut res = norm(&r);
     let mut iterations = 0;
@@ -298,7 +297,7 @@ pub fn steady_descent(
             ));
         }
         let size = delta.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        let Some(next) = damped_step(model, &l, &lin, &lu, &p, &delta, t) else {
+        let Some(next) = damped_step(model, &l, &lu, &p, &delta, t, &mut trial_lin) else {
             // Within the stall band no update can be told from round-off (as in the step
             // solver): the residual is the forces' round-off floor.
             if res <= STALL_FACTOR * opts.tolerance_n {
@@ -310,7 +309,8 @@ pub fn steady_descent(
                 tolerance: opts.tolerance_n,
             });
         };
-        (p, lin, r) = next;
+        (p, r) = next;
+        std::mem::swap(&mut lin, &mut trial_lin);
         res = norm(&r);
         if size <= opts.step_tolerance && res <= STALL_FACTOR * opts.tolerance_n {
             break;
@@ -332,36 +332,37 @@ pub fn steady_descent(
 /// same factors, is shorter than `(1 − λ/4)` of the update (P. Deuflhard, *Newton Methods for
 /// Nonlinear Problems*, Springer 2004, §3.3). A residual test would refuse the steps a falling
 /// body needs: a small turn of a stiff canopy, linearised, stretches it by the turn squared,
-/// which raises `‖R‖` by orders of magnitude that the next iteration removes at once. `None`
-/// when even a thousandth of the update fails the test (no equilibrium near).
+/// which raises `‖R‖` by orders of magnitude that the next iteration removes at once. The
+/// point taken and its residual (`trial` holds its linearisation), or `None` when even a
+/// thousandth of the update fails the test (no equilibrium near).
 fn damped_step(
     model: &Model,
     l: &Layout,
-    lin: &Linearized,
     lu: &Lu<usize, f64>,
     p: &Point,
     delta: &Col<f64>,
     t: f64,
-) -> Option<(Point, Linearized, Vec<f64>)> {
+    trial: &mut Linearized,
+) -> Option<(Point, Vec<f64>)> {
     let m = l.position_cols.len();
     let size = delta.norm_l2();
     let mut step = 1.0;
     loop {
-        let mut trial = p.clone();
+        let mut point = p.clone();
         for (j, &row) in l.position_cols.iter().enumerate() {
-            trial.q[lin.dof_of[row]] += step * delta[j];
+            point.q[trial.dof_of[row]] += step * delta[j];
         }
         for c in 0..3 {
-            trial.vel[c] += step * delta[m + c];
+            point.vel[c] += step * delta[m + c];
         }
         if l.spin {
-            trial.spin += step * delta[m + 3];
+            point.spin += step * delta[m + 3];
         }
-        let (tl, tr) = l.eval(model, &trial, t);
+        let tr = l.eval(model, &point, t, trial);
         let mut bar = Col::<f64>::from_fn(tr.len(), |i| -tr[i]);
         lu.solve_in_place(bar.as_mat_mut());
         if bar.norm_l2() < (1.0 - step / 4.0) * size {
-            return Some((trial, tl, tr));
+            return Some((point, tr));
         }
         if step < 1e-3 {
             return None;
@@ -442,14 +443,16 @@ mod tests {
             vel: [0.4, -0.2, -3.0],
             spin: 0.7,
         };
-        let (lin, r0) = l.eval(&model, &p, 0.0);
+        let mut lin = Linearized::at(&model, &p.q, &vec![0.0; p.q.len()], 0.0);
+        let r0 = l.eval(&model, &p, 0.0, &mut lin);
         let (col_ptr, row_idx) = pattern(&lin, &l);
         let vals = jacobian(&lin, &l, &p, &model);
         let n = lin.n_free;
         let m = l.position_cols.len();
         let h = 1e-6;
+        let mut probe = Linearized::at(&model, &p.q, &vec![0.0; p.q.len()], 0.0);
         for col in 0..n {
-            let shifted = |s: f64| {
+            let mut shifted = |s: f64| {
                 let mut t = p.clone();
                 if col < m {
                     t.q[lin.dof_of[l.position_cols[col]]] += s;
@@ -458,7 +461,7 @@ mod tests {
                 } else {
                     t.spin += s;
                 }
-                l.eval(&model, &t, 0.0).1
+                l.eval(&model, &t, 0.0, &mut probe)
             };
             let (rp, rm) = (shifted(h), shifted(-h));
             let mut exact = vec![0.0; n];
