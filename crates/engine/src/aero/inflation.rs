@@ -90,12 +90,48 @@ impl InflationPressure {
     /// Let air leak through the fabric: the pressure is that of the flow around it (module
     /// docs).
     pub fn with_fabric(mut self, fabric: Fabric) -> Self {
-        self.law.fabric = Some(fabric);
+        self.law = self.law.with_fabric(fabric);
         self
     }
 }
 
 impl InflationPressureLaw {
+    /// Let air leak through `fabric`.
+    pub(crate) fn with_fabric(mut self, fabric: Fabric) -> Self {
+        self.fabric = Some(fabric);
+        self
+    }
+
+    /// The pressure coefficient `C_p`.
+    pub(crate) fn cp(&self) -> f64 {
+        self.cp
+    }
+
+    /// The far-field wind `U∞` (m/s).
+    pub(crate) fn wind(&self) -> V3 {
+        self.wind
+    }
+
+    /// The fluid.
+    pub(crate) fn fluid(&self) -> &Fluid {
+        &self.fluid
+    }
+
+    /// The pressure at the signed square speed `m` (m²/s²): `sgn(m) Δp(√|m|)`, with
+    /// `∂/∂m = Δp′(√|m|)/(2√|m|)` (Pa·s²/m², `c = ½ C_p ρ` at `m = 0`, where the leak
+    /// vanishes) and `∂/∂z̄` (Pa/m).
+    #[inline]
+    pub(crate) fn pressure_of_square(&self, m: f64, air: &LocalFluid) -> (f64, f64, f64) {
+        let w = m.abs().sqrt();
+        let (p, p_w, p_z) = self.pressure(w, air);
+        let p_m = if w > 0.0 {
+            p_w / (2.0 * w)
+        } else {
+            0.5 * self.cp * air.density
+        };
+        (m.signum() * p, p_m, m.signum() * p_z)
+    }
+
     /// `Δp` (Pa), `∂Δp/∂w` (Pa·s/m) and `∂Δp/∂z̄` (Pa/m) at descent speed `w` (m/s) in the
     /// air `air` at the centroid.
     #[inline]

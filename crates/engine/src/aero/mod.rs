@@ -6,6 +6,8 @@
 //! - [`PressureDrag`]: the DisMech peer's per-node normal pressure law on triangles;
 //! - [`InflationPressure`]: a canopy's trapped-air pressure, uniform coefficient, on every
 //!   triangle's inside normal whatever its angle to the flow;
+//! - [`IncidencePressure`]: the inflation pressure plus a windward excess that gives the
+//!   canopy a tabulated normal-force curve `C_N(α)` ([`IncidenceCurve`]): swing and glide;
 //! - [`LinearDrag`]: linear (Stokes-like) drag for low Reynolds numbers;
 //! - [`AddedMass`]: the air a canopy carries along, accelerated with it (potential flow);
 //! - [`Fluid`], [`reynolds`] and [`DragRegime`]: which law applies; [`Profile`]: density and
@@ -23,6 +25,7 @@ mod added_mass;
 pub mod atmosphere;
 mod fluid;
 mod geometry;
+pub mod incidence;
 mod inflation;
 mod linear;
 mod node_drag;
@@ -33,6 +36,7 @@ mod triangle;
 
 pub use added_mass::AddedMass;
 pub use fluid::{reynolds, DragRegime, Fluid, LocalFluid, Profile};
+pub use incidence::{IncidenceCurve, IncidencePressure, IncidencePressureLaw};
 pub use inflation::{InflationPressure, InflationPressureLaw};
 pub use linear::{stokes_sphere, LinearDrag, LinearDragLaw};
 pub use node_drag::{NodeDrag, NodeDragLaw};

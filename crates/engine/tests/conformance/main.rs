@@ -14,7 +14,8 @@ mod mesh;
 mod rods;
 
 use engine::aero::{
-    AddedMass, Fabric, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
+    AddedMass, Fabric, Fluid, IncidenceCurve, IncidencePressure, InflationPressure, LinearDrag,
+    NodeDrag, PressureDrag, TriangleDrag,
 };
 use engine::conformance::Case;
 use engine::force::Force;
@@ -56,6 +57,17 @@ enum Law {
     Triangle,
     Pressure,
     Inflation,
+    Incidence,
+}
+
+/// A `C_N(α)` that changes sign (0 at 0 and 25°), steep enough that the draws reach the
+/// bound `|C_1| ≤ C_p` on the grid as well as leeward panels pushed in (`m < 0`).
+fn incidence_curve() -> IncidenceCurve {
+    let (a, c) = (
+        [-90.0, -25.0, -12.0, 0.0, 12.0, 25.0, 90.0],
+        [0.6, 0.0, 0.3, 0.0, -0.3, 0.0, -0.6],
+    );
+    IncidenceCurve::try_from_degrees(&a, &c).expect("odd, covers ±90°")
 }
 
 /// `force`, made permeable with `fabric` if any.
@@ -90,6 +102,11 @@ fn grid_drag_case(law: Law, air: Fluid, fabric: Option<Fabric>) -> Case {
             fabric,
             InflationPressure::with_fabric,
         ),
+        Law::Incidence => through(
+            IncidencePressure::new(&tris, &q, 1.4, incidence_curve(), &air),
+            fabric,
+            IncidencePressure::with_fabric,
+        ),
     };
     Case::boxed(force, q)
         .perturb(0.4)
@@ -117,7 +134,7 @@ fn reversing_case(
         Law::Pressure => case.adjust(move |rng, q, v| {
             set_node_normal_speeds(q, v, tris[5], wind, pick(rng, speeds));
         }),
-        Law::Inflation => panic!("no reversing case for inflation pressure"),
+        Law::Inflation | Law::Incidence => panic!("no reversing case for a canopy pressure"),
     };
     case.trials(trials)
 }
@@ -141,6 +158,10 @@ drag_matrix! {
     inflation_pressure: Inflation, windy, None;
     inflation_pressure_permeable_stratified: Inflation, stratified, Some(leaky());
     inflation_pressure_stratified: Inflation, stratified, None;
+    // Incidence pressure: committed at one draw (axis, α, ĉ and each kᵢ from there),
+    // evaluated at another; permeable panels on both sides of m = 0.
+    incidence_pressure: Incidence, windy, None;
+    incidence_pressure_permeable_stratified: Incidence, stratified, Some(leaky());
     // The 1976 atmosphere varies too gently (ρ′/ρ ≈ 1e-4 /m) for a check relative to the
     // largest Jacobian entry to see its ∂ρ/∂z term above round-off; its gradients are
     // checked against differences of ρ(z) and μ(z) in `physics::atmosphere`.

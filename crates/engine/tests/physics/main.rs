@@ -2,6 +2,7 @@
 //! drag laws and falling bodies (also through stratified air and permeable fabric), DER cantilevers (small and large deflection, end moment, vibration), rod networks
 //! and frames, shell meshes. Each module documents its reference and its tolerance.
 mod aero_added_mass;
+mod aero_incidence;
 mod aero_inflation;
 mod aero_laws;
 mod aero_linear;

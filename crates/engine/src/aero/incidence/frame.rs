@@ -1,0 +1,107 @@
+//! The canopy's axis, crossflow and incidence, read from a state once per accepted step.
+
+use crate::aero::geometry::{area_vector, stencil_vec};
+use crate::vec3::V3;
+
+/// What the incidence law holds fixed over a step, read from the state that starts it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CanopyFrame {
+    /// Unit axis `ê`, from the mouth to the crown: the direction of the canopy's oriented
+    /// vector area `Σ σ N` (exact for any shape whose rim lies in a plane).
+    pub axis: V3,
+    /// Total angle of attack `α` (rad): between the canopy's velocity through the air and
+    /// `−ê` (0 when it falls straight into its mouth).
+    pub alpha: f64,
+    /// Unit crossflow `ĉ`: the part of the canopy's velocity through the air normal to `ê`
+    /// (zero vector at α = 0).
+    pub crossflow: V3,
+}
+
+/// Per-triangle geometry the law needs from the frame.
+pub(crate) struct Sides {
+    /// `sᵢ = (rᵢ · ĉ)/R`: the centroid's signed distance from the axis towards the crossflow
+    /// over the canopy's largest radius `R` (+1 at the windward rim, −1 at the leeward).
+    pub s: Vec<f64>,
+    /// `G = Σ σᵢ sᵢ (Nᵢ · ĉ)` (m²): the side force per unit `C_1 q` of the pressure `C_1 q sᵢ`.
+    pub side_area: f64,
+}
+
+/// The area-weighted frame of the triangles `stencils` (9 DOFs each) with orientations
+/// `sigma` at `(q, v)` in the wind `wind`; `fallback` is the axis kept when the canopy has
+/// no vector area (crumpled flat on itself).
+pub(crate) fn frame(
+    stencils: &[usize],
+    sigma: impl Iterator<Item = f64>,
+    q: &[f64],
+    v: &[f64],
+    wind: V3,
+    fallback: V3,
+) -> CanopyFrame {
+    let (mut vector_area, mut mean_u, mut area) = (V3::zeros(), V3::zeros(), 0.0);
+    for (st, sg) in stencils.chunks_exact(9).zip(sigma) {
+        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+        let n = area_vector(&x);
+        let u = [0, 1, 2].map(|i| stencil_vec(v, st, i)).iter().sum::<V3>() / 3.0;
+        vector_area += sg * n;
+        mean_u += n.norm() * u;
+        area += n.norm();
+    }
+    let scale = vector_area.norm();
+    let axis = if scale > 1e-9 * area {
+        vector_area / scale
+    } else {
+        fallback
+    };
+    let u = if area > 0.0 {
+        mean_u / area - wind
+    } else {
+        V3::zeros()
+    };
+    let along = u.dot(&axis);
+    let across = u - along * axis;
+    let speed = across.norm();
+    if speed <= 1e-12 * (u.norm() + 1e-300) {
+        return CanopyFrame {
+            axis,
+            alpha: 0.0,
+            crossflow: V3::zeros(),
+        };
+    }
+    CanopyFrame {
+        axis,
+        alpha: speed.atan2(-along),
+        crossflow: across / speed,
+    }
+}
+
+/// [`Sides`] of the triangles `stencils` with orientations `sigma` at `q` in `frame`.
+pub(crate) fn sides(stencils: &[usize], sigma: &[f64], q: &[f64], frame: &CanopyFrame) -> Sides {
+    let tris: Vec<(V3, V3)> = stencils
+        .chunks_exact(9)
+        .map(|st| {
+            let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+            (area_vector(&x), (x[0] + x[1] + x[2]) / 3.0)
+        })
+        .collect();
+    let area: f64 = tris.iter().map(|(n, _)| n.norm()).sum();
+    let centre = tris.iter().map(|(n, c)| n.norm() * c).sum::<V3>() / area.max(1e-300);
+    let e = frame.axis;
+    let radial = |c: &V3| {
+        let d = c - centre;
+        d - d.dot(&e) * e
+    };
+    let reach = tris
+        .iter()
+        .map(|(_, c)| radial(c).norm())
+        .fold(0.0, f64::max);
+    let s: Vec<f64> = tris
+        .iter()
+        .map(|(_, c)| radial(c).dot(&frame.crossflow) / reach.max(1e-300))
+        .collect();
+    let side_area = tris
+        .iter()
+        .zip(sigma.iter().zip(&s))
+        .map(|((n, _), (sg, si))| sg * si * n.dot(&frame.crossflow))
+        .sum();
+    Sides { s, side_area }
+}

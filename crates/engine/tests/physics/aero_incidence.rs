@@ -1,0 +1,152 @@
+//! The incidence pressure against its closed forms. On a uniform flow the windward excess
+//! `C_1 q sᵢ` gives the whole canopy exactly the tabulated side force `−C_N(α) q S₀ ĉ`
+//! (that is how `C_1` is chosen), the mean pressure `C_p q cos²α` times the rim's vector
+//! area along the axis, and nothing else on a canopy symmetric about its axis; at zero
+//! incidence it is the inflation law. Exact identities: round-off tolerances.
+use engine::aero::{
+    resultant, Fabric, Fluid, IncidenceCurve, IncidencePressure, InflationPressure,
+};
+use engine::force::{EvalInput, Force};
+use engine::DofLayout;
+use std::f64::consts::PI;
+
+const CP: f64 = 1.4;
+
+/// A spherical cap of radius 1 m from the crown (0, 0, 1) down to the polar angle `theta`,
+/// `rings` rings of `spokes` nodes: symmetric under x → −x and y → −y.
+fn cap(rings: usize, spokes: usize, theta: f64) -> (Vec<[usize; 3]>, Vec<f64>) {
+    let mut q = vec![0.0, 0.0, 1.0];
+    for r in 1..=rings {
+        let t = theta * r as f64 / rings as f64;
+        for k in 0..spokes {
+            let p = 2.0 * PI * k as f64 / spokes as f64;
+            q.extend([t.sin() * p.cos(), t.sin() * p.sin(), t.cos()]);
+        }
+    }
+    let at = |r: usize, k: usize| 1 + (r - 1) * spokes + k % spokes;
+    let mut tris = Vec::new();
+    for k in 0..spokes {
+        tris.push([0, at(1, k), at(1, k + 1)]);
+        for r in 1..rings {
+            tris.push([at(r, k), at(r + 1, k), at(r + 1, k + 1)]);
+            tris.push([at(r, k), at(r + 1, k + 1), at(r, k + 1)]);
+        }
+    }
+    (tris, q)
+}
+
+/// A solid canopy's shape of curve: pushes away from zero incidence up to 25°.
+fn curve() -> IncidenceCurve {
+    let a = [-90.0, -25.0, -10.0, 0.0, 10.0, 25.0, 90.0];
+    let c = [0.3, 0.0, 0.08, 0.0, -0.08, 0.0, -0.3];
+    IncidenceCurve::try_from_degrees(&a, &c).unwrap()
+}
+
+/// Every node moving at `vel`.
+fn uniform(n: usize, vel: [f64; 3]) -> Vec<f64> {
+    (0..n).flat_map(|_| vel).collect()
+}
+
+#[test]
+fn a_symmetric_cap_feels_the_tabulated_side_force_and_the_rim_pressure() {
+    let rho = Fluid::air().density;
+    let (tris, q) = cap(8, 24, PI / 3.0);
+    let n = q.len() / 3;
+    // The rim is a 24-gon of circumradius sin 60°.
+    let rim_area = 12.0 * (PI / 3.0).sin().powi(2) * (PI / 12.0).sin();
+    for deg in [4.0_f64, 10.0, 17.0, 40.0] {
+        let (alpha, speed) = (deg.to_radians(), 7.0);
+        let vel = [speed * alpha.sin(), 0.0, -speed * alpha.cos()];
+        let v = uniform(n, vel);
+        let mut law = IncidencePressure::new(&tris, &q, CP, curve(), &Fluid::air());
+        law.commit(&q, &v);
+        assert!(
+            (law.law().alpha() - alpha).abs() < 1e-12,
+            "α read from the state"
+        );
+        let f = resultant(&law, &DofLayout::new(n, 0), &q, &v);
+        let dyn_p = 0.5 * rho * speed * speed;
+        let s0 = law.law().reference_area();
+        let side = -curve().at(alpha) * dyn_p * s0;
+        let axial = CP * dyn_p * alpha.cos().powi(2) * rim_area;
+        let tol = 1e-11 * axial;
+        assert!(
+            (f[0] - side).abs() < tol,
+            "{deg}°: side {} against {side}",
+            f[0]
+        );
+        assert!(f[1].abs() < tol, "{deg}°: no force across the crossflow");
+        assert!(
+            (f[2] - axial).abs() < tol,
+            "{deg}°: axial {} against {axial}",
+            f[2]
+        );
+        assert!(
+            law.law().c1().abs() < CP,
+            "{deg}°: the bound does not bind on the cap"
+        );
+    }
+}
+
+#[test]
+fn at_zero_incidence_it_is_the_inflation_law_with_or_without_fabric() {
+    let (tris, q) = cap(5, 12, PI / 3.0);
+    let n = q.len() / 3;
+    let v = uniform(n, [0.0, 0.0, -6.0]);
+    let fabric = Fabric::new(1e-4, 1e-10, 0.5);
+    for fab in [None, Some(fabric)] {
+        let (mut a, mut b) = (
+            IncidencePressure::new(&tris, &q, CP, curve(), &Fluid::air()),
+            InflationPressure::new(&tris, &q, CP, &Fluid::air()),
+        );
+        if let Some(f) = fab {
+            (a, b) = (a.with_fabric(f), b.with_fabric(f));
+        }
+        a.commit(&q, &v);
+        assert_eq!(a.law().c1(), 0.0);
+        // A lifted, bent state: the law holds the frame of the commit.
+        let q2: Vec<f64> = q
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x + 0.01 * (i % 7) as f64)
+            .collect();
+        let v2: Vec<f64> = v
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x + 0.1 * (i % 5) as f64)
+            .collect();
+        let input = EvalInput::outside_step(&q2, &v2, 0.0, true);
+        let (mut ba, mut bb) = (a.new_blocks(), b.new_blocks());
+        a.evaluate(&input, &mut ba);
+        b.evaluate(&input, &mut bb);
+        let scale = bb.f.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let close =
+            |x: &[f64], y: &[f64], s: f64| x.iter().zip(y).all(|(p, r)| (p - r).abs() <= 1e-12 * s);
+        assert!(close(&ba.f, &bb.f, scale), "forces ({fab:?})");
+        let js = bb
+            .dfdq
+            .iter()
+            .chain(&bb.dfdv)
+            .fold(0.0_f64, |m, x| m.max(x.abs()));
+        assert!(
+            close(&ba.dfdq, &bb.dfdq, js) && close(&ba.dfdv, &bb.dfdv, js),
+            "Jacobians ({fab:?})"
+        );
+    }
+}
+
+#[test]
+fn a_flat_sheet_at_incidence_gets_the_bounded_excess() {
+    // A flat disc carries no side force (G = 0): C_1 takes its bound, against C_N's sign.
+    let (tris, mut q) = cap(4, 12, PI / 3.0);
+    q.chunks_mut(3).for_each(|p| p[2] = 0.0);
+    let n = q.len() / 3;
+    let mut law = IncidencePressure::new(&tris, &q, CP, curve(), &Fluid::air());
+    let a = 10f64.to_radians();
+    law.commit(&q, &uniform(n, [5.0 * a.sin(), 0.0, -5.0 * a.cos()]));
+    assert_eq!(
+        law.law().c1(),
+        CP,
+        "C_N(10°) < 0: the windward side pushed out"
+    );
+}
