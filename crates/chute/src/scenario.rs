@@ -31,6 +31,7 @@ pub mod control;
 pub mod derived;
 pub mod docs;
 pub mod error;
+mod incidence;
 pub mod keys;
 pub mod limits;
 pub mod overrides;
@@ -51,6 +52,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 pub use error::{Origin, ScenarioError};
+pub use incidence::incidence_curve;
 /// The absolute directory against which a file's relative paths resolve.
 pub use parse::base_dir as source_dir;
 pub use sections::{

@@ -14,7 +14,7 @@
 //! docs/architecture.md §The element trait.
 
 use crate::error::HistoryError;
-use crate::force::{BlockMut, EvalInput, Force, JacobianKind, LocalBlocks};
+use crate::force::{BlockMut, EvalInput, Force, JacobianKind, LagCoupling, LocalBlocks};
 
 /// The law of one element of a force family.
 ///
@@ -69,6 +69,17 @@ pub trait Element: Send + Sync + 'static {
 
     /// The load scale of load-stepping solvers (see [`Force::set_load_scale`]).
     fn set_load_scale(&mut self, _scale: f64) {}
+
+    /// The coupling through held quantities at `(q, v)` (see [`Force::lag_coupling`]).
+    fn lag_coupling(
+        &self,
+        _els: &[Self::Data],
+        _stencils: &[usize],
+        _q: &[f64],
+        _v: &[f64],
+    ) -> Option<LagCoupling> {
+        None
+    }
 }
 
 /// A family of elements of one law: the stencils, the per-element data and the shared law.
@@ -201,6 +212,9 @@ impl<E: Element> Force for Family<E> {
     }
     fn set_load_scale(&mut self, scale: f64) {
         self.law.set_load_scale(scale);
+    }
+    fn lag_coupling(&self, q: &[f64], v: &[f64]) -> Option<LagCoupling> {
+        self.law.lag_coupling(&self.data, &self.stencils, q, v)
     }
 }
 

@@ -243,6 +243,22 @@ pub(crate) fn task_len(n: usize) -> usize {
         .clamp(MIN_TASK, MIN_PAR)
 }
 
+/// The dependence of a force on the state through quantities `h` it holds over a step
+/// (read at [`Force::commit`]): `∂F/∂q ⊇ Σ_j u_j wq_jᵀ`, `∂F/∂v ⊇ Σ_j u_j wv_jᵀ`, with
+/// `u_j = ∂F/∂h_j` and `wq_j`, `wv_j` the derivatives of `h_j` with respect to `q` and `v`,
+/// all over [`LagCoupling::dofs`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LagCoupling {
+    /// Global DOFs the vectors run over, ascending.
+    pub dofs: Vec<usize>,
+    /// `u_j = ∂F/∂h_j`, one vector per held quantity.
+    pub u: Vec<Vec<f64>>,
+    /// `∂h_j/∂q`.
+    pub wq: Vec<Vec<f64>>,
+    /// `∂h_j/∂v`.
+    pub wv: Vec<Vec<f64>>,
+}
+
 /// A family of force elements. See the module docs for the contract.
 pub trait Force: Send + Sync {
     /// Short name for diagnostics (e.g. `"rod-stretch"`).
@@ -310,6 +326,13 @@ pub trait Force: Send + Sync {
     /// The number of terms `u_j` of the low-rank part (0 without one).
     fn low_rank_rank(&self) -> usize {
         0
+    }
+    /// The part of the linearisation at `(q, v)` that runs through what the force holds
+    /// over a step (see [`LagCoupling`]), for forces whose held quantities stand for a
+    /// function of the state (a canopy's incidence), not a history of its path (a rod's
+    /// reference frame). The step solver never uses it. `None` for almost every force.
+    fn lag_coupling(&self, _q: &[f64], _v: &[f64]) -> Option<LagCoupling> {
+        None
     }
     /// Fresh output buffers for this force (with the [`LocalBlocks::scratch`] it uses, if
     /// any, and room for its low-rank part).

@@ -5,7 +5,8 @@ use super::load::Plan;
 use crate::scenario::{AtmosphereModel, DragLaw, ModelKind, Scenario, ShellDrag};
 use engine::aero::atmosphere::sutherland;
 use engine::aero::{
-    AddedMass, Fabric, Fluid, InflationPressure, LinearDrag, NodeDrag, PressureDrag, TriangleDrag,
+    AddedMass, Fabric, Fluid, IncidencePressure, InflationPressure, LinearDrag, NodeDrag,
+    PressureDrag, TriangleDrag,
 };
 use engine::rod::RodHandles;
 use engine::{ForceId, Model};
@@ -134,18 +135,30 @@ pub fn install(
                         None => model.add_force(d),
                     }
                 }
-                ShellDrag::Inflation => {
+                ShellDrag::Inflation | ShellDrag::Incidence => {
                     // Skin friction: the report law with its normal part off (the pressure
-                    // replaces it, and only it sees the fabric's leakage).
+                    // replaces it, and only it sees the fabric's leakage). Under the
+                    // incidence law the table is the whole canopy's normal force, friction
+                    // included, so none is added.
                     let ct = f.tangential_drag_coefficient;
-                    if ct > 0.0 {
+                    if ct > 0.0 && f.shell_drag == ShellDrag::Inflation {
                         let t = TriangleDrag::new(&faces, 0.0, ct, &fluid);
                         out.forces.push(model.add_force(t));
                     }
-                    let p = InflationPressure::new(&faces, &rest_q(geo, model), cd, &fluid);
-                    match fabric {
-                        Some(fab) => model.add_force(p.with_fabric(fab)),
-                        None => model.add_force(p),
+                    let rest = rest_q(geo, model);
+                    match (crate::scenario::incidence_curve(s), fabric) {
+                        (None, None) => {
+                            model.add_force(InflationPressure::new(&faces, &rest, cd, &fluid))
+                        }
+                        (None, Some(fab)) => model.add_force(
+                            InflationPressure::new(&faces, &rest, cd, &fluid).with_fabric(fab),
+                        ),
+                        (Some(c), None) => {
+                            model.add_force(IncidencePressure::new(&faces, &rest, cd, c, &fluid))
+                        }
+                        (Some(c), Some(fab)) => model.add_force(
+                            IncidencePressure::new(&faces, &rest, cd, c, &fluid).with_fabric(fab),
+                        ),
                     }
                 }
             };

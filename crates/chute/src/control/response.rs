@@ -78,7 +78,10 @@ impl Response {
     /// The response `pull_side` selects for a canopy of outline `shape` under the shell drag
     /// law `drag`, or `None` when `"shape"` has no measured response for the pair.
     pub fn of(side: PullSide, shape: CanopyShape, drag: ShellDrag) -> Option<Self> {
-        let inflated = drag == ShellDrag::Inflation;
+        if drag == ShellDrag::Incidence && side == PullSide::Shape {
+            return None; // not measured under the incidence law
+        }
+        let inflated = matches!(drag, ShellDrag::Inflation | ShellDrag::Incidence);
         let gain = match (shape, inflated) {
             (CanopyShape::Rectangle, _) => SQUARE_GAIN,
             (_, true) => INFLATED_ROUND_GAIN,

@@ -34,6 +34,7 @@ pub const SECTIONS: &[Section] = &[
 const NODE_MASS_SCALE: Cond = when("load.mode", "node_mass_scale");
 const MESH: Cond = when("canopy.shape", "mesh");
 const SHELL: Cond = when("model.kind", "shell");
+const INCIDENCE: Cond = when("fluid.shell_drag", "incidence");
 /// The condition of the fabric keys.
 const FABRIC: Cond = when("shell.membrane", "fabric");
 /// The rest of their "only used with" message.
@@ -413,6 +414,9 @@ choice! {
         /// inside normal whatever its angle to the flow (the trapped air of an inflated
         /// canopy), plus the report's tangential drag C_t.
         Inflation = "inflation",
+        /// The inflation pressure plus a windward excess that gives the canopy the normal-force
+        /// curve `incidence_cn` against `incidence_alpha_deg`: it swings and glides.
+        Incidence = "incidence",
     }
 }
 
@@ -431,16 +435,32 @@ section! {
         wind_mps: [f64; 3] = [0.0; 3] => key().unit("m/s"),
         /// drag law
         drag: DragLaw = DragLaw::Quadratic => key(),
-        /// C_D: rod drag; shell normal drag; with `shell_drag = "inflation"` the pressure
-        /// coefficient C_p of Δp = C_p ½ρw²
+        /// C_D: rod drag; shell normal drag; with `shell_drag = "inflation"` or `"incidence"`
+        /// the pressure coefficient C_p of Δp = C_p ½ρw²
         drag_coefficient: f64 = 1.75 => key().positive("without drag there is no terminal velocity"),
         /// C_t: shell tangential drag
         tangential_drag_coefficient: f64 = 0.5 => key().non_negative("drag opposes motion"),
         /// shell drag model: `report` (§II.D: normal C_D and tangential C_t per triangle),
-        /// `pressure` (DisMech: normal velocity only, C_D) or `inflation` (the trapped air's
+        /// `pressure` (DisMech: normal velocity only, C_D), `inflation` (the trapped air's
         /// pressure C_D ½ρw², w the descent speed through the air, on every triangle's inside
-        /// normal, plus tangential C_t)
+        /// normal, plus tangential C_t) or `incidence` (`inflation` plus the windward excess of
+        /// a tabulated C_N(α))
         shell_drag: ShellDrag = ShellDrag::Report => key(),
+        /// `shell_drag = "incidence"`: angles of attack α of the normal-force table, from
+        /// −90° to 90°, increasing
+        #[serde(skip_serializing_if = "Option::is_none")]
+        incidence_alpha_deg: Option<Vec<f64>> = None => key()
+            .unit("deg")
+            .only_with(INCIDENCE, "")
+            .required_with(INCIDENCE, "needs the canopy's C_N(α) table: its angles (deg)")
+            .note("cover −90° to 90°, strictly increasing"),
+        /// `shell_drag = "incidence"`: the whole canopy's normal-force coefficient C_N at each
+        /// angle (on S₀, positive when it opposes the sideways motion)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        incidence_cn: Option<Vec<f64>> = None => key()
+            .only_with(INCIDENCE, "")
+            .required_with(INCIDENCE, "needs the canopy's C_N(α) table: its coefficients")
+            .note("one per angle; odd, C_N(−α) = −C_N(α)"),
         /// `drag = "linear"`: whole-canopy coefficient c; node k gets −c (A_k/A) u_rel,k, so a
         /// flat rigid canopy falls at W/c
         #[serde(skip_serializing_if = "Option::is_none")]

@@ -7,7 +7,9 @@ use super::error::Origin;
 use super::error::{short, ScenarioError};
 use super::sections::SECTIONS;
 use super::source::Provenance;
-use super::{AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, Sites};
+use super::{
+    AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, ShellDrag, Sites,
+};
 
 /// Upper bounds that keep a typo (an extra zero or three) from exhausting memory or time.
 use super::limits::MAX_SHELL_TRIANGLES;
@@ -106,6 +108,7 @@ pub fn validate(s: &Scenario, prov: &Provenance) -> Result<(), ScenarioError> {
     canopy(&mut c, s);
     load(&mut c, s);
     permeability(&mut c, s);
+    super::incidence::check(&mut c, s);
     atmosphere(&mut c, s);
     time_and_output(&mut c, s);
     super::control::check(&mut c, s);
@@ -138,6 +141,15 @@ pub fn notes(s: &Scenario, prov: &Provenance) -> Vec<String> {
                 set.join(" and ")
             ));
         }
+    }
+    if s.fluid.shell_drag == ShellDrag::Incidence
+        && prov.origin("fluid.tangential_drag_coefficient") != Origin::Default
+    {
+        out.push(
+            "fluid.tangential_drag_coefficient ignored: under fluid.shell_drag = \"incidence\" \
+             the C_N(α) table is the whole canopy's normal force, skin friction included"
+                .to_string(),
+        );
     }
     out
 }

@@ -136,17 +136,116 @@ fn at_zero_incidence_it_is_the_inflation_law_with_or_without_fabric() {
 }
 
 #[test]
-fn a_flat_sheet_at_incidence_gets_the_bounded_excess() {
-    // A flat disc carries no side force (G = 0): C_1 takes its bound, against C_N's sign.
-    let (tris, mut q) = cap(4, 12, PI / 3.0);
-    q.chunks_mut(3).for_each(|p| p[2] = 0.0);
-    let n = q.len() / 3;
-    let mut law = IncidencePressure::new(&tris, &q, CP, curve(), &Fluid::air());
+fn a_flat_sheet_at_incidence_gets_no_excess_and_a_shallow_one_a_faded_one() {
+    // A flat disc carries no side force (G = 0): no excess. Lifted into a shallow dome
+    // (G below 0.05 S₀), the excess is G/G₀ of the full one, G₀ = 0.05 S₀.
+    let (tris, cap_q) = cap(4, 12, PI / 3.0);
+    let n = cap_q.len() / 3;
     let a = 10f64.to_radians();
-    law.commit(&q, &uniform(n, [5.0 * a.sin(), 0.0, -5.0 * a.cos()]));
-    assert_eq!(
-        law.law().c1(),
-        CP,
-        "C_N(10°) < 0: the windward side pushed out"
+    let v = uniform(n, [5.0 * a.sin(), 0.0, -5.0 * a.cos()]);
+    let with_depth = |depth: f64| {
+        let q: Vec<f64> = cap_q
+            .chunks(3)
+            .flat_map(|p| [p[0], p[1], depth * p[2]])
+            .collect();
+        let mut law = IncidencePressure::new(&tris, &cap_q, CP, curve(), &Fluid::air());
+        law.commit(&q, &v);
+        (law.law().c1(), law.law().reference_area())
+    };
+    assert_eq!(with_depth(0.0).0, 0.0, "flat");
+    // The 60° cap takes the full excess −C_N S₀/G; squashed 100-fold it has G/100 < G₀ and
+    // takes −C_N S₀ (G/100)/G₀².
+    let ((full, s0), (shallow, _)) = (with_depth(1.0), with_depth(0.01));
+    let cn = curve().at(a);
+    let g = -cn * s0 / full;
+    let g0 = engine::aero::incidence::SHALLOW_SIDE_AREA * s0;
+    assert!(
+        g > g0 && 0.01 * g < g0,
+        "the cap is deep, the squashed one shallow"
     );
+    let want = -cn * s0 * 0.01 * g / (g0 * g0);
+    assert!(
+        (shallow - want).abs() < 1e-9 * want,
+        "{shallow} against {want}"
+    );
+}
+
+/// The law's total force on every DOF at `(q, v)` after committing there, and the product
+/// of its own Jacobians with `(dq, dv)`.
+fn committed_force(law: &mut IncidencePressure, q: &[f64], v: &[f64]) -> Vec<f64> {
+    law.commit(q, v);
+    let mut b = law.new_blocks();
+    law.evaluate(&EvalInput::outside_step(q, v, 0.0, false), &mut b);
+    let mut total = vec![0.0; q.len()];
+    for (d, f) in law.stencils().iter().zip(&b.f) {
+        total[*d] += f;
+    }
+    total
+}
+
+#[test]
+fn the_lag_coupling_completes_the_jacobian_of_the_unlagged_law() {
+    // F(x) = the force with the held quantities read at x itself: its derivative is the
+    // stencils' Jacobians plus the coupling, against central differences along random
+    // directions, at incidence and at zero incidence (where ĉ turns with the perturbation).
+    let (tris, q0) = cap(6, 16, PI / 3.0);
+    let n = q0.len() / 3;
+    let mut seed = 11_u64;
+    let mut rnd = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for deg in [0.0_f64, 12.0, 33.0] {
+        let a = deg.to_radians();
+        let v0 = uniform(n, [6.0 * a.sin(), 0.0, -6.0 * a.cos()]);
+        let mut law = IncidencePressure::new(&tris, &q0, CP, curve(), &Fluid::air());
+        let base = committed_force(&mut law, &q0, &v0);
+        let coupling = law
+            .lag_coupling(&q0, &v0)
+            .expect("the incidence law is coupled");
+        let mut blocks = law.new_blocks();
+        law.evaluate(&EvalInput::outside_step(&q0, &v0, 0.0, true), &mut blocks);
+        for _ in 0..3 {
+            let dq: Vec<f64> = (0..q0.len()).map(|_| 0.1 * rnd()).collect();
+            let dv: Vec<f64> = (0..q0.len()).map(|_| rnd()).collect();
+            let mut want = vec![0.0; q0.len()];
+            for (s, st) in law.stencils().chunks(9).enumerate() {
+                for r in 0..9 {
+                    for c in 0..9 {
+                        let at = s * 81 + r * 9 + c;
+                        want[st[r]] += blocks.dfdq[at] * dq[st[c]] + blocks.dfdv[at] * dv[st[c]];
+                    }
+                }
+            }
+            for (j, u) in coupling.u.iter().enumerate() {
+                let w: f64 = coupling
+                    .dofs
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &d)| coupling.wq[j][i] * dq[d] + coupling.wv[j][i] * dv[d])
+                    .sum();
+                for (i, &d) in coupling.dofs.iter().enumerate() {
+                    want[d] += u[i] * w;
+                }
+            }
+            let h = 1e-5;
+            let shifted = |s: f64, law: &mut IncidencePressure| {
+                let q: Vec<f64> = q0.iter().zip(&dq).map(|(x, d)| x + s * d).collect();
+                let v: Vec<f64> = v0.iter().zip(&dv).map(|(x, d)| x + s * d).collect();
+                committed_force(law, &q, &v)
+            };
+            let (p, m) = (shifted(h, &mut law), shifted(-h, &mut law));
+            let scale = base.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+            for d in 0..q0.len() {
+                let fd = (p[d] - m[d]) / (2.0 * h);
+                assert!(
+                    (fd - want[d]).abs() < 1e-6 * scale,
+                    "{deg}°, DOF {d}: {fd} against {}",
+                    want[d]
+                );
+            }
+        }
+    }
 }

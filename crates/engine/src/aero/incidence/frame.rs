@@ -17,13 +17,52 @@ pub(crate) struct CanopyFrame {
     pub crossflow: V3,
 }
 
-/// Per-triangle geometry the law needs from the frame.
+/// The canopy's spread about its axis in a frame.
 pub(crate) struct Sides {
-    /// `sᵢ = (rᵢ · ĉ)/R`: the centroid's signed distance from the axis towards the crossflow
-    /// over the canopy's largest radius `R` (+1 at the windward rim, −1 at the leeward).
-    pub s: Vec<f64>,
-    /// `G = Σ σᵢ sᵢ (Nᵢ · ĉ)` (m²): the side force per unit `C_1 q` of the pressure `C_1 q sᵢ`.
+    /// The area-weighted centroid of the triangles' centroids (m).
+    pub centre: V3,
+    /// The largest distance `R` of a triangle's centroid from the axis (m).
+    pub reach: f64,
+    /// `G = Σ σᵢ sᵢ (Nᵢ · ĉ)` (m²), `sᵢ = (rᵢ · ĉ)/R`: the side force per unit `C_1 q` of the
+    /// pressure `C_1 q sᵢ`.
     pub side_area: f64,
+}
+
+/// [`Sides`] of the triangles `stencils` with orientations `sigma` at `q` in `frame`.
+pub(crate) fn sides(
+    stencils: &[usize],
+    sigma: impl Iterator<Item = f64> + Clone,
+    q: &[f64],
+    frame: &CanopyFrame,
+) -> Sides {
+    let tri = |st: &[usize]| {
+        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+        (area_vector(&x), (x[0] + x[1] + x[2]) / 3.0)
+    };
+    let (mut area, mut moment) = (0.0, V3::zeros());
+    for st in stencils.chunks_exact(9) {
+        let (n, c) = tri(st);
+        area += n.norm();
+        moment += n.norm() * c;
+    }
+    let centre = moment / area.max(1e-300);
+    let e = frame.axis;
+    let radial = |c: V3| {
+        let d = c - centre;
+        d - d.dot(&e) * e
+    };
+    let (mut reach, mut g) = (0.0_f64, 0.0);
+    for (st, sg) in stencils.chunks_exact(9).zip(sigma) {
+        let (n, c) = tri(st);
+        let r = radial(c);
+        reach = reach.max(r.norm());
+        g += sg * r.dot(&frame.crossflow) * n.dot(&frame.crossflow);
+    }
+    Sides {
+        centre,
+        reach,
+        side_area: g / reach.max(1e-300),
+    }
 }
 
 /// The area-weighted frame of the triangles `stencils` (9 DOFs each) with orientations
@@ -72,36 +111,4 @@ pub(crate) fn frame(
         alpha: speed.atan2(-along),
         crossflow: across / speed,
     }
-}
-
-/// [`Sides`] of the triangles `stencils` with orientations `sigma` at `q` in `frame`.
-pub(crate) fn sides(stencils: &[usize], sigma: &[f64], q: &[f64], frame: &CanopyFrame) -> Sides {
-    let tris: Vec<(V3, V3)> = stencils
-        .chunks_exact(9)
-        .map(|st| {
-            let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
-            (area_vector(&x), (x[0] + x[1] + x[2]) / 3.0)
-        })
-        .collect();
-    let area: f64 = tris.iter().map(|(n, _)| n.norm()).sum();
-    let centre = tris.iter().map(|(n, c)| n.norm() * c).sum::<V3>() / area.max(1e-300);
-    let e = frame.axis;
-    let radial = |c: &V3| {
-        let d = c - centre;
-        d - d.dot(&e) * e
-    };
-    let reach = tris
-        .iter()
-        .map(|(_, c)| radial(c).norm())
-        .fold(0.0, f64::max);
-    let s: Vec<f64> = tris
-        .iter()
-        .map(|(_, c)| radial(c).dot(&frame.crossflow) / reach.max(1e-300))
-        .collect();
-    let side_area = tris
-        .iter()
-        .zip(sigma.iter().zip(&s))
-        .map(|((n, _), (sg, si))| sg * si * n.dot(&frame.crossflow))
-        .sum();
-    Sides { s, side_area }
 }
