@@ -20,7 +20,7 @@ mod steady;
 #[cfg(test)]
 mod tests;
 
-pub use linearize::Linearized;
+pub use linearize::{Coupling, Linearized, PencilSolver};
 pub use modes::{modes, Mode, ModeOptions, DENSE_UP_TO, NEUTRAL_RATE, NEUTRAL_SHOWN};
 pub use steady::{steady_descent, Steady, SteadyOptions};
 

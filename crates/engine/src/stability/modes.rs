@@ -9,12 +9,11 @@
 //! `w₂ = v₁ + σ w₁` (`P(σ) = σ²M − σC − K`, one LU factorisation for all of them).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::linalg::solvers::Solve;
 use faer::matrix_free::eigen::{partial_eigen, partial_eigen_scratch, PartialEigenParams};
 use faer::matrix_free::LinOp;
-use faer::sparse::linalg::solvers::Lu;
 use faer::{c64, Col, Mat, MatMut, MatRef, Par};
 
+use super::linearize::PencilSolver;
 use super::{Linearized, StabilityError};
 
 /// How many modes to look for, and where.
@@ -64,7 +63,7 @@ pub struct Mode {
 /// A spectral transformation of the companion form (module docs), on `2 n` vectors.
 struct Cayley<'a> {
     lin: &'a Linearized,
-    lu: Lu<usize, f64>,
+    lu: PencilSolver,
     sigma: f64,
     /// The Cayley operator `I + 2σ S` (the rightmost modes) or the shift-invert `S` itself
     /// (the modes nearest σ).
@@ -83,12 +82,12 @@ impl Cayley<'_> {
         let n = self.lin.n_free;
         let (v1, v2) = v.split_at(n);
         let mut cv = vec![0.0; n];
-        self.lin.mul(&self.lin.c, v1, &mut cv);
+        self.lin.mul_c(v1, &mut cv);
         let s = self.sigma;
         let mut w1 = Col::<f64>::from_fn(n, |i| {
             cv[i] - s * self.lin.mass[i] * v1[i] - self.lin.mass[i] * v2[i]
         });
-        self.lu.solve_in_place(w1.as_mat_mut());
+        self.lu.solve_in_place(&mut w1);
         let c = if self.cayley { 2.0 * s } else { 1.0 };
         for i in 0..n {
             let (a, b) = (w1[i], v1[i] + s * w1[i]);
@@ -264,7 +263,7 @@ fn to_lambda(theta: c64, sigma: f64, cayley: bool) -> c64 {
 fn spectral(lin: &Linearized, sigma: f64, cayley: bool) -> Result<Cayley<'_>, StabilityError> {
     Ok(Cayley {
         lin,
-        lu: lin.lu(&lin.pencil(sigma))?,
+        lu: lin.pencil_solver(sigma)?,
         sigma,
         cayley,
     })
@@ -327,10 +326,20 @@ impl Norms {
             }
             s.into_iter().fold(0.0, f64::max)
         };
+        // The low-rank part's ∞-norm is at most Σ_j ‖u_j‖∞ ‖w_j‖₁.
+        let low = |w: fn(&super::linearize::Coupling) -> &Vec<f64>| -> f64 {
+            lin.coupling
+                .iter()
+                .map(|c| {
+                    let u = c.u.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+                    u * w(c).iter().map(|x| x.abs()).sum::<f64>()
+                })
+                .sum()
+        };
         Self {
             m: lin.mass.iter().copied().fold(0.0, f64::max),
-            c: row_sums(&lin.c),
-            k: row_sums(&lin.k),
+            c: row_sums(&lin.c) + low(|c| &c.wv),
+            k: row_sums(&lin.k) + low(|c| &c.wq),
         }
     }
 }
@@ -341,10 +350,10 @@ fn mode(lin: &Linearized, lambda: c64, mut phi: Vec<c64>, n: &Norms) -> Mode {
     let (re, im): (Vec<f64>, Vec<f64>) = phi.iter().map(|z| (z.re, z.im)).unzip();
     let zeros = || vec![0.0; re.len()];
     let (mut kr, mut ki, mut cr, mut ci) = (zeros(), zeros(), zeros(), zeros());
-    lin.mul(&lin.k, &re, &mut kr);
-    lin.mul(&lin.k, &im, &mut ki);
-    lin.mul(&lin.c, &re, &mut cr);
-    lin.mul(&lin.c, &im, &mut ci);
+    lin.mul_k(&re, &mut kr);
+    lin.mul_k(&im, &mut ki);
+    lin.mul_c(&re, &mut cr);
+    lin.mul_c(&im, &mut ci);
     let l2 = lambda * lambda;
     let mut r_max: f64 = 0.0;
     for i in 0..phi.len() {

@@ -266,8 +266,8 @@ pub fn steady_descent(
         vel: velocity,
         spin: 0.0,
     };
-    let mut lin = Linearized::at(model, q, &vec![0.0; q.len()], t);
-    let mut trial_lin = Linearized::at(model, q, &vec![0.0; q.len()], t);
+    let mut lin = Linearized::jacobians_at(model, q, &vec![0.0; q.len()], t);
+    let mut trial_lin = Linearized::jacobians_at(model, q, &vec![0.0; q.len()], t);
     let l = layout(model, &lin, q, opts.hold);
     let (col_ptr, row_idx) = pattern(&lin, &l);
     let n = lin.n_free;

@@ -195,7 +195,7 @@ fn modes_match_a_dense_eigen_solve_on_a_crumpled_sheet() {
     }
 }
 
-/// Eigenvalues of `[[0, I], [M⁻¹K, M⁻¹C]]`, dense.
+/// Eigenvalues of `[[0, I], [M⁻¹K, M⁻¹C]]`, dense, the low-rank part added in.
 fn dense_eigenvalues(lin: &Linearized) -> Vec<c64> {
     let n = lin.n_free;
     let mut a = Mat::<f64>::zeros(2 * n, 2 * n);
@@ -209,7 +209,86 @@ fn dense_eigenvalues(lin: &Linearized) -> Vec<c64> {
             a[(n + row, n + col)] = lin.c[k] / lin.mass[row];
         }
     }
+    for c in &lin.coupling {
+        for row in 0..n {
+            for col in 0..n {
+                a[(n + row, col)] += c.u[row] * c.wq[col] / lin.mass[row];
+                a[(n + row, n + col)] += c.u[row] * c.wv[col] / lin.mass[row];
+            }
+        }
+    }
     a.eigenvalues().unwrap()
+}
+
+/// With a force coupled through held quantities (the incidence pressure on a small cone
+/// held on springs below a fixed payload, committed 12° off its axis), both paths find
+/// eigenvalues of the dense companion matrix that includes the low-rank part, and the part
+/// moves them.
+#[test]
+fn modes_include_the_coupling_through_held_quantities() {
+    use crate::aero::{IncidenceCurve, IncidencePressure};
+    let (a, c) = ([-90.0, -20.0, 0.0, 20.0, 90.0], [0.5, 0.2, 0.0, -0.2, -0.5]);
+    let curve = IncidenceCurve::try_from_degrees(&a, &c).unwrap();
+    // Apex 0, rim 1..=6 (radius 1 m, 0.5 m below the apex), payload 7 held 2 m below.
+    let mut q = vec![0.0, 0.0, 0.5];
+    for k in 0..6 {
+        let p = std::f64::consts::PI * k as f64 / 3.0;
+        q.extend([p.cos(), p.sin(), 0.0]);
+    }
+    q.extend([0.0, 0.0, -2.0]);
+    let rim = |k: usize| 1 + k % 6;
+    let tris: Vec<[usize; 3]> = (0..6).map(|k| [0, rim(k), rim(k + 1)]).collect();
+    let mut edges: Vec<[usize; 2]> = (0..6)
+        .flat_map(|k| [[0, rim(k)], [rim(k), rim(k + 1)]])
+        .collect();
+    edges.extend((0..6).map(|k| [rim(k), 7]));
+    let mut model = Model::new(DofLayout::new(8, 0));
+    (0..7).for_each(|i| model.add_node_mass(i, 0.05));
+    model.add_node_mass(7, 2.0);
+    model.fix_node(7);
+    model.add_force(Stretch::new(
+        "springs",
+        &edges,
+        &q,
+        vec![200.0; edges.len()],
+    ));
+    model.add_force(IncidencePressure::new(&tris, &q, 1.4, curve, &Fluid::air()));
+    let t = 12f64.to_radians();
+    let v: Vec<f64> = (0..24)
+        .map(|d| {
+            if d >= 21 {
+                0.0
+            } else {
+                [5.0 * t.sin(), 0.0, -5.0 * t.cos()][d % 3]
+            }
+        })
+        .collect();
+    model.forces.iter_mut().for_each(|f| f.commit(&q, &v));
+    let lin = Linearized::at(&model, &q, &v, 0.0);
+    assert_eq!(lin.coupling.len(), 9);
+    let dense = dense_eigenvalues(&lin);
+    let without = dense_eigenvalues(&Linearized::jacobians_at(&model, &q, &v, 0.0));
+    let far = |set: &[c64], d: &c64| set.iter().all(|e| (e - d).norm() > 1e-6 * (1.0 + d.norm()));
+    assert!(
+        dense.iter().any(|d| far(&without, d)),
+        "the coupling moves some mode"
+    );
+    for dense_up_to in [0, DENSE_UP_TO] {
+        let opts = ModeOptions {
+            dense_up_to,
+            ..Default::default()
+        };
+        let found = modes(&lin, &opts).unwrap();
+        assert!(found.len() >= 4, "{} found", found.len());
+        for f in &found {
+            assert!(
+                !far(&dense, &f.eigenvalue),
+                "{} not an eigenvalue ({dense_up_to})",
+                f.eigenvalue
+            );
+            assert!(f.backward_error <= opts.max_backward_error, "{f:?}");
+        }
+    }
 }
 
 /// `K` and `C` are the sums of the forces' own Jacobians (each checked against finite
