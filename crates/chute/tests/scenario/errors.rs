@@ -441,3 +441,51 @@ fn adaptive_keys_are_checked() {
         &["`time.adaptive` (from `--set time.adaptive=maybe`) must be a boolean"],
     );
 }
+
+/// The incidence law's table: required with it, used only with it, and one the engine can
+/// read (covering ±90°, increasing, odd, one coefficient per angle), each error at the line of
+/// the key at fault.
+#[test]
+fn the_incidence_table_is_checked_naming_its_key() {
+    let law = "[fluid]\nshell_drag = \"incidence\"\n"; // lines 4–5
+    let e = err(law);
+    assert_is!(&e, ScenarioError::Missing { key, .. } if key == "fluid.incidence_alpha_deg" || key == "fluid.incidence_cn");
+    let table = |a: &str, c: &str| format!("{law}incidence_alpha_deg = {a}\nincidence_cn = {c}\n");
+    let cases = [
+        (
+            "[-45, 0, 90]",
+            "[0.1, 0.0, -0.1]",
+            6,
+            "fluid.incidence_alpha_deg",
+            "cover −90° to 90°",
+        ),
+        (
+            "[-90, 0, 0, 90]",
+            "[0.1, 0.0, 0.0, -0.1]",
+            6,
+            "fluid.incidence_alpha_deg",
+            "increase strictly",
+        ),
+        (
+            "[-90, 0, 90]",
+            "[0.3, 0.0, -0.1]",
+            7,
+            "fluid.incidence_cn",
+            "must be odd",
+        ),
+        (
+            "[-90, 0, 90]",
+            "[0.3, 0.0]",
+            7,
+            "fluid.incidence_cn",
+            "as many angles as coefficients",
+        ),
+    ];
+    for (a, c, line, key, why) in cases {
+        let e = err_at(&table(a, c), line);
+        assert_is!(&e, ScenarioError::Invalid { key: k, .. } if k == key);
+        says(&e, &[why]);
+    }
+    let e = err_at("[fluid]\nincidence_cn = [0.0, 0.0]\n", 5);
+    assert_is!(&e, ScenarioError::Invalid { key, .. } if key == "fluid.incidence_cn");
+}

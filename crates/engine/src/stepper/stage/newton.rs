@@ -16,9 +16,10 @@
 //! skew part makes `J_s⁻¹` too far from `J⁻¹`. With follower loads (the inflation pressure) that
 //! skew part is large, and the uncorrected iteration contracts at `‖I − J J_s⁻¹‖`, which
 //! crawled from 1e-3 to 1e-5 N over 20 iterations on a 30-gore canopy's opening until the
-//! stage failed; corrected, it contracts at the lag of `J` (docs/performance.md §The large
-//! canopy). The held stage stays uncorrected: its factors' Jacobian is of an earlier step,
-//! and correcting towards it was measured worse.
+//! stage failed; corrected, it contracts at the lag of `J`
+//! (docs/notes/performance-2026-12-06.md §Floors and the large canopy). The held stage stays
+//! uncorrected: its factors' Jacobian is of an earlier step, and correcting towards it was
+//! measured worse.
 //!
 //! **Forcing.** Each update is solved to the relative linear residual `η` (Dembo, Eisenstat
 //! & Steihaug 1982): the Newton iteration's `η = (‖R‖/‖R₀‖)²` for quadratic convergence, but
