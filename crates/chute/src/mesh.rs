@@ -5,6 +5,7 @@
 //! (suspension lines): a rod whose end node is a shell node is joined to the canopy there.
 //! [`CanopyMesh::rod_chains`] splits the rod-edge graph into the individual rods.
 
+pub mod constructed;
 pub mod dismech;
 pub mod generate;
 pub mod obj;

@@ -37,6 +37,7 @@ pub mod limits;
 pub mod overrides;
 mod parse;
 pub mod plausibility;
+pub mod round;
 mod rules;
 pub mod schema;
 pub mod sections;
@@ -56,9 +57,9 @@ pub use incidence::incidence_curve;
 /// The absolute directory against which a file's relative paths resolve.
 pub use parse::base_dir as source_dir;
 pub use sections::{
-    Atmosphere, AtmosphereModel, Bending, Canopy, CanopyShape, Control, DragLaw, Fluid, Guidance,
-    Lines, Load, LoadMode, Material, Membrane, MeshPattern, ModelKind, ModelSection, Output,
-    PullSide, Sensor, SensorKind, Shell, ShellDrag, SiteSet, Sites, Time,
+    Atmosphere, AtmosphereModel, Bending, Canopy, CanopyProfile, CanopyShape, Control, DragLaw,
+    Fluid, Guidance, Lines, Load, LoadMode, Material, Membrane, MeshPattern, ModelKind,
+    ModelSection, Output, PullSide, Sensor, SensorKind, Shell, ShellDrag, SiteSet, Sites, Time,
     DEFAULT_ERROR_TOLERANCE_M,
 };
 
@@ -244,14 +245,17 @@ impl Scenario {
         files
     }
 
-    /// Canopy planform area (m²) of the flat canopy, or `None` for an imported mesh (known
-    /// only once the builder has read it).
+    /// Canopy planform area (m²) of the flat canopy (a round canopy's constructed surface, vent
+    /// included), or `None` for an imported mesh (known only once the builder has read it).
     pub fn planform_area_m2(&self) -> Option<f64> {
         let c = &self.canopy;
         match (self.model.kind, c.shape) {
             (ModelKind::Rod, _) | (_, CanopyShape::Rectangle) => Some(c.span_m * c.width_m),
             (_, CanopyShape::Hexagon) => Some(1.5 * 3f64.sqrt() * c.radius_m * c.radius_m),
-            (_, CanopyShape::Circle) => Some(std::f64::consts::PI * c.radius_m * c.radius_m),
+            (_, CanopyShape::Circle) => Some(crate::mesh::constructed::nominal_area(
+                round::profile(self),
+                c.radius_m,
+            )),
             (_, CanopyShape::Mesh) => None,
         }
     }

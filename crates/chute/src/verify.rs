@@ -12,6 +12,7 @@ mod cases;
 pub mod convergence;
 pub mod membrane_cases;
 pub mod midedge_cases;
+mod real;
 pub mod scordelis_lo;
 pub mod shell_cases;
 mod system;

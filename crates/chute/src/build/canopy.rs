@@ -1,7 +1,8 @@
 //! Canopy geometry: a rod strip along x, or a shell mesh (generated or imported).
 use super::BuildError;
 use crate::mesh::generate::Pattern;
-use crate::mesh::{self, CanopyMesh};
+use crate::mesh::{self, constructed, CanopyMesh};
+use crate::scenario::round;
 use crate::scenario::{
     Bending, CanopyShape, Membrane, MeshPattern, ModelKind, Scenario, SiteSet, Sites,
 };
@@ -176,6 +177,7 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
         });
     }
     let mut mesh_digest = None;
+    let mut nominal = None;
     let mesh = match c.shape {
         CanopyShape::Rectangle => mesh::generate::rectangle_pattern(
             c.span_m,
@@ -185,7 +187,9 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
         ),
         CanopyShape::Hexagon => mesh::generate::hexagon(c.radius_m, c.edge_length_m),
         CanopyShape::Circle => {
-            mesh::generate::circle_with_rim_sites(c.radius_m, c.edge_length_m, rim_sites(s))
+            let (mesh, area) = round_canopy(s)?;
+            nominal = Some(area);
+            mesh
         }
         CanopyShape::Mesh => {
             let path = c.mesh_file.as_ref().ok_or_else(|| {
@@ -208,7 +212,7 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
     let (lo, hi) = extent(&mesh, &canopy_nodes);
     let reference_length = (hi[0] - lo[0]).max(hi[1] - lo[1]);
     Ok(Geometry {
-        planform_area: tri.area(),
+        planform_area: nominal.unwrap_or(tri.area()),
         tri_mesh: Some(tri),
         canopy_nodes,
         rod_chain: None,
@@ -217,6 +221,25 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
         mesh,
         mesh_digest,
     })
+}
+
+/// The round canopy of `s` (vent and profile) and its nominal area `S₀` (m²): the
+/// constructed surface's, vent included (Knacke's reference area).
+fn round_canopy(s: &Scenario) -> Result<(CanopyMesh, f64), BuildError> {
+    let c = &s.canopy;
+    let sites = rim_sites(s);
+    let disc = mesh::generate::circle_with_rim_sites(c.radius_m, c.edge_length_m, sites);
+    let rings = mesh::generate::circle_rings(c.radius_m, c.edge_length_m, sites);
+    let profile = round::profile(s);
+    // The vent is cut in the disc, whose radius is the distance along a gore.
+    let area = constructed::shaped(disc.clone(), profile, c.radius_m)
+        .tri_mesh()?
+        .area();
+    let disc = match round::vent_cut(s, rings) {
+        Some(cut) => constructed::with_vent(disc, cut),
+        None => disc,
+    };
+    Ok((constructed::shaped(disc, profile, c.radius_m), area))
 }
 
 /// The generator's pattern for `canopy.mesh_pattern` (absent: the report's union-jack).

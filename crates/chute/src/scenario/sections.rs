@@ -141,6 +141,28 @@ section! {
         mesh_pattern: Option<MeshPattern> = None => key()
             .only_with(when("canopy.shape", "rectangle"), "")
             .default_doc("`union_jack`"),
+        /// circle: radius of the apex vent, its hem the mesh ring nearest it (at least the
+        /// first); 0 for none, not written to the resolved scenario
+        #[serde(skip_serializing_if = "is_zero")]
+        vent_radius_m: f64 = 0.0 => key()
+            .unit("m")
+            .default_doc("0 (no vent)")
+            .non_negative("a radius")
+            .only_with(when("canopy.shape", "circle"), "")
+            .note("≤ `radius_m` − `edge_length_m` (one ring of cloth)"),
+        /// circle: the gores' shape, each gore `radius_m` long from apex to skirt: `flat`,
+        /// `conical` (at `cone_angle_deg` to the skirt's plane) or `hemispherical`
+        #[serde(skip_serializing_if = "Option::is_none")]
+        profile: Option<CanopyProfile> = None => key()
+            .only_with(when("canopy.shape", "circle"), "")
+            .default_doc("`flat`"),
+        /// `profile = "conical"`: the cloth's angle to the skirt's plane
+        #[serde(skip_serializing_if = "Option::is_none")]
+        cone_angle_deg: Option<f64> = None => key()
+            .unit("deg")
+            .only_with(when("canopy.profile", "conical"), "")
+            .required_with(when("canopy.profile", "conical"), "needs the cloth's angle to the skirt's plane (deg)")
+            .range(Bound::Excl(0.0), Bound::Excl(90.0), "a cone between a disc and a cylinder"),
         /// shell: amplitude of the initial out-of-plane perturbation in a fixed asymmetric
         /// mode (below); 0 is the flat start and is not written to the resolved scenario
         #[serde(skip_serializing_if = "is_zero")]
@@ -148,6 +170,18 @@ section! {
             .unit("m")
             .default_doc("0 (flat)")
             .note("shell only; magnitude ≤ 5 % of the in-plane size"),
+    }
+}
+
+choice! {
+    /// The shape of a round canopy's gores (`canopy.shape = "circle"`).
+    pub enum CanopyProfile {
+        /// A flat disc (flat circular).
+        Flat = "flat",
+        /// A cone, its cloth at `cone_angle_deg` to the skirt's plane.
+        Conical = "conical",
+        /// A hemisphere.
+        Hemispherical = "hemispherical",
     }
 }
 

@@ -115,6 +115,13 @@ fn schema_matches_the_serde_structs() {
     // The two permeability forms exclude each other: set the second one directly.
     let mut s = s;
     s.material.air_permeability_cfm = Some(1.0);
+    // A round canopy's vent and cone (with a circle only).
+    s.canopy.vent_radius_m = 0.1;
+    s.canopy.profile = Some(chute::scenario::CanopyProfile::Conical);
+    s.canopy.cone_angle_deg = Some(20.0);
+    // The incidence table (with its law only).
+    s.fluid.incidence_alpha_deg = Some(vec![-90.0, 90.0]);
+    s.fluid.incidence_cn = Some(vec![0.0, 0.0]);
     // The pull and guidance sections (payload mode only): set them directly too.
     s.control.push(chute::scenario::Control {
         hold_s: Some(1.0),

@@ -489,3 +489,21 @@ fn the_incidence_table_is_checked_naming_its_key() {
     let e = err_at("[fluid]\nincidence_cn = [0.0, 0.0]\n", 5);
     assert_is!(&e, ScenarioError::Invalid { key, .. } if key == "fluid.incidence_cn");
 }
+
+/// A round canopy's vent leaves cloth, a cone has an angle, and neither is for other outlines.
+#[test]
+fn vents_and_profiles_are_checked_naming_their_key() {
+    let round = "[canopy]\nshape = \"circle\"\nradius_m = 1.5\nedge_length_m = 0.25\n"; // lines 4–7
+    let e = err_at(&format!("{round}vent_radius_m = 1.4\n"), 8);
+    assert_is!(&e, ScenarioError::Invalid { key, .. } if key == "canopy.vent_radius_m");
+    says(&e, &["a vent as large as the canopy", "1.25 m"]);
+    let e = err(&format!("{round}profile = \"conical\"\n"));
+    assert_is!(&e, ScenarioError::Missing { key, .. } if key == "canopy.cone_angle_deg");
+    let e = err_at(
+        &format!("{round}profile = \"conical\"\ncone_angle_deg = 90\n"),
+        9,
+    );
+    assert_is!(&e, ScenarioError::Invalid { key, .. } if key == "canopy.cone_angle_deg");
+    let e = err_at("[canopy]\nvent_radius_m = 0.2\n", 5);
+    assert_is!(&e, ScenarioError::Invalid { key, .. } if key == "canopy.vent_radius_m");
+}

@@ -1,0 +1,83 @@
+//! Real parachutes: the round canopy's drag at zero incidence against the recovery
+//! handbook's bands (Knacke, *Parachute Recovery Systems Design Manual*, NWC TP 6575, 1991,
+//! Table 5-1). Information rows: the model misses some bands, and docs/validation.md
+//! §Real parachutes reports by how much; no coefficient is tuned to a row.
+//!
+//! Each canopy is `round-solid.toml`'s (3 m, 1.1 oz fabric, 12 lines, 100 N) with its gores
+//! flat, conical (25°) or hemispherical, under the incidence law at zero incidence: the
+//! inflation pressure `C_p = 1.75` and no tangential drag. Its steady descent (`chute
+//! steady` after a symmetric 1.5 s transient) gives `C_D0 = 2W/(ρ v² S₀)`, `W` the total
+//! weight and `S₀` the constructed surface, vent included.
+
+use super::Check;
+use crate::build::build;
+use crate::scenario::Scenario;
+
+const SOLID: &str = include_str!("../../../../scenarios/round-solid.toml");
+const SCENARIO_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios");
+
+/// A canopy type: its keys and Knacke's C_D0 band.
+struct Type {
+    name: &'static str,
+    keys: &'static [&'static str],
+    band: (f64, f64),
+}
+
+const TYPES: [Type; 3] = [
+    Type {
+        name: "flat",
+        keys: &[],
+        band: (0.75, 0.80),
+    },
+    Type {
+        name: "conical",
+        keys: &["canopy.profile=\"conical\"", "canopy.cone_angle_deg=25"],
+        band: (0.75, 0.90),
+    },
+    Type {
+        name: "hemispherical",
+        keys: &["canopy.profile=\"hemispherical\""],
+        band: (0.62, 0.77),
+    },
+];
+
+/// `real-cd0-{flat,conical,hemispherical}`: C_D0 at zero incidence (0.35 m mesh with
+/// `--quick`, else 0.25 m; the ladder is in docs/notes/real-parachutes-2026-12-07.md).
+pub fn cd0(quick: bool) -> Result<Vec<Check>, String> {
+    let edge = if quick { 0.35 } else { 0.25 };
+    let mut out = Vec::new();
+    for t in &TYPES {
+        let mut sets = vec![
+            "output.snapshots_s=[]".to_string(),
+            "canopy.imperfection_m=0".to_string(),
+            "time.duration_s=1.5".to_string(),
+            format!("canopy.edge_length_m={edge}"),
+        ];
+        sets.extend(t.keys.iter().map(|k| k.to_string()));
+        let s =
+            Scenario::from_str_with_name(SOLID, &format!("{SCENARIO_DIR}/round-solid.toml"), &sets)
+                .map_err(|e| e.to_string())?;
+        let built = build(&s).map_err(|e| e.to_string())?;
+        let r = crate::steady::steady(&s).map_err(|e| e.to_string())?;
+        let v = r.terminal_velocity_mps;
+        let cd0 =
+            2.0 * built.total_weight_n / (s.fluid.density_kg_m3 * v * v * built.planform_area_m2);
+        let (lo, hi) = t.band;
+        let verdict = if (lo..=hi).contains(&cd0) {
+            "inside"
+        } else {
+            "outside"
+        };
+        out.push(Check::info(
+            &format!("real-cd0-{}", t.name),
+            &format!(
+                "C_D0 at zero incidence, {} canopy, {edge} m ({verdict} {lo}–{hi}; information)",
+                t.name
+            ),
+            0.5 * (lo + hi),
+            "Knacke NWC TP 6575 Table 5-1 (band midpoint)",
+            cd0,
+        ));
+    }
+    Ok(out)
+}
