@@ -24,3 +24,27 @@ pub(crate) fn area_vector_jacobians(x: &[V3; 3]) -> [M3; 3] {
 pub(crate) fn stencil_vec(g: &[f64], st: &[usize], i: usize) -> V3 {
     V3::new(g[st[3 * i]], g[st[3 * i + 1]], g[st[3 * i + 2]])
 }
+
+/// Write the same force `f` (N) on each of a triangle's three nodes (`out`: 9 entries).
+#[inline]
+pub(crate) fn same_force_on_nodes(f: &V3, out: &mut [f64]) {
+    for i in 0..3 {
+        out[3 * i..3 * i + 3].copy_from_slice(f.as_slice());
+    }
+}
+
+/// Fill a triangle's 9 × 9 Jacobians when every node's force is the same: row block `i`,
+/// column block `b` is `dq[b]` in `dfdq` and `dv` in `dfdv`, for every `i`.
+#[inline]
+pub(crate) fn same_rows(dq: &[M3; 3], dv: &M3, dfdq: &mut [f64], dfdv: &mut [f64]) {
+    for (bn, dqb) in dq.iter().enumerate() {
+        for i in 0..3 {
+            for r in 0..3 {
+                for c in 0..3 {
+                    dfdq[(3 * i + r) * 9 + 3 * bn + c] = dqb[(r, c)];
+                    dfdv[(3 * i + r) * 9 + 3 * bn + c] = dv[(r, c)];
+                }
+            }
+        }
+    }
+}

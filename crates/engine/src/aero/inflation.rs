@@ -42,7 +42,9 @@
 //!   `σ (∂Δp/∂z̄ / 9) N e_zᵀ` from `∂z̄/∂z_b = 1/3` (impermeable: `∂Δp/∂z̄ = (ρ′/ρ) Δp`).
 
 use super::fluid::{Fluid, LocalFluid};
-use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
+use super::geometry::{
+    area_vector, area_vector_jacobians, same_force_on_nodes, same_rows, stencil_vec,
+};
 use super::permeability::{leakage_in, Fabric};
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
@@ -159,11 +161,7 @@ impl Element for InflationPressureLaw {
         let w = (-u.z).max(0.0);
         let (dp, dp_w, dp_z) = self.pressure(w, &air);
         let f = (sigma * dp / 3.0) * nv;
-        for i in 0..3 {
-            for r in 0..3 {
-                b.f[3 * i + r] = f[r];
-            }
-        }
+        same_force_on_nodes(&f, b.f);
         if b.dfdq.is_empty() {
             return;
         }
@@ -171,20 +169,8 @@ impl Element for InflationPressureLaw {
         // ∂w/∂v_b = −e_z/3 while w > 0 (and dp_w = 0 at w = 0).
         let dv = (-sigma * dp_w / 9.0) * outer(&nv, &V3::z());
         let dn = area_vector_jacobians(&x);
-        let dz = (sigma * dp_z / 9.0) * nv;
-        for bn in 0..3 {
-            let mut dq = (sigma * dp / 3.0) * dn[bn];
-            for r in 0..3 {
-                dq[(r, 2)] += dz[r];
-            }
-            for i in 0..3 {
-                for r in 0..3 {
-                    for c in 0..3 {
-                        b.dfdq[(3 * i + r) * 9 + 3 * bn + c] = dq[(r, c)];
-                        b.dfdv[(3 * i + r) * 9 + 3 * bn + c] = dv[(r, c)];
-                    }
-                }
-            }
-        }
+        let dz = (sigma * dp_z / 9.0) * outer(&nv, &V3::z());
+        let dq = [0, 1, 2].map(|bn| (sigma * dp / 3.0) * dn[bn] + dz);
+        same_rows(&dq, &dv, b.dfdq, b.dfdv);
     }
 }

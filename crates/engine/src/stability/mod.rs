@@ -13,6 +13,10 @@
 //!
 //! Forces that act through a step's change of momentum (the air's added mass) give no force
 //! and no Jacobian outside a step ([`crate::force::NO_STEP`]), so they are not in `K` or `C`.
+//! Forces that hold quantities over a step (the incidence law's axis and windward excess)
+//! keep those of the model's last commit while Newton finds the equilibrium (a transient's
+//! end, near it), and [`Linearized::at`] adds their dependence on the state
+//! ([`crate::force::Force::lag_coupling`]).
 
 mod linearize;
 mod modes;

@@ -18,7 +18,7 @@
 //! - `P(w) = C_p ½ ρ w²`, or the permeable fabric's pressure at `w`, exactly as in the
 //!   inflation law, taken at `√|m|` with the sign of `m` (a leeward panel may be pushed in);
 //! - `sᵢ = (rᵢ · ĉ)/R` the centroid's distance `rᵢ` from the axis towards the crossflow `ĉ`,
-//!   over the canopy's largest radius `R` (see [`frame`]);
+//!   over the canopy's largest radius `R`;
 //! - `C_1 = −C_N(α) S₀ / G` with `G = Σ σᵢ sᵢ (Nᵢ · ĉ)`: then on a uniform flow the excess
 //!   `C_1 q sᵢ` gives the whole canopy the side force `−C_N(α) q S₀ ĉ`, the tabulated one.
 //!   A canopy too shallow to carry a side force by pressure (`G < 0.05 S₀`,
@@ -46,7 +46,9 @@ pub(crate) mod frame;
 pub use curve::{CurveError, IncidenceCurve};
 
 use super::fluid::Fluid;
-use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
+use super::geometry::{
+    area_vector, area_vector_jacobians, same_force_on_nodes, same_rows, stencil_vec,
+};
 use super::inflation::InflationPressureLaw;
 use super::permeability::Fabric;
 use crate::element::{Element, Family};
@@ -215,11 +217,7 @@ impl Element for IncidencePressureLaw {
         let u2 = u.norm_squared();
         let (dp, dp_m, dp_z) = self.base.pressure_of_square(w * w + k * u2, &air);
         let f = (sigma * dp / 3.0) * nv;
-        for i in 0..3 {
-            for r in 0..3 {
-                b.f[3 * i + r] = f[r];
-            }
-        }
+        same_force_on_nodes(&f, b.f);
         if b.dfdq.is_empty() {
             return;
         }
@@ -229,17 +227,8 @@ impl Element for IncidencePressureLaw {
         // Height (ρ(z̄)) and the panel's place across the crossflow (kᵢ) both move with the
         // centroid, a third of each node's motion.
         let dx = (sigma / 9.0) * (outer(&nv, &(dp_m * u2 * kperp)) + dp_z * outer(&nv, &V3::z()));
-        for bn in 0..3 {
-            let dq = (sigma * dp / 3.0) * dn[bn] + dx;
-            for i in 0..3 {
-                for r in 0..3 {
-                    for c in 0..3 {
-                        b.dfdq[(3 * i + r) * 9 + 3 * bn + c] = dq[(r, c)];
-                        b.dfdv[(3 * i + r) * 9 + 3 * bn + c] = dv[(r, c)];
-                    }
-                }
-            }
-        }
+        let dq = [0, 1, 2].map(|bn| (sigma * dp / 3.0) * dn[bn] + dx);
+        same_rows(&dq, &dv, b.dfdq, b.dfdv);
     }
 
     fn commit(&mut self, els: &mut [f64], stencils: &[usize], q: &[f64], v: &[f64]) {
