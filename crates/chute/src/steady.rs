@@ -78,6 +78,7 @@ pub struct SteadyReport {
 /// Fly `s` for `time.duration_s` (longer when no equilibrium is near its end:
 /// [`LONGER_FLIGHTS`]), solve its steady descent and its modes.
 pub fn steady(s: &Scenario) -> Result<SteadyReport, AppError> {
+    uninterrupted(s)?;
     let built = crate::build::build(s)?;
     let mut cfg = crate::app::run_config(s, false);
     let leg = s.time.duration_s;
@@ -222,6 +223,31 @@ pub fn write(r: &SteadyReport, dir: &Path) -> Result<(), AppError> {
         crate::output::atomic::write_atomic(&path, bytes).map_err(|e| AppError::io(&path, e))?;
     }
     Ok(())
+}
+
+/// A steady descent is one that nothing interrupts: no ground, no line pulls.
+fn uninterrupted(s: &Scenario) -> Result<(), AppError> {
+    let why = if s.guidance.is_some() {
+        Some(("[guidance]", "it pulls the lines as the canopy falls"))
+    } else if !s.control.is_empty() {
+        Some((
+            "[[control]]",
+            "its line pulls change the canopy as it falls",
+        ))
+    } else if s.atmosphere.ground_altitude_m.is_some() {
+        Some((
+            "atmosphere.ground_altitude_m",
+            "the ground ends the descent",
+        ))
+    } else {
+        None
+    };
+    match why {
+        Some((key, reason)) => Err(AppError::Input(format!(
+            "`chute steady` needs a descent that nothing interrupts: `{key}` is set, and {reason}"
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// Refuse `dir` as `chute steady`'s output when it holds anything but `stability.json` and `modes.html`

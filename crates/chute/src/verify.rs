@@ -15,6 +15,7 @@ pub mod midedge_cases;
 mod real;
 pub mod scordelis_lo;
 pub mod shell_cases;
+mod stability;
 mod system;
 
 use serde::Serialize;

@@ -1,7 +1,9 @@
 //! The registry of verification cases, and the engine-level ones (rods, drag, integrator):
 //! every set-up comes from [`engine::reference`], the same code the engine's tests run.
 //! Shell cases are in [`super::shell_cases`], whole-parachute cases in [`super::system`].
-use super::{membrane_cases, midedge_cases, real, scordelis_lo, shell_cases, system, Case, Check};
+use super::{
+    membrane_cases, midedge_cases, real, scordelis_lo, shell_cases, stability, system, Case, Check,
+};
 use engine::aero::Fluid;
 use engine::reference::cantilever::{
     elastica, end_moment, self_weight, tip_load, BISSHOPP_DRUCKER,
@@ -76,6 +78,7 @@ pub fn all() -> Vec<Case> {
         c("symmetric-canopy-no-spin", true, system::no_spin),
         c("dismech-hex-n6", true, system::dismech_hex),
         c("real-cd0", true, real::cd0),
+        c("stability", true, stability::stability),
     ]
 }
 

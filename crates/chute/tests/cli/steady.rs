@@ -350,3 +350,19 @@ fn a_restoring_canopys_swing_decays_as_its_mode() {
         "flight {flown_rate} /s, mode {rate} /s"
     );
 }
+
+/// A descent with ground contact or line pulls has no steady state: refused (status 2)
+/// before any flight, naming what interrupts it.
+#[test]
+fn ground_and_line_pulls_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (name, key) in [
+        ("drop-1000m.toml", "atmosphere.ground_altitude_m"),
+        ("control-steer.toml", "[[control]]"),
+        ("control-guidance.toml", "[guidance]"),
+    ] {
+        let file = bundled(name);
+        let o = chute(tmp.path(), &["steady", file.as_str()]);
+        assert_refused(&o, &["needs a descent that nothing interrupts", key]);
+    }
+}

@@ -14,6 +14,7 @@
 
 pub mod cantilever;
 pub mod falling;
+pub mod pendulum;
 pub mod sheet;
 pub mod spring;
 pub mod vibration;

@@ -323,3 +323,36 @@ fn k_and_c_are_the_forces_jacobians_on_the_free_dofs() {
         .sum();
     assert!((stored - all).abs() <= 1e-9 * all);
 }
+
+/// A payload pendulum under a drag node: every root of its lateral characteristic cubic is
+/// a mode, to round-off (`reference::pendulum`), moving the nodes sideways only.
+#[test]
+fn a_payload_pendulum_has_its_small_oscillation_modes() {
+    use crate::reference::pendulum::Pendulum;
+    let p = Pendulum::example();
+    let fluid = Fluid::air();
+    let (model, mut q) = p.model(&fluid);
+    q[5] -= 0.01; // a taut line, as after a flight
+    let opts = SteadyOptions::recommended(&model, p.g, 1);
+    let s = steady_descent(&model, &q, [0.0, 0.0, -4.0], 0.0, &opts).unwrap();
+    let (v, _) = p.steady(fluid.density);
+    assert!((s.velocity[2] + v).abs() < 1e-9 * v);
+    let lin = Linearized::at(&model, &s.q, &s.v, 0.0);
+    let found = modes(&lin, &ModeOptions::default()).unwrap();
+    let roots = p.lateral(fluid.density);
+    // A light canopy over a heavy payload: a damped swing pair and a fast canopy mode.
+    assert!(
+        roots.iter().any(|r| r.im > 0.0) && roots.iter().all(|r| r.re < 0.0),
+        "{roots:?}"
+    );
+    for r in roots {
+        let m = found
+            .iter()
+            .find(|m| (m.eigenvalue - r).norm() < 1e-8 * r.norm());
+        let m = m.unwrap_or_else(|| panic!("{r} not in {:?}", eigenvalues(&found)));
+        assert!(
+            m.shape[2].norm() < 1e-9 && m.shape[5].norm() < 1e-9,
+            "{m:?}"
+        );
+    }
+}
