@@ -16,6 +16,7 @@ mod real;
 pub mod scordelis_lo;
 pub mod shell_cases;
 mod stability;
+mod stability_report;
 mod system;
 
 use serde::Serialize;

@@ -12,9 +12,11 @@ use std::sync::atomic::AtomicBool;
 const SOLID: &str = include_str!("../../../../scenarios/round-solid.toml");
 const SCENARIO_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios");
 
-/// Every check of the case: the pendulum, then `round-solid`'s tilt and swing.
+/// Every check of the case: the pendulum, the report's canopies, then `round-solid`'s tilt
+/// and swing.
 pub fn stability(quick: bool) -> Result<Vec<Check>, String> {
     let mut out = pendulum()?;
+    out.extend(super::stability_report::checks(quick)?);
     out.extend(round_solid(quick)?);
     Ok(out)
 }
@@ -61,23 +63,33 @@ fn solid(sets: &[&str]) -> Result<Scenario, String> {
 }
 
 /// The flight of `s`: rows `(t, v_x, v_y)` of its time series.
-fn flight(s: &Scenario) -> Result<Vec<[f64; 3]>, String> {
+pub(super) fn flight(s: &Scenario) -> Result<Vec<[f64; 3]>, String> {
+    Ok(fly(s)?.1)
+}
+
+/// The flight of `s`: its summary and the rows `(t, v_x, v_y)` of its time series.
+pub(super) fn fly(
+    s: &Scenario,
+) -> Result<(crate::output::summary::Summary, Vec<[f64; 3]>), String> {
     let mut built = build(s).map_err(|e| e.to_string())?;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let mut cfg = crate::app::run_config(s, false);
     cfg.frame_interval_s = 0.0;
     cfg.snapshots_s.clear();
     let stop = AtomicBool::new(false);
-    crate::runner::simulate(&mut built, &cfg, dir.path(), &stop).map_err(|e| e.to_string())?;
+    let run =
+        crate::runner::simulate(&mut built, &cfg, dir.path(), &stop).map_err(|e| e.to_string())?;
     let mut rdr =
         csv::Reader::from_path(dir.path().join("timeseries.csv")).map_err(|e| e.to_string())?;
-    rdr.records()
+    let rows = rdr
+        .records()
         .map(|r| {
             let r = r.map_err(|e| e.to_string())?;
             let x = |i: usize| r[i].parse::<f64>().map_err(|e| e.to_string());
             Ok([x(0)?, x(3)?, x(4)?])
         })
-        .collect()
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok((run.summary, rows))
 }
 
 /// The least-squares slope of `ln |v_h|` over `a ≤ t ≤ b` (1/s).
