@@ -1,7 +1,9 @@
 //! The canopy's normal-force table of `fluid.shell_drag = "incidence"`: read and checked
 //! once, for the builder and the validator alike.
 
+use super::error::Origin;
 use super::sections::ShellDrag;
+use super::source::Provenance;
 use super::validate::Checker;
 use super::Scenario;
 use engine::aero::incidence::CurveError;
@@ -45,4 +47,18 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
         _ => format!("{:?}", f.incidence_alpha_deg.as_deref().unwrap_or_default()),
     };
     c.fail(key, value, e.to_string());
+}
+
+/// The loader's warning about a tangential drag the incidence law does not add: its table is
+/// the whole canopy's normal force, skin friction included.
+pub(super) fn notes(s: &Scenario, prov: &Provenance, out: &mut Vec<String>) {
+    if s.fluid.shell_drag == ShellDrag::Incidence
+        && prov.origin("fluid.tangential_drag_coefficient") != Origin::Default
+    {
+        out.push(
+            "fluid.tangential_drag_coefficient ignored: under fluid.shell_drag = \"incidence\" \
+             the C_N(α) table is the whole canopy's normal force, skin friction included"
+                .to_string(),
+        );
+    }
 }

@@ -7,9 +7,7 @@ use super::error::Origin;
 use super::error::{short, ScenarioError};
 use super::sections::SECTIONS;
 use super::source::Provenance;
-use super::{
-    AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, ShellDrag, Sites,
-};
+use super::{AtmosphereModel, CanopyShape, DragLaw, LoadMode, ModelKind, Scenario, Sites};
 
 /// Upper bounds that keep a typo (an extra zero or three) from exhausting memory or time.
 use super::limits::MAX_SHELL_TRIANGLES;
@@ -143,15 +141,7 @@ pub fn notes(s: &Scenario, prov: &Provenance) -> Vec<String> {
             ));
         }
     }
-    if s.fluid.shell_drag == ShellDrag::Incidence
-        && prov.origin("fluid.tangential_drag_coefficient") != Origin::Default
-    {
-        out.push(
-            "fluid.tangential_drag_coefficient ignored: under fluid.shell_drag = \"incidence\" \
-             the C_N(α) table is the whole canopy's normal force, skin friction included"
-                .to_string(),
-        );
-    }
+    super::incidence::notes(s, prov, &mut out);
     out
 }
 

@@ -2,12 +2,10 @@
 //! against the flights of the same models (docs/stability.md §Cross-checks).
 
 use super::Check;
-use crate::build::build;
 use crate::scenario::Scenario;
 use engine::aero::Fluid;
 use engine::reference::pendulum::Pendulum;
 use engine::stability::{modes, steady_descent, Linearized, ModeOptions, SteadyOptions};
-use std::sync::atomic::AtomicBool;
 
 const SOLID: &str = include_str!("../../../../scenarios/round-solid.toml");
 const SCENARIO_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios");
@@ -71,14 +69,8 @@ pub(super) fn flight(s: &Scenario) -> Result<Vec<[f64; 3]>, String> {
 pub(super) fn fly(
     s: &Scenario,
 ) -> Result<(crate::output::summary::Summary, Vec<[f64; 3]>), String> {
-    let mut built = build(s).map_err(|e| e.to_string())?;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let mut cfg = crate::app::run_config(s, false);
-    cfg.frame_interval_s = 0.0;
-    cfg.snapshots_s.clear();
-    let stop = AtomicBool::new(false);
-    let run =
-        crate::runner::simulate(&mut built, &cfg, dir.path(), &stop).map_err(|e| e.to_string())?;
+    let (summary, _) = super::system::simulate_in(s, dir.path())?;
     let mut rdr =
         csv::Reader::from_path(dir.path().join("timeseries.csv")).map_err(|e| e.to_string())?;
     let rows = rdr
@@ -89,7 +81,7 @@ pub(super) fn fly(
             Ok([x(0)?, x(3)?, x(4)?])
         })
         .collect::<Result<Vec<_>, String>>()?;
-    Ok((run.summary, rows))
+    Ok((summary, rows))
 }
 
 /// The least-squares slope of `ln |v_h|` over `a ≤ t ≤ b` (1/s).

@@ -36,14 +36,18 @@ fn report_shell_4(overrides: &[&str]) -> Result<Scenario, String> {
 /// Build and simulate `s`, writing its outputs to a temporary directory (VTK frames and
 /// snapshots off: only the summary is needed).
 fn simulate(s: &Scenario) -> Result<(Summary, Built), String> {
-    let mut built = build(s).map_err(|e| e.to_string())?;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    simulate_in(s, dir.path())
+}
+
+/// [`simulate`] writing into `dir` (its time series stays there for the caller).
+pub(super) fn simulate_in(s: &Scenario, dir: &std::path::Path) -> Result<(Summary, Built), String> {
+    let mut built = build(s).map_err(|e| e.to_string())?;
     let mut cfg = crate::app::run_config(s, false);
     cfg.frame_interval_s = 0.0;
     cfg.snapshots_s.clear();
     let stop = AtomicBool::new(false);
-    let r =
-        crate::runner::simulate(&mut built, &cfg, dir.path(), &stop).map_err(|e| e.to_string())?;
+    let r = crate::runner::simulate(&mut built, &cfg, dir, &stop).map_err(|e| e.to_string())?;
     if !r.complete {
         return Err(format!(
             "run stopped early: {}",

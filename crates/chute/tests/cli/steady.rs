@@ -366,3 +366,23 @@ fn ground_and_line_pulls_are_refused() {
         assert_refused(&o, &["needs a descent that nothing interrupts", key]);
     }
 }
+
+/// Under the incidence law a set tangential drag is not added, and `chute check` says so
+/// (once); left at its default, nothing is said.
+#[test]
+fn a_tangential_drag_under_the_incidence_law_is_warned_about() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = bundled("round-solid.toml");
+    let warned = |sets: &[&str]| {
+        let mut args = vec!["check", file.as_str()];
+        for s in sets {
+            args.extend(["--set", s]);
+        }
+        let out = stdout(&chute_ok(tmp.path(), &args));
+        out.lines()
+            .filter(|l| l.contains("tangential_drag_coefficient ignored"))
+            .count()
+    };
+    assert_eq!(warned(&["fluid.tangential_drag_coefficient=0.5"]), 1);
+    assert_eq!(warned(&[]), 0);
+}
