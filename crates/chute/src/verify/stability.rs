@@ -15,7 +15,7 @@ const SCENARIO_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios
 pub fn stability(quick: bool) -> Result<Vec<Check>, String> {
     let mut out = pendulum()?;
     out.extend(super::stability_report::checks(quick)?);
-    out.extend(round_solid(quick)?);
+    out.extend(round_solid()?);
     Ok(out)
 }
 
@@ -100,12 +100,12 @@ pub fn log_rate(rows: &[[f64; 3]], a: f64, b: f64) -> f64 {
 }
 
 /// `round-solid`'s tilt divergence (its illustrative, unstable C_N(α)) and, with a restoring
-/// C_N(α), its swing (not with `--quick`): each mode against the flight of the same model at
+/// C_N(α), its swing: each mode against the flight of the same model at
 /// 0.25 m (at 0.35 m the cloth's flapping drowns the swing's signal). Tolerances: the tilt
 /// 1 % of the mean of its two modes (x and y, 0.4 % apart; the flight mixes them and still
 /// nears terminal speed), the swing's frequency 1 % and rate 2 % (peaks sampled at 1 ms over
 /// three half periods).
-fn round_solid(quick: bool) -> Result<Vec<Check>, String> {
+fn round_solid() -> Result<Vec<Check>, String> {
     let edge = "canopy.edge_length_m=0.25";
     let sym = "canopy.imperfection_m=0";
     let r = crate::steady::steady(&solid(&[sym, edge, "time.duration_s=1.2"])?)
@@ -130,9 +130,6 @@ fn round_solid(quick: bool) -> Result<Vec<Check>, String> {
         log_rate(&rows, 1.2, 1.6),
         0.01,
     )];
-    if quick {
-        return Ok(out);
-    }
     let mut sets = vec![
         super::real::RESTORING[0],
         super::real::RESTORING[1],
