@@ -13,10 +13,6 @@
 
 use super::Check;
 use crate::build::build;
-use crate::scenario::Scenario;
-
-const SOLID: &str = include_str!("../../../../scenarios/round-solid.toml");
-const SCENARIO_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios");
 
 /// A restoring `C_N(α) = 0.5 sin α` (the sign of a porous canopy's), for the transient.
 pub const RESTORING: [&str; 2] = [
@@ -56,7 +52,6 @@ pub fn cd0(quick: bool) -> Result<Vec<Check>, String> {
     let mut out = Vec::new();
     for t in &TYPES {
         let mut sets = vec![
-            "output.snapshots_s=[]".to_string(),
             RESTORING[0].to_string(),
             RESTORING[1].to_string(),
             "canopy.imperfection_m=0".to_string(),
@@ -64,9 +59,8 @@ pub fn cd0(quick: bool) -> Result<Vec<Check>, String> {
             format!("canopy.edge_length_m={edge}"),
         ];
         sets.extend(t.keys.iter().map(|k| k.to_string()));
-        let s =
-            Scenario::from_str_with_name(SOLID, &format!("{SCENARIO_DIR}/round-solid.toml"), &sets)
-                .map_err(|e| e.to_string())?;
+        let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
+        let s = super::system::round_solid(&sets)?;
         let built = build(&s).map_err(|e| e.to_string())?;
         let r = crate::steady::steady(&s).map_err(|e| e.to_string())?;
         let v = r.terminal_velocity_mps;

@@ -7,9 +7,6 @@ use engine::aero::Fluid;
 use engine::reference::pendulum::Pendulum;
 use engine::stability::{modes, steady_descent, Linearized, ModeOptions, SteadyOptions};
 
-const SOLID: &str = include_str!("../../../../scenarios/round-solid.toml");
-const SCENARIO_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios");
-
 /// Every check of the case: the pendulum, the report's canopies, then `round-solid`'s tilt
 /// and swing.
 pub fn stability(quick: bool) -> Result<Vec<Check>, String> {
@@ -50,14 +47,6 @@ fn pendulum() -> Result<Vec<Check>, String> {
         ));
     }
     Ok(out)
-}
-
-/// `round-solid.toml` with `sets` on top (no snapshots).
-fn solid(sets: &[&str]) -> Result<Scenario, String> {
-    let mut all = vec!["output.snapshots_s=[]".to_string()];
-    all.extend(sets.iter().map(|s| s.to_string()));
-    Scenario::from_str_with_name(SOLID, &format!("{SCENARIO_DIR}/round-solid.toml"), &all)
-        .map_err(|e| e.to_string())
 }
 
 /// The flight of `s`: rows `(t, v_x, v_y)` of its time series.
@@ -108,8 +97,12 @@ pub fn log_rate(rows: &[[f64; 3]], a: f64, b: f64) -> f64 {
 fn round_solid() -> Result<Vec<Check>, String> {
     let edge = "canopy.edge_length_m=0.25";
     let sym = "canopy.imperfection_m=0";
-    let r = crate::steady::steady(&solid(&[sym, edge, "time.duration_s=1.2"])?)
-        .map_err(|e| e.to_string())?;
+    let r = crate::steady::steady(&super::system::round_solid(&[
+        sym,
+        edge,
+        "time.duration_s=1.2",
+    ])?)
+    .map_err(|e| e.to_string())?;
     let h = 1e-3;
     let tilts: Vec<f64> = r
         .modes
@@ -121,7 +114,11 @@ fn round_solid() -> Result<Vec<Check>, String> {
         return Err("no growing tilt mode".into());
     }
     let mapped = tilts.iter().sum::<f64>() / tilts.len() as f64;
-    let rows = flight(&solid(&[sym, edge, "time.duration_s=1.6"])?)?;
+    let rows = flight(&super::system::round_solid(&[
+        sym,
+        edge,
+        "time.duration_s=1.6",
+    ])?)?;
     let mut out = vec![Check::new(
         "stability-round-solid-tilt",
         &format!("tilt growth (1/s), symmetric flight 1.2–1.6 s, {edge}"),
@@ -136,7 +133,8 @@ fn round_solid() -> Result<Vec<Check>, String> {
         edge,
         "time.duration_s=1.2",
     ];
-    let r = crate::steady::steady(&solid(&sets)?).map_err(|e| e.to_string())?;
+    let r =
+        crate::steady::steady(&super::system::round_solid(&sets)?).map_err(|e| e.to_string())?;
     let swing = r
         .modes
         .iter()
@@ -144,7 +142,7 @@ fn round_solid() -> Result<Vec<Check>, String> {
         .ok_or("no sideways oscillation among the modes")?;
     sets.pop();
     sets.push("time.duration_s=7");
-    let (f, rate) = swing_of(&flight(&solid(&sets)?)?)?;
+    let (f, rate) = swing_of(&flight(&super::system::round_solid(&sets)?)?)?;
     out.push(Check::new(
         "stability-round-solid-swing",
         &format!("swing frequency (Hz), restoring C_N(α), flight after 2 s, {edge}"),

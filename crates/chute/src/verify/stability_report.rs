@@ -8,15 +8,6 @@ use crate::scenario::Scenario;
 
 const ROD_200N: &str = include_str!("../../../../scenarios/report-rod-200n.toml");
 const SHELL_4: &str = include_str!("../../../../scenarios/report-shell-4-sites.toml");
-const SCENARIO_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios");
-
-/// A bundled scenario with `sets` on top (no snapshots).
-fn bundled(text: &str, file: &str, sets: &[&str]) -> Result<Scenario, String> {
-    let mut all = vec!["output.snapshots_s=[]".to_string()];
-    all.extend(sets.iter().map(|s| s.to_string()));
-    Scenario::from_str_with_name(text, &format!("{SCENARIO_DIR}/{file}"), &all)
-        .map_err(|e| e.to_string())
-}
 
 /// `chute steady`'s report of `s`.
 fn steady(s: &Scenario) -> Result<crate::steady::SteadyReport, String> {
@@ -28,8 +19,12 @@ pub(super) fn checks(quick: bool) -> Result<Vec<Check>, String> {
     let mut out = Vec::new();
     // The rod canopy after a 2 s transient against its 10 s flight: the flight's own
     // precision (its final-window mean), 1e-3.
-    let (sum, _) = fly(&bundled(ROD_200N, "report-rod-200n.toml", &[])?)?;
-    let r = steady(&bundled(
+    let (sum, _) = fly(&super::system::scenario(
+        ROD_200N,
+        "report-rod-200n.toml",
+        &[],
+    )?)?;
+    let r = steady(&super::system::scenario(
         ROD_200N,
         "report-rod-200n.toml",
         &["time.duration_s=2"],
@@ -65,10 +60,14 @@ fn lateral() -> Result<Vec<Check>, String> {
     fn with(sets: &[&'static str], extra: &'static str) -> Vec<&'static str> {
         sets.iter().copied().chain([extra]).collect()
     }
-    let r = steady(&bundled(SHELL_4, file, &with(&sets, "time.duration_s=4"))?)?;
+    let r = steady(&super::system::scenario(
+        SHELL_4,
+        file,
+        &with(&sets, "time.duration_s=4"),
+    )?)?;
     let fastest = r.modes.first().map(|m| m.growth_rate_per_s).unwrap_or(0.0);
     let h = 1e-2;
-    let (_, rows) = fly(&bundled(
+    let (_, rows) = fly(&super::system::scenario(
         SHELL_4,
         file,
         &with(&sets, "time.duration_s=9.5"),
@@ -107,9 +106,13 @@ fn lateral() -> Result<Vec<Check>, String> {
 /// (information: its rate, 1.43 /s measured).
 fn folds() -> Result<Vec<Check>, String> {
     let file = "report-shell-4-sites.toml";
-    let deep = steady(&bundled(SHELL_4, file, &["time.duration_s=8"])?)?;
+    let deep = steady(&super::system::scenario(
+        SHELL_4,
+        file,
+        &["time.duration_s=8"],
+    )?)?;
     let shallow_sets = ["time.duration_s=8", "canopy.edge_length_m=0.25"];
-    let shallow = steady(&bundled(SHELL_4, file, &shallow_sets)?)?;
+    let shallow = steady(&super::system::scenario(SHELL_4, file, &shallow_sets)?)?;
     let top = |r: &crate::steady::SteadyReport| {
         r.modes.first().map(|m| m.growth_rate_per_s).unwrap_or(0.0)
     };

@@ -11,6 +11,7 @@ use std::sync::atomic::AtomicBool;
 const ROD_200N: &str = include_str!("../../../../scenarios/report-rod-200n.toml");
 const SHELL_4: &str = include_str!("../../../../scenarios/report-shell-4-sites.toml");
 const HEX_N6: &str = include_str!("../../../../scenarios/dismech-hex-n6.toml");
+const ROUND_SOLID: &str = include_str!("../../../../scenarios/round-solid.toml");
 /// Where the bundled scenarios live, so that their relative `mesh_file` paths resolve.
 const SCENARIO_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios");
 
@@ -18,11 +19,16 @@ type CaseResult = Result<Vec<Check>, String>;
 
 /// Parse a bundled scenario with overrides (no snapshots: shortened runs would put the
 /// bundled snapshot times past their end).
-fn scenario(text: &str, file: &str, overrides: &[&str]) -> Result<Scenario, String> {
+pub(super) fn scenario(text: &str, file: &str, overrides: &[&str]) -> Result<Scenario, String> {
     let mut all = vec!["output.snapshots_s=[]".to_string()];
     all.extend(overrides.iter().map(|s| s.to_string()));
     Scenario::from_str_with_name(text, &format!("{SCENARIO_DIR}/{file}"), &all)
         .map_err(|e| e.to_string())
+}
+
+/// `round-solid.toml` (the incidence law's round canopy) with `overrides`.
+pub(super) fn round_solid(overrides: &[&str]) -> Result<Scenario, String> {
+    scenario(ROUND_SOLID, "round-solid.toml", overrides)
 }
 
 /// The bundled 4-site shell as the report's model (springs + hinges, dt = 1 ms: the model

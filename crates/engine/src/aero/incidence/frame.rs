@@ -31,7 +31,7 @@ pub(crate) struct Sides {
 /// [`Sides`] of the triangles `stencils` with orientations `sigma` at `q` in `frame`.
 pub(crate) fn sides(
     stencils: &[usize],
-    sigma: impl Iterator<Item = f64> + Clone,
+    sigma: impl Iterator<Item = f64>,
     q: &[f64],
     frame: &CanopyFrame,
 ) -> Sides {
