@@ -303,7 +303,8 @@ impl Key {
         self.default_note = text;
         self
     }
-    /// Further rules for the docs' "allowed" column (checked in `validate.rs`).
+    /// Further rules for the docs' "allowed" column, enforced by hand-written checks (each one
+    /// broken by a case of `tests/scenario/notes.rs`, which fails for a note without one).
     pub const fn note(mut self, text: &'static str) -> Self {
         self.note = text;
         self

@@ -14,5 +14,6 @@ mod imperfection;
 mod limits;
 mod membranes;
 mod messages;
+mod notes;
 mod overrides;
 mod shell_laws;
