@@ -63,7 +63,7 @@ impl Simulation {
 
     #[getter]
     fn duration(&self) -> f64 {
-        self.session.config().duration_s
+        self.session.config().stepping.duration_s
     }
 
     #[getter]

@@ -145,65 +145,7 @@ pub fn check(s: &Scenario) -> Result<Vec<(String, String)>, AppError> {
     Ok(out)
 }
 
-/// The run loop's settings for scenario `s`.
-pub fn run_config(s: &Scenario, progress: bool) -> crate::runner::RunConfig {
-    use crate::scenario::DragLaw;
-    crate::runner::RunConfig {
-        name: s.name.clone(),
-        dt_s: s.time.dt_s,
-        // Fixed step: ten halvings after failed Newton solves; adaptive: time.dt_min_s.
-        min_dt_s: s
-            .adaptive_settings()
-            .map_or(crate::scenario::min_step(s.time.dt_s), |a| a.dt_min_s),
-        adaptive: s.adaptive_settings(),
-        duration_s: s.time.duration_s,
-        frame_interval_s: s.output.frame_interval_s,
-        // The loader fills the default times; an empty list means none.
-        snapshots_s: s.output.snapshots_s.clone(),
-        newton: engine::NewtonOptions {
-            max_iterations: s.time.newton_max_iterations,
-            force_tol_abs: s.time.newton_tolerance_n,
-            // The default absolute tolerance is 1e-9 of the total weight (+ 1 N).
-            reference_acceleration: s.fluid.gravity_mps2,
-            force_tol_rel: s
-                .time
-                .newton_relative_tolerance
-                .unwrap_or(engine::NewtonOptions::default().force_tol_rel),
-            step_tol: s
-                .time
-                .newton_step_tolerance_m
-                .unwrap_or(engine::NewtonOptions::default().step_tol),
-            continuation: s.time.newton_rescue_stages,
-            step_homotopy: s.time.newton_rescue_stages,
-            // The held stage, chord iterations, the divergence limit, the adaptive predictor
-            // and the accuracy-based tolerance (docs/engine.md §The step solver).
-            ..engine::NewtonOptions::recommended()
-        }
-        // The accuracy-based test replaces the default tolerance only: a scenario that sets
-        // `time.newton_tolerance_n` (e.g. a peer's tolerances) gets exactly that one, with the
-        // recommended factors; `newton_strict` also solves with double-precision factors.
-        .without_accuracy_test_if(s.time.newton_tolerance_n.is_some())
-        .strict_if(s.time.newton_strict),
-        quadratic_drag: s.fluid.drag == DragLaw::Quadratic,
-        air: crate::build::drag::fluid(s),
-        altitude_m: s.atmosphere.altitude_m,
-        ground_z_m: s
-            .atmosphere
-            .ground_altitude_m
-            .map(|g| g - s.atmosphere.altitude_m),
-        gravity_mps2: s.fluid.gravity_mps2,
-        guidance: s
-            .atmosphere
-            .ground_altitude_m
-            .and_then(|g| crate::control::Controller::new(s, g - s.atmosphere.altitude_m)),
-        triggers: s
-            .atmosphere
-            .ground_altitude_m
-            .and_then(|g| crate::control::Triggers::new(s, g - s.atmosphere.altitude_m)),
-        scenario_warnings: s.notes.0.clone(),
-        progress,
-    }
-}
+pub use crate::resolve::run_config;
 
 /// Build the model, simulate, and write the output directory (which must exist).
 ///
@@ -404,7 +346,7 @@ fn atmosphere_lines(s: &Scenario, b: &crate::build::Built) -> Vec<(String, Strin
     use crate::scenario::derived::sig4;
     use crate::scenario::AtmosphereModel;
     let a = &s.atmosphere;
-    let fluid = crate::build::drag::fluid(s);
+    let fluid = crate::resolve::air(s);
     let describe = |h: f64| -> String {
         let air = fluid.at(h - a.altitude_m);
         match a.model {
@@ -463,10 +405,10 @@ fn atmosphere_lines(s: &Scenario, b: &crate::build::Built) -> Vec<(String, Strin
 /// speed at the canopy loading W/S₀ in the air at the start.
 fn fabric_lines(s: &Scenario, b: &crate::build::Built) -> Vec<(String, String)> {
     use crate::scenario::derived::sig4;
-    let Some(f) = crate::build::drag::fabric(s) else {
+    let Some(f) = crate::build::drag::fabric(&s.material, s.canopy.thickness_m) else {
         return Vec::new();
     };
-    let air = crate::build::drag::fluid(s).at(0.0);
+    let air = crate::resolve::air(s).at(0.0);
     let loading = b.total_weight_n / b.planform_area_m2;
     let source = match s.material.air_permeability_cfm {
         Some(q) => format!(" (from {} ft³/(ft²·min), ASTM D737, Darcy term)", sig4(q)),

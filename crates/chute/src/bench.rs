@@ -524,7 +524,7 @@ pub fn run_case(c: &Case, args: &BenchArgs) -> Result<CaseResult, AppError> {
             s >> 20
         );
     }
-    let dt = cfg.dt_s;
+    let dt = cfg.stepping.dt_s;
     let mut driver = crate::runner::Driver::new(&cfg)
         .map_err(|e| AppError::RunFailed(e.to_string()))?
         .with_trace(args.trace);

@@ -52,12 +52,14 @@ pub mod imperfection;
 mod load;
 mod sites;
 
+use crate::resolve::ModelSpec;
 use crate::scenario::derived::sig4;
 use crate::scenario::{Bending, ModelKind, Scenario};
 use engine::loads::Gravity;
 use engine::{DofLayout, Model, State};
 
-pub use canopy::{Geometry, DEFAULT_WRINKLE_STRAIN};
+pub use crate::resolve::DEFAULT_WRINKLE_STRAIN;
+pub use canopy::Geometry;
 
 /// Why a scenario could not be turned into a model. Messages name the scenario key.
 #[derive(Debug, thiserror::Error)]
@@ -93,14 +95,23 @@ impl BuildError {
     }
 }
 
-/// Build the model of scenario `s`: canopy (rod or shell), load (forces, masses or payload
-/// on lines), gravity and drag. The canopy starts flat, at rest, in the plane z = 0.
+/// Build the model of scenario `s` ([`model`] of its [`ModelSpec`]), with the quantities that
+/// `chute check` prints.
 pub fn build(s: &Scenario) -> Result<Built, BuildError> {
+    let spec = ModelSpec::of(s);
+    let mut built = model(&spec)?;
+    built.derived = derived(s, &spec, &built);
+    Ok(built)
+}
+
+/// Build the model of `s`: canopy (rod or shell), load (forces, masses or payload on lines),
+/// gravity and drag. The canopy starts flat, at rest, in the plane z = 0.
+pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
     let geo = canopy::geometry(s)?;
     let sites = sites::resolve(s, &geo)?;
     let mut plan = load::plan(s, &geo, &sites)?;
     // Per-edge DOFs: the rods' twists, then (mid-edge bending) one normal angle per shell edge.
-    let midedge = s.shell.bending == Some(Bending::Midedge);
+    let midedge = s.bending == Bending::Midedge;
     let shell_edges = match &geo.tri_mesh {
         Some(tri) if midedge => tri.edges.len(),
         _ => 0,
@@ -116,7 +127,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
     };
     plan.add_masses_and_loads(s, &mut model);
     check_masses(s, &model)?;
-    let g = s.fluid.gravity_mps2;
+    let g = s.gravity_mps2;
     let nodes: Vec<usize> = (0..layout.n_nodes).collect();
     let masses: Vec<f64> = nodes.iter().map(|&i| model.node_mass(i)).collect();
     let gravity = Gravity::new(&nodes, &masses, [0.0, 0.0, -g]);
@@ -134,7 +145,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
     if s.canopy.imperfection_m != 0.0 {
         imperfection::apply(&mut q, &geo.canopy_nodes, s.canopy.imperfection_m)?;
     }
-    let mut built = Built {
+    Ok(Built {
         state: State::at_rest(q),
         canopy_nodes: geo.canopy_nodes.clone(),
         payload_node: plan.payload_node,
@@ -158,9 +169,7 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
             .iter()
             .map(|d| (crate::scenario::MESH_FILE_KEY, d.clone()))
             .collect(),
-    };
-    built.derived = derived(s, &built, &geo);
-    Ok(built)
+    })
 }
 
 impl Built {
@@ -182,7 +191,7 @@ impl Built {
 
 /// Every free DOF must have mass before anything runs (the stepper would refuse the model
 /// only after the output directory is written); a massless node is blamed on the mesh file.
-fn check_masses(s: &Scenario, model: &Model) -> Result<(), BuildError> {
+fn check_masses(s: &ModelSpec, model: &Model) -> Result<(), BuildError> {
     let Err(engine::EngineError::NonPositiveMass { dof, mass }) = model.validate(true) else {
         return model.validate(false).map_err(BuildError::from);
     };
@@ -203,9 +212,9 @@ fn check_masses(s: &Scenario, model: &Model) -> Result<(), BuildError> {
 }
 
 /// Quantities printed by `chute check`.
-fn derived(s: &Scenario, b: &Built, geo: &Geometry) -> Vec<(String, String)> {
+fn derived(s: &Scenario, spec: &ModelSpec, b: &Built) -> Vec<(String, String)> {
     // The air where the canopy starts (z = 0).
-    let air = drag::fluid(s).at(0.0);
+    let air = spec.air.at(0.0);
     let rho = air.density;
     let v_flat = (2.0 * b.total_weight_n / (rho * b.flat_drag_area_m2)).sqrt();
     let re = rho * v_flat * b.reference_length_m / air.viscosity;
@@ -220,7 +229,7 @@ fn derived(s: &Scenario, b: &Built, geo: &Geometry) -> Vec<(String, String)> {
         ("canopy nodes".into(), b.canopy_nodes.len().to_string()),
         (
             "planform area".into(),
-            format!("{} m²", sig4(geo.planform_area)),
+            format!("{} m²", sig4(b.planform_area_m2)),
         ),
         (
             "canopy weight".into(),
@@ -258,11 +267,11 @@ fn derived(s: &Scenario, b: &Built, geo: &Geometry) -> Vec<(String, String)> {
             format!("{} N", sig4(e * w * h)),
         ));
     } else {
-        let m = canopy::shell_material(s);
+        let m = canopy::shell_material(spec);
         if s.shell.bending == Some(Bending::Midedge) {
             d.push((
                 "plate stiffness D = E h³/(12(1 − ν²))".into(),
-                format!("{} N·m", sig4(canopy::plate_bending(s).stiffness())),
+                format!("{} N·m", sig4(canopy::plate_bending(spec).stiffness())),
             ));
         } else {
             d.push((

@@ -18,6 +18,7 @@ pub mod converge;
 pub mod mesh;
 pub mod metrics;
 pub mod output;
+pub mod resolve;
 pub mod runner;
 pub mod scenario;
 pub mod steady;

@@ -53,18 +53,10 @@ pub use session::{Session, StepInfo, Stopped};
 pub struct RunConfig {
     /// Scenario name (for the summary).
     pub name: String,
-    /// Nominal time step (s); with `adaptive`, the first step.
-    pub dt_s: f64,
-    /// Smallest time step before giving up (s).
-    pub min_dt_s: f64,
-    /// Local-error control of the step size (`time.adaptive`); `None` for a fixed step.
-    pub adaptive: Option<crate::scenario::AdaptiveSettings>,
-    /// Simulated duration (s).
-    pub duration_s: f64,
-    /// Interval between VTK frames (s); 0 disables frames.
-    pub frame_interval_s: f64,
-    /// Times at which snapshot PNGs are drawn (s).
-    pub snapshots_s: Vec<f64>,
+    /// Time steps and duration.
+    pub stepping: Stepping,
+    /// What is written while the run goes.
+    pub outputs: Outputs,
     /// Newton settings.
     pub newton: NewtonOptions,
     /// Whether drag is quadratic (regime warning).
@@ -85,6 +77,28 @@ pub struct RunConfig {
     pub scenario_warnings: Vec<String>,
     /// Show a progress bar.
     pub progress: bool,
+}
+
+/// A run's time steps (`[time]`, resolved).
+#[derive(Debug, Clone)]
+pub struct Stepping {
+    /// Nominal time step (s); with `adaptive`, the first step.
+    pub dt_s: f64,
+    /// Smallest time step before giving up (s).
+    pub min_dt_s: f64,
+    /// Local-error control of the step size (`time.adaptive`); `None` for a fixed step.
+    pub adaptive: Option<crate::scenario::AdaptiveSettings>,
+    /// Simulated duration (s).
+    pub duration_s: f64,
+}
+
+/// What a run writes as it goes (`[output]`).
+#[derive(Debug, Clone)]
+pub struct Outputs {
+    /// Interval between VTK frames (s); 0 disables frames.
+    pub frame_interval_s: f64,
+    /// Times at which snapshot PNGs are drawn (s).
+    pub snapshots_s: Vec<f64>,
 }
 
 /// How a run ended.
@@ -172,7 +186,7 @@ pub struct RunControl<'a> {
     pub sim_time: Option<&'a AtomicU64>,
 }
 
-/// Run `built` for `cfg.duration_s`, writing every output into `out_dir` (which must exist).
+/// Run `built` for `cfg.stepping.duration_s`, writing every output into `out_dir` (which must exist).
 /// `stop` requests a graceful early stop (Ctrl-C / SIGTERM).
 pub fn simulate(
     built: &mut Built,
@@ -215,17 +229,17 @@ pub fn simulate_with(
         .checkpoint_every_s
         .map(|s| next_multiple(s, built.state.t));
     run.flight.start_watches(built);
-    if ctl.checkpoint_every_s.is_some() && cfg.duration_s < run.flight.dt.sync_dt - tol {
+    if ctl.checkpoint_every_s.is_some() && cfg.stepping.duration_s < run.flight.dt.sync_dt - tol {
         // Checkpoints are written at sync points only (bit-identical resume).
         run.flight.warnings.push(format!(
             "no checkpoint was written: the run ends at t = {} s, before its first sync point at t = {} s, where --checkpoint-every writes the first one",
-            cfg.duration_s, run.flight.dt.sync_dt
+            cfg.stepping.duration_s, run.flight.dt.sync_dt
         ));
     }
     // The start (fresh or resumed) is a sync point: the stepper holds no factorisation.
     let mut last_sync = run.checkpoint(built, ctl, &wall, stepper.counters(), true);
     let mut stop_reason = None;
-    while built.state.t < cfg.duration_s - tol {
+    while built.state.t < cfg.stepping.duration_s - tol {
         if ctl.stop.load(Ordering::Relaxed) {
             stop_reason = Some(format!(
                 "interrupted at t = {:.6} s; checkpoint at t = {:.6} s",
@@ -322,7 +336,10 @@ impl Run {
         let vtk = VtkSeries::resume(out_dir, &[])?;
         persist::remove_stale_outputs(out_dir)?;
         let mut run = Self::blank(built, cfg, out_dir, ts, vtk, None)?;
-        let s0 = run.flight.obs.sample(built, &built.state, 0, cfg.dt_s);
+        let s0 = run
+            .flight
+            .obs
+            .sample(built, &built.state, 0, cfg.stepping.dt_s);
         run.flight.dec.push(&s0);
         run.record(built, cfg, out_dir, &s0)?;
         Ok(run)

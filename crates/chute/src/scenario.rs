@@ -253,7 +253,7 @@ impl Scenario {
             (ModelKind::Rod, _) | (_, CanopyShape::Rectangle) => Some(c.span_m * c.width_m),
             (_, CanopyShape::Hexagon) => Some(1.5 * 3f64.sqrt() * c.radius_m * c.radius_m),
             (_, CanopyShape::Circle) => Some(crate::mesh::constructed::nominal_area(
-                round::profile(self),
+                round::profile(&self.canopy),
                 c.radius_m,
             )),
             (_, CanopyShape::Mesh) => None,

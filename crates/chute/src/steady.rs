@@ -82,7 +82,7 @@ pub fn steady(s: &Scenario) -> Result<SteadyReport, AppError> {
     let built = crate::build::build(s)?;
     let mut cfg = crate::app::run_config(s, false);
     let leg = s.time.duration_s;
-    cfg.duration_s = leg * (1 + LONGER_FLIGHTS) as f64;
+    cfg.stepping.duration_s = leg * (1 + LONGER_FLIGHTS) as f64;
     let mut session =
         crate::runner::Session::new(built, cfg).map_err(|e| AppError::RunFailed(e.to_string()))?;
     let mut tries = 0;

@@ -60,31 +60,20 @@ pub struct JacobianKind {
 }
 
 impl JacobianKind {
+    /// A force that depends on positions (`dq`) and velocities (`dv`), with symmetric
+    /// Jacobians or not.
+    pub const fn new(dq: bool, dv: bool, symmetric: bool) -> Self {
+        Self { dq, dv, symmetric }
+    }
     /// A conservative elastic force: symmetric `∂f/∂q`, no velocity dependence.
-    pub const ELASTIC: Self = Self {
-        dq: true,
-        dv: false,
-        symmetric: true,
-    };
+    pub const ELASTIC: Self = Self::new(true, false, true);
     /// A force on velocities only with symmetric `∂f/∂v` (isotropic drag on nodes).
-    pub const VISCOUS: Self = Self {
-        dq: false,
-        dv: true,
-        symmetric: true,
-    };
+    pub const VISCOUS: Self = Self::new(false, true, true);
     /// A force on positions and velocities with non-symmetric Jacobians (drag on deforming
     /// triangles).
-    pub const GENERAL: Self = Self {
-        dq: true,
-        dv: true,
-        symmetric: false,
-    };
+    pub const GENERAL: Self = Self::new(true, true, false);
     /// A constant force: no Jacobian at all.
-    pub const CONSTANT: Self = Self {
-        dq: false,
-        dv: false,
-        symmetric: true,
-    };
+    pub const CONSTANT: Self = Self::new(false, false, true);
 }
 
 /// Dense local output of a force: one block per stencil.

@@ -2,10 +2,9 @@
 use super::BuildError;
 use crate::mesh::generate::Pattern;
 use crate::mesh::{self, constructed, CanopyMesh};
+use crate::resolve::ModelSpec;
 use crate::scenario::round;
-use crate::scenario::{
-    Bending, CanopyShape, Membrane, MeshPattern, ModelKind, Scenario, SiteSet, Sites,
-};
+use crate::scenario::{Bending, CanopyShape, Membrane, MeshPattern, ModelKind};
 use engine::shell::{
     midedge, CstMembrane, FabricMembrane, MembraneError, Orthotropic, PlateBending, ShellMaterial,
     TriMesh,
@@ -41,8 +40,8 @@ impl Geometry {
     }
 }
 
-/// The shell material of the scenario's canopy.
-pub fn shell_material(s: &Scenario) -> ShellMaterial {
+/// The shell material of the canopy.
+pub fn shell_material(s: &ModelSpec) -> ShellMaterial {
     ShellMaterial {
         youngs_modulus: s.material.youngs_modulus_pa,
         thickness: s.canopy.thickness_m,
@@ -50,10 +49,8 @@ pub fn shell_material(s: &Scenario) -> ShellMaterial {
     }
 }
 
-pub use crate::scenario::wrinkle::DEFAULT_WRINKLE_STRAIN;
-
 /// The plate bending constants of the scenario's canopy (mid-edge bending).
-pub fn plate_bending(s: &Scenario) -> PlateBending {
+pub fn plate_bending(s: &ModelSpec) -> PlateBending {
     PlateBending {
         youngs_modulus: s.material.youngs_modulus_pa,
         poisson_ratio: s.material.poisson_ratio,
@@ -64,7 +61,7 @@ pub fn plate_bending(s: &Scenario) -> PlateBending {
 /// Install the shell on `tri`: the scenario's membrane, its bending law and the lumped masses;
 /// mid-edge angles take the per-edge DOFs from `first_twist` on.
 pub fn install_shell(
-    s: &Scenario,
+    s: &ModelSpec,
     tri: &TriMesh,
     model: &mut engine::Model,
     q: &[f64],
@@ -74,7 +71,7 @@ pub fn install_shell(
     let wrinkles = install_membrane(s, tri, model, q)?;
     let parts = engine::shell::ShellParts::try_new(tri, &mat, model, q)?;
     parts.masses(model);
-    match s.shell.bending.unwrap_or(Bending::Hinge) {
+    match s.bending {
         Bending::Hinge => parts.hinges(model),
         Bending::Midedge => {
             midedge::install(tri, &plate_bending(s), mat.density, model, q, first_twist)?;
@@ -85,7 +82,7 @@ pub fn install_shell(
 
 /// The fabric constants of the scenario (`shell.membrane = "fabric"`; validation has
 /// checked that they are present and positive definite).
-pub fn fabric(s: &Scenario) -> Result<Orthotropic, BuildError> {
+pub fn fabric(s: &ModelSpec) -> Result<Orthotropic, BuildError> {
     let m = &s.material;
     let keys = [
         (m.warp_modulus_pa, "material.warp_modulus_pa"),
@@ -93,7 +90,7 @@ pub fn fabric(s: &Scenario) -> Result<Orthotropic, BuildError> {
         (m.shear_modulus_pa, "material.shear_modulus_pa"),
         (m.fabric_poisson_ratio, "material.fabric_poisson_ratio"),
     ];
-    s.fabric_law().ok_or_else(|| {
+    s.fabric_law.ok_or_else(|| {
         let key = keys
             .iter()
             .find(|(v, _)| v.is_none())
@@ -107,14 +104,14 @@ pub fn fabric(s: &Scenario) -> Result<Orthotropic, BuildError> {
 /// [`engine::shell::STRETCH_NAME`]. Returns a copy of a fabric membrane that cannot carry
 /// compression, for the frames' wrinkling fields ([`crate::build::Built::wrinkles`]).
 pub fn install_membrane(
-    s: &Scenario,
+    s: &ModelSpec,
     tri: &TriMesh,
     model: &mut engine::Model,
     q: &[f64],
 ) -> Result<Option<FabricMembrane>, BuildError> {
     let name = engine::shell::STRETCH_NAME;
     let m = &s.material;
-    match s.shell.membrane.unwrap_or(Membrane::Springs) {
+    match s.membrane {
         Membrane::Springs => {
             engine::shell::ShellParts::try_new(tri, &shell_material(s), model, q)?.springs(model)
         }
@@ -126,11 +123,8 @@ pub fn install_membrane(
             model.add_force(f);
         }
         Membrane::Fabric => {
-            let angle = m.warp_direction_deg.unwrap_or(0.0).to_radians();
-            let warp = [angle.cos(), angle.sin(), 0.0];
-            let eps_r = (m.no_compression == Some(true))
-                .then(|| m.wrinkle_strain.unwrap_or(DEFAULT_WRINKLE_STRAIN));
-            let f = FabricMembrane::new(name, &tri.faces, q, &fabric(s)?, warp, eps_r)
+            let eps_r = s.wrinkle_strain;
+            let f = FabricMembrane::new(name, &tri.faces, q, &fabric(s)?, s.warp, eps_r)
                 .map_err(|e| membrane_error(e, "material.fabric_poisson_ratio"))?;
             let probe = eps_r.is_some().then(|| f.clone());
             model.add_force(f);
@@ -153,9 +147,9 @@ fn membrane_error(e: MembraneError, law_key: &'static str) -> BuildError {
 }
 
 /// Build the canopy geometry of `s`.
-pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
+pub fn geometry(s: &ModelSpec) -> Result<Geometry, BuildError> {
     let c = &s.canopy;
-    if s.model.kind == ModelKind::Rod {
+    if s.kind == ModelKind::Rod {
         let n = c.nodes;
         let h = c.span_m / (n - 1) as f64;
         let positions = (0..n)
@@ -225,17 +219,17 @@ pub fn geometry(s: &Scenario) -> Result<Geometry, BuildError> {
 
 /// The round canopy of `s` (vent and profile) and its nominal area `S₀` (m²): the
 /// constructed surface's, vent included (Knacke's reference area).
-fn round_canopy(s: &Scenario) -> Result<(CanopyMesh, f64), BuildError> {
+fn round_canopy(s: &ModelSpec) -> Result<(CanopyMesh, f64), BuildError> {
     let c = &s.canopy;
-    let sites = rim_sites(s);
+    let sites = s.rim_sites;
     let disc = mesh::generate::circle_with_rim_sites(c.radius_m, c.edge_length_m, sites);
     let rings = mesh::generate::circle_rings(c.radius_m, c.edge_length_m, sites);
-    let profile = round::profile(s);
+    let profile = s.profile;
     // The vent is cut in the disc, whose radius is the distance along a gore.
     let area = constructed::shaped(disc.clone(), profile, c.radius_m)
         .tri_mesh()?
         .area();
-    let disc = match round::vent_cut(s, rings) {
+    let disc = match round::vent_cut(c, rings) {
         Some(cut) => constructed::with_vent(disc, cut),
         None => disc,
     };
@@ -262,12 +256,4 @@ pub fn extent(mesh: &CanopyMesh, nodes: &[usize]) -> ([f64; 3], [f64; 3]) {
         }
     }
     (lo, hi)
-}
-
-/// How many equally spaced rim sites the circle's rim must hold as nodes (1: no constraint).
-fn rim_sites(s: &Scenario) -> usize {
-    match s.load.sites {
-        Sites::Named(SiteSet::Rim) => s.load.rim_site_count.max(1),
-        _ => 1,
-    }
 }

@@ -4,19 +4,14 @@
 use std::ops::Range;
 
 use super::BuildError;
+use crate::resolve::ModelSpec;
 use crate::scenario::control::MIN_LINE_FRACTION;
-use crate::scenario::Scenario;
 use engine::rod::{Pull, RestSchedule, RodHandles, StretchHistory, TriggeredPull};
 use engine::{ForceId, Model};
 
-/// Whether the lines of `s` get rest-length schedules (pulls or guidance).
-pub fn pulled(s: &Scenario) -> bool {
-    !s.control.is_empty() || s.guidance.is_some()
-}
-
 /// The schedule of line `line` (0-based, in site order) of `s`: its clock pulls, and its
 /// sensor pulls as triggered pulls (not fired) whose `source` is the `[[control]]` index.
-pub fn schedule(s: &Scenario, line: usize) -> RestSchedule {
+pub fn schedule(s: &ModelSpec, line: usize) -> RestSchedule {
     let on_line = || {
         s.control
             .iter()
@@ -49,7 +44,7 @@ pub fn schedule(s: &Scenario, line: usize) -> RestSchedule {
 /// Refuse pulls the scenario check could not see: a line index beyond the lines the sites
 /// resolved to (two points on one node make one line), and a pull leaving a line (whose
 /// length is that from its site to the payload) below 10 % of it.
-pub fn check(s: &Scenario, line_lengths: &[f64]) -> Result<(), BuildError> {
+pub fn check(s: &ModelSpec, line_lengths: &[f64]) -> Result<(), BuildError> {
     let n = line_lengths.len();
     for (i, c) in s.control.iter().enumerate() {
         if let Some(&l) = c.lines.iter().find(|&&l| l >= n) {
@@ -199,7 +194,7 @@ impl Lines {
 }
 
 /// `chute check`'s lines on the pulls, the sensors and the guidance of `s`.
-pub fn describe(s: &Scenario) -> Vec<(String, String)> {
+pub fn describe(s: &crate::scenario::Scenario) -> Vec<(String, String)> {
     let mut out: Vec<(String, String)> = s
         .control
         .iter()

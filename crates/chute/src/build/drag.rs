@@ -2,11 +2,12 @@
 //! standard atmosphere) and, for a shell, with the fabric's permeability.
 use super::canopy::Geometry;
 use super::load::Plan;
-use crate::scenario::{AtmosphereModel, DragLaw, ModelKind, Scenario, ShellDrag};
+use crate::resolve::ModelSpec;
+use crate::scenario::{DragLaw, Material, ModelKind, ShellDrag};
 use engine::aero::atmosphere::sutherland;
 use engine::aero::{
-    AddedMass, Fabric, Fluid, IncidencePressure, InflationPressure, LinearDrag, NodeDrag,
-    PressureDrag, TriangleDrag,
+    AddedMass, Fabric, IncidencePressure, InflationPressure, LinearDrag, NodeDrag, PressureDrag,
+    TriangleDrag,
 };
 use engine::rod::RodHandles;
 use engine::{ForceId, Model};
@@ -29,25 +30,6 @@ pub const ASTM_D737_TEMPERATURE_K: f64 = 294.15;
 /// One ft³/(ft²·min) as a speed (m/s): 0.3048 m / 60 s.
 pub const CFM_PER_FT2_MPS: f64 = 0.3048 / 60.0;
 
-/// The engine's fluid of scenario `s`: `[fluid]` density and viscosity everywhere
-/// (`atmosphere.model = "constant"`), or the 1976 standard atmosphere with z = 0 at
-/// `atmosphere.altitude_m`; the wind of `[fluid]` either way.
-pub fn fluid(s: &Scenario) -> Fluid {
-    let f = &s.fluid;
-    match s.atmosphere.model {
-        AtmosphereModel::Constant => Fluid {
-            density: f.density_kg_m3,
-            viscosity: f.viscosity_pa_s,
-            wind: f.wind_mps,
-            profile: engine::aero::Profile::Uniform,
-        },
-        AtmosphereModel::Isa1976 => Fluid {
-            wind: f.wind_mps,
-            ..Fluid::isa1976(s.atmosphere.altitude_m)
-        },
-    }
-}
-
 /// Darcy permeability (m²) of a fabric of thickness `thickness_m` rated `cfm` ft³/(ft²·min)
 /// in the ASTM D737 test: `k = h μ u / Δp` with the Darcy term alone, u = cfm · 0.3048/60
 /// m/s, Δp = 124.5 Pa and μ of air at 21 °C (Sutherland).
@@ -61,11 +43,8 @@ pub fn permeability_from_cfm(cfm: f64, thickness_m: f64) -> f64 {
     )
 }
 
-/// The canopy fabric's permeability, when `[material]` gives one (thickness
-/// `canopy.thickness_m`).
-pub fn fabric(s: &Scenario) -> Option<Fabric> {
-    let m = &s.material;
-    let h = s.canopy.thickness_m;
+/// The canopy fabric's permeability, when material `m` gives one (thickness `h`, m).
+pub fn fabric(m: &Material, h: f64) -> Option<Fabric> {
     let k = m
         .permeability_m2
         .or_else(|| m.air_permeability_cfm.map(|q| permeability_from_cfm(q, h)))?;
@@ -75,15 +54,15 @@ pub fn fabric(s: &Scenario) -> Option<Fabric> {
 /// Install drag on the canopy (node drag for a rod canopy, triangle drag for a shell) and
 /// node drag on suspension lines (A_k = 2 r l̄_k with the line radius r).
 pub fn install(
-    s: &Scenario,
+    s: &ModelSpec,
     geo: &Geometry,
     plan: &Plan,
     handles: &RodHandles,
     model: &mut Model,
 ) -> DragInstall {
     let f = &s.fluid;
-    let fluid = fluid(s);
-    let fabric = fabric(s);
+    let fluid = &s.air;
+    let fabric = s.permeability;
     let mut out = DragInstall {
         forces: Vec::new(),
         triangle: None,
@@ -91,7 +70,7 @@ pub fn install(
     };
     let cd = f.drag_coefficient;
     // Canopy: nodes and their projected areas (rod: 2 r_d l̄_k with r_d = width/2).
-    let (nodes, areas): (Vec<usize>, Vec<f64>) = if s.model.kind == ModelKind::Rod {
+    let (nodes, areas): (Vec<usize>, Vec<f64>) = if s.kind == ModelKind::Rod {
         let r = plan.canopy_rod.expect("rod canopy");
         let chain = &plan.rods.rods()[r].nodes;
         let vl = &handles.rod_voronoi_len[r];
@@ -107,29 +86,29 @@ pub fn install(
     };
     let area: f64 = areas.iter().sum();
     out.flat_cd_area = cd * area;
-    match (f.drag, s.model.kind) {
+    match (f.drag, s.kind) {
         (DragLaw::Linear, _) => {
             let c = f.linear_drag_coefficient_n_s_m.unwrap_or(0.0);
             let coeffs: Vec<f64> = areas.iter().map(|a| c * a / area).collect();
             out.forces
-                .push(model.add_force(LinearDrag::new(&nodes, &coeffs, &fluid)));
+                .push(model.add_force(LinearDrag::new(&nodes, &coeffs, fluid)));
         }
         (DragLaw::Quadratic, ModelKind::Rod) => {
             out.forces
-                .push(model.add_force(NodeDrag::new(&nodes, &areas, cd, &fluid)));
+                .push(model.add_force(NodeDrag::new(&nodes, &areas, cd, fluid)));
         }
         (DragLaw::Quadratic, ModelKind::Shell) => {
             let faces = geo.triangles();
             let id = match f.shell_drag {
                 ShellDrag::Report => {
-                    let d = TriangleDrag::new(&faces, cd, f.tangential_drag_coefficient, &fluid);
+                    let d = TriangleDrag::new(&faces, cd, f.tangential_drag_coefficient, fluid);
                     match fabric {
                         Some(fab) => model.add_force(d.with_fabric(fab)),
                         None => model.add_force(d),
                     }
                 }
                 ShellDrag::Pressure => {
-                    let d = PressureDrag::new(&faces, &rest_q(geo, model), cd, &fluid);
+                    let d = PressureDrag::new(&faces, &rest_q(geo, model), cd, fluid);
                     match fabric {
                         Some(fab) => model.add_force(d.with_fabric(fab)),
                         None => model.add_force(d),
@@ -142,22 +121,22 @@ pub fn install(
                     // included, so none is added.
                     let ct = f.tangential_drag_coefficient;
                     if ct > 0.0 && f.shell_drag == ShellDrag::Inflation {
-                        let t = TriangleDrag::new(&faces, 0.0, ct, &fluid);
+                        let t = TriangleDrag::new(&faces, 0.0, ct, fluid);
                         out.forces.push(model.add_force(t));
                     }
                     let rest = rest_q(geo, model);
-                    match (crate::scenario::incidence_curve(s), fabric) {
+                    match (s.incidence.clone(), fabric) {
                         (None, None) => {
-                            model.add_force(InflationPressure::new(&faces, &rest, cd, &fluid))
+                            model.add_force(InflationPressure::new(&faces, &rest, cd, fluid))
                         }
                         (None, Some(fab)) => model.add_force(
-                            InflationPressure::new(&faces, &rest, cd, &fluid).with_fabric(fab),
+                            InflationPressure::new(&faces, &rest, cd, fluid).with_fabric(fab),
                         ),
                         (Some(c), None) => {
-                            model.add_force(IncidencePressure::new(&faces, &rest, cd, c, &fluid))
+                            model.add_force(IncidencePressure::new(&faces, &rest, cd, c, fluid))
                         }
                         (Some(c), Some(fab)) => model.add_force(
-                            IncidencePressure::new(&faces, &rest, cd, c, &fluid).with_fabric(fab),
+                            IncidencePressure::new(&faces, &rest, cd, c, fluid).with_fabric(fab),
                         ),
                     }
                 }
@@ -167,11 +146,11 @@ pub fn install(
         }
     }
     // Not a drag family: it does no work over a steady descent and observers leave it out.
-    if f.added_mass == Some(true) && s.model.kind == ModelKind::Shell {
+    if f.added_mass == Some(true) && s.kind == ModelKind::Shell {
         // Every run starts at rest (build.rs), the air with it.
         let q = rest_q(geo, model);
         let v = vec![0.0; q.len()];
-        model.add_force(AddedMass::new(&geo.triangles(), &q, &v, &fluid));
+        model.add_force(AddedMass::new(&geo.triangles(), &q, &v, fluid));
     }
     // Lines: isotropic node drag with the line diameter as projected width.
     let (mut ln, mut la) = (Vec::new(), Vec::new());
@@ -182,10 +161,10 @@ pub fn install(
             la.push(2.0 * s.lines.radius_m * l);
         }
     }
-    let cd_lines = s.lines.drag_coefficient.unwrap_or(cd);
+    let cd_lines = s.line_drag_coefficient;
     if !ln.is_empty() && f.drag == DragLaw::Quadratic && cd_lines > 0.0 {
         out.forces
-            .push(model.add_force(NodeDrag::new(&ln, &la, cd_lines, &fluid)));
+            .push(model.add_force(NodeDrag::new(&ln, &la, cd_lines, fluid)));
     }
     out
 }

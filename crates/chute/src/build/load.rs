@@ -3,7 +3,8 @@
 //! suspension lines, rods of an imported mesh).
 use super::canopy::Geometry;
 use super::BuildError;
-use crate::scenario::{LoadMode, ModelKind, Scenario};
+use crate::resolve::ModelSpec;
+use crate::scenario::{LoadMode, ModelKind};
 use engine::loads::PointForces;
 use engine::rod::{RodHandles, RodNetwork, RodSpec, Section};
 use engine::Model;
@@ -32,7 +33,7 @@ pub struct Plan {
 
 impl Plan {
     /// The payload's suspension lines once the rods are installed (`None` without them).
-    pub fn lines(&self, s: &Scenario, handles: &RodHandles) -> Option<super::control::Lines> {
+    pub fn lines(&self, s: &ModelSpec, handles: &RodHandles) -> Option<super::control::Lines> {
         if self.payload_lines.is_empty() {
             return None;
         }
@@ -61,8 +62,8 @@ impl Plan {
     }
 
     /// Add the load (after the structure's own masses are installed).
-    pub fn add_masses_and_loads(&mut self, s: &Scenario, model: &mut Model) {
-        let (w, g) = (s.load.weight_n, s.fluid.gravity_mps2);
+    pub fn add_masses_and_loads(&mut self, s: &ModelSpec, model: &mut Model) {
+        let (w, g) = (s.load.weight_n, s.gravity_mps2);
         let n = self.sites.len().max(1) as f64;
         match s.load.mode {
             LoadMode::Force => {
@@ -89,7 +90,7 @@ impl Plan {
     }
 }
 
-fn line_spec(s: &Scenario, nodes: Vec<usize>) -> RodSpec {
+fn line_spec(s: &ModelSpec, nodes: Vec<usize>) -> RodSpec {
     let l = &s.lines;
     let g = l.youngs_modulus_pa / (2.0 * (1.0 + l.poisson_ratio));
     RodSpec::new(
@@ -102,7 +103,7 @@ fn line_spec(s: &Scenario, nodes: Vec<usize>) -> RodSpec {
 }
 
 /// Plan nodes, rods and load application for `s`.
-pub fn plan(s: &Scenario, geo: &Geometry, sites: &[usize]) -> Result<Plan, BuildError> {
+pub fn plan(s: &ModelSpec, geo: &Geometry, sites: &[usize]) -> Result<Plan, BuildError> {
     let mut p = Plan {
         positions: geo.mesh.positions.clone(),
         rods: RodNetwork::new(),
@@ -160,7 +161,7 @@ pub fn plan(s: &Scenario, geo: &Geometry, sites: &[usize]) -> Result<Plan, Build
         }
         LoadMode::Force | LoadMode::Mass => {}
     }
-    if s.model.kind == ModelKind::Rod && p.canopy_rod.is_none() {
+    if s.kind == ModelKind::Rod && p.canopy_rod.is_none() {
         return Err(BuildError::key(
             "model.kind",
             "rod model without a rod canopy",
@@ -172,7 +173,7 @@ pub fn plan(s: &Scenario, geo: &Geometry, sites: &[usize]) -> Result<Plan, Build
 /// A payload node below the sites' centroid, at the depth where the line from the farthest
 /// site has length `lines.length_m`; one line of `lines.segments` rod edges per site, pinned
 /// at both ends. Every line starts straight and taut (rest length = initial length).
-fn add_payload_lines(s: &Scenario, p: &mut Plan) -> Result<(), BuildError> {
+fn add_payload_lines(s: &ModelSpec, p: &mut Plan) -> Result<(), BuildError> {
     if p.sites.is_empty() {
         return Err(BuildError::key(
             "load.sites",
@@ -225,7 +226,7 @@ fn add_payload_lines(s: &Scenario, p: &mut Plan) -> Result<(), BuildError> {
         }
         nodes.push(pid);
         let mut spec = line_spec(s, nodes);
-        if super::control::pulled(s) {
+        if s.pulled() {
             spec = spec.with_rest_schedule(super::control::schedule(s, k));
         }
         p.line_rods.push(p.rods.add_rod(spec));

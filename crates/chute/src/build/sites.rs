@@ -1,10 +1,11 @@
 //! Load sites: named node sets or `[x, y]` points resolved to the nearest canopy node.
 use super::canopy::Geometry;
 use super::BuildError;
-use crate::scenario::{CanopyShape, ModelKind, Scenario, SiteSet, Sites};
+use crate::resolve::ModelSpec;
+use crate::scenario::{CanopyShape, ModelKind, SiteSet, Sites};
 
 /// Resolve the scenario's load sites to canopy node indices (deduplicated, in order).
-pub fn resolve(s: &Scenario, geo: &Geometry) -> Result<Vec<usize>, BuildError> {
+pub fn resolve(s: &ModelSpec, geo: &Geometry) -> Result<Vec<usize>, BuildError> {
     let pos = &geo.mesh.positions;
     let nearest = |x: f64, y: f64| -> usize {
         let d2 = |i: usize| (pos[i][0] - x).powi(2) + (pos[i][1] - y).powi(2);
@@ -32,7 +33,7 @@ pub fn resolve(s: &Scenario, geo: &Geometry) -> Result<Vec<usize>, BuildError> {
             }
             pts.iter().map(|p| nearest(p[0], p[1])).collect()
         }
-        Sites::Named(set) => match (s.model.kind, set) {
+        Sites::Named(set) => match (s.kind, set) {
             (ModelKind::Rod, SiteSet::Ends) => {
                 let chain = geo.rod_chain.as_ref().expect("rod canopy");
                 vec![chain[0], chain[chain.len() - 1]]
@@ -55,7 +56,7 @@ pub fn resolve(s: &Scenario, geo: &Geometry) -> Result<Vec<usize>, BuildError> {
     };
     let mut seen = std::collections::HashSet::new();
     out.retain(|i| seen.insert(*i));
-    if s.model.kind == ModelKind::Shell && s.canopy.shape == CanopyShape::Mesh && out.is_empty() {
+    if s.kind == ModelKind::Shell && s.canopy.shape == CanopyShape::Mesh && out.is_empty() {
         return Err(BuildError::key("load.sites", "no load site resolved"));
     }
     Ok(out)
@@ -92,7 +93,7 @@ fn inside_mesh(geo: &Geometry, pts: &[[f64; 2]]) -> Result<(), BuildError> {
 }
 
 /// `rim_site_count` rim nodes at equally spaced polar angles, the first on +x.
-fn rim_sites(s: &Scenario, geo: &Geometry) -> Result<Vec<usize>, BuildError> {
+fn rim_sites(s: &ModelSpec, geo: &Geometry) -> Result<Vec<usize>, BuildError> {
     let rim = geo.mesh.node_set("rim").unwrap_or(&[]);
     if rim.is_empty() {
         return Err(BuildError::key("load.sites", "this canopy has no rim"));

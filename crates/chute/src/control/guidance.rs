@@ -19,7 +19,7 @@
 use crate::build::control::Lines;
 use crate::build::Built;
 use crate::control::response::{centroid, Response};
-use crate::scenario::Scenario;
+use crate::scenario::{CanopyShape, Guidance, ShellDrag};
 use engine::rod::Command;
 
 /// Smallest descent rate used for the time to go (m/s): a canopy not (yet) descending is
@@ -51,13 +51,12 @@ pub struct Decision {
 }
 
 impl Controller {
-    /// The controller of `s` for ground at model height `ground_z` (m), or `None` without
-    /// `[guidance]` (or without a response for its `pull_side`, which the scenario check
-    /// refuses).
-    pub fn new(s: &Scenario, ground_z: f64) -> Option<Self> {
-        let g = s.guidance.as_ref()?;
+    /// The controller of guidance `g` for a canopy of outline `shape` under the pressure law
+    /// `law`, with ground at model height `ground_z` (m); `None` without a response for its
+    /// `pull_side` (which the scenario check refuses).
+    pub fn new(g: &Guidance, shape: CanopyShape, law: ShellDrag, ground_z: f64) -> Option<Self> {
         Some(Self {
-            response: Response::of(g.pull_side, s.canopy.shape, s.fluid.shell_drag)?,
+            response: Response::of(g.pull_side, shape, law)?,
             target: [g.target_m[0], g.target_m[1]],
             max_pull: g.max_pull_m,
             gain: g.gain,

@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use super::sensor::HeightSensor;
 use crate::build::control::Lines;
 use crate::metrics::landing::BodyState;
-use crate::scenario::Scenario;
+use crate::scenario::{Control, Sensor};
 use engine::rod::{Firing, StretchHistory};
 use engine::Model;
 
@@ -59,12 +59,11 @@ pub struct TriggerRecord {
 }
 
 impl Triggers {
-    /// The triggers of `s` for ground at model height `ground_z` (m); `None` without a
-    /// sensor-started pull.
-    pub fn new(s: &Scenario, ground_z: f64) -> Option<Self> {
-        let sensors: Vec<HeightSensor> = s.sensor.iter().map(HeightSensor::new).collect();
-        let pulls: Vec<SensorPull> = s
-            .control
+    /// The triggers of the `sensor`-started pulls of `control` for ground at model height
+    /// `ground_z` (m); `None` without a sensor-started pull.
+    pub fn new(sensor: &[Sensor], control: &[Control], ground_z: f64) -> Option<Self> {
+        let sensors: Vec<HeightSensor> = sensor.iter().map(HeightSensor::new).collect();
+        let pulls: Vec<SensorPull> = control
             .iter()
             .enumerate()
             .filter_map(|(i, c)| {

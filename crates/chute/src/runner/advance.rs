@@ -14,7 +14,7 @@ use crate::build::Built;
 /// filtered through each step's factors when the run is adaptive with `time.error_filter`.
 pub fn new_stepper(model: &Model, cfg: &RunConfig) -> Result<ImplicitEuler, engine::EngineError> {
     let mut stepper = ImplicitEuler::new(model, cfg.newton)?;
-    stepper.set_error_filter(cfg.adaptive.is_some_and(|a| a.error_filter));
+    stepper.set_error_filter(cfg.stepping.adaptive.is_some_and(|a| a.error_filter));
     Ok(stepper)
 }
 

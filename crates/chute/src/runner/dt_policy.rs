@@ -80,22 +80,22 @@ pub(super) struct DtPolicy {
 impl DtPolicy {
     /// The policy of `cfg` at the start of a run.
     pub fn new(cfg: &RunConfig) -> Result<Self, engine::EngineError> {
-        let (ctrl, min_dt, time_tol, due_tol, sync_dt) = match cfg.adaptive {
+        let (ctrl, min_dt, time_tol, due_tol, sync_dt) = match cfg.stepping.adaptive {
             None => {
-                let tol = 1e-9 * cfg.dt_s;
+                let tol = 1e-9 * cfg.stepping.dt_s;
                 (
                     None,
-                    cfg.min_dt_s,
+                    cfg.stepping.min_dt_s,
                     tol,
-                    0.5 * cfg.dt_s,
-                    SYNC_STEPS * cfg.dt_s,
+                    0.5 * cfg.stepping.dt_s,
+                    SYNC_STEPS * cfg.stepping.dt_s,
                 )
             }
             Some(a) => {
                 let mut ctrl = ErrorController::new(a.error_tolerance_m, a.dt_min_s, a.dt_max_s)?;
                 ctrl.norm = a.error_norm;
                 // Far below any step, far above the round-off of times up to the duration.
-                let tol = (1e-3 * a.dt_min_s).max(64.0 * f64::EPSILON * cfg.duration_s);
+                let tol = (1e-3 * a.dt_min_s).max(64.0 * f64::EPSILON * cfg.stepping.duration_s);
                 (
                     Some(ctrl),
                     a.dt_min_s,
@@ -106,8 +106,8 @@ impl DtPolicy {
             }
         };
         let sizes = StepSizes::new(StepSizing {
-            dt: cfg.dt_s,
-            min_dt: min_dt.min(cfg.dt_s),
+            dt: cfg.stepping.dt_s,
+            min_dt: min_dt.min(cfg.stepping.dt_s),
             adaptive: ctrl,
         })?;
         Ok(Self {
@@ -146,9 +146,9 @@ impl DtPolicy {
         let sizing = self.sizes.sizing();
         let st = &self.sizes.state;
         Stepping {
-            dt_s: cfg.dt_s,
-            adaptive: cfg.adaptive.is_some(),
-            error_tolerance_m: cfg.adaptive.map(|a| a.error_tolerance_m),
+            dt_s: cfg.stepping.dt_s,
+            adaptive: cfg.stepping.adaptive.is_some(),
+            error_tolerance_m: cfg.stepping.adaptive.map(|a| a.error_tolerance_m),
             dt_min_s: sizing.min_dt,
             dt_max_s: sizing.adaptive.map_or(sizing.dt, |c| c.h_max),
             rejected_steps_error: st.rejected_error,
@@ -164,8 +164,8 @@ impl DtPolicy {
 /// step, rounded up to whole frame intervals so that sync points fall on frame times (steps
 /// end on both; sync points between frames would cut one more step per interval).
 fn adaptive_sync_interval(cfg: &RunConfig, dt_max: f64) -> f64 {
-    let base = (SYNC_STEPS * cfg.dt_s).max(dt_max);
-    let iv = cfg.frame_interval_s;
+    let base = (SYNC_STEPS * cfg.stepping.dt_s).max(dt_max);
+    let iv = cfg.outputs.frame_interval_s;
     if iv > 0.0 {
         (base / iv - 1e-9).ceil().max(1.0) * iv
     } else {
@@ -196,18 +196,22 @@ mod tests {
             name: "t".into(),
             guidance: None,
             triggers: None,
-            dt_s: 1e-3,
-            min_dt_s: 1e-3 / 1024.0,
-            adaptive: adaptive.then_some(AdaptiveSettings {
-                error_tolerance_m: 1e-5,
-                dt_min_s: 1e-5,
-                dt_max_s: 0.05,
-                error_norm: engine::ErrorNorm::MassRms,
-                error_filter: true,
-            }),
-            duration_s: 10.0,
-            frame_interval_s: 0.05,
-            snapshots_s: vec![],
+            stepping: crate::runner::Stepping {
+                dt_s: 1e-3,
+                min_dt_s: 1e-3 / 1024.0,
+                adaptive: adaptive.then_some(AdaptiveSettings {
+                    error_tolerance_m: 1e-5,
+                    dt_min_s: 1e-5,
+                    dt_max_s: 0.05,
+                    error_norm: engine::ErrorNorm::MassRms,
+                    error_filter: true,
+                }),
+                duration_s: 10.0,
+            },
+            outputs: crate::runner::Outputs {
+                frame_interval_s: 0.05,
+                snapshots_s: vec![],
+            },
             newton: engine::NewtonOptions::default(),
             quadratic_drag: true,
             air: engine::aero::Fluid::air(),

@@ -83,7 +83,7 @@ pub(super) struct Due {
 impl Flight {
     /// The bookkeeping at the start of a run of `built` under `cfg`, before any sample.
     pub fn new(built: &Built, cfg: &RunConfig) -> Result<Self, RunError> {
-        let mut snaps = cfg.snapshots_s.clone();
+        let mut snaps = cfg.outputs.snapshots_s.clone();
         snaps.sort_by(f64::total_cmp);
         Ok(Self {
             dt: DtPolicy::new(cfg)?,
@@ -124,10 +124,10 @@ impl Flight {
     /// the next frame, snapshot and sync point. A fixed step only ends on the end.
     pub fn next_event(&self, t: f64, cfg: &RunConfig) -> f64 {
         if !self.dt.adaptive() {
-            return cfg.duration_s;
+            return cfg.stepping.duration_s;
         }
         let after = t + self.dt.time_tol;
-        let frame = if cfg.frame_interval_s > 0.0 {
+        let frame = if cfg.outputs.frame_interval_s > 0.0 {
             self.next_frame
         } else {
             f64::INFINITY
@@ -137,7 +137,7 @@ impl Flight {
         [frame, snap.unwrap_or(f64::INFINITY), sync]
             .into_iter()
             .filter(|&e| e > after)
-            .fold(cfg.duration_s, f64::min)
+            .fold(cfg.stepping.duration_s, f64::min)
     }
 
     /// Attempt the next step from `built.state` (ending on the next event), judge its local
@@ -203,7 +203,7 @@ impl Flight {
     /// The frame and snapshots due at time `t`, moving past them.
     pub fn take_due(&mut self, t: f64, cfg: &RunConfig) -> Due {
         let half = self.dt.due_tol;
-        let iv = cfg.frame_interval_s;
+        let iv = cfg.outputs.frame_interval_s;
         let frame = iv > 0.0 && t >= self.next_frame - half;
         if frame {
             while self.next_frame <= t + half {

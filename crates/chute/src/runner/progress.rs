@@ -41,7 +41,7 @@ pub(super) fn show(
     wall: &Instant,
     iterations: usize,
 ) {
-    bar.set_position((t / cfg.duration_s * TICKS as f64) as u64);
+    bar.set_position((t / cfg.stepping.duration_s * TICKS as f64) as u64);
     let rate = steps as f64 / wall.elapsed().as_secs_f64().max(1e-9);
     bar.set_message(format!(
         "t = {t:.3} s, {rate:.0} steps/s, {iterations} Newton it/step"

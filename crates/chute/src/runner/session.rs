@@ -50,7 +50,9 @@ impl Session {
         let stepper = super::advance::new_stepper(&built.model, &cfg)?;
         let mut flight = Flight::new(&built, &cfg)?;
         flight.draws_snapshots = false;
-        let s0 = flight.obs.sample(&built, &built.state, 0, cfg.dt_s);
+        let s0 = flight
+            .obs
+            .sample(&built, &built.state, 0, cfg.stepping.dt_s);
         flight.dec.push(&s0);
         flight.take_due(built.state.t, &cfg);
         flight.start_watches(&mut built);
@@ -144,7 +146,7 @@ impl Session {
 
     /// Whether the end time or the ground is reached, or the session stopped.
     pub fn finished(&self) -> bool {
-        self.stop_reason.is_some() || self.landed() || self.reached(self.cfg.duration_s)
+        self.stop_reason.is_some() || self.landed() || self.reached(self.cfg.stepping.duration_s)
     }
 
     /// Whether the landing body has reached the ground (`atmosphere.ground_altitude_m`); the

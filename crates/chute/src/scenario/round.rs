@@ -3,12 +3,12 @@
 
 use super::validate::Checker;
 use super::CanopyProfile;
-use super::{CanopyShape, Scenario};
+use super::{Canopy, CanopyShape, Scenario};
 use crate::mesh::constructed::Profile;
 
 /// The profile of the scenario's gores (flat unless `canopy.profile` says otherwise).
-pub fn profile(s: &Scenario) -> Profile {
-    match (s.canopy.profile, s.canopy.cone_angle_deg) {
+pub fn profile(c: &Canopy) -> Profile {
+    match (c.profile, c.cone_angle_deg) {
         (Some(CanopyProfile::Conical), Some(a)) => Profile::Conical(a.to_radians()),
         (Some(CanopyProfile::Hemispherical), _) => Profile::Hemispherical,
         _ => Profile::Flat,
@@ -18,8 +18,7 @@ pub fn profile(s: &Scenario) -> Profile {
 /// The radius (m) within which the generated disc of `rings` rings is cut away for the vent
 /// (between the ring nearest `canopy.vent_radius_m`, at least the first, and the one inside
 /// it), or `None` without a vent.
-pub fn vent_cut(s: &Scenario, rings: usize) -> Option<f64> {
-    let c = &s.canopy;
+pub fn vent_cut(c: &Canopy, rings: usize) -> Option<f64> {
     if c.vent_radius_m <= 0.0 || c.shape != CanopyShape::Circle {
         return None;
     }

@@ -250,33 +250,31 @@ fn canopy(c: &mut Checker, s: &Scenario) {
         );
     }
     let sized = in_plane_size(s).filter(|(x, _, _)| *x > 0.0);
-    if let Some((size, size_key, size_value)) = sized {
-        if cn.thickness_m > 0.1 * size {
-            let (key, value) = c.blame([
-                ("canopy.thickness_m", cn.thickness_m),
-                (size_key, size_value),
-            ]);
-            c.fail(
-                key,
-                value,
-                format!("thin-structure models need a thickness ({} m) below 1/10 of the canopy's in-plane size ({} m); is it in metres?", short(cn.thickness_m), short(size)),
-            );
-        }
-    }
     let size = sized.map(|(x, _, _)| x);
+    // The in-plane size as the messages print it (they are only printed when there is one).
+    let size_text = size.map(short).unwrap_or_default();
+    // A length above `fraction` of the in-plane size, blamed on whichever of the two the
+    // user set (Checker::blame).
+    let mut at_most = |key: &'static str, value: f64, fraction: f64, why: String| {
+        if let Some((_, size_key, size_value)) = sized.filter(|(x, _, _)| value > fraction * x) {
+            let (key, value) = c.blame([(key, value), (size_key, size_value)]);
+            c.fail(key, value, why);
+        }
+    };
+    at_most(
+        "canopy.thickness_m",
+        cn.thickness_m,
+        0.1,
+        format!("thin-structure models need a thickness ({} m) below 1/10 of the canopy's in-plane size ({size_text} m); is it in metres?", short(cn.thickness_m)),
+    );
     if s.model.kind == ModelKind::Shell && cn.edge_length_m > 0.0 {
-        if let (Some((size, size_key, size_value)), Some(area)) = (sized, s.planform_area_m2()) {
-            if cn.edge_length_m > 0.5 * size {
-                let (key, value) = c.blame([
-                    ("canopy.edge_length_m", cn.edge_length_m),
-                    (size_key, size_value),
-                ]);
-                c.fail(
-                    key,
-                    value,
-                    format!("the mesh needs at least two edges ({} m each) across the canopy (size {} m)", short(cn.edge_length_m), short(size)),
-                );
-            }
+        at_most(
+            "canopy.edge_length_m",
+            cn.edge_length_m,
+            0.5,
+            format!("the mesh needs at least two edges ({} m each) across the canopy (size {size_text} m)", short(cn.edge_length_m)),
+        );
+        if let (Some(_), Some(area)) = (sized, s.planform_area_m2()) {
             let triangles = area / (0.25 * 3f64.sqrt() * cn.edge_length_m.powi(2));
             if triangles > MAX_SHELL_TRIANGLES {
                 c.fail(

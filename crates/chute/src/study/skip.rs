@@ -125,7 +125,7 @@ pub(super) fn case_not_whole(dir: &std::path::Path, done: &serde_json::Value) ->
     let pulls = std::fs::read_to_string(dir.join(RESOLVED_SCENARIO))
         .ok()
         .and_then(|t| crate::scenario::Scenario::from_str_with_name(&t, "", &[]).ok())
-        .is_some_and(|s| crate::build::control::pulled(&s));
+        .is_some_and(|s| crate::resolve::ModelSpec::of(&s).pulled());
     run_not_whole(dir, pulls).or_else(|| {
         let record = dir.join(RUN_RECORD);
         let missing = !std::fs::symlink_metadata(&record).is_ok_and(|m| m.is_file());

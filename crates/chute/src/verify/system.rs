@@ -50,8 +50,8 @@ fn simulate(s: &Scenario) -> Result<(Summary, Built), String> {
 pub(super) fn simulate_in(s: &Scenario, dir: &std::path::Path) -> Result<(Summary, Built), String> {
     let mut built = build(s).map_err(|e| e.to_string())?;
     let mut cfg = crate::app::run_config(s, false);
-    cfg.frame_interval_s = 0.0;
-    cfg.snapshots_s.clear();
+    cfg.outputs.frame_interval_s = 0.0;
+    cfg.outputs.snapshots_s.clear();
     let stop = AtomicBool::new(false);
     let r = crate::runner::simulate(&mut built, &cfg, dir, &stop).map_err(|e| e.to_string())?;
     if !r.complete {
@@ -144,10 +144,10 @@ pub fn no_spin(quick: bool) -> CaseResult {
     let cfg = crate::app::run_config(&s, false);
     let mut stepper = ImplicitEuler::new(&built.model, cfg.newton).map_err(|e| e.to_string())?;
     let mut state = built.state.clone();
-    let steps = (duration / cfg.dt_s).round() as usize;
+    let steps = (duration / cfg.stepping.dt_s).round() as usize;
     for _ in 0..steps {
         stepper
-            .step(&mut built.model, &mut state, cfg.dt_s)
+            .step(&mut built.model, &mut state, cfg.stepping.dt_s)
             .map_err(|e| e.to_string())?;
     }
     let m = &built.model;

@@ -341,7 +341,7 @@ fn sensor_pull_warnings_say_why_a_pull_did_not_act() {
         .chain(["control[0].start_s=1.6"])
         .collect();
     let s = round(&set).unwrap();
-    let tr = chute::control::Triggers::new(&s, -30.0).unwrap();
+    let tr = chute::control::Triggers::new(&s.sensor, &s.control, -30.0).unwrap();
     let record = |start: Option<f64>| chute::control::TriggerRecord {
         control: 0,
         sensor: "alt".into(),

@@ -69,12 +69,15 @@ fn snapshots_follow_the_duration_and_explicit_ones_are_kept() {
 fn empty_snapshot_list_means_no_snapshots() {
     let s = parse("[model]\nkind = \"rod\"\n");
     assert_eq!(
-        chute::app::run_config(&s, false).snapshots_s,
+        chute::app::run_config(&s, false).outputs.snapshots_s,
         vec![3.0, 6.0, 9.0]
     );
     let s = parse("[model]\nkind = \"rod\"\n[output]\nsnapshots_s = []\n");
     assert!(s.output.snapshots_s.is_empty());
-    assert!(chute::app::run_config(&s, false).snapshots_s.is_empty());
+    assert!(chute::app::run_config(&s, false)
+        .outputs
+        .snapshots_s
+        .is_empty());
     let again = parse(&s.to_toml());
     assert!(again.output.snapshots_s.is_empty(), "{}", s.to_toml());
     let s = Scenario::from_str_with_name(
@@ -83,7 +86,10 @@ fn empty_snapshot_list_means_no_snapshots() {
         &["output.snapshots_s=[]".to_string()],
     )
     .unwrap();
-    assert!(chute::app::run_config(&s, false).snapshots_s.is_empty());
+    assert!(chute::app::run_config(&s, false)
+        .outputs
+        .snapshots_s
+        .is_empty());
 }
 
 #[test]

@@ -25,6 +25,18 @@ pub(crate) fn stencil_vec(g: &[f64], st: &[usize], i: usize) -> V3 {
     V3::new(g[st[3 * i]], g[st[3 * i + 1]], g[st[3 * i + 2]])
 }
 
+/// The three corners (in `q`) or corner velocities (in `v`) of the triangle of stencil `st`.
+#[inline]
+pub(crate) fn corners(g: &[f64], st: &[usize]) -> [V3; 3] {
+    [0, 1, 2].map(|i| stencil_vec(g, st, i))
+}
+
+/// The mean of the triangle's corner velocities (its centroid's velocity).
+#[inline]
+pub(crate) fn centroid_velocity(v: &[f64], st: &[usize]) -> V3 {
+    corners(v, st).iter().sum::<V3>() / 3.0
+}
+
 /// Write the same force `f` (N) on each of a triangle's three nodes (`out`: 9 entries).
 #[inline]
 pub(crate) fn same_force_on_nodes(f: &V3, out: &mut [f64]) {

@@ -43,7 +43,7 @@
 
 use super::fluid::{Fluid, LocalFluid};
 use super::geometry::{
-    area_vector, area_vector_jacobians, same_force_on_nodes, same_rows, stencil_vec,
+    area_vector, area_vector_jacobians, centroid_velocity, corners, same_force_on_nodes, same_rows,
 };
 use super::permeability::{leakage_in, Fabric};
 use crate::element::{node_stencils, Element, Family};
@@ -154,8 +154,8 @@ impl Element for InflationPressureLaw {
 
     fn evaluate(&self, &sigma: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
         let (q, v) = (input.q, input.v);
-        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
-        let u = ([0, 1, 2].map(|i| stencil_vec(v, st, i)).iter().sum::<V3>()) / 3.0 - self.wind;
+        let x = corners(q, st);
+        let u = centroid_velocity(v, st) - self.wind;
         let nv = area_vector(&x);
         let air = self.fluid.at((x[0].z + x[1].z + x[2].z) / 3.0);
         let w = (-u.z).max(0.0);

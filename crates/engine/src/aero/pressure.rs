@@ -28,7 +28,7 @@
 //! `∂f_i/∂v_i = −(A₀/3) Δp_w n̂ n̂ᵀ` and `∂f_i/∂n̂ = −(A₀/3) (φ_i I + Δp_w n̂ u_iᵀ)`.
 
 use super::fluid::{Fluid, LocalFluid};
-use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
+use super::geometry::{area_vector, area_vector_jacobians, corners, stencil_vec};
 use super::permeability::{leakage_in, Fabric};
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
@@ -129,7 +129,7 @@ impl Element for PressureDragLaw {
 
     fn evaluate(&self, &a0: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
         let (q, v) = (input.q, input.v);
-        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+        let x = corners(q, st);
         let nv = area_vector(&x);
         let a = nv.norm();
         b.dfdq.fill(0.0);

@@ -29,7 +29,7 @@
 //! `∂f_n/∂N = −φ I − ∂φ/∂s N ((u − s n̂)/A)ᵀ`.
 
 use super::fluid::{Fluid, LocalFluid};
-use super::geometry::{area_vector, area_vector_jacobians, stencil_vec};
+use super::geometry::{area_vector, area_vector_jacobians, corners, stencil_vec};
 use super::permeability::{leakage, Fabric};
 use super::regularize::{quadratic, reg_norm, DEFAULT_EPSILON};
 use crate::element::{node_stencils, Element, Family};
@@ -228,7 +228,7 @@ impl TriangleDragLaw {
     /// Node positions, area vector and relative mean velocity of the triangle `st`.
     #[inline]
     fn kinematics(&self, q: &[f64], v: &[f64], st: &[usize]) -> ([V3; 3], V3, V3) {
-        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+        let x = corners(q, st);
         let u = (stencil_vec(v, st, 0) + stencil_vec(v, st, 1) + stencil_vec(v, st, 2)) / 3.0
             - self.wind;
         (x, area_vector(&x), u)

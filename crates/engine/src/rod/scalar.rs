@@ -88,28 +88,24 @@ impl<const N: usize> Dual<N> {
     }
 }
 
-impl<const N: usize> Add for Dual<N> {
-    type Output = Self;
-    #[inline]
-    fn add(self, o: Self) -> Self {
-        let mut d = self.d;
-        for i in 0..N {
-            d[i] += o.d[i];
+/// `+` and `−`: value and derivatives combine alike.
+macro_rules! linear_op {
+    ($trait:ident, $method:ident, $op:tt, $assign:tt) => {
+        impl<const N: usize> $trait for Dual<N> {
+            type Output = Self;
+            #[inline]
+            fn $method(self, o: Self) -> Self {
+                let mut d = self.d;
+                for (x, y) in d.iter_mut().zip(&o.d) {
+                    *x $assign y;
+                }
+                Self { v: self.v $op o.v, d }
+            }
         }
-        Self { v: self.v + o.v, d }
-    }
+    };
 }
-impl<const N: usize> Sub for Dual<N> {
-    type Output = Self;
-    #[inline]
-    fn sub(self, o: Self) -> Self {
-        let mut d = self.d;
-        for i in 0..N {
-            d[i] -= o.d[i];
-        }
-        Self { v: self.v - o.v, d }
-    }
-}
+linear_op!(Add, add, +, +=);
+linear_op!(Sub, sub, -, -=);
 impl<const N: usize> Mul for Dual<N> {
     type Output = Self;
     #[inline]

@@ -222,34 +222,43 @@ impl Counters {
     /// These counters merged with `other`'s, field by field (a run resumed from a checkpoint
     /// adds the counters of the part before it).
     pub fn merge(&self, other: &Self) -> Self {
-        let st = |a: StageCounts, b: StageCounts| StageCounts {
-            runs: a.runs + b.runs,
-            converged: a.converged + b.converged,
-        };
+        // A struct literal: a counter added to the type and not summed here does not compile.
+        macro_rules! sum {
+            ($($field:ident),*) => { Self { $($field: self.$field + other.$field),* } };
+        }
+        sum!(
+            assembly_s,
+            factor_s,
+            solve_s,
+            evaluations,
+            jacobian_evaluations,
+            factorizations,
+            indefinite_factorizations,
+            iterations,
+            solves,
+            krylov_iterations,
+            krylov_failures,
+            line_search_points,
+            held,
+            newton,
+            continuation,
+            homotopy,
+            stages_skipped,
+            accuracy_accepts,
+            roundoff_accepts,
+            noise_probes,
+            error_filters,
+            error_filter_fallbacks
+        )
+    }
+}
+
+impl std::ops::Add for StageCounts {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
         Self {
-            assembly_s: self.assembly_s + other.assembly_s,
-            factor_s: self.factor_s + other.factor_s,
-            solve_s: self.solve_s + other.solve_s,
-            evaluations: self.evaluations + other.evaluations,
-            jacobian_evaluations: self.jacobian_evaluations + other.jacobian_evaluations,
-            factorizations: self.factorizations + other.factorizations,
-            indefinite_factorizations: self.indefinite_factorizations
-                + other.indefinite_factorizations,
-            iterations: self.iterations + other.iterations,
-            solves: self.solves + other.solves,
-            krylov_iterations: self.krylov_iterations + other.krylov_iterations,
-            krylov_failures: self.krylov_failures + other.krylov_failures,
-            line_search_points: self.line_search_points + other.line_search_points,
-            held: st(self.held, other.held),
-            newton: st(self.newton, other.newton),
-            continuation: st(self.continuation, other.continuation),
-            homotopy: st(self.homotopy, other.homotopy),
-            stages_skipped: self.stages_skipped + other.stages_skipped,
-            accuracy_accepts: self.accuracy_accepts + other.accuracy_accepts,
-            roundoff_accepts: self.roundoff_accepts + other.roundoff_accepts,
-            noise_probes: self.noise_probes + other.noise_probes,
-            error_filters: self.error_filters + other.error_filters,
-            error_filter_fallbacks: self.error_filter_fallbacks + other.error_filter_fallbacks,
+            runs: self.runs + o.runs,
+            converged: self.converged + o.converged,
         }
     }
 }

@@ -26,6 +26,14 @@ pub(super) fn of(
     let mut dofs = stencils.to_vec();
     dofs.sort_unstable();
     dofs.dedup();
+    let at = At {
+        law,
+        sigma,
+        stencils,
+        q,
+        v,
+        dofs: &dofs,
+    };
     let held = law.held;
     let scales = held_scales(&held);
     let u = (0..9)
@@ -33,7 +41,7 @@ pub(super) fn of(
             let shifted = |s: f64| {
                 let mut l = law.clone();
                 l.held = with(&held, j, get(&held, j) + s);
-                force_on(&l, sigma, stencils, q, v, &dofs)
+                at.force_of(&l)
             };
             let (p, m) = (shifted(scales[j]), shifted(-scales[j]));
             p.iter()
@@ -42,10 +50,7 @@ pub(super) fn of(
                 .collect()
         })
         .collect();
-    let (wq, wv) = (
-        held_derivatives(law, sigma, stencils, q, v, &dofs, true),
-        held_derivatives(law, sigma, stencils, q, v, &dofs, false),
-    );
+    let (wq, wv) = (at.held_derivatives(true), at.held_derivatives(false));
     LagCoupling { dofs, u, wq, wv }
 }
 
@@ -74,67 +79,67 @@ fn with(h: &Held, j: usize, x: f64) -> Held {
     out
 }
 
-/// The law's force on `dofs` at `(q, v)`.
-fn force_on(
-    law: &IncidencePressureLaw,
-    sigma: &[f64],
-    stencils: &[usize],
-    q: &[f64],
-    v: &[f64],
-    dofs: &[usize],
-) -> Vec<f64> {
-    let input = EvalInput::outside_step(q, v, 0.0, false);
-    let mut total = vec![0.0; dofs.len()];
-    let mut f = [0.0; 9];
-    for (i, (st, s)) in stencils.chunks_exact(9).zip(sigma).enumerate() {
-        let b = BlockMut {
-            index: i,
-            f: &mut f,
-            dfdq: &mut [],
-            dfdv: &mut [],
-        };
-        law.evaluate(s, st, &input, b);
-        for (d, fd) in st.iter().zip(&f) {
-            let at = dofs.binary_search(d).expect("a stencil DOF");
-            total[at] += fd;
-        }
-    }
-    total
+/// The law (orientations `sigma`, triangles `stencils`) at one state `(q, v)`, seen on the
+/// DOFs `dofs` its triangles touch (sorted).
+struct At<'a> {
+    law: &'a IncidencePressureLaw,
+    sigma: &'a [f64],
+    stencils: &'a [usize],
+    q: &'a [f64],
+    v: &'a [f64],
+    dofs: &'a [usize],
 }
 
-/// `∂h_j/∂q_d` (`positions`) or `∂h_j/∂v_d` for every DOF `d` of `dofs`: one row per `j`.
-fn held_derivatives(
-    law: &IncidencePressureLaw,
-    sigma: &[f64],
-    stencils: &[usize],
-    q: &[f64],
-    v: &[f64],
-    dofs: &[usize],
-    positions: bool,
-) -> Vec<Vec<f64>> {
-    let fallback = law.held.frame.axis;
-    let (mut q, mut v) = (q.to_vec(), v.to_vec());
-    let mut rows = vec![vec![0.0; dofs.len()]; 9];
-    for (col, &d) in dofs.iter().enumerate() {
-        let x = if positions { q[d] } else { v[d] };
-        let eps = STEP * (1.0 + x.abs());
-        let mut at = |s: f64| {
-            if positions {
-                q[d] = x + s;
-            } else {
-                v[d] = x + s;
+impl At<'_> {
+    /// The force on `dofs` of `law` (this law with other held numbers).
+    fn force_of(&self, law: &IncidencePressureLaw) -> Vec<f64> {
+        let (sigma, stencils, dofs) = (self.sigma, self.stencils, self.dofs);
+        let input = EvalInput::outside_step(self.q, self.v, 0.0, false);
+        let mut total = vec![0.0; dofs.len()];
+        let mut f = [0.0; 9];
+        for (i, (st, s)) in stencils.chunks_exact(9).zip(sigma).enumerate() {
+            let b = BlockMut {
+                index: i,
+                f: &mut f,
+                dfdq: &mut [],
+                dfdv: &mut [],
+            };
+            law.evaluate(s, st, &input, b);
+            for (d, fd) in st.iter().zip(&f) {
+                let at = dofs.binary_search(d).expect("a stencil DOF");
+                total[at] += fd;
             }
-            law.hold(stencils, sigma, &q, &v, fallback)
-        };
-        let (p, m) = (at(eps), at(-eps));
-        if positions {
-            q[d] = x;
-        } else {
-            v[d] = x;
         }
-        for (j, row) in rows.iter_mut().enumerate() {
-            row[col] = (get(&p, j) - get(&m, j)) / (2.0 * eps);
-        }
+        total
     }
-    rows
+
+    /// `∂h_j/∂q_d` (`positions`) or `∂h_j/∂v_d` for every DOF `d` of `dofs`: one row per `j`.
+    fn held_derivatives(&self, positions: bool) -> Vec<Vec<f64>> {
+        let (law, sigma, stencils, dofs) = (self.law, self.sigma, self.stencils, self.dofs);
+        let fallback = law.held.frame.axis;
+        let (mut q, mut v) = (self.q.to_vec(), self.v.to_vec());
+        let mut rows = vec![vec![0.0; dofs.len()]; 9];
+        for (col, &d) in dofs.iter().enumerate() {
+            let x = if positions { q[d] } else { v[d] };
+            let eps = STEP * (1.0 + x.abs());
+            let mut at = |s: f64| {
+                if positions {
+                    q[d] = x + s;
+                } else {
+                    v[d] = x + s;
+                }
+                law.hold(stencils, sigma, &q, &v, fallback)
+            };
+            let (p, m) = (at(eps), at(-eps));
+            if positions {
+                q[d] = x;
+            } else {
+                v[d] = x;
+            }
+            for (j, row) in rows.iter_mut().enumerate() {
+                row[col] = (get(&p, j) - get(&m, j)) / (2.0 * eps);
+            }
+        }
+        rows
+    }
 }

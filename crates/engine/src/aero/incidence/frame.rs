@@ -1,6 +1,6 @@
 //! The canopy's axis, crossflow and incidence, read from a state once per accepted step.
 
-use crate::aero::geometry::{area_vector, stencil_vec};
+use crate::aero::geometry::{area_vector, centroid_velocity, corners};
 use crate::vec3::V3;
 
 /// What the incidence law holds fixed over a step, read from the state that starts it.
@@ -36,7 +36,7 @@ pub(crate) fn sides(
     frame: &CanopyFrame,
 ) -> Sides {
     let tri = |st: &[usize]| {
-        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+        let x = corners(q, st);
         (area_vector(&x), (x[0] + x[1] + x[2]) / 3.0)
     };
     let (mut area, mut moment) = (0.0, V3::zeros());
@@ -78,9 +78,9 @@ pub(crate) fn frame(
 ) -> CanopyFrame {
     let (mut vector_area, mut mean_u, mut area) = (V3::zeros(), V3::zeros(), 0.0);
     for (st, sg) in stencils.chunks_exact(9).zip(sigma) {
-        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
+        let x = corners(q, st);
         let n = area_vector(&x);
-        let u = [0, 1, 2].map(|i| stencil_vec(v, st, i)).iter().sum::<V3>() / 3.0;
+        let u = centroid_velocity(v, st);
         vector_area += sg * n;
         mean_u += n.norm() * u;
         area += n.norm();

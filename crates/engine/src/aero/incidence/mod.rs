@@ -47,7 +47,7 @@ pub use curve::{CurveError, IncidenceCurve};
 
 use super::fluid::Fluid;
 use super::geometry::{
-    area_vector, area_vector_jacobians, same_force_on_nodes, same_rows, stencil_vec,
+    area_vector, area_vector_jacobians, centroid_velocity, corners, same_force_on_nodes, same_rows,
 };
 use super::inflation::InflationPressureLaw;
 use super::permeability::Fabric;
@@ -206,9 +206,8 @@ impl Element for IncidencePressureLaw {
         let h = &self.held;
         let e = h.frame.axis;
         let kperp = h.kvec - h.kvec.dot(&e) * e;
-        let x = [0, 1, 2].map(|i| stencil_vec(q, st, i));
-        let u =
-            [0, 1, 2].map(|i| stencil_vec(v, st, i)).iter().sum::<V3>() / 3.0 - self.base.wind();
+        let x = corners(q, st);
+        let u = centroid_velocity(v, st) - self.base.wind();
         let nv = area_vector(&x);
         let centroid = (x[0] + x[1] + x[2]) / 3.0;
         let air = self.base.fluid().at(centroid.z);
