@@ -47,6 +47,15 @@ fn solver_bytes(c: &Checkpoint) -> usize {
     16 + json.len()
 }
 
+/// The sample and its encoding in the version-3 layout: without the solver's counters (the
+/// checksum's 8 bytes left as they were).
+fn version_3() -> (Checkpoint, Vec<u8>) {
+    let c = sample();
+    let v4 = c.encode();
+    let v3 = [&v4[..v4.len() - 8 - solver_bytes(&c)], &v4[v4.len() - 8..]].concat();
+    (c, v3)
+}
+
 #[test]
 fn round_trips_bit_for_bit() {
     let c = sample();
@@ -114,10 +123,7 @@ fn reads_version_3() {
 /// A version-2 file (before `chute resume`: no checkpoint interval) still reads.
 #[test]
 fn reads_version_2() {
-    let c = sample();
-    let v4 = c.encode();
-    // The version-3 layout (its checksum's 8 bytes left as they were).
-    let v3 = [&v4[..v4.len() - 8 - solver_bytes(&c)], &v4[v4.len() - 8..]].concat();
+    let (c, v3) = version_3();
     let old = Checkpoint::decode(&reseal(v3[..v3.len() - 8 - 8].to_vec(), 2)).unwrap();
     assert_eq!(old.checkpoint_every_s, None);
     assert_eq!(
@@ -129,10 +135,7 @@ fn reads_version_2() {
 /// A version-1 file (before adaptive steps: no cap, no rejection counters) still reads.
 #[test]
 fn reads_version_1() {
-    let c = sample();
-    let v4 = c.encode();
-    // The version-3 layout (its checksum's 8 bytes left as they were).
-    let v3 = [&v4[..v4.len() - 8 - solver_bytes(&c)], &v4[v4.len() - 8..]].concat();
+    let (c, v3) = version_3();
     // Version 1 = version 3 without the 32 trailing bytes of the newer fields.
     let old = Checkpoint::decode(&reseal(v3[..v3.len() - 8 - 32].to_vec(), 1)).unwrap();
     assert_eq!((old.dt_cap, old.checkpoint_every_s), (f64::INFINITY, None));
@@ -140,6 +143,7 @@ fn reads_version_1() {
     assert_eq!((old.q, old.dt, old.warnings), (c.q, c.dt, c.warnings));
     // A future version is refused with both numbers.
     let next = FORMAT_VERSION + 1;
+    let v4 = sample().encode();
     let e = Checkpoint::decode(&reseal(v4[..v4.len() - 8].to_vec(), next)).unwrap_err();
     assert!(
         e.contains(&format!("format version {next}"))
