@@ -1,5 +1,5 @@
-//! Builders: turn a validated [`Scenario`] into an engine model plus the bookkeeping the
-//! observers need (which nodes are canopy, where the payload is, which forces are drag).
+//! Builders: turn a [`ModelSpec`] (a validated [`Scenario`], resolved) into an engine model
+//! plus the bookkeeping the observers need (which nodes are canopy, where the payload is, which forces are drag).
 
 /// An engine model ready to run, with what observers and outputs need to know about it.
 pub struct Built {
@@ -58,7 +58,6 @@ use crate::scenario::{Bending, ModelKind, Scenario};
 use engine::loads::Gravity;
 use engine::{DofLayout, Model, State};
 
-pub use crate::resolve::DEFAULT_WRINKLE_STRAIN;
 pub use canopy::Geometry;
 
 /// Why a scenario could not be turned into a model. Messages name the scenario key.

@@ -14,8 +14,6 @@ use engine::aero::incidence::IncidenceCurve;
 use engine::aero::Fabric;
 use engine::shell::Orthotropic;
 
-pub use crate::scenario::wrinkle::DEFAULT_WRINKLE_STRAIN;
-
 /// What the builders make a model of: the scenario's model sections with every derived
 /// default filled in.
 #[derive(Debug, Clone)]
@@ -76,8 +74,10 @@ impl ModelSpec {
             bending: s.shell.bending.unwrap_or(Bending::Hinge),
             fabric_law: s.fabric_law(),
             warp: [angle.cos(), angle.sin(), 0.0],
-            wrinkle_strain: (m.no_compression == Some(true))
-                .then(|| m.wrinkle_strain.unwrap_or(DEFAULT_WRINKLE_STRAIN)),
+            wrinkle_strain: (m.no_compression == Some(true)).then(|| {
+                m.wrinkle_strain
+                    .unwrap_or(crate::scenario::wrinkle::DEFAULT_WRINKLE_STRAIN)
+            }),
             permeability: crate::build::drag::fabric(m, s.canopy.thickness_m),
             load: s.load.clone(),
             rim_sites: match s.load.sites {

@@ -19,8 +19,8 @@
 use super::midedge_cases::PATTERNS;
 use super::shell_cases::solve_static_with;
 use super::Check;
-use crate::build::DEFAULT_WRINKLE_STRAIN;
 use crate::mesh::generate::{rectangle_pattern, Pattern};
+use crate::scenario::wrinkle::DEFAULT_WRINKLE_STRAIN;
 use engine::loads::PointForces;
 use engine::shell::{self, CstMembrane, FabricMembrane, Orthotropic, ShellMaterial, TriMesh};
 use engine::{DofLayout, Model, NewtonOptions, State};
