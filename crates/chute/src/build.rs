@@ -1,5 +1,6 @@
 //! Builders: turn a [`ModelSpec`] (a validated [`Scenario`], resolved) into an engine model
-//! plus the bookkeeping the observers need (which nodes are canopy, where the payload is, which forces are drag).
+//! plus the bookkeeping the observers need (which nodes are canopy, where the payload is,
+//! which forces are drag).
 
 /// An engine model ready to run, with what observers and outputs need to know about it.
 pub struct Built {
