@@ -113,6 +113,7 @@ pub fn air(s: &Scenario) -> engine::aero::Fluid {
             viscosity: f.viscosity_pa_s,
             wind: f.wind_mps,
             profile: engine::aero::Profile::Uniform,
+            wind_profile: engine::aero::WindProfile::Uniform,
         },
         AtmosphereModel::Isa1976 => engine::aero::Fluid {
             wind: f.wind_mps,

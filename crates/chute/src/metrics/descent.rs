@@ -42,7 +42,7 @@ pub struct RecoverySeries<'a> {
 }
 
 /// What the recovery metrics need besides the series.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct RecoveryParams {
     /// Total weight W (N).
     pub total_weight_n: f64,

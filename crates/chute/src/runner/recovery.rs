@@ -21,7 +21,7 @@ pub(super) fn params(b: &Built, cfg: &RunConfig) -> RecoveryParams {
     RecoveryParams {
         total_weight_n: b.total_weight_n,
         planform_area_m2: b.planform_area_m2,
-        fluid: cfg.air,
+        fluid: cfg.air.clone(),
         altitude_m: cfg.altitude_m,
         gravity_mps2: cfg.gravity_mps2,
         payload: b.payload_node.is_some(),

@@ -71,7 +71,15 @@ pub struct AddedMass {
 impl AddedMass {
     /// Added mass on the canopy of `triangles` at `q` moving at `v` (all DOFs), in `fluid`:
     /// the air already moves with the canopy (`P_n` from `v`).
+    ///
+    /// # Panics
+    /// With a wind that varies with height: the carried air's velocity would follow the
+    /// canopy's height, a term this law does not hold (applications refuse the pair).
     pub fn new(triangles: &[[usize; 3]], q: &[f64], v: &[f64], fluid: &Fluid) -> Self {
+        assert!(
+            fluid.wind_profile.is_uniform(),
+            "added mass needs a uniform wind"
+        );
         let mut nodes: Vec<usize> = triangles.iter().flatten().copied().collect();
         nodes.sort_unstable();
         nodes.dedup();
@@ -86,7 +94,7 @@ impl AddedMass {
             dofs,
             added_mass: 0.0,
             momentum: V3::zeros(),
-            fluid: *fluid,
+            fluid: fluid.clone(),
             wind: V3::from(fluid.wind),
         };
         am.follow(q);

@@ -1,20 +1,25 @@
-//! The surrounding fluid: density and viscosity (uniform or varying with height), a uniform
-//! wind, and the Reynolds number that says which drag law applies.
+//! The surrounding fluid: density and viscosity (uniform or varying with height), the wind
+//! (uniform or varying with height, [`super::wind`]), and the Reynolds number that says which
+//! drag law applies.
 
 use super::atmosphere::isa1976;
+use super::wind::{LocalWind, WindProfile};
 
-/// A steady fluid with a uniform wind, whose density and viscosity may vary with height.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A steady fluid whose density, viscosity and wind may vary with height.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Fluid {
     /// Density ρ (kg/m³): everywhere for [`Profile::Uniform`], at z = 0 otherwise.
     pub density: f64,
     /// Dynamic viscosity μ (Pa·s): everywhere for [`Profile::Uniform`] and
     /// [`Profile::Exponential`], at z = 0 for [`Profile::Isa1976`].
     pub viscosity: f64,
-    /// Free-stream (wind) velocity U∞ (m/s); drag acts on `v − U∞`.
+    /// Free-stream (wind) velocity U∞ (m/s); drag acts on `v − U∞`. With a
+    /// [`Fluid::wind_profile`] law, the wind at its reference height.
     pub wind: [f64; 3],
     /// How density and viscosity vary with the height z of the model (m).
     pub profile: Profile,
+    /// How the wind varies with height (uniform: [`Fluid::wind`] everywhere).
+    pub wind_profile: WindProfile,
 }
 
 /// How a fluid's density and viscosity vary with the model's height z (m, up).
@@ -62,6 +67,7 @@ impl Fluid {
             viscosity: 1.81e-5,
             wind: [0.0; 3],
             profile: Profile::Uniform,
+            wind_profile: WindProfile::Uniform,
         }
     }
 
@@ -74,12 +80,19 @@ impl Fluid {
             viscosity: a.viscosity_pa_s,
             wind: [0.0; 3],
             profile: Profile::Isa1976 { altitude },
+            wind_profile: WindProfile::Uniform,
         }
     }
 
-    /// Whether density and viscosity are the same at every height (no `∂/∂z` terms).
+    /// Whether density, viscosity and wind are the same at every height (no `∂/∂z` terms).
     pub fn is_uniform(&self) -> bool {
-        self.profile == Profile::Uniform
+        self.profile == Profile::Uniform && self.wind_profile.is_uniform()
+    }
+
+    /// The wind at height `z` (m) and its shear `dU/dz`.
+    #[inline]
+    pub fn wind_at(&self, z: f64) -> LocalWind {
+        self.wind_profile.at(self.wind, z)
     }
 
     /// The fluid at height `z` (m). For [`Profile::Uniform`] the values are the fields

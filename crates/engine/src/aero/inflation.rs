@@ -46,17 +46,17 @@ use super::geometry::{
     area_vector, area_vector_jacobians, centroid_velocity, corners, same_force_on_nodes, same_rows,
 };
 use super::permeability::{leakage_in, Fabric};
+use super::wind::add_shear;
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, outer, V3};
 
 /// The inflation-pressure law: pressure coefficient `C_p`, fluid and wind.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct InflationPressureLaw {
     /// Pressure coefficient C_p: Δp over the descent's dynamic pressure ½ρw².
     cp: f64,
     fluid: Fluid,
-    wind: V3,
     fabric: Option<Fabric>,
 }
 
@@ -82,8 +82,7 @@ impl InflationPressure {
             .collect();
         let law = InflationPressureLaw {
             cp,
-            fluid: *fluid,
-            wind: V3::from(fluid.wind),
+            fluid: fluid.clone(),
             fabric: None,
         };
         Family::from_elements("inflation-pressure", law, node_stencils(triangles), sigma)
@@ -107,11 +106,6 @@ impl InflationPressureLaw {
     /// The pressure coefficient `C_p`.
     pub(crate) fn cp(&self) -> f64 {
         self.cp
-    }
-
-    /// The far-field wind `U∞` (m/s).
-    pub(crate) fn wind(&self) -> V3 {
-        self.wind
     }
 
     /// The fluid.
@@ -152,12 +146,13 @@ impl Element for InflationPressureLaw {
     const KIND: JacobianKind = JacobianKind::GENERAL;
     type Data = f64;
 
-    fn evaluate(&self, &sigma: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+    fn evaluate(&self, &sigma: &f64, st: &[usize], input: &EvalInput<'_>, mut b: BlockMut<'_>) {
         let (q, v) = (input.q, input.v);
         let x = corners(q, st);
-        let u = centroid_velocity(v, st) - self.wind;
+        let zc = (x[0].z + x[1].z + x[2].z) / 3.0;
+        let (air, wind) = (self.fluid.at(zc), self.fluid.wind_at(zc));
+        let u = centroid_velocity(v, st) - V3::from(wind.velocity);
         let nv = area_vector(&x);
-        let air = self.fluid.at((x[0].z + x[1].z + x[2].z) / 3.0);
         let w = (-u.z).max(0.0);
         let (dp, dp_w, dp_z) = self.pressure(w, &air);
         let f = (sigma * dp / 3.0) * nv;
@@ -172,5 +167,6 @@ impl Element for InflationPressureLaw {
         let dz = (sigma * dp_z / 9.0) * outer(&nv, &V3::z());
         let dq = [0, 1, 2].map(|bn| (sigma * dp / 3.0) * dn[bn] + dz);
         same_rows(&dq, &dv, b.dfdq, b.dfdv);
+        add_shear(&mut b, 3, wind.shear);
     }
 }

@@ -6,6 +6,7 @@
 //! (see [`DragRegime`](super::DragRegime)).
 
 use super::fluid::Fluid;
+use super::wind::add_shear;
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 
@@ -16,9 +17,9 @@ pub fn stokes_sphere(viscosity: f64, radius: f64) -> f64 {
 }
 
 /// The linear drag law: the wind; each node has its coefficient `c_k` (N·s/m).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct LinearDragLaw {
-    wind: [f64; 3],
+    fluid: Fluid,
 }
 
 /// Linear drag on a set of nodes.
@@ -30,7 +31,9 @@ impl LinearDrag {
     pub fn new(nodes: &[usize], coeffs: &[f64], fluid: &Fluid) -> Self {
         assert_eq!(nodes.len(), coeffs.len(), "one coefficient per node");
         let nodes: Vec<[usize; 1]> = nodes.iter().map(|&i| [i]).collect();
-        let law = LinearDragLaw { wind: fluid.wind };
+        let law = LinearDragLaw {
+            fluid: fluid.clone(),
+        };
         Family::from_elements("linear-drag", law, node_stencils(&nodes), coeffs.to_vec())
     }
 
@@ -45,9 +48,18 @@ impl Element for LinearDragLaw {
     const KIND: JacobianKind = JacobianKind::VISCOUS;
     type Data = f64;
 
-    fn evaluate(&self, &c: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+    fn kind(&self) -> JacobianKind {
+        if self.fluid.wind_profile.is_uniform() {
+            Self::KIND
+        } else {
+            JacobianKind::GENERAL
+        }
+    }
+
+    fn evaluate(&self, &c: &f64, st: &[usize], input: &EvalInput<'_>, mut b: BlockMut<'_>) {
+        let wind = self.fluid.wind_at(input.q[st[2]]);
         for r in 0..3 {
-            b.f[r] = -c * (input.v[st[r]] - self.wind[r]);
+            b.f[r] = -c * (input.v[st[r]] - wind.velocity[r]);
         }
         if b.dfdv.is_empty() {
             return;
@@ -57,5 +69,11 @@ impl Element for LinearDragLaw {
                 b.dfdv[3 * r + s] = if r == s { -c } else { 0.0 };
             }
         }
+        if b.dfdq.is_empty() {
+            return;
+        }
+        // Only the wind depends on position, through z.
+        b.dfdq.fill(0.0);
+        add_shear(&mut b, 1, wind.shear);
     }
 }

@@ -12,7 +12,8 @@
 //! - [`AddedMass`]: the air a canopy carries along, accelerated with it (potential flow);
 //! - [`Fluid`], [`reynolds`] and [`DragRegime`]: which law applies; [`Profile`]: density and
 //!   viscosity varying with height (uniform, exponential, the 1976 standard atmosphere of
-//!   [`atmosphere`]), taken at each element's own height;
+//!   [`atmosphere`]), taken at each element's own height; [`WindProfile`]: wind varying with
+//!   height ([`wind`]), likewise;
 //! - [`Fabric`] and [`permeability`]: air leaking through a permeable canopy
 //!   (Darcy–Forchheimer), for the triangle laws;
 //! - [`resultant`]: the total force of any element family (for observers).
@@ -33,6 +34,7 @@ pub mod permeability;
 mod pressure;
 mod regularize;
 mod triangle;
+pub mod wind;
 
 pub use added_mass::AddedMass;
 pub use fluid::{reynolds, DragRegime, Fluid, LocalFluid, Profile};
@@ -44,6 +46,7 @@ pub use permeability::Fabric;
 pub use pressure::{PressureDrag, PressureDragLaw};
 pub use regularize::{reg_norm, DEFAULT_EPSILON};
 pub use triangle::{TriangleDrag, TriangleDragLaw};
+pub use wind::{LocalWind, WindProfile, WindTable, WindTableError};
 
 use crate::dof::DofLayout;
 use crate::force::{EvalInput, Force};

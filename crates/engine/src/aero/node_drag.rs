@@ -18,17 +18,17 @@
 use super::fluid::Fluid;
 use super::geometry::stencil_vec;
 use super::regularize::{quadratic, DEFAULT_EPSILON};
+use super::wind::add_shear;
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::V3;
 
 /// The node-drag law: drag coefficient, fluid and regularisation speed; each node has its
 /// projected area `A_k` (m²).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct NodeDragLaw {
     cd: f64,
     fluid: Fluid,
-    wind: V3,
     epsilon: f64,
 }
 
@@ -44,8 +44,7 @@ impl NodeDrag {
         let nodes: Vec<[usize; 1]> = nodes.iter().map(|&i| [i]).collect();
         let law = NodeDragLaw {
             cd,
-            fluid: *fluid,
-            wind: V3::from(fluid.wind),
+            fluid: fluid.clone(),
             epsilon: DEFAULT_EPSILON,
         };
         Family::from_elements("node-drag", law, node_stencils(&nodes), areas.to_vec())
@@ -72,10 +71,11 @@ impl Element for NodeDragLaw {
         }
     }
 
-    fn evaluate(&self, &area: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
-        let air = self.fluid.at(input.q[st[2]]);
+    fn evaluate(&self, &area: &f64, st: &[usize], input: &EvalInput<'_>, mut b: BlockMut<'_>) {
+        let z = input.q[st[2]];
+        let (air, wind) = (self.fluid.at(z), self.fluid.wind_at(z));
         let c = 0.5 * air.density * self.cd * area;
-        let u = stencil_vec(input.v, st, 0) - self.wind;
+        let u = stencil_vec(input.v, st, 0) - V3::from(wind.velocity);
         let (g, dg) = quadratic(&u, self.epsilon);
         for r in 0..3 {
             b.f[r] = -c * g[r];
@@ -97,5 +97,6 @@ impl Element for NodeDragLaw {
         for r in 0..3 {
             b.dfdq[3 * r + 2] = -dc * g[r];
         }
+        add_shear(&mut b, 1, wind.shear);
     }
 }

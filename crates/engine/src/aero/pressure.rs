@@ -30,17 +30,17 @@
 use super::fluid::{Fluid, LocalFluid};
 use super::geometry::{area_vector, area_vector_jacobians, corners, stencil_vec};
 use super::permeability::{leakage_in, Fabric};
+use super::wind::add_shear;
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{node, outer, M3, V3};
 
 /// The pressure-drag law: drag coefficient, fluid and optional fabric permeability; each
 /// triangle has its undeformed area `A₀` (m²).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct PressureDragLaw {
     cd: f64,
     fluid: Fluid,
-    wind: V3,
     fabric: Option<Fabric>,
 }
 
@@ -69,8 +69,7 @@ impl PressureDrag {
         assert_eq!(triangles.len(), rest_areas.len(), "one area per triangle");
         let law = PressureDragLaw {
             cd,
-            fluid: *fluid,
-            wind: V3::from(fluid.wind),
+            fluid: fluid.clone(),
             fabric: None,
         };
         let data = rest_areas.to_vec();
@@ -127,7 +126,7 @@ impl Element for PressureDragLaw {
     const KIND: JacobianKind = JacobianKind::GENERAL;
     type Data = f64;
 
-    fn evaluate(&self, &a0: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+    fn evaluate(&self, &a0: &f64, st: &[usize], input: &EvalInput<'_>, mut b: BlockMut<'_>) {
         let (q, v) = (input.q, input.v);
         let x = corners(q, st);
         let nv = area_vector(&x);
@@ -140,14 +139,16 @@ impl Element for PressureDragLaw {
             b.f.fill(0.0);
             return;
         }
-        let air = self.fluid.at((x[0].z + x[1].z + x[2].z) / 3.0);
+        let zc = (x[0].z + x[1].z + x[2].z) / 3.0;
+        let (air, wind) = (self.fluid.at(zc), self.fluid.wind_at(zc));
+        let wind_v = V3::from(wind.velocity);
         let stratified = !self.fluid.is_uniform();
         let n = nv / a;
         if !jac {
             // The residual path of modified Newton: the forces alone, none of the Jacobian's
             // terms.
             for i in 0..3 {
-                let s = n.dot(&(stencil_vec(v, st, i) - self.wind));
+                let s = n.dot(&(stencil_vec(v, st, i) - wind_v));
                 let (phi, _, _) = self.node_force(s, &air, a0);
                 for r in 0..3 {
                     b.f[3 * i + r] = -phi * n[r];
@@ -159,7 +160,7 @@ impl Element for PressureDragLaw {
         let dn = area_vector_jacobians(&x);
         let nn = outer(&n, &n);
         for i in 0..3 {
-            let u = stencil_vec(v, st, i) - self.wind;
+            let u = stencil_vec(v, st, i) - wind_v;
             let s = n.dot(&u);
             // f = −φ n̂: ∂f/∂v = −φ_s n̂ n̂ᵀ, ∂f/∂n̂ = −(φ I + φ_s n̂ uᵀ), ∂f/∂z̄ = −φ_z n̂.
             let (phi, dphi, dz) = self.node_force(s, &air, a0);
@@ -190,5 +191,6 @@ impl Element for PressureDragLaw {
                 }
             }
         }
+        add_shear(&mut b, 3, wind.shear);
     }
 }

@@ -29,23 +29,23 @@
 //! `∂f_n/∂N = −φ I − ∂φ/∂s N ((u − s n̂)/A)ᵀ`.
 
 use super::fluid::{Fluid, LocalFluid};
-use super::geometry::{area_vector, area_vector_jacobians, corners, stencil_vec};
+use super::geometry::{area_vector, area_vector_jacobians, centroid_velocity, corners};
 use super::permeability::{leakage, Fabric};
 use super::regularize::{quadratic, reg_norm, DEFAULT_EPSILON};
+use super::wind::{add_shear, LocalWind};
 use crate::element::{node_stencils, Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind};
 use crate::vec3::{outer, M3, V3};
 
 /// The triangle-drag law: coefficients, fluid, regularisation and optional fabric
 /// permeability, shared by all triangles.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct TriangleDragLaw {
     /// Normal drag coefficient C_n.
     cd_n: f64,
     /// Tangential drag coefficient C_t.
     cd_t: f64,
     fluid: Fluid,
-    wind: V3,
     epsilon: f64,
     fabric: Option<Fabric>,
 }
@@ -184,8 +184,7 @@ impl TriangleDrag {
         let law = TriangleDragLaw {
             cd_n: cd_normal,
             cd_t: cd_tangential,
-            fluid: *fluid,
-            wind: V3::from(fluid.wind),
+            fluid: fluid.clone(),
             epsilon: DEFAULT_EPSILON,
             fabric: None,
         };
@@ -218,20 +217,21 @@ impl TriangleDrag {
         assert_eq!(out.len(), self.n_triangles(), "one output per triangle");
         let l = &self.law;
         for (st, o) in self.stencils.chunks(9).zip(out.iter_mut()) {
-            let (x, n, u) = l.kinematics(q, v, st);
+            let (x, n, u, _) = l.kinematics(q, v, st);
             *o = l.drag(&x, &n, &u, false).0.f.into();
         }
     }
 }
 
 impl TriangleDragLaw {
-    /// Node positions, area vector and relative mean velocity of the triangle `st`.
+    /// Node positions, area vector, relative mean velocity of the triangle `st` and the wind
+    /// at its centroid.
     #[inline]
-    fn kinematics(&self, q: &[f64], v: &[f64], st: &[usize]) -> ([V3; 3], V3, V3) {
+    fn kinematics(&self, q: &[f64], v: &[f64], st: &[usize]) -> ([V3; 3], V3, V3, LocalWind) {
         let x = corners(q, st);
-        let u = (stencil_vec(v, st, 0) + stencil_vec(v, st, 1) + stencil_vec(v, st, 2)) / 3.0
-            - self.wind;
-        (x, area_vector(&x), u)
+        let wind = self.fluid.wind_at((x[0].z + x[1].z + x[2].z) / 3.0);
+        let u = centroid_velocity(v, st) - V3::from(wind.velocity);
+        (x, area_vector(&x), u, wind)
     }
 
     /// The drag of one triangle in the fluid at its centroid: `F` and, when `jac`, `∂F/∂u`,
@@ -274,8 +274,8 @@ impl Element for TriangleDragLaw {
     const KIND: JacobianKind = JacobianKind::GENERAL;
     type Data = ();
 
-    fn evaluate(&self, _: &(), st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
-        let (x, n, u) = self.kinematics(input.q, input.v, st);
+    fn evaluate(&self, _: &(), st: &[usize], input: &EvalInput<'_>, mut b: BlockMut<'_>) {
+        let (x, n, u, wind) = self.kinematics(input.q, input.v, st);
         let jac = !b.dfdq.is_empty();
         let (d, dz) = self.drag(&x, &n, &u, jac);
         for an in 0..3 {
@@ -307,5 +307,6 @@ impl Element for TriangleDragLaw {
                 }
             }
         }
+        add_shear(&mut b, 3, wind.shear);
     }
 }

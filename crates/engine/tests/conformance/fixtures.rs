@@ -1,5 +1,7 @@
 //! Meshes, rods and fluids the conformance cases are built on.
-use engine::aero::{Fabric, Fluid, Profile};
+use std::sync::Arc;
+
+use engine::aero::{Fabric, Fluid, Profile, WindProfile, WindTable};
 use engine::conformance::Rng;
 use engine::rod::{RodNetwork, RodSpec, Section};
 use engine::shell::{install, MidedgeBending, PlateBending, ShellMaterial, TriMesh};
@@ -22,6 +24,49 @@ pub fn windy() -> Fluid {
 pub fn stratified() -> Fluid {
     Fluid {
         profile: Profile::Exponential { scale_height: 0.8 },
+        ..windy()
+    }
+}
+
+/// [`stratified`] air whose wind turns and changes by 2–3 m/s per metre of height (a table
+/// with rows inside the draws' heights, ±0.4–2 m), so the shear terms `(∂F/∂u) dU/dz` are of
+/// the size of every other Jacobian entry, beside the density's.
+pub fn sheared() -> Fluid {
+    let rows = [
+        [-3.0, -4.0, 1.0],
+        [-1.0, 1.5, -2.0],
+        [0.3, 4.0, 2.5],
+        [1.2, 2.0, 5.0],
+        [3.0, -1.0, 3.0],
+    ];
+    let table = WindTable::try_new(&rows).expect("a valid table");
+    Fluid {
+        wind_profile: WindProfile::Table(Arc::new(table)),
+        ..stratified()
+    }
+}
+
+/// [`windy`] air under the power law `U ∝ h^0.3` over a ground 3 m below the origin.
+pub fn power_law() -> Fluid {
+    Fluid {
+        wind_profile: WindProfile::Power {
+            reference_height: 3.0,
+            exponent: 0.3,
+            ground: -3.0,
+        },
+        ..windy()
+    }
+}
+
+/// [`windy`] air under the logarithmic law (roughness 0.1 m) over a ground 3 m below the
+/// origin.
+pub fn log_law() -> Fluid {
+    Fluid {
+        wind_profile: WindProfile::Log {
+            reference_height: 3.0,
+            roughness: 0.1,
+            ground: -3.0,
+        },
         ..windy()
     }
 }

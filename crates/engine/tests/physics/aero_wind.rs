@@ -1,4 +1,5 @@
-//! Bodies falling in a horizontal wind U∞ = (5, 0, 0) m/s reach the wind's horizontal speed.
+//! Bodies falling in a horizontal wind U∞ = (5, 0, 0) m/s reach the wind's horizontal speed;
+//! in a wind that grows with height they lag it by their time constant.
 //!
 //! Drag acts on `v − U∞`, so the only steady state has zero horizontal relative velocity,
 //! and backward Euler's fixed point is that steady state exactly; the test checks that the
@@ -77,4 +78,59 @@ fn horizontal_sheet_with_triangle_drag_drifts_with_the_wind() {
     // Vertically it falls at v_t = √(2mg/(ρC_n A)) (the lag u_x changes |u| by 3e-4).
     let vt = (2.0 * m * G / (fluid.density * 1.75 * area)).sqrt();
     assert!((-v[2] / vt - 1.0).abs() < 1e-3, "v_z = {} vs {vt}", v[2]);
+}
+
+/// A point mass under linear drag `−c (v − U(z))` falls at `w = mg/c` through the power law
+/// `U = U_ref (h/h_ref)^α`. Horizontally it lags the wind it meets: with `τ = m/c`,
+/// `v_x = U + τ U′ w + τ² U″ w² + …` (the quasi-steady expansion of `de/dt = −e/τ − dU/dt`
+/// along `ż = −w`), so `v_x − U(z) − τ U′(z) w` is bounded by the next term, doubled, with
+/// backward Euler's own `τ h U″ w²` added. In a uniform wind the lag would be zero.
+#[test]
+fn a_point_mass_lags_a_sheared_wind_by_its_time_constant() {
+    use engine::aero::{LinearDrag, WindProfile};
+    use engine::loads::Gravity;
+    use engine::{DofLayout, ImplicitEuler, Model, State};
+    let (m, c, dt) = (1.0, 2.0, 1e-3);
+    let (alpha, h_ref, ground) = (1.0 / 7.0, 10.0, -100.0);
+    let fluid = Fluid {
+        wind_profile: WindProfile::Power {
+            reference_height: h_ref,
+            exponent: alpha,
+            ground,
+        },
+        ..windy()
+    };
+    let mut model = Model::new(DofLayout::new(1, 0));
+    model.add_node_mass(0, m);
+    model.add_force(Gravity::new(&[0], &[m], [0.0, 0.0, -G]));
+    model.add_force(LinearDrag::new(&[0], &[c], &fluid));
+    let mut state = State::at_rest(vec![0.0; 3]);
+    let opts = engine::NewtonOptions {
+        reference_acceleration: G,
+        ..Default::default()
+    };
+    let mut stepper = ImplicitEuler::new(&model, opts).unwrap();
+    // 20 time constants: the start's transient is down by e^-20.
+    let (tau, w) = (m / c, m * G / c);
+    for _ in 0..(20.0 * tau / dt) as usize {
+        stepper.step(&mut model, &mut state, dt).unwrap();
+    }
+    let z = state.q[2];
+    let h = z - ground;
+    let u = WIND * (h / h_ref).powf(alpha);
+    let (du, d2u) = (alpha * u / h, alpha * (alpha - 1.0) * u / (h * h));
+    let lag = tau * du * w;
+    let bound = 2.0 * (tau * tau + tau * dt) * d2u.abs() * w * w;
+    eprintln!(
+        "h = {h} m: v_x − U = {}, τU′w = {lag}, bound {bound}",
+        state.v[0] - u
+    );
+    assert!(bound < 0.1 * lag, "the check must resolve the lag");
+    assert!(
+        (state.v[0] - u - lag).abs() <= bound,
+        "v_x {} U {u} lag {lag}",
+        state.v[0]
+    );
+    // Vertically the transient e^-20 ≈ 2e-9 of w remains.
+    assert!((state.v[2] + w).abs() < 1e-8 * w, "v_z {}", state.v[2]);
 }

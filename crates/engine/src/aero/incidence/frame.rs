@@ -1,5 +1,6 @@
 //! The canopy's axis, crossflow and incidence, read from a state once per accepted step.
 
+use crate::aero::fluid::Fluid;
 use crate::aero::geometry::{area_vector, centroid_velocity, corners};
 use crate::vec3::V3;
 
@@ -66,23 +67,25 @@ pub(crate) fn sides(
 }
 
 /// The area-weighted frame of the triangles `stencils` (9 DOFs each) with orientations
-/// `sigma` at `(q, v)` in the wind `wind`; `fallback` is the axis kept when the canopy has
-/// no vector area (crumpled flat on itself).
+/// `sigma` at `(q, v)` in `fluid`'s wind at the canopy's area-weighted mean height;
+/// `fallback` is the axis kept when the canopy has no vector area (crumpled flat on itself).
 pub(crate) fn frame(
     stencils: &[usize],
     sigma: impl Iterator<Item = f64>,
     q: &[f64],
     v: &[f64],
-    wind: V3,
+    fluid: &Fluid,
     fallback: V3,
 ) -> CanopyFrame {
     let (mut vector_area, mut mean_u, mut area) = (V3::zeros(), V3::zeros(), 0.0);
+    let mut mean_z = 0.0;
     for (st, sg) in stencils.chunks_exact(9).zip(sigma) {
         let x = corners(q, st);
         let n = area_vector(&x);
         let u = centroid_velocity(v, st);
         vector_area += sg * n;
         mean_u += n.norm() * u;
+        mean_z += n.norm() * (x[0].z + x[1].z + x[2].z) / 3.0;
         area += n.norm();
     }
     let scale = vector_area.norm();
@@ -92,7 +95,7 @@ pub(crate) fn frame(
         fallback
     };
     let u = if area > 0.0 {
-        mean_u / area - wind
+        mean_u / area - V3::from(fluid.wind_at(mean_z / area).velocity)
     } else {
         V3::zeros()
     };

@@ -51,6 +51,7 @@ use super::geometry::{
 };
 use super::inflation::InflationPressureLaw;
 use super::permeability::Fabric;
+use super::wind::add_shear;
 use crate::element::{Element, Family};
 use crate::force::{BlockMut, EvalInput, JacobianKind, LagCoupling};
 use crate::vec3::{node, outer, V3};
@@ -161,8 +162,14 @@ impl IncidencePressureLaw {
         v: &[f64],
         fallback: V3,
     ) -> Held {
-        let wind = self.base.wind();
-        let fr = frame(stencils, sigma.iter().copied(), q, v, wind, fallback);
+        let fr = frame(
+            stencils,
+            sigma.iter().copied(),
+            q,
+            v,
+            self.base.fluid(),
+            fallback,
+        );
         let sd = sides(stencils, sigma.iter().copied(), q, &fr);
         let cn = self.curve.at(fr.alpha);
         let cp = self.base.cp();
@@ -201,16 +208,17 @@ impl Element for IncidencePressureLaw {
     /// `σ`.
     type Data = f64;
 
-    fn evaluate(&self, &sigma: &f64, st: &[usize], input: &EvalInput<'_>, b: BlockMut<'_>) {
+    fn evaluate(&self, &sigma: &f64, st: &[usize], input: &EvalInput<'_>, mut b: BlockMut<'_>) {
         let (q, v) = (input.q, input.v);
         let h = &self.held;
         let e = h.frame.axis;
         let kperp = h.kvec - h.kvec.dot(&e) * e;
         let x = corners(q, st);
-        let u = centroid_velocity(v, st) - self.base.wind();
         let nv = area_vector(&x);
         let centroid = (x[0] + x[1] + x[2]) / 3.0;
         let air = self.base.fluid().at(centroid.z);
+        let wind = self.base.fluid().wind_at(centroid.z);
+        let u = centroid_velocity(v, st) - V3::from(wind.velocity);
         let k = (centroid - h.centre).dot(&kperp);
         let w = (-u.dot(&e)).max(0.0);
         let u2 = u.norm_squared();
@@ -228,6 +236,7 @@ impl Element for IncidencePressureLaw {
         let dx = (sigma / 9.0) * (outer(&nv, &(dp_m * u2 * kperp)) + dp_z * outer(&nv, &V3::z()));
         let dq = [0, 1, 2].map(|bn| (sigma * dp / 3.0) * dn[bn] + dx);
         same_rows(&dq, &dv, b.dfdq, b.dfdv);
+        add_shear(&mut b, 3, wind.shear);
     }
 
     fn commit(&mut self, els: &mut [f64], stencils: &[usize], q: &[f64], v: &[f64]) {
