@@ -340,6 +340,27 @@ fn fresh_record(
     })
 }
 
+/// `chute check`'s lines on a `[wind]` profile: the wind at the start and 10 m above the
+/// ground (altitude 0 without one).
+fn wind_lines(s: &Scenario, fluid: &engine::aero::Fluid) -> Vec<(String, String)> {
+    use crate::scenario::derived::sig4;
+    if s.wind.is_none() {
+        return Vec::new();
+    }
+    let a = &s.atmosphere;
+    let low = a.ground_altitude_m.unwrap_or(0.0) + 10.0;
+    [a.altitude_m, low]
+        .into_iter()
+        .map(|h| {
+            let u = fluid.wind_at(h - a.altitude_m).velocity;
+            (
+                format!("wind at {} m", sig4(h)),
+                format!("[{}, {}] m/s", sig4(u[0]), sig4(u[1])),
+            )
+        })
+        .collect()
+}
+
 /// `chute check`'s lines on the air: the model, the air at the start and at the ground, and
 /// the time to fall from one to the other at the flat-canopy speed √(2W/(ρ(h) C_D A)).
 fn atmosphere_lines(s: &Scenario, b: &crate::build::Built) -> Vec<(String, String)> {
@@ -378,6 +399,7 @@ fn atmosphere_lines(s: &Scenario, b: &crate::build::Built) -> Vec<(String, Strin
             describe(a.altitude_m),
         ),
     ];
+    out.extend(wind_lines(s, &fluid));
     let Some(g) = a.ground_altitude_m else {
         return out;
     };

@@ -101,6 +101,10 @@ pub fn build(s: &Scenario) -> Result<Built, BuildError> {
     let spec = ModelSpec::of(s);
     let mut built = model(&spec)?;
     built.derived = derived(s, &spec, &built);
+    if let Some(w) = &s.loaded.wind {
+        let key = crate::scenario::wind::WIND_FILE_KEY;
+        built.input_digests.push((key, w.digest.clone()));
+    }
     Ok(built)
 }
 

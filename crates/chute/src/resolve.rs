@@ -103,20 +103,22 @@ impl ModelSpec {
 
 /// The engine's air of scenario `s`: `[fluid]` density and viscosity everywhere
 /// (`atmosphere.model = "constant"`), or the 1976 standard atmosphere with z = 0 at
-/// `atmosphere.altitude_m`; the wind of `[fluid]` either way.
+/// `atmosphere.altitude_m`; the wind of `[fluid]` and `[wind]` either way.
 pub fn air(s: &Scenario) -> engine::aero::Fluid {
     use crate::scenario::AtmosphereModel;
     let f = &s.fluid;
+    let wind = crate::scenario::wind::profile(s, s.loaded.wind.as_deref());
     match s.atmosphere.model {
         AtmosphereModel::Constant => engine::aero::Fluid {
             density: f.density_kg_m3,
             viscosity: f.viscosity_pa_s,
             wind: f.wind_mps,
             profile: engine::aero::Profile::Uniform,
-            wind_profile: engine::aero::WindProfile::Uniform,
+            wind_profile: wind,
         },
         AtmosphereModel::Isa1976 => engine::aero::Fluid {
             wind: f.wind_mps,
+            wind_profile: wind,
             ..engine::aero::Fluid::isa1976(s.atmosphere.altitude_m)
         },
     }

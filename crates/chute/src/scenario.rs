@@ -43,6 +43,7 @@ pub mod schema;
 pub mod sections;
 pub mod source;
 pub mod validate;
+pub mod wind;
 pub mod wrinkle;
 
 #[cfg(test)]
@@ -60,7 +61,7 @@ pub use sections::{
     Atmosphere, AtmosphereModel, Bending, Canopy, CanopyProfile, CanopyShape, Control, DragLaw,
     Fluid, Guidance, Lines, Load, LoadMode, Material, Membrane, MeshPattern, ModelKind,
     ModelSection, Output, PullSide, Sensor, SensorKind, Shell, ShellDrag, SiteSet, Sites, Time,
-    DEFAULT_ERROR_TOLERANCE_M,
+    Wind, WindLaw, DEFAULT_ERROR_TOLERANCE_M,
 };
 
 /// `--set` overrides that turn the bundled report shells (`scenarios/report-shell-*.toml`,
@@ -102,6 +103,9 @@ pub struct Scenario {
     /// The air's variation with height, and the ground.
     #[serde(default)]
     pub atmosphere: Atmosphere,
+    /// A wind that varies with height (absent: `fluid.wind_mps` everywhere).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wind: Option<Wind>,
     /// Time stepping.
     #[serde(default)]
     pub time: Time,
@@ -121,6 +125,23 @@ pub struct Scenario {
     /// not part of the scenario itself: never serialised, and equal for any two scenarios.
     #[serde(skip)]
     pub notes: LoadNotes,
+    /// What the loader read from the scenario's input files (compared by digest, in the
+    /// run's record, not by equality: [`Loaded`] is equal for any two scenarios).
+    #[serde(skip)]
+    pub loaded: Loaded,
+}
+
+/// The contents of the input files a scenario names, as the loader read them.
+#[derive(Debug, Clone, Default)]
+pub struct Loaded {
+    /// The table of `wind.file` (`wind.profile = "table"`).
+    pub wind: Option<std::sync::Arc<wind::WindFile>>,
+}
+
+impl PartialEq for Loaded {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// Warnings of the loader about the text a scenario came from (e.g. keys that are set but
@@ -241,6 +262,14 @@ impl Scenario {
         let mut files = Vec::new();
         if let (CanopyShape::Mesh, Some(p)) = (self.canopy.shape, &self.canopy.mesh_file) {
             files.push((MESH_FILE_KEY, p.clone()));
+        }
+        if let Some(Wind {
+            profile: WindLaw::Table,
+            file: Some(p),
+            ..
+        }) = &self.wind
+        {
+            files.push((wind::WIND_FILE_KEY, p.clone()));
         }
         files
     }

@@ -83,14 +83,41 @@ pub fn parse_scenario(
     let mut s: Scenario = toml::Value::Table(table)
         .try_into()
         .map_err(|e: toml::de::Error| conversion(e, &prov))?;
-    if let Some(p) = s.canopy.mesh_file.as_mut() {
+    let wind_file = s.wind.as_mut().and_then(|w| w.file.as_mut());
+    for p in [s.canopy.mesh_file.as_mut(), wind_file]
+        .into_iter()
+        .flatten()
+    {
         if p.is_relative() {
             *p = normalize(&base.join(&*p));
         }
     }
     validate::validate(&s, &prov)?;
+    s.loaded = load_inputs(&s, &prov)?;
     s.notes = super::LoadNotes(validate::notes(&s, &prov));
     Ok(s)
+}
+
+/// Read the input files the model is made from (checked readable by the validation just
+/// before; one that changed since is refused the same way).
+fn load_inputs(s: &Scenario, prov: &Provenance) -> Result<super::Loaded, ScenarioError> {
+    let table = s
+        .wind
+        .as_ref()
+        .filter(|w| w.profile == super::WindLaw::Table);
+    let Some(path) = table.and_then(|w| w.file.as_ref()) else {
+        return Ok(super::Loaded::default());
+    };
+    let key = super::wind::WIND_FILE_KEY;
+    let file = super::wind::read(path).map_err(|reason| ScenarioError::Invalid {
+        key: key.to_string(),
+        value: format!("\"{}\"", path.display()),
+        reason,
+        origin: prov.origin(key),
+    })?;
+    Ok(super::Loaded {
+        wind: Some(std::sync::Arc::new(file)),
+    })
 }
 
 /// The schema check admits only convertible trees, so this is a safety net, not a path

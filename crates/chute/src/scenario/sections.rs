@@ -12,6 +12,8 @@ mod control;
 pub use control::{Control, Guidance, PullSide, Sensor, SensorKind};
 mod time;
 pub use time::{ErrorNorm, Time, DEFAULT_ERROR_TOLERANCE_M};
+mod wind;
+pub use wind::{Wind, WindLaw};
 
 /// `[model]`, `[canopy]`, …: every section, in file (and resolved-TOML) order.
 pub const SECTIONS: &[Section] = &[
@@ -24,6 +26,7 @@ pub const SECTIONS: &[Section] = &[
     Section::table::<Lines>("lines"),
     Section::table::<Fluid>("fluid"),
     Section::table::<Atmosphere>("atmosphere"),
+    Section::optional::<Wind>("wind"),
     Section::table::<Time>("time"),
     Section::table::<Output>("output"),
     Section::array::<Sensor>("sensor").only_with(PAYLOAD, LINES_ONLY),
@@ -465,7 +468,8 @@ section! {
         viscosity_pa_s: f64 = 1.81e-5 => key()
             .unit("Pa·s")
             .positive("the Reynolds number divides by it"),
-        /// far-field wind U∞
+        /// far-field wind U∞; with a `[wind]` power or log law, the wind at its reference
+        /// height
         wind_mps: [f64; 3] = [0.0; 3] => key().unit("m/s"),
         /// drag law
         drag: DragLaw = DragLaw::Quadratic => key(),
@@ -513,7 +517,8 @@ section! {
         #[serde(skip_serializing_if = "Option::is_none")]
         added_mass: Option<bool> = None => key()
             .only_with(SHELL, ADDED_MASS_SHELL)
-            .default_doc("false"),
+            .default_doc("false")
+            .note("not with `[wind]`"),
     }
 }
 

@@ -107,6 +107,7 @@ pub fn validate(s: &Scenario, prov: &Provenance) -> Result<(), ScenarioError> {
     load(&mut c, s);
     permeability(&mut c, s);
     super::incidence::check(&mut c, s);
+    super::wind::check(&mut c, s);
     super::round::check(&mut c, s);
     atmosphere(&mut c, s);
     time_and_output(&mut c, s);

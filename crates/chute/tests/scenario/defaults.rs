@@ -137,6 +137,13 @@ fn schema_matches_the_serde_structs() {
     });
     s.sensor.push(Default::default());
     s.guidance = Some(Default::default());
+    // The wind's keys (each with its own law).
+    s.wind = Some(chute::scenario::Wind {
+        exponent: Some(0.1),
+        roughness_m: Some(0.1),
+        file: Some("w.csv".into()),
+        ..Default::default()
+    });
     let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();
     let mut keys = Vec::new();
     for (k, v) in &table {

@@ -17,3 +17,4 @@ mod messages;
 mod notes;
 mod overrides;
 mod shell_laws;
+mod wind;

@@ -55,6 +55,8 @@ const ROD: &str = "report-rod-200n";
 const FABRIC: &str = "round-fabric";
 const ROUND: &str = "round-solid";
 
+/// A canopy falling from altitude through a wind that grows with height.
+const WINDY: &str = "drop-wind";
 /// A payload canopy with ground, an altimeter and a pull it starts.
 const LANDING: &str = "control-soft-landing";
 
@@ -272,6 +274,26 @@ const CASES: &[Case] = &[
         &["sensor[0].seed=-1"],
         Refused("seed"),
     ),
+    case(
+        "fluid.added_mass",
+        WINDY,
+        &["fluid.added_mass=true"],
+        Refused("[wind]"),
+    ),
+    Case {
+        key: "wind.roughness_m",
+        base: "drop-1000m",
+        extra: "\n[wind]\nprofile = \"log\"\nroughness_m = 20.0\n",
+        set: &[],
+        expect: Refused("below"),
+    },
+    Case {
+        key: "wind.file",
+        base: "drop-1000m",
+        extra: "\n[wind]\nprofile = \"table\"\nfile = \"no-such-winds.csv\"\n",
+        set: &[],
+        expect: Refused("no-such-winds.csv"),
+    },
     case(
         "guidance.target_m",
         GUIDED,
