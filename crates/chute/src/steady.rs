@@ -225,7 +225,8 @@ pub fn write(r: &SteadyReport, dir: &Path) -> Result<(), AppError> {
     Ok(())
 }
 
-/// A steady descent is one that nothing interrupts: no ground, no line pulls.
+/// A steady descent is one that nothing interrupts: no ground, no line pulls, no wind that
+/// changes with height.
 fn uninterrupted(s: &Scenario) -> Result<(), AppError> {
     let why = if s.guidance.is_some() {
         Some(("[guidance]", "it pulls the lines as the canopy falls"))
@@ -234,6 +235,8 @@ fn uninterrupted(s: &Scenario) -> Result<(), AppError> {
             "[[control]]",
             "its line pulls change the canopy as it falls",
         ))
+    } else if s.wind.is_some() {
+        Some(("[wind]", "the wind it meets changes with its height"))
     } else if s.atmosphere.ground_altitude_m.is_some() {
         Some((
             "atmosphere.ground_altitude_m",

@@ -155,6 +155,7 @@ fn ground_and_line_pulls_are_refused() {
         ("drop-1000m.toml", "atmosphere.ground_altitude_m"),
         ("control-steer.toml", "[[control]]"),
         ("control-guidance.toml", "[guidance]"),
+        ("drop-wind.toml", "[wind]"),
     ] {
         let file = bundled(name);
         let o = chute(tmp.path(), &["steady", file.as_str()]);
