@@ -4,6 +4,7 @@
 
 mod case_run;
 mod collect;
+pub mod draw;
 mod expected;
 mod gathered;
 mod grid;
