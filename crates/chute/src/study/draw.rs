@@ -115,7 +115,9 @@ impl Distribution {
     /// The quantile `F⁻¹(p)` for `p ∈ (0, 1)`.
     pub fn quantile(&self, p: f64) -> f64 {
         match *self {
-            Self::Normal { mean, std_dev, .. } if std_dev == 0.0 => mean,
+            Self::Normal {
+                mean, std_dev: 0.0, ..
+            } => mean,
             Self::Normal {
                 mean,
                 std_dev,
@@ -173,7 +175,7 @@ pub fn phi_inv(p: f64) -> f64 {
         -3.969683028665376e1,
         2.209460984245205e2,
         -2.759285104469687e2,
-        1.383577518672690e2,
+        1.38357751867269e2,
         -3.066479806614716e1,
         2.506628277459239,
     ];
