@@ -1,9 +1,11 @@
-//! Studies: one base scenario run under a list (`[[case]]`) or grid (`[grid]`) of overrides,
+//! Studies: one base scenario run under a list (`[[case]]`), a grid (`[grid]`) or a dispersion
+//! (`[dispersion]`, random draws) of overrides,
 //! cases in parallel, each into `OUT/<case>/` with a `done.json` marker, then one table
 //! (`study.csv`, `study.md`) with a row per case. See `docs/cli.md` §study.
 
 mod case_run;
 mod collect;
+mod dispersion;
 pub mod draw;
 mod expected;
 mod gathered;
@@ -64,6 +66,7 @@ struct StudyFile {
     #[serde(default)]
     case: Vec<CaseSpec>,
     grid: Option<toml::Table>,
+    dispersion: Option<dispersion::DispersionSpec>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -221,19 +224,23 @@ impl Study {
             .map(objective::Objective::parse)
             .transpose()
             .map_err(|e| input(format!("{file}: {e}")))?;
-        let mut cases = match (&f.grid, f.case.is_empty()) {
-            (Some(_), false) => {
+        let kinds = [f.grid.is_some(), !f.case.is_empty(), f.dispersion.is_some()];
+        let mut cases = match (&f.grid, &f.dispersion, f.case.is_empty()) {
+            _ if kinds.iter().filter(|&&k| k).count() > 1 => {
                 return Err(input(format!(
-                    "{file}: give either `[[case]]` tables or a `[grid]`, not both"
+                    "{file}: give one of `[[case]]` tables, a `[grid]` or a `[dispersion]`"
                 )))
             }
-            (None, true) => {
+            (None, None, true) => {
                 return Err(input(format!(
-                    "{file}: no cases: add `[[case]]` tables or a `[grid]`"
+                    "{file}: no cases: add `[[case]]` tables, a `[grid]` or a `[dispersion]`"
                 )))
             }
-            (Some(g), true) => grid::cases(g).map_err(|e| input(format!("{file}: {e}")))?,
-            (None, false) => f
+            (Some(g), _, _) => grid::cases(g).map_err(|e| input(format!("{file}: {e}")))?,
+            (_, Some(d), _) => d
+                .cases(&dir.join(&f.base))
+                .map_err(|e| input(format!("{file}: {e}")))?,
+            (None, None, false) => f
                 .case
                 .into_iter()
                 .enumerate()

@@ -63,7 +63,15 @@ pub enum DistributionError {
         /// Upper bound.
         hi: f64,
     },
-    /// An interval whose ends are out of order, or a mode outside it.
+    /// An interval whose ends are out of order.
+    #[error("need lo ≤ hi, got lo = {lo}, hi = {hi}")]
+    Reversed {
+        /// Lower end.
+        lo: f64,
+        /// Upper end.
+        hi: f64,
+    },
+    /// A mode outside its interval.
     #[error("need lo ≤ mode ≤ hi, got {lo} ≤ {mode} ≤ {hi}")]
     OutOfOrder {
         /// Lower end.
@@ -101,14 +109,21 @@ impl Distribution {
     /// A uniform on `[lo, hi]`.
     pub fn try_uniform(lo: f64, hi: f64) -> Result<Self, DistributionError> {
         finite(&[(lo, "lo"), (hi, "hi")])?;
-        ordered(lo, 0.5 * (lo + hi), hi)?;
+        if lo > hi {
+            return Err(DistributionError::Reversed { lo, hi });
+        }
         Ok(Self::Uniform { lo, hi })
     }
 
     /// A triangular on `[lo, hi]` peaking at `mode`.
     pub fn try_triangular(lo: f64, mode: f64, hi: f64) -> Result<Self, DistributionError> {
         finite(&[(lo, "lo"), (mode, "the mode"), (hi, "hi")])?;
-        ordered(lo, mode, hi)?;
+        if lo > hi {
+            return Err(DistributionError::Reversed { lo, hi });
+        }
+        if !(lo <= mode && mode <= hi) {
+            return Err(DistributionError::OutOfOrder { lo, mode, hi });
+        }
         Ok(Self::Triangular { lo, mode, hi })
     }
 
@@ -147,13 +162,6 @@ fn finite(values: &[(f64, &'static str)]) -> Result<(), DistributionError> {
     match values.iter().find(|(x, _)| !x.is_finite()) {
         Some((_, name)) => Err(DistributionError::NotFinite(name)),
         None => Ok(()),
-    }
-}
-
-fn ordered(lo: f64, mode: f64, hi: f64) -> Result<(), DistributionError> {
-    match lo <= mode && mode <= hi {
-        true => Ok(()),
-        false => Err(DistributionError::OutOfOrder { lo, mode, hi }),
     }
 }
 

@@ -47,14 +47,17 @@ impl Fnv1a64 {
     }
 }
 
-/// The digest of a validated scenario's inputs, as `fnv1a64:<16 hex digits>`. Reads the mesh
-/// file of an imported canopy; an unreadable one is an error naming it.
+/// The digest of a validated scenario's inputs, as `fnv1a64:<16 hex digits>`. Reads its input
+/// files (an imported mesh, a wind table); an unreadable one is an error naming it.
 pub fn digest(s: &Scenario) -> Result<String, AppError> {
     let mut h = Fnv1a64::new();
     h.bytes(STREAM_VERSION);
     let mut text = s.clone();
     // Files are identified by their contents, not by where they are.
     text.canopy.mesh_file = None;
+    if let Some(w) = text.wind.as_mut() {
+        w.file = None;
+    }
     h.part("scenario", text.to_toml().as_bytes());
     for (key, path) in s.input_files() {
         let bytes = std::fs::read(&path).map_err(|e| AppError::io(&path, e))?;
