@@ -8,6 +8,7 @@ mod collect;
 mod dispersion;
 pub mod draw;
 mod expected;
+pub mod footprint;
 mod gathered;
 mod grid;
 pub mod inputs;
