@@ -6,6 +6,7 @@
 mod case_run;
 mod collect;
 mod dispersion;
+pub mod dispersion_out;
 pub mod draw;
 mod expected;
 pub mod footprint;
@@ -121,6 +122,8 @@ pub struct Study {
     pub cases: Vec<Case>,
     /// What the table's best case minimises (`minimise`), if anything.
     pub objective: Option<objective::Objective>,
+    /// The cases are a `[dispersion]`'s samples: the study also writes its footprint.
+    pub dispersion: bool,
 }
 
 fn input(msg: impl Into<String>) -> AppError {
@@ -284,6 +287,7 @@ impl Study {
             base: dir.join(&f.base),
             cases,
             objective,
+            dispersion: f.dispersion.is_some(),
         })
     }
 
@@ -516,10 +520,27 @@ pub fn run_study_with(
         &opts.out_dir,
         "its cases ran, but its table was not written: run it again (without --force its finished cases are skipped)",
     )?;
-    let table = table::gather(
+    let mut table = table::gather(
         std::slice::from_ref(&opts.out_dir),
         Some((study, opts.set.as_slice())),
     )?;
+    if study.dispersion {
+        let missing = dispersion_out::write(study, &opts.out_dir)?;
+        if !missing.is_empty() {
+            table.notes.push(format!(
+                "{} not written: {} of {} samples have not landed ({})",
+                dispersion_out::FOOTPRINT_JSON,
+                missing.len(),
+                study.cases.len(),
+                missing
+                    .iter()
+                    .take(10)
+                    .cloned()
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+    }
     table::write_table(&table, &opts.out_dir)?;
     drop(held);
     Ok(StudyReport { cases, table })

@@ -405,10 +405,18 @@ pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppEr
                 .is_ok_and(|j| j["written_by"] == WRITTEN_BY),
             "convergence.md" => text.starts_with("# Convergence of `") && text.ends_with(MD_MARK),
             "convergence.png" => crate::output::plots::written_by_chute(bytes, name),
+            // A dispersion's files: its per-sample table and its marked footprint.
+            "dispersion.csv" => first_line(text).starts_with("sample,"),
+            "footprint.json" => serde_json::from_str::<serde_json::Value>(text)
+                .is_ok_and(|j| j["written_by"] == super::dispersion_out::WRITTEN_BY),
             _ => false,
         }
     };
     let mut names = vec!["study.csv", "study.md"];
+    names.extend([
+        super::dispersion_out::DISPERSION_CSV,
+        super::dispersion_out::FOOTPRINT_JSON,
+    ]);
     if reports {
         names.extend(crate::converge::REPORT_FILES);
     }

@@ -8,6 +8,7 @@ mod adaptive;
 mod bench;
 mod collect;
 mod converge;
+mod dispersion;
 mod errors;
 mod full_disk;
 mod inputs;

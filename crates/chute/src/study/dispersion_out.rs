@@ -1,0 +1,166 @@
+//! The files of a dispersion study, beside its table: `dispersion.csv` (each sample's inputs
+//! and landing) and, once every sample has landed, `footprint.json` (the footprint and the
+//! inputs ranked by their share in its spread).
+
+use std::path::Path;
+
+use super::footprint::{footprint, sensitivity, Footprint, Sensitivity};
+use super::{split_override, Study};
+use crate::app::AppError;
+use crate::output::atomic::write_atomic;
+
+/// The per-sample table.
+pub const DISPERSION_CSV: &str = "dispersion.csv";
+/// The footprint's statistics.
+pub const FOOTPRINT_JSON: &str = "footprint.json";
+/// The mark of chute's `footprint.json` (a file without it is the user's).
+pub const WRITTEN_BY: &str = "chute study (dispersion)";
+/// The summary fields of a landing, as `dispersion.csv` columns.
+const LANDING: [&str; 3] = [
+    "flight_time_s",
+    "landing_velocity_mps",
+    "peak_line_tension_n",
+];
+
+/// `footprint.json`.
+#[derive(Debug, serde::Serialize)]
+struct FootprintFile<'a> {
+    written_by: &'static str,
+    study: &'a str,
+    footprint: Footprint,
+    /// How `sensitivity` ranks the inputs.
+    sensitivity_method: &'static str,
+    sensitivity: Vec<Sensitivity>,
+}
+
+/// One sample as its case directory shows it.
+struct Sample {
+    name: String,
+    inputs: Vec<(String, f64)>,
+    landing: Option<[f64; 2]>,
+    fields: Vec<String>,
+}
+
+/// The numeric inputs of a case's `set`: scalars by key, list components as `key[i]`.
+fn inputs(set: &[String]) -> Vec<(String, f64)> {
+    let mut out = Vec::new();
+    for s in set {
+        let Some([key, value]) = split_override(s) else {
+            continue;
+        };
+        if let Ok(x) = value.trim().parse::<f64>() {
+            out.push((key, x));
+        } else if let Some(list) = value
+            .trim()
+            .strip_prefix('[')
+            .and_then(|v| v.strip_suffix(']'))
+        {
+            for (i, part) in list.split(',').enumerate() {
+                if let Ok(x) = part.trim().parse::<f64>() {
+                    out.push((format!("{key}[{i}]"), x));
+                }
+            }
+        }
+    }
+    out
+}
+
+fn read_sample(out: &Path, name: &str, set: &[String]) -> Sample {
+    let summary = crate::output::atomic::read_own_string(
+        &out.join(name).join(crate::output::run_files::SUMMARY),
+    )
+    .ok()
+    .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+    .filter(|s| s["complete"] == true);
+    let number = |s: &serde_json::Value, k: &str| s.get(k).and_then(|v| v.as_f64());
+    let landing = summary.as_ref().and_then(|s| {
+        let p = s.get("landing_point_m")?;
+        Some([p.get(0)?.as_f64()?, p.get(1)?.as_f64()?])
+    });
+    let fields = LANDING
+        .iter()
+        .map(|k| {
+            let v = summary.as_ref().and_then(|s| number(s, k));
+            v.map_or(String::new(), |x| x.to_string())
+        })
+        .collect();
+    Sample {
+        name: name.to_string(),
+        inputs: inputs(set),
+        landing,
+        fields,
+    }
+}
+
+/// Write the dispersion files of `study` into `out`; the names of the samples that have not
+/// landed (no footprint is written until none is missing).
+pub fn write(study: &Study, out: &Path) -> Result<Vec<String>, AppError> {
+    let samples: Vec<Sample> = study
+        .cases
+        .iter()
+        .map(|c| read_sample(out, &c.name, &c.set))
+        .collect();
+    let keys: Vec<String> = samples
+        .first()
+        .map(|s| s.inputs.iter().map(|(k, _)| k.clone()).collect())
+        .unwrap_or_default();
+    let mut text = format!(
+        "sample,{},landing_x_m,landing_y_m,{}\n",
+        keys.join(","),
+        LANDING.join(",")
+    );
+    for s in &samples {
+        let values: Vec<String> = s.inputs.iter().map(|(_, x)| x.to_string()).collect();
+        let point = s
+            .landing
+            .map_or([String::new(), String::new()], |p| p.map(|x| x.to_string()));
+        text += &format!(
+            "{},{},{},{}\n",
+            s.name,
+            values.join(","),
+            point.join(","),
+            s.fields.join(",")
+        );
+    }
+    let csv = out.join(DISPERSION_CSV);
+    write_atomic(&csv, text.as_bytes()).map_err(|e| AppError::io(&csv, e))?;
+    let missing: Vec<String> = samples
+        .iter()
+        .filter(|s| s.landing.is_none())
+        .map(|s| s.name.clone())
+        .collect();
+    let json = out.join(FOOTPRINT_JSON);
+    if !missing.is_empty() {
+        // A footprint of some samples would not be the study's: none, rather than a stale one.
+        let _ = std::fs::remove_file(&json);
+        return Ok(missing);
+    }
+    let points: Vec<[f64; 2]> = samples.iter().filter_map(|s| s.landing).collect();
+    let columns: Vec<(String, Vec<f64>)> = keys
+        .iter()
+        .enumerate()
+        .map(|(i, k)| {
+            (
+                k.clone(),
+                samples
+                    .iter()
+                    .map(|s| s.inputs.get(i).map_or(f64::NAN, |v| v.1))
+                    .collect(),
+            )
+        })
+        .collect();
+    let Some(fp) = footprint(&points) else {
+        return Ok(missing);
+    };
+    let file = FootprintFile {
+        written_by: WRITTEN_BY,
+        study: &study.name,
+        footprint: fp,
+        sensitivity_method: "Pearson correlation with the landing's x and y, ranked by r_x² + r_y²",
+        sensitivity: sensitivity(&columns, &points),
+    };
+    let body =
+        serde_json::to_string_pretty(&file).map_err(|e| AppError::RunFailed(e.to_string()))?;
+    write_atomic(&json, body.as_bytes()).map_err(|e| AppError::io(&json, e))?;
+    Ok(missing)
+}

@@ -1,0 +1,93 @@
+//! `chute study` of a `[dispersion]`: every sample's landing in `dispersion.csv`, the footprint
+//! once all have landed, and each sample the same however the study is split.
+
+use std::path::Path;
+
+use crate::common::{bundled, chute_ok};
+
+/// Four samples of the rod canopy dropped 8 m through a drawn wind and weight (a second each).
+fn study_file(dir: &Path) -> String {
+    let text = format!(
+        "name = \"d\"\nbase = \"{}\"\n[dispersion]\nsamples = 4\nseed = 3\n\
+         [[dispersion.vary]]\nkey = \"fluid.wind_mps[0]\"\nuniform = {{ lo = 1.0, hi = 3.0 }}\n\
+         [[dispersion.vary]]\nkey = \"load.weight_n\"\n\
+         normal = {{ mean = 20.0, std_dev = 2.0, lo = 15.0, hi = 25.0 }}\n",
+        bundled("report-rod-20n.toml")
+    );
+    let path = dir.join("d.toml");
+    std::fs::write(&path, text).unwrap();
+    path.display().to_string()
+}
+
+const DROP: [&str; 6] = [
+    "--set",
+    "atmosphere.altitude_m=8",
+    "--set",
+    "atmosphere.ground_altitude_m=0",
+    "--set",
+    "time.duration_s=30",
+];
+
+/// Run the study into `dir/out`; its standard error.
+fn run(dir: &Path, out: &str, extra: &[&str]) -> String {
+    let file = study_file(dir);
+    let mut args = vec!["study", file.as_str(), "--out", out];
+    args.extend(DROP);
+    args.extend(extra);
+    String::from_utf8_lossy(&chute_ok(dir, &args).stderr).to_string()
+}
+
+/// The rows of `dispersion.csv` (header first).
+fn rows(dir: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(dir.join("dispersion.csv")).unwrap();
+    text.lines()
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn a_dispersion_writes_every_landing_and_its_footprint() {
+    let tmp = tempfile::tempdir().unwrap();
+    let _ = run(tmp.path(), "all", &["-j", "2"]);
+    let out = tmp.path().join("all");
+    let rows = rows(&out);
+    assert_eq!(rows.len(), 5, "{rows:?}");
+    let col = |name: &str| rows[0].iter().position(|h| h == name).unwrap();
+    let xs: Vec<f64> = rows[1..]
+        .iter()
+        .map(|r| r[col("landing_x_m")].parse().unwrap())
+        .collect();
+    let fp: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("footprint.json")).unwrap())
+            .unwrap();
+    let mean = xs.iter().sum::<f64>() / 4.0;
+    assert!(
+        (fp["footprint"]["mean_m"][0].as_f64().unwrap() - mean).abs() < 1e-12,
+        "{fp}"
+    );
+    assert_eq!(fp["footprint"]["samples"], 4);
+    // Every sample landed, with its drawn weight in the case's scenario.
+    for r in &rows[1..] {
+        let w: f64 = r[col("load.weight_n")].parse().unwrap();
+        assert!((15.0..=25.0).contains(&w));
+        assert!(r[col("flight_time_s")].parse::<f64>().unwrap() > 1.0);
+    }
+    // Run again: its own files are recognised, the cases skipped, the files the same.
+    let before = std::fs::read(out.join("footprint.json")).unwrap();
+    let _ = run(tmp.path(), "all", &[]);
+    assert_eq!(std::fs::read(out.join("footprint.json")).unwrap(), before);
+}
+
+#[test]
+fn a_sample_is_the_same_whether_the_study_runs_whole_or_in_shards() {
+    let tmp = tempfile::tempdir().unwrap();
+    let _ = run(tmp.path(), "whole", &["-j", "1"]);
+    // Half the shards: the other samples are missing, so no footprint yet.
+    let said = run(tmp.path(), "shards", &["--shard", "0/2"]);
+    let half = tmp.path().join("shards");
+    assert!(!half.join("footprint.json").exists());
+    assert!(said.contains("2 of 4 samples have not landed"), "{said}");
+    let _ = run(tmp.path(), "shards", &["--shard", "1/2"]);
+    assert_eq!(rows(&tmp.path().join("whole")), rows(&half));
+    assert!(half.join("footprint.json").exists());
+}
