@@ -28,12 +28,12 @@ pub const SHAPE_PNG: &str = "shape.png";
 /// Name of the final membrane-state picture of a no-compression fabric.
 pub const WRINKLES_PNG: &str = "wrinkles.png";
 
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 /// Label areas and margin (pixels); also used to estimate the plotting area for equal aspect.
-const X_LABEL_AREA: u32 = 55;
-const Y_LABEL_AREA: u32 = 80;
-const MARGIN: u32 = 20;
-const CAPTION_PX: u32 = 26;
+pub(crate) const X_LABEL_AREA: u32 = 55;
+pub(crate) const Y_LABEL_AREA: u32 = 80;
+pub(crate) const MARGIN: u32 = 20;
+pub(crate) const CAPTION_PX: u32 = 26;
 
 /// Failure to produce a plot.
 #[derive(Debug, thiserror::Error)]
@@ -52,7 +52,7 @@ pub enum PlotError {
     NoData(&'static str),
 }
 
-fn de<E: std::fmt::Display>(e: E) -> PlotError {
+pub(crate) fn de<E: std::fmt::Display>(e: E) -> PlotError {
     let text = e.to_string();
     // plotters wraps the encoder's I/O error in several layers of Debug text
     // (`ImageError(IoError(Custom { …, error: "No space left on device (os error 28)" }))`):

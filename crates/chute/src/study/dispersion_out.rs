@@ -13,6 +13,8 @@ use crate::output::atomic::write_atomic;
 pub const DISPERSION_CSV: &str = "dispersion.csv";
 /// The footprint's statistics.
 pub const FOOTPRINT_JSON: &str = "footprint.json";
+/// The footprint's picture.
+pub const FOOTPRINT_PNG: &str = "footprint.png";
 /// The mark of chute's `footprint.json` (a file without it is the user's).
 pub const WRITTEN_BY: &str = "chute study (dispersion)";
 /// The summary fields of a landing, as `dispersion.csv` columns.
@@ -133,6 +135,7 @@ pub fn write(study: &Study, out: &Path) -> Result<Vec<String>, AppError> {
     if !missing.is_empty() {
         // A footprint of some samples would not be the study's: none, rather than a stale one.
         let _ = std::fs::remove_file(&json);
+        let _ = std::fs::remove_file(out.join(FOOTPRINT_PNG));
         return Ok(missing);
     }
     let points: Vec<[f64; 2]> = samples.iter().filter_map(|s| s.landing).collect();
@@ -152,6 +155,17 @@ pub fn write(study: &Study, out: &Path) -> Result<Vec<String>, AppError> {
     let Some(fp) = footprint(&points) else {
         return Ok(missing);
     };
+    // The wind arrow: the samples' mean horizontal wind when it is drawn.
+    let mean_of = |key: &str| {
+        let i = keys.iter().position(|k| k == key)?;
+        Some(samples.iter().map(|s| s.inputs[i].1).sum::<f64>() / samples.len() as f64)
+    };
+    let wind = mean_of("fluid.wind_mps[0]")
+        .zip(mean_of("fluid.wind_mps[1]"))
+        .map(|(x, y)| [x, y]);
+    let png = out.join(FOOTPRINT_PNG);
+    crate::output::footprint_plot::footprint_plot(&png, &points, &fp, wind)
+        .map_err(|e| AppError::RunFailed(format!("cannot draw {}: {e}", png.display())))?;
     let file = FootprintFile {
         written_by: WRITTEN_BY,
         study: &study.name,

@@ -407,6 +407,7 @@ pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppEr
             "convergence.png" => crate::output::plots::written_by_chute(bytes, name),
             // A dispersion's files: its per-sample table and its marked footprint.
             "dispersion.csv" => first_line(text).starts_with("sample,"),
+            "footprint.png" => crate::output::plots::written_by_chute(bytes, name),
             "footprint.json" => serde_json::from_str::<serde_json::Value>(text)
                 .is_ok_and(|j| j["written_by"] == super::dispersion_out::WRITTEN_BY),
             _ => false,
@@ -416,6 +417,7 @@ pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppEr
     names.extend([
         super::dispersion_out::DISPERSION_CSV,
         super::dispersion_out::FOOTPRINT_JSON,
+        super::dispersion_out::FOOTPRINT_PNG,
     ]);
     if reports {
         names.extend(crate::converge::REPORT_FILES);

@@ -66,6 +66,8 @@ fn a_dispersion_writes_every_landing_and_its_footprint() {
         "{fp}"
     );
     assert_eq!(fp["footprint"]["samples"], 4);
+    let png = std::fs::read(out.join("footprint.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG"), "footprint.png is a PNG");
     // Every sample landed, with its drawn weight in the case's scenario.
     for r in &rows[1..] {
         let w: f64 = r[col("load.weight_n")].parse().unwrap();
@@ -85,7 +87,7 @@ fn a_sample_is_the_same_whether_the_study_runs_whole_or_in_shards() {
     // Half the shards: the other samples are missing, so no footprint yet.
     let said = run(tmp.path(), "shards", &["--shard", "0/2"]);
     let half = tmp.path().join("shards");
-    assert!(!half.join("footprint.json").exists());
+    assert!(!half.join("footprint.json").exists() && !half.join("footprint.png").exists());
     assert!(said.contains("2 of 4 samples have not landed"), "{said}");
     let _ = run(tmp.path(), "shards", &["--shard", "1/2"]);
     assert_eq!(rows(&tmp.path().join("whole")), rows(&half));
