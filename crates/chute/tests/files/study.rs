@@ -479,7 +479,7 @@ fn study_file_errors() {
     );
     check(
         "base = \"b.toml\"\n[grid]\n\"a.b\" = [1]\n[[case]]\nname = \"x\"\n",
-        "not both",
+        "give one of",
     );
     check(
         "base = \"b.toml\"\ncases = 3\n",
