@@ -6,12 +6,18 @@ use std::path::Path;
 use crate::common::{bundled, chute_ok};
 
 /// Four samples of the rod canopy dropped 8 m through a drawn wind and weight (a second each).
+const VARY: &str =
+    "[[dispersion.vary]]\nkey = \"fluid.wind_mps[0]\"\nuniform = { lo = 1.0, hi = 3.0 }\n\
+    [[dispersion.vary]]\nkey = \"load.weight_n\"\n\
+    normal = { mean = 20.0, std_dev = 2.0, lo = 15.0, hi = 25.0 }\n";
+
 fn study_file(dir: &Path) -> String {
+    study_file_varying(dir, VARY)
+}
+
+fn study_file_varying(dir: &Path, vary: &str) -> String {
     let text = format!(
-        "name = \"d\"\nbase = \"{}\"\n[dispersion]\nsamples = 4\nseed = 3\n\
-         [[dispersion.vary]]\nkey = \"fluid.wind_mps[0]\"\nuniform = {{ lo = 1.0, hi = 3.0 }}\n\
-         [[dispersion.vary]]\nkey = \"load.weight_n\"\n\
-         normal = {{ mean = 20.0, std_dev = 2.0, lo = 15.0, hi = 25.0 }}\n",
+        "name = \"d\"\nbase = \"{}\"\n[dispersion]\nsamples = 4\nseed = 3\n{vary}",
         bundled("report-rod-20n.toml")
     );
     let path = dir.join("d.toml");
@@ -30,8 +36,11 @@ const DROP: [&str; 6] = [
 
 /// Run the study into `dir/out`; its standard error.
 fn run(dir: &Path, out: &str, extra: &[&str]) -> String {
-    let file = study_file(dir);
-    let mut args = vec!["study", file.as_str(), "--out", out];
+    run_file(dir, &study_file(dir), out, extra)
+}
+
+fn run_file(dir: &Path, file: &str, out: &str, extra: &[&str]) -> String {
+    let mut args = vec!["study", file, "--out", out];
     args.extend(DROP);
     args.extend(extra);
     String::from_utf8_lossy(&chute_ok(dir, &args).stderr).to_string()
@@ -92,4 +101,23 @@ fn a_sample_is_the_same_whether_the_study_runs_whole_or_in_shards() {
     let _ = run(tmp.path(), "shards", &["--shard", "1/2"]);
     assert_eq!(rows(&tmp.path().join("whole")), rows(&half));
     assert!(half.join("footprint.json").exists());
+}
+
+#[test]
+fn zero_spread_gives_identical_landings() {
+    let tmp = tempfile::tempdir().unwrap();
+    let vary =
+        "[[dispersion.vary]]\nkey = \"fluid.wind_mps[0]\"\nuniform = { lo = 2.0, hi = 2.0 }\n";
+    let file = study_file_varying(tmp.path(), vary);
+    let _ = run_file(tmp.path(), &file, "zero", &["-j", "2"]);
+    let rows = rows(&tmp.path().join("zero"));
+    assert_eq!(rows.len(), 5);
+    for r in &rows[2..] {
+        assert_eq!(r[1..], rows[1][1..], "{rows:?}");
+    }
+    let fp: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("zero/footprint.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(fp["footprint"]["cep90_m"], 0.0);
 }
