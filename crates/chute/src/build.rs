@@ -150,7 +150,7 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
         imperfection::apply(&mut q, &geo.canopy_nodes, s.canopy.imperfection_m)?;
     }
     Ok(Built {
-        state: State::at_rest(q),
+        state: initial_state(q, layout.n_nodes, s.initial_velocity),
         canopy_nodes: geo.canopy_nodes.clone(),
         payload_node: plan.payload_node,
         load_sites: plan.sites.clone(),
@@ -174,6 +174,16 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
             .map(|d| (crate::scenario::MESH_FILE_KEY, d.clone()))
             .collect(),
     })
+}
+
+/// The state at t = 0: positions `q`, every one of the `n_nodes` nodes at `velocity` (m/s),
+/// twists and edge angles at rest.
+fn initial_state(q: Vec<f64>, n_nodes: usize, velocity: [f64; 3]) -> State {
+    let mut state = State::at_rest(q);
+    for v in state.v[..3 * n_nodes].chunks_exact_mut(3) {
+        v.copy_from_slice(&velocity);
+    }
+    state
 }
 
 impl Built {

@@ -58,6 +58,8 @@ pub struct ModelSpec {
     pub control: Vec<Control>,
     /// Guidance by line pulls (`[guidance]`).
     pub guidance: Option<Guidance>,
+    /// Velocity of every node at t = 0 (m/s; `canopy.initial_velocity_mps`, default at rest).
+    pub initial_velocity: [f64; 3],
 }
 
 impl ModelSpec {
@@ -92,6 +94,7 @@ impl ModelSpec {
             gravity_mps2: s.fluid.gravity_mps2,
             control: s.control.clone(),
             guidance: s.guidance.clone(),
+            initial_velocity: s.canopy.initial_velocity_mps.unwrap_or([0.0; 3]),
         }
     }
 

@@ -147,9 +147,12 @@ pub fn install(
     }
     // Not a drag family: it does no work over a steady descent and observers leave it out.
     if f.added_mass == Some(true) && s.kind == ModelKind::Shell {
-        // Every run starts at rest (build.rs), the air with it.
+        // The carried air starts with the canopy (at rest, or at `initial_velocity`).
         let q = rest_q(geo, model);
-        let v = vec![0.0; q.len()];
+        let mut v = vec![0.0; q.len()];
+        for node in v[..3 * model.layout.n_nodes].chunks_exact_mut(3) {
+            node.copy_from_slice(&s.initial_velocity);
+        }
         model.add_force(AddedMass::new(&geo.triangles(), &q, &v, fluid));
     }
     // Lines: isotropic node drag with the line diameter as projected width.

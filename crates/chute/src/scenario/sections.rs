@@ -173,6 +173,12 @@ section! {
             .unit("m")
             .default_doc("0 (flat)")
             .note("shell only; magnitude ≤ 5 % of the in-plane size"),
+        /// velocity of every node (canopy, lines, payload) at t = 0, e.g. the wind at the
+        /// release height for a canopy released from a carrier drifting with the air
+        #[serde(skip_serializing_if = "Option::is_none")]
+        initial_velocity_mps: Option<[f64; 3]> = None => key()
+            .unit("m/s")
+            .default_doc("at rest"),
     }
 }
 

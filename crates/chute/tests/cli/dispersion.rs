@@ -121,3 +121,44 @@ fn zero_spread_gives_identical_landings() {
     .unwrap();
     assert_eq!(fp["footprint"]["cep90_m"], 0.0);
 }
+
+/// A canopy released with the uniform wind has no horizontal relative velocity, so drag never
+/// acts sideways and it drifts with the wind all the way down, to the solver's tolerance: a
+/// residual of ~2e-8 N (1e-9 of the weight) per step on ~2 kg over 1 000 steps of 1 ms moves
+/// the mean velocity by at most 1e-8 m/s.
+#[test]
+fn a_canopy_released_with_the_wind_drifts_with_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = bundled("report-rod-20n.toml");
+    let args = [
+        "run",
+        file.as_str(),
+        "--out",
+        "w",
+        "--set",
+        "fluid.wind_mps=[3.0, 1.0, 0.0]",
+        "--set",
+        "canopy.initial_velocity_mps=[3.0, 1.0, 0.0]",
+        "--set",
+        "time.duration_s=1",
+    ];
+    chute_ok(tmp.path(), &args);
+    let text = std::fs::read_to_string(tmp.path().join("w/timeseries.csv")).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |n: &str| head.iter().position(|h| *h == n).unwrap();
+    let (vx, vy, vz) = (col("vx_mps"), col("vy_mps"), col("vz_mps"));
+    let mut falling = false;
+    for l in lines {
+        let r: Vec<f64> = l
+            .split(',')
+            .map(|c| c.parse().unwrap_or(f64::NAN))
+            .collect();
+        assert!(
+            (r[vx] - 3.0).abs() < 1e-7 && (r[vy] - 1.0).abs() < 1e-7,
+            "{l}"
+        );
+        falling |= r[vz] < -1.0;
+    }
+    assert!(falling, "the canopy fell");
+}

@@ -121,6 +121,7 @@ fn schema_matches_the_serde_structs() {
     // The two permeability forms exclude each other: set the second one directly.
     let mut s = s;
     s.material.air_permeability_cfm = Some(1.0);
+    s.canopy.initial_velocity_mps = Some([1.0, 0.0, 0.0]);
     // A round canopy's vent and cone (with a circle only).
     s.canopy.vent_radius_m = 0.1;
     s.canopy.profile = Some(chute::scenario::CanopyProfile::Conical);
