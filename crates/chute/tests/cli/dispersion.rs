@@ -162,3 +162,40 @@ fn a_canopy_released_with_the_wind_drifts_with_it() {
     }
     assert!(falling, "the canopy fell");
 }
+
+/// Released with a uniform wind, the round canopy lands the wind times its time aloft
+/// downwind: no drag acts sideways (its still-air landing point is the origin by symmetry), so
+/// the shift is exact to the solver's tolerance (measured 4e-10 of it from 300 m).
+#[test]
+fn a_uniform_wind_shifts_the_landing_by_the_wind_times_the_time_aloft() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = bundled("drop-1000m.toml");
+    let args = [
+        "run",
+        file.as_str(),
+        "--out",
+        "u",
+        "--set",
+        "canopy.edge_length_m=0.35",
+        "--set",
+        "atmosphere.altitude_m=40",
+        "--set",
+        "fluid.wind_mps=[4.0, -3.0, 0.0]",
+        "--set",
+        "canopy.initial_velocity_mps=[4.0, -3.0, 0.0]",
+    ];
+    chute_ok(tmp.path(), &args);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("u/summary.json")).unwrap())
+            .unwrap();
+    let t = s["flight_time_s"].as_f64().unwrap();
+    let p = &s["landing_point_m"];
+    let (x, y) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+    assert!(t > 5.0, "{s}");
+    assert!((x - 4.0 * t).abs() < 1e-6 * 4.0 * t, "x {x} vs {}", 4.0 * t);
+    assert!(
+        (y + 3.0 * t).abs() < 1e-6 * 3.0 * t,
+        "y {y} vs {}",
+        -3.0 * t
+    );
+}
