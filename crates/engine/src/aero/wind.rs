@@ -2,7 +2,7 @@
 //!
 //! Drag acts on `v − U(z_e)` at each element's own height `z_e` (a node's z, a triangle's
 //! centroid), so a sheared wind adds `−(∂F/∂u)(dU/dz)(∂z_e/∂q)` to the position Jacobian
-//! ([`add_shear`]), as the density's `∂ρ/∂z` does. The profiles (docs/aero.md §Wind):
+//! (`add_shear`), as the density's `∂ρ/∂z` does. The profiles (docs/aero.md §Wind that varies with height):
 //! - uniform: [`super::Fluid::wind`] everywhere;
 //! - power law `U = U_ref (h/h_ref)^α` and logarithmic law `U = U_ref ln(h/z₀)/ln(h_ref/z₀)`
 //!   of the height `h` above the ground, with `U_ref` = [`super::Fluid::wind`] (the
