@@ -1,4 +1,4 @@
-//! `[wind]`: a wind that varies with height (docs/aero.md §Wind). Absent, the wind is
+//! `[wind]`: a wind that varies with height (docs/aero.md §Wind that varies with height). Absent, the wind is
 //! `fluid.wind_mps` at every height.
 
 use std::path::PathBuf;
