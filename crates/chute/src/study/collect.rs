@@ -60,6 +60,18 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
                 shown.join(", ")
             )));
         }
+        let mut table = table;
+        if let Some(study) = recorded_dispersion(dirs) {
+            let missing = super::dispersion_out::write_collected(&study, dirs, out)?;
+            if !missing.is_empty() {
+                table.notes.push(format!(
+                    "{} not written: {} of {} samples have not landed",
+                    super::dispersion_out::FOOTPRINT_JSON,
+                    missing.len(),
+                    study.cases.len()
+                ));
+            }
+        }
         write_table(&table, out)?;
         drop(held);
         Ok(table)
@@ -72,6 +84,25 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
         crate::app::out_dir::remove_created(out, created.as_deref());
     }
     result
+}
+
+/// The dispersion study that the first case found in `dirs` records, when it is one and its
+/// study file can still be read.
+fn recorded_dispersion(dirs: &[PathBuf]) -> Option<super::Study> {
+    let done = dirs.iter().find_map(|d| {
+        std::fs::read_dir(d)
+            .ok()?
+            .filter_map(Result::ok)
+            .find_map(|e| {
+                let text =
+                    crate::output::atomic::read_own_string(&e.path().join(DONE_FILE)).ok()?;
+                serde_json::from_str::<serde_json::Value>(&text).ok()
+            })
+    })?;
+    let file = done["recipe"]["study_file"].as_str()?;
+    super::Study::load_recorded(Path::new(file))
+        .ok()
+        .filter(|st| st.dispersion)
 }
 
 /// Whether `dir` holds a study's case: a directory with a `done.json`, or whose run records

@@ -2,7 +2,7 @@
 //! and landing) and, once every sample has landed, `footprint.json` (the footprint and the
 //! inputs ranked by their share in its spread).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::footprint::{footprint, sensitivity, Footprint, Sensitivity};
 use super::{split_override, Study};
@@ -67,13 +67,13 @@ fn inputs(set: &[String]) -> Vec<(String, f64)> {
     out
 }
 
-fn read_sample(out: &Path, name: &str, set: &[String]) -> Sample {
-    let summary = crate::output::atomic::read_own_string(
-        &out.join(name).join(crate::output::run_files::SUMMARY),
-    )
-    .ok()
-    .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-    .filter(|s| s["complete"] == true);
+fn read_sample(case_dir: Option<PathBuf>, name: &str, set: &[String]) -> Sample {
+    let summary = case_dir
+        .and_then(|d| {
+            crate::output::atomic::read_own_string(&d.join(crate::output::run_files::SUMMARY)).ok()
+        })
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .filter(|s| s["complete"] == true);
     let number = |s: &serde_json::Value, k: &str| s.get(k).and_then(|v| v.as_f64());
     let landing = summary.as_ref().and_then(|s| {
         let p = s.get("landing_point_m")?;
@@ -94,13 +94,35 @@ fn read_sample(out: &Path, name: &str, set: &[String]) -> Sample {
     }
 }
 
-/// Write the dispersion files of `study` into `out`; the names of the samples that have not
-/// landed (no footprint is written until none is missing).
+/// Write the dispersion files of `study`, whose cases are in `out`, into `out`; the names of
+/// the samples that have not landed (no footprint is written until none is missing).
 pub fn write(study: &Study, out: &Path) -> Result<Vec<String>, AppError> {
+    write_from(study, |name| Some(out.join(name)), out)
+}
+
+/// [`write`] of the cases found in `dirs` (shards collected from several directories).
+pub fn write_collected(
+    study: &Study,
+    dirs: &[PathBuf],
+    out: &Path,
+) -> Result<Vec<String>, AppError> {
+    let find = |name: &str| {
+        dirs.iter()
+            .map(|d| d.join(name))
+            .find(|c| c.join(super::DONE_FILE).is_file())
+    };
+    write_from(study, find, out)
+}
+
+fn write_from(
+    study: &Study,
+    case_dir: impl Fn(&str) -> Option<PathBuf>,
+    out: &Path,
+) -> Result<Vec<String>, AppError> {
     let samples: Vec<Sample> = study
         .cases
         .iter()
-        .map(|c| read_sample(out, &c.name, &c.set))
+        .map(|c| read_sample(case_dir(&c.name), &c.name, &c.set))
         .collect();
     let keys: Vec<String> = samples
         .first()

@@ -199,3 +199,22 @@ fn a_uniform_wind_shifts_the_landing_by_the_wind_times_the_time_aloft() {
         -3.0 * t
     );
 }
+
+/// Shards run into directories of their own and collected give the whole study's files.
+#[test]
+fn collected_shards_give_the_whole_footprint() {
+    let tmp = tempfile::tempdir().unwrap();
+    let _ = run(tmp.path(), "whole", &["-j", "2"]);
+    let _ = run(tmp.path(), "s0", &["--shard", "0/2"]);
+    let _ = run(tmp.path(), "s1", &["--shard", "1/2"]);
+    // An incomplete set names what it lacks (and `collect` says it is incomplete).
+    let partial = crate::common::chute(tmp.path(), &["collect", "s0", "--out", "c0"]);
+    let said = String::from_utf8_lossy(&partial.stderr);
+    assert!(said.contains("2 of 4 samples have not landed"), "{said}");
+    assert!(said.contains("`sample-00001` is missing"), "{said}");
+    assert!(!tmp.path().join("c0/footprint.json").exists());
+    chute_ok(tmp.path(), &["collect", "s0", "s1", "--out", "c"]);
+    let read = |d: &str, f: &str| std::fs::read(tmp.path().join(d).join(f)).unwrap();
+    assert_eq!(read("c", "dispersion.csv"), read("whole", "dispersion.csv"));
+    assert_eq!(read("c", "footprint.json"), read("whole", "footprint.json"));
+}
