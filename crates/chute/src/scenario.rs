@@ -209,7 +209,7 @@ impl Scenario {
         }
         Some(AdaptiveSettings {
             error_tolerance_m: t.error_tolerance_m.unwrap_or(DEFAULT_ERROR_TOLERANCE_M),
-            dt_min_s: t.dt_min_s.unwrap_or(t.dt_s / 1024.0),
+            dt_min_s: t.dt_min_s.unwrap_or(min_step(t.dt_s)),
             dt_max_s: t
                 .dt_max_s
                 .unwrap_or((100.0 * t.dt_s).min(self.output.frame_interval_s)),

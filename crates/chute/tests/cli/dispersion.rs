@@ -129,20 +129,13 @@ fn zero_spread_gives_identical_landings() {
 #[test]
 fn a_canopy_released_with_the_wind_drifts_with_it() {
     let tmp = tempfile::tempdir().unwrap();
-    let file = bundled("report-rod-20n.toml");
-    let args = [
-        "run",
-        file.as_str(),
-        "--out",
+    released_with_wind(
+        tmp.path(),
+        "report-rod-20n.toml",
         "w",
-        "--set",
-        "fluid.wind_mps=[3.0, 1.0, 0.0]",
-        "--set",
-        "canopy.initial_velocity_mps=[3.0, 1.0, 0.0]",
-        "--set",
-        "time.duration_s=1",
-    ];
-    chute_ok(tmp.path(), &args);
+        "[3.0, 1.0, 0.0]",
+        &["time.duration_s=1"],
+    );
     let text = std::fs::read_to_string(tmp.path().join("w/timeseries.csv")).unwrap();
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -169,22 +162,14 @@ fn a_canopy_released_with_the_wind_drifts_with_it() {
 #[test]
 fn a_uniform_wind_shifts_the_landing_by_the_wind_times_the_time_aloft() {
     let tmp = tempfile::tempdir().unwrap();
-    let file = bundled("drop-1000m.toml");
-    let args = [
-        "run",
-        file.as_str(),
-        "--out",
+    let sets = ["canopy.edge_length_m=0.35", "atmosphere.altitude_m=40"];
+    released_with_wind(
+        tmp.path(),
+        "drop-1000m.toml",
         "u",
-        "--set",
-        "canopy.edge_length_m=0.35",
-        "--set",
-        "atmosphere.altitude_m=40",
-        "--set",
-        "fluid.wind_mps=[4.0, -3.0, 0.0]",
-        "--set",
-        "canopy.initial_velocity_mps=[4.0, -3.0, 0.0]",
-    ];
-    chute_ok(tmp.path(), &args);
+        "[4.0, -3.0, 0.0]",
+        &sets,
+    );
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(tmp.path().join("u/summary.json")).unwrap())
             .unwrap();
@@ -217,4 +202,27 @@ fn collected_shards_give_the_whole_footprint() {
     let read = |d: &str, f: &str| std::fs::read(tmp.path().join(d).join(f)).unwrap();
     assert_eq!(read("c", "dispersion.csv"), read("whole", "dispersion.csv"));
     assert_eq!(read("c", "footprint.json"), read("whole", "footprint.json"));
+}
+
+/// Run the bundled `scenario` into `dir/out` in the uniform `wind`, released moving with it.
+fn released_with_wind(dir: &Path, scenario: &str, out: &str, wind: &str, sets: &[&str]) {
+    let file = bundled(scenario);
+    let (w, v) = (
+        format!("fluid.wind_mps={wind}"),
+        format!("canopy.initial_velocity_mps={wind}"),
+    );
+    let mut args = vec![
+        "run",
+        file.as_str(),
+        "--out",
+        out,
+        "--set",
+        w.as_str(),
+        "--set",
+        v.as_str(),
+    ];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    chute_ok(dir, &args);
 }
