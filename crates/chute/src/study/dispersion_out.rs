@@ -100,7 +100,7 @@ pub fn write(study: &Study, out: &Path) -> Result<Vec<String>, AppError> {
     write_from(study, |name| Some(out.join(name)), out)
 }
 
-/// [`write`] of the cases found in `dirs` (shards collected from several directories).
+/// [`write()`] of the cases found in `dirs` (shards collected from several directories).
 pub fn write_collected(
     study: &Study,
     dirs: &[PathBuf],
