@@ -149,6 +149,12 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
     if s.canopy.imperfection_m != 0.0 {
         imperfection::apply(&mut q, &geo.canopy_nodes, s.canopy.imperfection_m)?;
     }
+    // Every model term is invariant under a horizontal shift (the air varies with height
+    // only), so the release point moves the flight and nothing else.
+    for node in q[..3 * layout.n_nodes].chunks_exact_mut(3) {
+        node[0] += s.release_point[0];
+        node[1] += s.release_point[1];
+    }
     Ok(Built {
         state: initial_state(q, layout.n_nodes, s.initial_velocity),
         canopy_nodes: geo.canopy_nodes.clone(),

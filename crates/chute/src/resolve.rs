@@ -60,6 +60,8 @@ pub struct ModelSpec {
     pub guidance: Option<Guidance>,
     /// Velocity of every node at t = 0 (m/s; `canopy.initial_velocity_mps`, default at rest).
     pub initial_velocity: [f64; 3],
+    /// Horizontal position of the canopy's centre at t = 0 (m; `canopy.release_point_m`).
+    pub release_point: [f64; 2],
 }
 
 impl ModelSpec {
@@ -95,6 +97,7 @@ impl ModelSpec {
             control: s.control.clone(),
             guidance: s.guidance.clone(),
             initial_velocity: s.canopy.initial_velocity_mps.unwrap_or([0.0; 3]),
+            release_point: s.canopy.release_point_m.unwrap_or([0.0; 2]),
         }
     }
 

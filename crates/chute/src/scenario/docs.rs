@@ -105,7 +105,8 @@ fn allowed(sections: &[Section], k: &super::keys::KeyDecl) -> String {
             .collect::<Vec<_>>()
             .join(", "),
         Kind::Bool => "`true`, `false`".into(),
-        Kind::Vec3 => "three finite numbers".into(),
+        Kind::Vector(3) => "three finite numbers".into(),
+        Kind::Vector(n) => format!("{n} finite numbers"),
         Kind::CountList if m.range.is_none() => "non-negative integers".into(),
         Kind::Float if m.range.is_none() => "any finite number".into(),
         _ => String::new(),

@@ -23,8 +23,8 @@ pub enum Kind {
     Bool,
     /// One string of a fixed set.
     Choice(&'static [&'static str]),
-    /// An array of exactly three finite numbers.
-    Vec3,
+    /// An array of exactly this many finite numbers (a point or a vector).
+    Vector(usize),
     /// An array of finite numbers.
     FloatList,
     /// An array of non-negative integers.
@@ -54,8 +54,8 @@ impl KeyType for String {
 impl KeyType for std::path::PathBuf {
     const KIND: Kind = Kind::Str;
 }
-impl KeyType for [f64; 3] {
-    const KIND: Kind = Kind::Vec3;
+impl<const N: usize> KeyType for [f64; N] {
+    const KIND: Kind = Kind::Vector(N);
 }
 impl KeyType for Vec<f64> {
     const KIND: Kind = Kind::FloatList;

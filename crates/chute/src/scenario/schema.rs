@@ -427,15 +427,15 @@ fn check_value(
             .map(|_| ())
             .ok_or_else(|| wrong(path, "a boolean (true or false)", v, prov)),
         Kind::Choice(allowed) => choice(path, v, allowed, prov),
-        Kind::Vec3 => {
-            match number_array(path, v, "an array of three numbers, e.g. [0, 0, 0]", prov)? {
-                3 => Ok(()),
-                _ => Err(wrong(
-                    path,
-                    "an array of three numbers, e.g. [0, 0, 0]",
-                    v,
-                    prov,
-                )),
+        Kind::Vector(n) => {
+            let want = match n {
+                2 => "an array of two numbers, e.g. [0, 0]",
+                3 => "an array of three numbers, e.g. [0, 0, 0]",
+                _ => "an array of numbers of the key's length",
+            };
+            match number_array(path, v, want, prov)? {
+                len if len == n => Ok(()),
+                _ => Err(wrong(path, want, v, prov)),
             }
         }
         Kind::FloatList => number_array(path, v, "an array of numbers", prov).map(|_| ()),

@@ -179,6 +179,12 @@ section! {
         initial_velocity_mps: Option<[f64; 3]> = None => key()
             .unit("m/s")
             .default_doc("at rest"),
+        /// horizontal position `[x, y]` of the canopy's centre at t = 0; landing points are
+        /// measured from the same origin, so a dispersion can draw the release point
+        #[serde(skip_serializing_if = "Option::is_none")]
+        release_point_m: Option<[f64; 2]> = None => key()
+            .unit("m")
+            .default_doc("`[0, 0]`"),
     }
 }
 

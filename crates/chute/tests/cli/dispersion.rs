@@ -185,6 +185,40 @@ fn a_uniform_wind_shifts_the_landing_by_the_wind_times_the_time_aloft() {
     );
 }
 
+/// The air varies with height only, so a release point moved sideways moves the landing by
+/// the same amount (to round-off in the positions: ~1e-13 of the 10² m coordinates).
+#[test]
+fn the_release_point_moves_the_landing_by_itself() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sets = ["canopy.edge_length_m=0.35", "atmosphere.altitude_m=30"];
+    let landing = |out: &str, extra: &[&str]| {
+        released_with_wind(
+            tmp.path(),
+            "drop-wind.toml",
+            out,
+            "[3.0, 1.0, 0.0]",
+            &[&sets[..], extra].concat(),
+        );
+        let s: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(tmp.path().join(out).join("summary.json")).unwrap(),
+        )
+        .unwrap();
+        let p = &s["landing_point_m"];
+        [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()]
+    };
+    let at_origin = landing("o", &[]);
+    let moved = landing("m", &["canopy.release_point_m=[120.0, -40.0]"]);
+    assert!(at_origin[0] > 10.0, "it drifted: {at_origin:?}");
+    assert!(
+        (moved[0] - at_origin[0] - 120.0).abs() < 1e-6,
+        "{moved:?} vs {at_origin:?}"
+    );
+    assert!(
+        (moved[1] - at_origin[1] + 40.0).abs() < 1e-6,
+        "{moved:?} vs {at_origin:?}"
+    );
+}
+
 /// Shards run into directories of their own and collected give the whole study's files.
 #[test]
 fn collected_shards_give_the_whole_footprint() {
@@ -194,6 +228,11 @@ fn collected_shards_give_the_whole_footprint() {
     let _ = run(tmp.path(), "s1", &["--shard", "1/2"]);
     // An incomplete set names what it lacks (and `collect` says it is incomplete).
     let partial = crate::common::chute(tmp.path(), &["collect", "s0", "--out", "c0"]);
+    assert_eq!(
+        partial.status.code(),
+        Some(3),
+        "an incomplete set is refused"
+    );
     let said = String::from_utf8_lossy(&partial.stderr);
     assert!(said.contains("2 of 4 samples have not landed"), "{said}");
     assert!(said.contains("`sample-00001` is missing"), "{said}");
