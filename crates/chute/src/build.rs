@@ -33,6 +33,8 @@ pub struct Built {
     pub flat_drag_area_m2: f64,
     /// Flat (planform) area of the canopy S₀ (m²).
     pub planform_area_m2: f64,
+    /// Horizontal position of the canopy's centre at t = 0 (m; `canopy.release_point_m`).
+    pub release_point_m: [f64; 2],
     /// Reference length for the Reynolds number (m): the canopy's largest dimension.
     pub reference_length_m: f64,
     /// Derived quantities for `chute check` (name, value with units).
@@ -170,6 +172,7 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
         canopy_weight_n,
         flat_drag_area_m2: drag.flat_cd_area,
         planform_area_m2: geo.planform_area,
+        release_point_m: s.release_point,
         reference_length_m: geo.reference_length,
         derived: Vec::new(),
         lines,

@@ -96,7 +96,7 @@ impl ModelSpec {
             gravity_mps2: s.fluid.gravity_mps2,
             control: s.control.clone(),
             guidance: s.guidance.clone(),
-            initial_velocity: s.canopy.initial_velocity_mps.unwrap_or([0.0; 3]),
+            initial_velocity: initial_velocity(s),
             release_point: s.canopy.release_point_m.unwrap_or([0.0; 2]),
         }
     }
@@ -104,6 +104,15 @@ impl ModelSpec {
     /// Whether the lines get rest-length schedules (pulls or guidance).
     pub fn pulled(&self) -> bool {
         !self.control.is_empty() || self.guidance.is_some()
+    }
+}
+
+/// Every node's velocity at t = 0: `canopy.initial_velocity_mps`, or the wind at the
+/// canopy's start height (model z = 0) when `canopy.released_with_wind`, or rest.
+fn initial_velocity(s: &Scenario) -> [f64; 3] {
+    match (s.canopy.released_with_wind, s.canopy.initial_velocity_mps) {
+        (true, _) => air(s).wind_at(0.0).velocity,
+        (false, v) => v.unwrap_or([0.0; 3]),
     }
 }
 

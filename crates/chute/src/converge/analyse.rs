@@ -21,7 +21,7 @@ pub struct Quantity {
     /// Relative error per unit of relative unbalanced force ε_F (docs/convergence.md):
     /// v_t ∝ W^½ gives ½, C_D·A ∝ W/v² gives 1, a linear response of the shape to its
     /// loads gives 1, and the ±2 % band crossing moves by T δv/(0.02 |v_t|) ≤ 25 ε_F t;
-    /// a landing at terminal speed gives ½ for its speed and ½ for the flight time H/|v|.
+    /// a landing at terminal speed gives ½ for its speed and ½ for the flight time H/|v| and the drift ∫U dt.
     pub sensitivity: f64,
     /// Only reported when some level has it: the drop quantities of a run with a ground.
     pub optional: bool,
@@ -62,6 +62,12 @@ pub const QUANTITIES: &[Quantity] = &[
     Quantity {
         name: "flight_time_s",
         label: "flight time (s)",
+        sensitivity: 0.5,
+        optional: true,
+    },
+    Quantity {
+        name: "drift_m",
+        label: "drift (m)",
         sensitivity: 0.5,
         optional: true,
     },

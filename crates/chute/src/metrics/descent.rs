@@ -56,6 +56,8 @@ pub struct RecoveryParams {
     pub gravity_mps2: f64,
     /// Whether the load hangs on lines (payload loads are reported).
     pub payload: bool,
+    /// Horizontal position of the canopy's centre at t = 0 (m).
+    pub release_point_m: [f64; 2],
 }
 
 /// The recovery fields of `summary.json` (null when not defined).
@@ -90,6 +92,8 @@ pub struct Recovery {
     pub flight_time_s: Option<f64>,
     /// [x, y] of touchdown (m).
     pub landing_point_m: Option<[f64; 2]>,
+    /// Horizontal distance from the release point to the touchdown (m).
+    pub drift_m: Option<f64>,
     /// Distance from the touchdown to `guidance.target_m` (m); null without guidance or
     /// landing.
     pub landing_miss_m: Option<f64>,
@@ -174,6 +178,10 @@ pub fn compute(
         landing_velocity_mps: landing.map(|l| l.velocity_mps),
         flight_time_s: landing.map(|l| l.flight_time_s),
         landing_point_m: landing.map(|l| l.point_m),
+        drift_m: landing.map(|l| {
+            let r = p.release_point_m;
+            (l.point_m[0] - r[0]).hypot(l.point_m[1] - r[1])
+        }),
         ..Default::default()
     };
     if n == 0 {

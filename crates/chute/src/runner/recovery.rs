@@ -25,5 +25,6 @@ pub(super) fn params(b: &Built, cfg: &RunConfig) -> RecoveryParams {
         altitude_m: cfg.altitude_m,
         gravity_mps2: cfg.gravity_mps2,
         payload: b.payload_node.is_some(),
+        release_point_m: b.release_point_m,
     }
 }

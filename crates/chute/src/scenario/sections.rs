@@ -179,6 +179,11 @@ section! {
         initial_velocity_mps: Option<[f64; 3]> = None => key()
             .unit("m/s")
             .default_doc("at rest"),
+        /// every node starts with the wind at the canopy's height (a canopy released from a
+        /// carrier drifting with the air), however the wind is drawn or profiled
+        #[serde(skip_serializing_if = "is_false")]
+        released_with_wind: bool = false => key()
+            .note("not with `initial_velocity_mps`"),
         /// horizontal position `[x, y]` of the canopy's centre at t = 0; landing points are
         /// measured from the same origin, so a dispersion can draw the release point
         #[serde(skip_serializing_if = "Option::is_none")]
@@ -198,6 +203,11 @@ choice! {
         /// A hemisphere.
         Hemispherical = "hemispherical",
     }
+}
+
+/// An unset switch is left out of the resolved scenario (it stays as before the key existed).
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 /// A zero amplitude is left out of the resolved scenario (it stays as before the key existed).

@@ -235,6 +235,13 @@ fn in_plane_size(s: &Scenario) -> Option<(f64, &'static str, f64)> {
 
 fn canopy(c: &mut Checker, s: &Scenario) {
     let cn = &s.canopy;
+    if let (true, Some(v)) = (cn.released_with_wind, cn.initial_velocity_mps) {
+        c.fail(
+            "canopy.released_with_wind",
+            "true",
+            format!("gives the start velocity, which canopy.initial_velocity_mps = {v:?} gives too: set one"),
+        );
+    }
     if s.model.kind == ModelKind::Rod && cn.shape != CanopyShape::Rectangle {
         c.choice(
             "canopy.shape",

@@ -97,6 +97,7 @@ fn rod_ladder_is_round_off_at_the_analytic_speed() {
     // No ground, no drop quantities.
     assert!(st["quantities"]["landing_velocity_mps"].is_null());
     assert!(st["quantities"]["flight_time_s"].is_null());
+    assert!(st["quantities"]["drift_m"].is_null());
     for f in [
         "convergence.md",
         "convergence.png",

@@ -186,37 +186,46 @@ fn a_uniform_wind_shifts_the_landing_by_the_wind_times_the_time_aloft() {
 }
 
 /// The air varies with height only, so a release point moved sideways moves the landing by
-/// the same amount (to round-off in the positions: ~1e-13 of the 10² m coordinates).
+/// the same amount. Not to round-off: the other coordinates round differently, the fluttering
+/// fabric amplifies that, and the adaptive steps follow (measured 3e-7 of the drift, 4e-7
+/// with fixed steps). Asserted to 1e-5 of the drift, 200 times below the mesh's own error
+/// in it (0.2 % from 0.35 to 0.25 m triangles, drop-wind).
 #[test]
 fn the_release_point_moves_the_landing_by_itself() {
     let tmp = tempfile::tempdir().unwrap();
     let sets = ["canopy.edge_length_m=0.35", "atmosphere.altitude_m=30"];
+    let file = bundled("drop-wind.toml");
     let landing = |out: &str, extra: &[&str]| {
-        released_with_wind(
-            tmp.path(),
-            "drop-wind.toml",
-            out,
-            "[3.0, 1.0, 0.0]",
-            &[&sets[..], extra].concat(),
-        );
+        // drop-wind starts with the air (`canopy.released_with_wind`).
+        let wind = "fluid.wind_mps=[3.0, 1.0, 0.0]";
+        let mut args = vec!["run", file.as_str(), "--out", out, "--set", wind];
+        for s in sets.iter().chain(extra) {
+            args.extend(["--set", s]);
+        }
+        chute_ok(tmp.path(), &args);
         let s: serde_json::Value = serde_json::from_str(
             &std::fs::read_to_string(tmp.path().join(out).join("summary.json")).unwrap(),
         )
         .unwrap();
         let p = &s["landing_point_m"];
-        [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()]
+        let point = [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()];
+        (point, s["drift_m"].as_f64().unwrap())
     };
-    let at_origin = landing("o", &[]);
-    let moved = landing("m", &["canopy.release_point_m=[120.0, -40.0]"]);
+    let (at_origin, drift) = landing("o", &[]);
+    let (moved, drift_moved) = landing("m", &["canopy.release_point_m=[120.0, -40.0]"]);
     assert!(at_origin[0] > 10.0, "it drifted: {at_origin:?}");
+    let tol = 1e-5 * drift;
     assert!(
-        (moved[0] - at_origin[0] - 120.0).abs() < 1e-6,
-        "{moved:?} vs {at_origin:?}"
+        (drift_moved - drift).abs() < tol,
+        "{drift_moved} vs {drift}"
     );
-    assert!(
-        (moved[1] - at_origin[1] + 40.0).abs() < 1e-6,
-        "{moved:?} vs {at_origin:?}"
-    );
+    let shifted = [moved[0] - 120.0, moved[1] + 40.0];
+    for k in 0..2 {
+        assert!(
+            (shifted[k] - at_origin[k]).abs() < tol,
+            "{moved:?} vs {at_origin:?}"
+        );
+    }
 }
 
 /// Shards run into directories of their own and collected give the whole study's files.

@@ -409,7 +409,7 @@ pub const SOLVER_FIELDS: [&str; 22] = [
 ];
 
 /// Every field documented in docs/outputs.md §summary.json.
-pub const SUMMARY_FIELDS: [&str; 52] = [
+pub const SUMMARY_FIELDS: [&str; 53] = [
     "summary_version",
     "scenario_name",
     "complete",
@@ -445,6 +445,7 @@ pub const SUMMARY_FIELDS: [&str; 52] = [
     "landing_velocity_mps",
     "flight_time_s",
     "landing_point_m",
+    "drift_m",
     "landing_miss_m",
     "steps",
     "newton_iterations",

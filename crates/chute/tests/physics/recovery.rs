@@ -97,6 +97,7 @@ fn a_drop_through_the_standard_atmosphere_lands_on_the_ground() {
     let p = j["landing_point_m"].as_array().unwrap();
     let (x, y) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
     assert!(x.abs() < 3.0 && x.abs() > 1.0 && y.abs() < 1e-12, "{j}");
+    assert_eq!(f(&j, "drift_m"), x.hypot(y), "released at the origin");
     assert_eq!(j["reached_terminal"], true, "{j}");
     let cda = f(&j, "drag_area_m2");
     assert!((cda / (1.75 * s0) - 1.0).abs() < 2e-3, "C_D·A {cda}");

@@ -123,6 +123,7 @@ fn schema_matches_the_serde_structs() {
     s.material.air_permeability_cfm = Some(1.0);
     s.canopy.initial_velocity_mps = Some([1.0, 0.0, 0.0]);
     s.canopy.release_point_m = Some([1.0, 2.0]);
+    s.canopy.released_with_wind = true;
     // A round canopy's vent and cone (with a circle only).
     s.canopy.vent_radius_m = 0.1;
     s.canopy.profile = Some(chute::scenario::CanopyProfile::Conical);

@@ -96,6 +96,12 @@ const CASES: &[Case] = &[
         Refused("no-such-mesh.obj"),
     ),
     case(
+        "canopy.released_with_wind",
+        WINDY,
+        &["canopy.initial_velocity_mps=[1.0, 0.0, 0.0]"],
+        Refused("set one"),
+    ),
+    case(
         "canopy.vent_radius_m",
         ROUND,
         &["canopy.vent_radius_m=1.4"],
