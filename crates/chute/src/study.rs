@@ -122,8 +122,9 @@ pub struct Study {
     pub cases: Vec<Case>,
     /// What the table's best case minimises (`minimise`), if anything.
     pub objective: Option<objective::Objective>,
-    /// The cases are a `[dispersion]`'s samples: the study also writes its footprint.
-    pub dispersion: bool,
+    /// The keys a `[dispersion]` draws (`key` or `key[i]`, in its order), when the cases are
+    /// its samples: the study also writes their landings and footprint.
+    pub dispersion: Option<Vec<String>>,
 }
 
 fn input(msg: impl Into<String>) -> AppError {
@@ -287,7 +288,7 @@ impl Study {
             base: dir.join(&f.base),
             cases,
             objective,
-            dispersion: f.dispersion.is_some(),
+            dispersion: f.dispersion.as_ref().map(|d| d.varied_keys()),
         })
     }
 
@@ -524,7 +525,7 @@ pub fn run_study_with(
         std::slice::from_ref(&opts.out_dir),
         Some((study, opts.set.as_slice())),
     )?;
-    if study.dispersion {
+    if study.dispersion.is_some() {
         let missing = dispersion_out::write(study, &opts.out_dir)?;
         if !missing.is_empty() {
             table.notes.push(format!(

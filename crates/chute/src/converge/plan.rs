@@ -234,7 +234,7 @@ pub fn plan(
         base: crate::study::recorded_path(scenario),
         cases: Vec::new(),
         objective: None,
-        dispersion: false,
+        dispersion: None,
     };
     // Each case's scenario with a common name, to find levels that are the same run.
     let mut seen: Vec<Scenario> = Vec::new();

@@ -102,7 +102,7 @@ fn recorded_dispersion(dirs: &[PathBuf]) -> Option<super::Study> {
     let file = done["recipe"]["study_file"].as_str()?;
     super::Study::load_recorded(Path::new(file))
         .ok()
-        .filter(|st| st.dispersion)
+        .filter(|st| st.dispersion.is_some())
 }
 
 /// Whether `dir` holds a study's case: a directory with a `done.json`, or whose run records

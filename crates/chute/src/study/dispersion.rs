@@ -15,7 +15,9 @@
 //! uniform = { lo = 2.0, hi = 6.0 }
 //! ```
 //!
-//! The other components of a vector key keep the base scenario's values.
+//! The other components of a vector key keep the base scenario's values (zeros for a vector
+//! key it leaves unset, such as `canopy.release_point_m`). `set = ["KEY=VALUE", …]` applies to
+//! every sample before its draws.
 
 use std::path::Path;
 
@@ -37,6 +39,9 @@ pub(super) struct DispersionSpec {
     seed: u64,
     #[serde(default)]
     latin_hypercube: bool,
+    /// Overrides every sample shares, before its drawn values (a coarser mesh, say).
+    #[serde(default)]
+    set: Vec<String>,
     vary: Vec<VarySpec>,
 }
 
@@ -121,7 +126,7 @@ impl DispersionSpec {
             ));
         }
         let (targets, dists) = self.inputs()?;
-        let vectors = base_vectors(base, &targets, &dists)?;
+        let vectors = base_vectors(base, &self.set, &targets, &dists)?;
         let sampler = Sampler {
             seed: self.seed,
             samples: self.samples,
@@ -134,9 +139,14 @@ impl DispersionSpec {
             .map(|(index, values)| Case {
                 index,
                 name: format!("sample-{index:05}"),
-                set: overrides(&targets, &values, &vectors),
+                set: [self.set.clone(), overrides(&targets, &values, &vectors)].concat(),
             })
             .collect())
+    }
+
+    /// The drawn keys as `dispersion.csv` names them (`key`, or `key[i]` for a component).
+    pub(super) fn varied_keys(&self) -> Vec<String> {
+        self.vary.iter().map(|v| v.key.trim().to_string()).collect()
     }
 
     /// The varied keys and their distributions, checked.
@@ -175,11 +185,14 @@ impl DispersionSpec {
 /// must then accept every varied key at the middle of its distribution.
 fn base_vectors(
     base: &Path,
+    fixed: &[String],
     targets: &[Target],
     dists: &[Distribution],
 ) -> Result<Vec<(String, Vec<toml::Value>)>, AppError> {
-    let load =
-        |set: &[String]| Scenario::load(base, set).map_err(|e| input(format!("[dispersion]: {e}")));
+    let load = |set: &[String]| {
+        Scenario::load(base, &[fixed, set].concat())
+            .map_err(|e| input(format!("[dispersion]: {e}")))
+    };
     let resolved: toml::Table =
         toml::from_str(&load(&[])?.to_toml()).map_err(|e| input(e.to_string()))?;
     let mut vectors: Vec<(String, Vec<toml::Value>)> = Vec::new();
@@ -196,7 +209,8 @@ fn base_vectors(
             .try_fold(&toml::Value::Table(resolved.clone()), |v, part| {
                 v.get(part.trim())
             })
-            .cloned();
+            .cloned()
+            .or_else(|| unset_vector(&t.key));
         let Some(toml::Value::Array(a)) = value else {
             return Err(input(format!(
                 "[dispersion]: `{}` is not a list of numbers in the base scenario, so it has no components",
@@ -215,6 +229,19 @@ fn base_vectors(
     let middle: Vec<f64> = dists.iter().map(|d| d.quantile(0.5)).collect();
     load(&overrides(targets, &middle, &vectors))?;
     Ok(vectors)
+}
+
+/// Zeros for a vector key the scenario leaves unset (its declared length).
+fn unset_vector(key: &str) -> Option<toml::Value> {
+    use crate::scenario::sections::SECTIONS;
+    let (section, name) = key.rsplit_once('.')?;
+    let decl = SECTIONS.iter().find(|s| s.name == section)?.key(name)?;
+    match decl.kind {
+        crate::scenario::keys::Kind::Vector(n) => {
+            Some(toml::Value::Array(vec![toml::Value::Float(0.0); n]))
+        }
+        _ => None,
+    }
 }
 
 /// The `--set` overrides of one sample: `key=value` for a scalar, the whole vector (the base's

@@ -43,8 +43,23 @@ struct Sample {
     fields: Vec<String>,
 }
 
-/// The numeric inputs of a case's `set`: scalars by key, list components as `key[i]`.
-fn inputs(set: &[String]) -> Vec<(String, f64)> {
+/// The drawn `keys` of a case's `set` (the last value given for each; NaN when absent).
+fn inputs(set: &[String], keys: &[String]) -> Vec<(String, f64)> {
+    let all = numbers(set);
+    keys.iter()
+        .map(|k| {
+            let x = all
+                .iter()
+                .rev()
+                .find(|(n, _)| n == k)
+                .map_or(f64::NAN, |v| v.1);
+            (k.clone(), x)
+        })
+        .collect()
+}
+
+/// The numeric values of a case's `set`: scalars by key, list components as `key[i]`.
+fn numbers(set: &[String]) -> Vec<(String, f64)> {
     let mut out = Vec::new();
     for s in set {
         let Some([key, value]) = split_override(s) else {
@@ -67,7 +82,7 @@ fn inputs(set: &[String]) -> Vec<(String, f64)> {
     out
 }
 
-fn read_sample(case_dir: Option<PathBuf>, name: &str, set: &[String]) -> Sample {
+fn read_sample(case_dir: Option<PathBuf>, name: &str, set: &[String], keys: &[String]) -> Sample {
     let summary = case_dir
         .and_then(|d| {
             crate::output::atomic::read_own_string(&d.join(crate::output::run_files::SUMMARY)).ok()
@@ -88,7 +103,7 @@ fn read_sample(case_dir: Option<PathBuf>, name: &str, set: &[String]) -> Sample 
         .collect();
     Sample {
         name: name.to_string(),
-        inputs: inputs(set),
+        inputs: inputs(set, keys),
         landing,
         fields,
     }
@@ -119,15 +134,12 @@ fn write_from(
     case_dir: impl Fn(&str) -> Option<PathBuf>,
     out: &Path,
 ) -> Result<Vec<String>, AppError> {
+    let keys = study.dispersion.clone().unwrap_or_default();
     let samples: Vec<Sample> = study
         .cases
         .iter()
-        .map(|c| read_sample(case_dir(&c.name), &c.name, &c.set))
+        .map(|c| read_sample(case_dir(&c.name), &c.name, &c.set, &keys))
         .collect();
-    let keys: Vec<String> = samples
-        .first()
-        .map(|s| s.inputs.iter().map(|(k, _)| k.clone()).collect())
-        .unwrap_or_default();
     let mut text = format!(
         "sample,{},landing_x_m,landing_y_m,{}\n",
         keys.join(","),

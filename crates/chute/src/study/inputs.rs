@@ -201,7 +201,7 @@ impl<'a> Checker<'a> {
                     base: PathBuf::from(base),
                     cases: Vec::new(),
                     objective: None,
-                    dispersion: false,
+                    dispersion: None,
                 };
                 let case = Case {
                     index: 0,

@@ -87,3 +87,32 @@ fn zero_spread_gives_identical_cases() {
         .iter()
         .all(|c| c.set == vec!["load.weight_n=120.0".to_string()]));
 }
+
+/// `set` reaches every sample before its draws, and a vector key the base leaves unset starts
+/// from zeros (the release point).
+#[test]
+fn shared_overrides_and_an_unset_vector_key() {
+    let st = study(
+        "[dispersion]\nsamples = 3\nseed = 2\nset = [\"canopy.edge_length_m=0.35\"]\n\
+         [[dispersion.vary]]\nkey = \"canopy.release_point_m[1]\"\nuniform = { lo = -5.0, hi = 5.0 }\n",
+    )
+    .unwrap();
+    assert_eq!(
+        st.dispersion,
+        Some(vec!["canopy.release_point_m[1]".to_string()])
+    );
+    for c in &st.cases {
+        assert_eq!(c.set[0], "canopy.edge_length_m=0.35");
+        let s = st.scenario(c, &[]).unwrap();
+        assert_eq!(s.canopy.edge_length_m, 0.35);
+        let [x, y] = s.canopy.release_point_m.unwrap();
+        assert!(x == 0.0 && (-5.0..=5.0).contains(&y), "{x} {y}");
+    }
+    // A shared override the base refuses is the dispersion's error, naming the key.
+    let bad = study(
+        "[dispersion]\nsamples = 3\nseed = 2\nset = [\"canopy.edge_length_m=-1\"]\n\
+         [[dispersion.vary]]\nkey = \"load.weight_n\"\nuniform = { lo = 90.0, hi = 110.0 }\n",
+    )
+    .unwrap_err();
+    assert!(bad.contains("canopy.edge_length_m"), "{bad}");
+}
