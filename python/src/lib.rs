@@ -18,7 +18,7 @@ use pyo3::prelude::*;
 
 use chute::api::Scenario;
 use chute::api::{self, RunOptions, Watch};
-use chute::api::{CaseStatus, StudyOptions};
+use chute::api::{CaseStatus, Shard, StudyOptions};
 pub use convert::{RunError, ScenarioError};
 
 /// Run scenario `path` with overrides `set` (`KEY=VALUE` texts) into the existing or new
@@ -87,9 +87,11 @@ fn run(
 /// in case order, status one of `complete`, `incomplete`, `failed`, `skipped` (complete
 /// from an earlier invocation). `progress(finished, to_run)` is called about ten times a
 /// second with the number of cases that have ended and of those to run (not skipped).
-/// Signals stop every running case gracefully (see `run`).
+/// Signals stop every running case gracefully (see `run`). `shard = (i, n)` runs only the cases
+/// whose index is `i` modulo `n`, as `chute study --shard i/n`.
 #[pyfunction]
-#[pyo3(signature = (path, out, jobs=None, set=Vec::new(), force=false, progress=None))]
+#[pyo3(signature = (path, out, jobs=None, set=Vec::new(), force=false, progress=None, shard=None))]
+#[allow(clippy::too_many_arguments)]
 fn study(
     py: Python<'_>,
     path: PathBuf,
@@ -98,19 +100,30 @@ fn study(
     set: Vec<String>,
     force: bool,
     progress: Option<Bound<'_, PyAny>>,
+    shard: Option<(usize, usize)>,
 ) -> PyResult<Vec<(String, String, Option<String>)>> {
     let st = api::load_study(&path).map_err(convert::app_err)?;
     if jobs == Some(0) {
         return Err(ScenarioError::new_err("jobs must be at least 1"));
     }
+    let shard = match shard {
+        Some((index, count)) if index < count => Some(Shard { index, count }),
+        Some((i, n)) => {
+            return Err(ScenarioError::new_err(format!(
+                "shard ({i}, {n}): give 0 ≤ i < n"
+            )))
+        }
+        None => None,
+    };
+    let mine = |c: &api::Case| shard.is_none_or(|s| c.index % s.count == s.index);
     let to_run = (st.cases.iter())
-        .filter(|c| force || !api::case_is_current(&st, c, &set, &out))
+        .filter(|c| mine(c) && (force || !api::case_is_current(&st, c, &set, &out)))
         .count();
     let opts = StudyOptions {
         out_dir: out,
         jobs,
         set,
-        shard: None,
+        shard,
         force,
         verbose: false,
     };
@@ -146,6 +159,29 @@ fn study(
             (name, word.to_string(), message)
         })
         .collect())
+}
+
+/// The case names of study file `path`, in order, every case validated with the study-wide
+/// overrides `set` first (as `study` does before it runs any).
+#[pyfunction]
+#[pyo3(signature = (path, set=Vec::new()))]
+fn study_cases(path: PathBuf, set: Vec<String>) -> PyResult<Vec<String>> {
+    let st = api::load_study(&path).map_err(convert::app_err)?;
+    for c in &st.cases {
+        st.scenario(c, &set).map_err(convert::app_err)?;
+    }
+    Ok(st.cases.into_iter().map(|c| c.name).collect())
+}
+
+/// `chute collect DIRS --out OUT`: the study table (and a dispersion's files) of the cases
+/// found in `dirs`. Returns the warnings of cases that are not complete (empty when every case
+/// of the study is complete).
+#[pyfunction]
+fn collect(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf) -> PyResult<Vec<String>> {
+    let table = py
+        .detach(|| api::collect(&dirs, &out))
+        .map_err(convert::app_err)?;
+    Ok(table.unfinished())
 }
 
 /// Run the verification suite (`chute validate`; `quick` for the short versions, `case` to
@@ -201,6 +237,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(steady, m)?)?;
     m.add_function(wrap_pyfunction!(study, m)?)?;
+    m.add_function(wrap_pyfunction!(study_cases, m)?)?;
+    m.add_function(wrap_pyfunction!(collect, m)?)?;
     m.add_function(wrap_pyfunction!(validate, m)?)?;
     m.add_function(wrap_pyfunction!(read_frames, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
