@@ -8,6 +8,7 @@
 pub mod atomic;
 pub mod console;
 pub mod control_files;
+pub mod footprint_html;
 pub mod footprint_plot;
 pub mod lock;
 pub mod mode_viewer;

@@ -15,7 +15,7 @@ use crate::study::footprint::{Ellipse, Footprint};
 const SIZE: (u32, u32) = (900, 900);
 
 /// Points of the ellipse `e` about `centre` (a closed polygon).
-fn outline(e: &Ellipse, centre: [f64; 2]) -> Vec<(f64, f64)> {
+pub(crate) fn outline(e: &Ellipse, centre: [f64; 2]) -> Vec<(f64, f64)> {
     let th = e.angle_deg.to_radians();
     (0..=72)
         .map(|k| {

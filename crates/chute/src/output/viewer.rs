@@ -298,7 +298,8 @@ fn fill(template: &str, slots: &[(&str, &str)]) -> String {
     }
 }
 
-fn html_escape(s: &str) -> String {
+/// `s` safe as HTML text and attribute values.
+pub(crate) fn html_escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

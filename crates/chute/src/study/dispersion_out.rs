@@ -4,10 +4,15 @@
 
 use std::path::{Path, PathBuf};
 
-use super::footprint::{footprint, sensitivity, Footprint, Sensitivity};
+use super::footprint::{footprint, sensitivity, settling, Footprint, Sensitivity, Settling};
 use super::{split_override, Study};
 use crate::app::AppError;
 use crate::output::atomic::write_atomic;
+
+/// The last line of chute's `footprint.html` (a page without it is the user's).
+pub fn html_mark() -> String {
+    format!("<!-- written by {WRITTEN_BY} -->\n")
+}
 
 /// The per-sample table.
 pub const DISPERSION_CSV: &str = "dispersion.csv";
@@ -15,6 +20,8 @@ pub const DISPERSION_CSV: &str = "dispersion.csv";
 pub const FOOTPRINT_JSON: &str = "footprint.json";
 /// The footprint's picture.
 pub const FOOTPRINT_PNG: &str = "footprint.png";
+/// The footprint as a page for a browser.
+pub const FOOTPRINT_HTML: &str = "footprint.html";
 /// The mark of chute's `footprint.json` (a file without it is the user's).
 pub const WRITTEN_BY: &str = "chute study (dispersion)";
 /// The summary fields of a landing, as `dispersion.csv` columns.
@@ -30,6 +37,8 @@ struct FootprintFile<'a> {
     written_by: &'static str,
     study: &'a str,
     footprint: Footprint,
+    /// The footprint of the first N/4, N/2 and N samples.
+    settling: Vec<Settling>,
     /// How `sensitivity` ranks the inputs.
     sensitivity_method: &'static str,
     sensitivity: Vec<Sensitivity>,
@@ -168,8 +177,9 @@ fn write_from(
     let json = out.join(FOOTPRINT_JSON);
     if !missing.is_empty() {
         // A footprint of some samples would not be the study's: none, rather than a stale one.
-        let _ = std::fs::remove_file(&json);
-        let _ = std::fs::remove_file(out.join(FOOTPRINT_PNG));
+        for f in [FOOTPRINT_JSON, FOOTPRINT_PNG, FOOTPRINT_HTML] {
+            let _ = std::fs::remove_file(out.join(f));
+        }
         return Ok(missing);
     }
     let points: Vec<[f64; 2]> = samples.iter().filter_map(|s| s.landing).collect();
@@ -203,10 +213,26 @@ fn write_from(
     let file = FootprintFile {
         written_by: WRITTEN_BY,
         study: &study.name,
+        settling: settling(&points),
         footprint: fp,
         sensitivity_method: "Pearson correlation with the landing's x and y, ranked by r_x² + r_y²",
         sensitivity: sensitivity(&columns, &points),
     };
+    let landings: Vec<(String, [f64; 2])> = samples
+        .iter()
+        .filter_map(|s| Some((s.name.clone(), s.landing?)))
+        .collect();
+    let html = crate::output::footprint_html::page(&crate::output::footprint_html::Page {
+        study: &study.name,
+        landings: &landings,
+        footprint: &file.footprint,
+        settling: &file.settling,
+        sensitivity: &file.sensitivity,
+        wind,
+    });
+    let html = html + &html_mark();
+    let html_path = out.join(FOOTPRINT_HTML);
+    write_atomic(&html_path, html.as_bytes()).map_err(|e| AppError::io(&html_path, e))?;
     let body =
         serde_json::to_string_pretty(&file).map_err(|e| AppError::RunFailed(e.to_string()))?;
     write_atomic(&json, body.as_bytes()).map_err(|e| AppError::io(&json, e))?;

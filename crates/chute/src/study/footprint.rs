@@ -52,6 +52,48 @@ pub struct Sensitivity {
     pub r_y: f64,
 }
 
+/// The footprint of the first `samples` landings: how its statistics settle as N grows.
+/// Standard errors are the normal-theory ones: the mean's `√(s_xx/n)`, `√(s_yy/n)`; a 1σ
+/// semi-axis `a`'s `a/√(2(n − 1))`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Settling {
+    /// Number of landings (the first ones, in sample order).
+    pub samples: usize,
+    /// Their mean point (m).
+    pub mean_m: [f64; 2],
+    /// Standard error of the mean's x and y (m).
+    pub mean_standard_error_m: [f64; 2],
+    /// The 1σ ellipse's semi-axes, major then minor (m).
+    pub semi_axes_m: [f64; 2],
+    /// Standard error of each semi-axis (m).
+    pub semi_axes_standard_error_m: [f64; 2],
+    /// Radius about the mean holding half of these landings (m).
+    pub cep50_m: f64,
+}
+
+/// The footprints of the first N/4, N/2 and all N of `points` (those with two or more).
+pub fn settling(points: &[[f64; 2]]) -> Vec<Settling> {
+    let n = points.len();
+    let mut sizes = vec![n / 4, n / 2, n];
+    sizes.dedup();
+    sizes
+        .into_iter()
+        .filter_map(|k| {
+            let f = footprint(&points[..k])?;
+            let kf = k as f64;
+            let axes = [f.ellipses[0].semi_major_m, f.ellipses[0].semi_minor_m];
+            Some(Settling {
+                samples: k,
+                mean_m: f.mean_m,
+                mean_standard_error_m: [0, 2].map(|i| (f.covariance_m2[i] / kf).sqrt()),
+                semi_axes_m: axes,
+                semi_axes_standard_error_m: axes.map(|a| a / (2.0 * (kf - 1.0)).sqrt()),
+                cep50_m: f.cep50_m,
+            })
+        })
+        .collect()
+}
+
 /// The footprint of `points`, or `None` for fewer than two.
 pub fn footprint(points: &[[f64; 2]]) -> Option<Footprint> {
     let n = points.len();
@@ -196,6 +238,37 @@ mod tests {
         let (c50, c90) = ((2.0 * 2f64.ln()).sqrt(), (2.0 * 10f64.ln()).sqrt());
         assert!((f.cep50_m / c50 - 1.0).abs() < 0.03, "{}", f.cep50_m);
         assert!((f.cep90_m / c90 - 1.0).abs() < 0.03, "{}", f.cep90_m);
+    }
+
+    /// The settling table is the footprint of each prefix, and its standard errors shrink
+    /// as 1/√n; on normal draws each prefix's axes lie within 5 standard errors of the truth.
+    #[test]
+    fn settling_is_the_footprint_of_each_prefix() {
+        let normal = Distribution::try_normal(0.0, 1.0, f64::NEG_INFINITY, f64::INFINITY).unwrap();
+        let d = Sampler {
+            seed: 4,
+            samples: 400,
+            latin_hypercube: false,
+        }
+        .draw_all(&[normal, normal]);
+        let points: Vec<[f64; 2]> = d.iter().map(|v| [30.0 * v[0], 10.0 * v[1]]).collect();
+        let table = settling(&points);
+        assert_eq!(
+            table.iter().map(|s| s.samples).collect::<Vec<_>>(),
+            [100, 200, 400]
+        );
+        for s in &table {
+            let f = footprint(&points[..s.samples]).unwrap();
+            assert_eq!(s.mean_m, f.mean_m);
+            assert_eq!(s.cep50_m, f.cep50_m);
+            for (k, truth) in [30.0, 10.0].into_iter().enumerate() {
+                let err = (s.semi_axes_m[k] - truth).abs();
+                assert!(err < 5.0 * s.semi_axes_standard_error_m[k], "{s:?}");
+            }
+        }
+        let ratio = table[0].mean_standard_error_m[0] / table[2].mean_standard_error_m[0];
+        assert!((ratio - 2.0).abs() < 0.3, "1/√n: {ratio}");
+        assert!(settling(&points[..1]).is_empty());
     }
 
     #[test]

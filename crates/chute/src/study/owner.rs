@@ -410,6 +410,7 @@ pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppEr
             "footprint.png" => crate::output::plots::written_by_chute(bytes, name),
             "footprint.json" => serde_json::from_str::<serde_json::Value>(text)
                 .is_ok_and(|j| j["written_by"] == super::dispersion_out::WRITTEN_BY),
+            "footprint.html" => text.ends_with(&super::dispersion_out::html_mark()),
             _ => false,
         }
     };
@@ -418,6 +419,7 @@ pub(crate) fn refuse_users_tables(out: &Path, reports: bool) -> Result<(), AppEr
         super::dispersion_out::DISPERSION_CSV,
         super::dispersion_out::FOOTPRINT_JSON,
         super::dispersion_out::FOOTPRINT_PNG,
+        super::dispersion_out::FOOTPRINT_HTML,
     ]);
     if reports {
         names.extend(crate::converge::REPORT_FILES);

@@ -77,6 +77,26 @@ fn a_dispersion_writes_every_landing_and_its_footprint() {
     assert_eq!(fp["footprint"]["samples"], 4);
     let png = std::fs::read(out.join("footprint.png")).unwrap();
     assert!(png.starts_with(b"\x89PNG"), "footprint.png is a PNG");
+    // The page draws every landing and the three ellipses of footprint.json.
+    let html = std::fs::read_to_string(out.join("footprint.html")).unwrap();
+    assert_eq!(html.matches("<circle class=\"landing\"").count(), 4);
+    for (k, e) in fp["footprint"]["ellipses"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
+        let semi = e["semi_major_m"].as_f64().unwrap();
+        let path = format!("class=\"sigma-{}\" data-semi-major-m=\"{semi}\"", k + 1);
+        assert!(html.contains(&path), "no {path} in {html}");
+    }
+    // How the footprint settles with N: the last row is the whole footprint.
+    let settling = fp["settling"].as_array().unwrap();
+    assert_eq!(settling.last().unwrap()["samples"], 4);
+    assert_eq!(
+        settling.last().unwrap()["mean_m"],
+        fp["footprint"]["mean_m"]
+    );
     // Every sample landed, with its drawn weight in the case's scenario.
     for r in &rows[1..] {
         let w: f64 = r[col("load.weight_n")].parse().unwrap();
@@ -96,7 +116,9 @@ fn a_sample_is_the_same_whether_the_study_runs_whole_or_in_shards() {
     // Half the shards: the other samples are missing, so no footprint yet.
     let said = run(tmp.path(), "shards", &["--shard", "0/2"]);
     let half = tmp.path().join("shards");
-    assert!(!half.join("footprint.json").exists() && !half.join("footprint.png").exists());
+    for f in ["footprint.json", "footprint.png", "footprint.html"] {
+        assert!(!half.join(f).exists(), "{f}");
+    }
     assert!(said.contains("2 of 4 samples have not landed"), "{said}");
     let _ = run(tmp.path(), "shards", &["--shard", "1/2"]);
     assert_eq!(rows(&tmp.path().join("whole")), rows(&half));

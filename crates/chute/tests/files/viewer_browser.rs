@@ -421,3 +421,45 @@ fn modes_page_draws_the_modes_in_a_real_browser() {
         "only {changed:.3} of the canopy region differs between modes"
     );
 }
+
+/// A dispersion's `footprint.html` in a real browser: the quick bundled dispersion's page,
+/// rendered headless to a screenshot, shows its landings (blue dots) and its ellipses (the
+/// 1σ one red) in their colours, and logs nothing.
+#[test]
+fn footprint_page_draws_the_landings_in_a_real_browser() {
+    let Some(browser) = browser_or_skip() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("quick");
+    let o = crate::common::chute_command()
+        .arg("study")
+        .arg(repo().join("studies/dispersion-quick.toml"))
+        .args(["--out", &out.display().to_string(), "--jobs", "2"])
+        .output()
+        .expect("chute runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let png = dir.path().join("footprint-shot.png");
+    let load = chromium(
+        &browser,
+        &dir.path().join("profile"),
+        &format!("file://{}", out.join("footprint.html").display()),
+        &[
+            "--window-size=800,800".into(),
+            format!("--screenshot={}", png.display()),
+        ],
+    );
+    let image = Image::read(&png);
+    let near =
+        |c: [u8; 3]| fraction(&image.pixels, |p| distance(p, c) < 40) * image.pixels.len() as f64;
+    // Four dots of 3.5 px radius: about 150 pixels; the 1σ ellipse: a 2 px outline.
+    let (dots, ring) = (near([0x1f, 0x4f, 0xd1]), near([0xc8, 0x1e, 0x1e]));
+    assert!(
+        dots > 60.0,
+        "{dots} landing pixels; stderr: {}",
+        load.stderr
+    );
+    assert!(ring > 60.0, "{ring} 1σ-ellipse pixels");
+    assert!(page_console(&load.stderr).is_empty(), "{}", load.stderr);
+    let _ = load.stdout;
+}

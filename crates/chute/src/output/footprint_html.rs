@@ -1,0 +1,224 @@
+//! `footprint.html`: the footprint of `footprint.png` as a self-contained page a browser opens
+//! offline (inline SVG, no script): landings (each with its sample and point as a tooltip), the
+//! 1σ/2σ/3σ ellipses, the mean point, the release point and the wind's direction over a grid
+//! in metres, then the statistics, how they settle with N, and the sensitivity ranking.
+
+use std::fmt::Write as _;
+
+use crate::study::footprint::{Footprint, Sensitivity, Settling};
+
+/// The page's parts: the landings `(sample, [x, y])`, their footprint, how it settles with N,
+/// the inputs ranked and the mean horizontal wind (when it is drawn).
+pub struct Page<'a> {
+    /// The study's name.
+    pub study: &'a str,
+    /// Every landing with its sample's name.
+    pub landings: &'a [(String, [f64; 2])],
+    /// Their footprint.
+    pub footprint: &'a Footprint,
+    /// The footprint of the first N/4, N/2 and N landings.
+    pub settling: &'a [Settling],
+    /// The inputs ranked by their share in the spread.
+    pub sensitivity: &'a [Sensitivity],
+    /// The samples' mean wind `[x, y]` (m/s), for the arrow.
+    pub wind: Option<[f64; 2]>,
+}
+
+/// Drawing size of the square plot (CSS pixels).
+const PX: f64 = 640.0;
+
+/// A round grid step near a fifth of `span`: 1, 2 or 5 × 10^k.
+fn grid_step(span: f64) -> f64 {
+    let raw = span / 5.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag)
+}
+
+/// The square window `[x0, y0, side]` (m) around the landings, the ellipses and the origin.
+fn window(p: &Page) -> [f64; 3] {
+    let f = p.footprint;
+    let r = f.ellipses[2].semi_major_m;
+    let pts = p.landings.iter().map(|l| l.1).chain([
+        [0.0, 0.0],
+        [f.mean_m[0] - r, f.mean_m[1] - r],
+        [f.mean_m[0] + r, f.mean_m[1] + r],
+    ]);
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for q in pts {
+        lo = [lo[0].min(q[0]), lo[1].min(q[1])];
+        hi = [hi[0].max(q[0]), hi[1].max(q[1])];
+    }
+    let side = 1.1 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1.0);
+    let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    [mid[0] - side / 2.0, mid[1] - side / 2.0, side]
+}
+
+/// The SVG plot: metres in, y up (the group flips the page's downward y).
+fn svg(p: &Page) -> String {
+    let [x0, y0, side] = window(p);
+    let m = side / PX; // metres per pixel
+    let mut s = format!(
+        "<svg id=\"footprint\" width=\"{PX}\" height=\"{PX}\" viewBox=\"{x0} {} {side} {side}\" \
+         xmlns=\"http://www.w3.org/2000/svg\">\n<g transform=\"scale(1,-1)\">\n",
+        -(y0 + side)
+    );
+    let step = grid_step(side);
+    let mut g = (x0 / step).ceil() * step;
+    while g <= x0 + side {
+        let _ = writeln!(
+            s,
+            "<line class=\"grid\" x1=\"{g}\" y1=\"{y0}\" x2=\"{g}\" y2=\"{}\"/>",
+            y0 + side
+        );
+        g += step;
+    }
+    let mut g = (y0 / step).ceil() * step;
+    while g <= y0 + side {
+        let _ = writeln!(
+            s,
+            "<line class=\"grid\" x1=\"{x0}\" y1=\"{g}\" x2=\"{}\" y2=\"{g}\"/>",
+            x0 + side
+        );
+        g += step;
+    }
+    let f = p.footprint;
+    // Outlines rather than <ellipse>: a footprint along a line (a zero minor axis) is drawn
+    // too; the outer first, so that the 1σ one stays visible where they overlap.
+    for e in f.ellipses.iter().rev() {
+        let ring = super::footprint_plot::outline(e, f.mean_m);
+        let d: Vec<String> = ring.iter().map(|(x, y)| format!("{x} {y}")).collect();
+        let _ = writeln!(
+            s,
+            "<path class=\"sigma-{}\" data-semi-major-m=\"{}\" data-semi-minor-m=\"{}\" d=\"M{}Z\"/>",
+            e.sigma,
+            e.semi_major_m,
+            e.semi_minor_m,
+            d.join(" L")
+        );
+    }
+    for (name, q) in p.landings {
+        let _ = writeln!(
+            s,
+            "<circle class=\"landing\" cx=\"{}\" cy=\"{}\" r=\"{}\"><title>{}: ({:.1}, {:.1}) m</title></circle>",
+            q[0], q[1], 3.5 * m, super::viewer::html_escape(name), q[0], q[1]
+        );
+    }
+    let c = 7.0 * m;
+    let [mx, my] = f.mean_m;
+    let _ = writeln!(
+        s,
+        "<path class=\"mean\" d=\"M{} {} L{} {} M{} {} L{} {}\"><title>mean landing point</title></path>",
+        mx - c, my - c, mx + c, my + c, mx - c, my + c, mx + c, my - c
+    );
+    let _ = writeln!(
+        s,
+        "<path class=\"release\" d=\"M0 {} L{} {} L{} {} Z\"><title>release point</title></path>",
+        c, -c, -c, c, -c
+    );
+    if let Some(w) = p.wind.filter(|w| w[0].hypot(w[1]) > 0.0) {
+        let len = 0.15 * side / w[0].hypot(w[1]);
+        let _ = writeln!(
+            s,
+            "<line class=\"wind\" x1=\"0\" y1=\"0\" x2=\"{}\" y2=\"{}\"><title>wind direction</title></line>",
+            w[0] * len, w[1] * len
+        );
+    }
+    s.push_str("</g>\n");
+    // Grid labels, unflipped, along the bottom and left edges.
+    let font = 11.0 * m;
+    let mut g = (x0 / step).ceil() * step;
+    while g <= x0 + side {
+        let _ = writeln!(
+            s,
+            "<text class=\"label\" x=\"{g}\" y=\"{}\" font-size=\"{font}\">{g}</text>",
+            -y0 - 0.5 * font
+        );
+        g += step;
+    }
+    let mut g = (y0 / step).ceil() * step;
+    while g <= y0 + side {
+        let _ = writeln!(
+            s,
+            "<text class=\"label\" x=\"{}\" y=\"{}\" font-size=\"{font}\">{g}</text>",
+            x0 + 0.5 * font,
+            -g
+        );
+        g += step;
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// The statistics under the plot.
+fn tables(p: &Page) -> String {
+    let f = p.footprint;
+    let mut s = format!(
+        "<table><tr><th>samples</th><td>{}</td></tr>\n<tr><th>mean landing point (m)</th><td>({:.2}, {:.2})</td></tr>\n",
+        f.samples, f.mean_m[0], f.mean_m[1]
+    );
+    for e in &f.ellipses {
+        let _ = writeln!(
+            s,
+            "<tr><th>{}σ ellipse (m)</th><td>{:.2} × {:.2} at {:.1}°</td></tr>",
+            e.sigma, e.semi_major_m, e.semi_minor_m, e.angle_deg
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<tr><th>CEP50, CEP90 (m)</th><td>{:.2}, {:.2}</td></tr></table>",
+        f.cep50_m, f.cep90_m
+    );
+    s.push_str("<h2>With the number of samples</h2>\n<table id=\"settling\"><tr><th>N</th><th>mean (m) ± s.e.</th><th>1σ semi-axes (m) ± s.e.</th><th>CEP50 (m)</th></tr>\n");
+    for t in p.settling {
+        let _ = writeln!(
+            s,
+            "<tr><td>{}</td><td>({:.1} ± {:.1}, {:.1} ± {:.1})</td><td>{:.1} ± {:.1}, {:.1} ± {:.1}</td><td>{:.1}</td></tr>",
+            t.samples, t.mean_m[0], t.mean_standard_error_m[0], t.mean_m[1], t.mean_standard_error_m[1],
+            t.semi_axes_m[0], t.semi_axes_standard_error_m[0], t.semi_axes_m[1], t.semi_axes_standard_error_m[1], t.cep50_m
+        );
+    }
+    s.push_str("</table>\n<h2>What drives the spread</h2>\n<p>Pearson correlation of each input with the landing's x and y, ranked by r_x² + r_y².</p>\n<table id=\"sensitivity\"><tr><th>input</th><th>r_x</th><th>r_y</th></tr>\n");
+    for r in p.sensitivity {
+        let _ = writeln!(
+            s,
+            "<tr><td>{}</td><td>{:.3}</td><td>{:.3}</td></tr>",
+            super::viewer::html_escape(&r.key),
+            r.r_x,
+            r.r_y
+        );
+    }
+    s.push_str("</table>\n");
+    s
+}
+
+/// The whole page.
+pub fn page(p: &Page) -> String {
+    let title = super::viewer::html_escape(p.study);
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>{title}: landing footprint</title>\n<style>\n\
+         body {{ font-family: sans-serif; margin: 1.5em; }}\n\
+         svg {{ border: 1px solid #999; background: #fff; }}\n\
+         svg * {{ vector-effect: non-scaling-stroke; }}\n\
+         .grid {{ stroke: #ddd; stroke-width: 1; }}\n\
+         .label {{ fill: #555; font-family: sans-serif; }}\n\
+         .landing {{ fill: #1f4fd1; }}\n\
+         .sigma-1 {{ fill: none; stroke: #c81e1e; stroke-width: 2; }}\n\
+         .sigma-2 {{ fill: none; stroke: #e6781e; stroke-width: 2; }}\n\
+         .sigma-3 {{ fill: none; stroke: #c8aa28; stroke-width: 2; }}\n\
+         .mean {{ stroke: #000; stroke-width: 2; fill: none; }}\n\
+         .release {{ fill: #1a9a3a; }}\n\
+         .wind {{ stroke: #1a9a3a; stroke-width: 3; }}\n\
+         table {{ border-collapse: collapse; margin: 0.8em 0; }}\n\
+         th, td {{ border: 1px solid #ccc; padding: 0.2em 0.6em; text-align: left; }}\n\
+         </style></head><body>\n<h1>{title}: landing footprint</h1>\n\
+         <p>Landings (blue; hover for the sample), 1σ/2σ/3σ covariance ellipses (red, orange, yellow), \
+         mean point (cross), release point (green triangle) and the wind's direction (green line). \
+         Axes in metres: the scenario's x and y.</p>\n{}{}</body></html>\n",
+        svg(p),
+        tables(p)
+    )
+}
