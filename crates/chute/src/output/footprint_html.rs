@@ -57,34 +57,81 @@ fn window(p: &Page) -> [f64; 3] {
     [mid[0] - side / 2.0, mid[1] - side / 2.0, side]
 }
 
+/// The grid's ticks in `[lo, lo + side]`: whole multiples of `step` (no accumulated round-off,
+/// and 0 printed as 0, not −0).
+fn ticks(lo: f64, side: f64, step: f64) -> Vec<f64> {
+    let (k0, k1) = (
+        (lo / step).ceil() as i64,
+        ((lo + side) / step).floor() as i64,
+    );
+    (k0..=k1).map(|k| k as f64 * step + 0.0).collect()
+}
+
+/// The grid lines (in the flipped group) and their labels (outside it, so the text is upright)
+/// of the window `[x0, y0, side]`; `font` in metres.
+fn grid([x0, y0, side]: [f64; 3], font: f64) -> (String, String) {
+    let step = grid_step(side);
+    let (mut lines, mut labels) = (String::new(), String::new());
+    for g in ticks(x0, side, step) {
+        let (y1, yl) = (y0 + side, -y0 - 0.5 * font);
+        let _ = writeln!(
+            lines,
+            "<line class=\"grid\" x1=\"{g}\" y1=\"{y0}\" x2=\"{g}\" y2=\"{y1}\"/>"
+        );
+        let _ = writeln!(
+            labels,
+            "<text class=\"label\" x=\"{g}\" y=\"{yl}\" font-size=\"{font}\">{g}</text>"
+        );
+    }
+    for g in ticks(y0, side, step) {
+        let (x1, xl) = (x0 + side, x0 + 0.5 * font);
+        let _ = writeln!(
+            lines,
+            "<line class=\"grid\" x1=\"{x0}\" y1=\"{g}\" x2=\"{x1}\" y2=\"{g}\"/>"
+        );
+        let _ = writeln!(
+            labels,
+            "<text class=\"label\" x=\"{xl}\" y=\"{}\" font-size=\"{font}\">{g}</text>",
+            -g
+        );
+    }
+    (lines, labels)
+}
+
+/// The mean point's cross, the release point's triangle and the wind's direction, `c` metres
+/// across, the arrow `len` metres long.
+fn markers(p: &Page, c: f64, len: f64) -> String {
+    let [mx, my] = p.footprint.mean_m;
+    let mut s = format!(
+        "<path class=\"mean\" d=\"M{} {} L{} {} M{} {} L{} {}\"><title>mean landing point</title></path>\n",
+        mx - c, my - c, mx + c, my + c, mx - c, my + c, mx + c, my - c
+    );
+    let _ = writeln!(
+        s,
+        "<path class=\"release\" d=\"M0 {c} L{} {} L{c} {} Z\"><title>release point</title></path>",
+        -c, -c, -c
+    );
+    if let Some(w) = p.wind.filter(|w| w[0].hypot(w[1]) > 0.0) {
+        let k = len / w[0].hypot(w[1]);
+        let _ = writeln!(
+            s,
+            "<line class=\"wind\" x1=\"0\" y1=\"0\" x2=\"{}\" y2=\"{}\"><title>wind direction</title></line>",
+            w[0] * k, w[1] * k
+        );
+    }
+    s
+}
+
 /// The SVG plot: metres in, y up (the group flips the page's downward y).
 fn svg(p: &Page) -> String {
     let [x0, y0, side] = window(p);
     let m = side / PX; // metres per pixel
+    let (lines, labels) = grid([x0, y0, side], 11.0 * m);
     let mut s = format!(
         "<svg id=\"footprint\" width=\"{PX}\" height=\"{PX}\" viewBox=\"{x0} {} {side} {side}\" \
-         xmlns=\"http://www.w3.org/2000/svg\">\n<g transform=\"scale(1,-1)\">\n",
+         xmlns=\"http://www.w3.org/2000/svg\">\n<g transform=\"scale(1,-1)\">\n{lines}",
         -(y0 + side)
     );
-    let step = grid_step(side);
-    let mut g = (x0 / step).ceil() * step;
-    while g <= x0 + side {
-        let _ = writeln!(
-            s,
-            "<line class=\"grid\" x1=\"{g}\" y1=\"{y0}\" x2=\"{g}\" y2=\"{}\"/>",
-            y0 + side
-        );
-        g += step;
-    }
-    let mut g = (y0 / step).ceil() * step;
-    while g <= y0 + side {
-        let _ = writeln!(
-            s,
-            "<line class=\"grid\" x1=\"{x0}\" y1=\"{g}\" x2=\"{}\" y2=\"{g}\"/>",
-            x0 + side
-        );
-        g += step;
-    }
     let f = p.footprint;
     // Outlines rather than <ellipse>: a footprint along a line (a zero minor axis) is drawn
     // too; the outer first, so that the 1σ one stays visible where they overlap.
@@ -107,49 +154,10 @@ fn svg(p: &Page) -> String {
             q[0], q[1], 3.5 * m, super::viewer::html_escape(name), q[0], q[1]
         );
     }
-    let c = 7.0 * m;
-    let [mx, my] = f.mean_m;
-    let _ = writeln!(
-        s,
-        "<path class=\"mean\" d=\"M{} {} L{} {} M{} {} L{} {}\"><title>mean landing point</title></path>",
-        mx - c, my - c, mx + c, my + c, mx - c, my + c, mx + c, my - c
-    );
-    let _ = writeln!(
-        s,
-        "<path class=\"release\" d=\"M0 {} L{} {} L{} {} Z\"><title>release point</title></path>",
-        c, -c, -c, c, -c
-    );
-    if let Some(w) = p.wind.filter(|w| w[0].hypot(w[1]) > 0.0) {
-        let len = 0.15 * side / w[0].hypot(w[1]);
-        let _ = writeln!(
-            s,
-            "<line class=\"wind\" x1=\"0\" y1=\"0\" x2=\"{}\" y2=\"{}\"><title>wind direction</title></line>",
-            w[0] * len, w[1] * len
-        );
-    }
-    s.push_str("</g>\n");
-    // Grid labels, unflipped, along the bottom and left edges.
-    let font = 11.0 * m;
-    let mut g = (x0 / step).ceil() * step;
-    while g <= x0 + side {
-        let _ = writeln!(
-            s,
-            "<text class=\"label\" x=\"{g}\" y=\"{}\" font-size=\"{font}\">{g}</text>",
-            -y0 - 0.5 * font
-        );
-        g += step;
-    }
-    let mut g = (y0 / step).ceil() * step;
-    while g <= y0 + side {
-        let _ = writeln!(
-            s,
-            "<text class=\"label\" x=\"{}\" y=\"{}\" font-size=\"{font}\">{g}</text>",
-            x0 + 0.5 * font,
-            -g
-        );
-        g += step;
-    }
-    s.push_str("</svg>\n");
+    s += &markers(p, 7.0 * m, 0.15 * side);
+    s += "</g>\n";
+    s += &labels;
+    s += "</svg>\n";
     s
 }
 
