@@ -242,7 +242,7 @@ fn falling_cases(_quick: bool) -> CaseResult {
 /// A strip (isotropic node drag) dropped in a 5 m/s wind: the horizontal relative speed
 /// decays at a rate ≥ g/v_t ≈ 3.3 /s, so after 4 s it is e^-13 of the start; backward
 /// Euler's fixed point is exactly U∞. 0.5 % can only fail if the wind is mishandled.
-fn wind_drift(_quick: bool) -> CaseResult {
+fn wind_drift(quick: bool) -> CaseResult {
     let fluid = Fluid {
         wind: [5.0, 0.0, 0.0],
         ..Fluid::air()
@@ -250,12 +250,14 @@ fn wind_drift(_quick: bool) -> CaseResult {
     let (mut model, mut state) = falling::strip(6, 1.0, 1.0, 0.98, 0.0, &fluid);
     let series = falling::run(&mut model, &mut state, 1e-3, 4000).map_err(err)?;
     let v = series.last().ok_or("no steps")?.1;
-    Ok(vec![Check::new(
+    let mut checks = vec![Check::new(
         "wind-drift-strip",
         "horizontal velocity (m/s) after 4 s in U∞ = 5 m/s",
         5.0,
         "steady state: zero relative horizontal velocity",
         v[0],
         5e-3,
-    )])
+    )];
+    checks.extend(system::wind_landing(quick)?);
+    Ok(checks)
 }
