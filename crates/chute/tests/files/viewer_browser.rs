@@ -431,14 +431,10 @@ fn footprint_page_draws_the_landings_in_a_real_browser() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
+    let study = repo().join("studies/dispersion-quick.toml");
+    let study = study.display().to_string();
+    crate::common::chute_ok(dir.path(), &["study", &study, "--out", "quick", "-j", "2"]);
     let out = dir.path().join("quick");
-    let o = crate::common::chute_command()
-        .arg("study")
-        .arg(repo().join("studies/dispersion-quick.toml"))
-        .args(["--out", &out.display().to_string(), "--jobs", "2"])
-        .output()
-        .expect("chute runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let png = dir.path().join("footprint-shot.png");
     let load = chromium(
         &browser,
