@@ -50,6 +50,7 @@
 pub mod aero;
 pub(crate) mod assembly;
 pub mod conformance;
+pub mod contact;
 pub mod dof;
 pub mod element;
 pub mod error;

@@ -1,0 +1,22 @@
+//! Contact between the parts of a model that must not pass through each other (canopy
+//! cloth, lines): Incremental Potential Contact (Li et al., SIGGRAPH 2020; its codimensional
+//! form for cloth and rods, Li, Kaufman & Jiang, 2021).
+//!
+//! Built so far: the pieces every contact pair needs, each checked against finite
+//! differences on random configurations:
+//! - [`ad`]: exact gradients and Hessians of short formulas (second-order forward AD);
+//! - [`distance`]: point–triangle and edge–edge squared distances, the feature pair that
+//!   realises each;
+//! - [`barrier`]: the log barrier on a squared distance and one pair's energy, gradient and
+//!   (projected positive semi-definite) Hessian.
+//!
+//! Not yet built (docs/notes/contact-design-2026-12-07.md): the broad phase, the pair set's
+//! sparsity in the step solver, the continuous collision check in the line search, and the
+//! force family that puts them into a model.
+
+pub mod ad;
+pub mod barrier;
+pub mod distance;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,208 @@
+//! The contact pieces against finite differences and brute force, on random configurations.
+
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+
+use super::ad::{variables, V};
+use super::barrier::{pair, project_psd, Barrier};
+use super::distance::{edge_edge, of_pair, point_triangle, Pair};
+
+fn random_points(rng: &mut StdRng) -> [f64; 12] {
+    std::array::from_fn(|_| rng.random_range(-1.0..1.0))
+}
+
+fn points(x: &[f64; 12]) -> [V<f64>; 4] {
+    std::array::from_fn(|k| [x[3 * k], x[3 * k + 1], x[3 * k + 2]])
+}
+
+/// Central differences of the squared distance of `kind` (step 1e-6 on unit-size
+/// coordinates: truncation ~1e-12, round-off ~1e-10 relative) against the AD gradient, and
+/// of the AD gradient against the AD Hessian.
+fn check_derivatives(kind: Pair, x: &[f64; 12]) {
+    let d = of_pair(kind, &variables(x));
+    let h = 1e-6;
+    for i in 0..12 {
+        let (mut xp, mut xm) = (*x, *x);
+        xp[i] += h;
+        xm[i] -= h;
+        let fp = of_pair(kind, &variables(&xp));
+        let fm = of_pair(kind, &variables(&xm));
+        let scale = 1.0 + d.g.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+        let fd = (fp.v - fm.v) / (2.0 * h);
+        assert!(
+            (fd - d.g[i]).abs() < 1e-6 * scale,
+            "{kind:?} ∂{i}: {fd} vs {}",
+            d.g[i]
+        );
+        let hscale = 1.0 + d.h.iter().flatten().fold(0.0f64, |m, g| m.max(g.abs()));
+        for j in 0..12 {
+            let fd = (fp.g[j] - fm.g[j]) / (2.0 * h);
+            assert!(
+                (fd - d.h[i][j]).abs() < 1e-5 * hscale,
+                "{kind:?} ∂²{i}{j}: {fd} vs {}",
+                d.h[i][j]
+            );
+        }
+    }
+}
+
+#[test]
+fn every_feature_pair_has_its_exact_gradient_and_hessian() {
+    let mut rng = StdRng::seed_from_u64(7);
+    let kinds = [
+        Pair::PointPoint(0, 2),
+        Pair::PointLine(0, 1, 3),
+        Pair::PointLine(3, 0, 1),
+        Pair::PointPlane,
+        Pair::LineLine,
+    ];
+    for _ in 0..20 {
+        let x = random_points(&mut rng);
+        for kind in kinds {
+            check_derivatives(kind, &x);
+        }
+    }
+}
+
+/// The squared distance between two convex sets sampled densely (a 200 × 200 barycentric grid
+/// on a triangle, 2000 points on each edge) is at least the true one and exceeds it by at most
+/// the sampling step's share.
+#[test]
+fn the_picked_pair_is_the_true_distance() {
+    let mut rng = StdRng::seed_from_u64(11);
+    for _ in 0..30 {
+        let x = points(&random_points(&mut rng));
+        let (_, d) = point_triangle(&x);
+        let mut best = f64::MAX;
+        let n = 200;
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                let q: [f64; 3] = std::array::from_fn(|k| {
+                    x[1][k] + u * (x[2][k] - x[1][k]) + v * (x[3][k] - x[1][k])
+                });
+                best = best.min((0..3).map(|k| (x[0][k] - q[k]).powi(2)).sum());
+            }
+        }
+        assert!(
+            d <= best + 1e-12 && best.sqrt() - d.sqrt() < 2e-2,
+            "{d} vs {best}"
+        );
+        let (_, d) = edge_edge(&x);
+        let mut best = f64::MAX;
+        let m = 2000;
+        for i in 0..=m {
+            let s = i as f64 / m as f64;
+            let a: [f64; 3] = std::array::from_fn(|k| x[0][k] + s * (x[1][k] - x[0][k]));
+            // The nearest point of the second edge to `a`, exactly.
+            let e: [f64; 3] = std::array::from_fn(|k| x[3][k] - x[2][k]);
+            let t = ((0..3).map(|k| (a[k] - x[2][k]) * e[k]).sum::<f64>()
+                / (0..3).map(|k| e[k] * e[k]).sum::<f64>())
+            .clamp(0.0, 1.0);
+            best = best.min((0..3).map(|k| (a[k] - x[2][k] - t * e[k]).powi(2)).sum());
+        }
+        assert!(
+            d <= best + 1e-12 && best.sqrt() - d.sqrt() < 2e-3,
+            "{d} vs {best}"
+        );
+    }
+}
+
+#[test]
+fn a_point_over_a_face_is_measured_to_its_plane_and_beside_it_to_an_edge() {
+    let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let over = [[0.2, 0.3, 0.5], tri[0], tri[1], tri[2]];
+    assert_eq!(point_triangle(&over), (Pair::PointPlane, 0.25));
+    let beside = [[0.5, -0.4, 0.3], tri[0], tri[1], tri[2]];
+    let (kind, d) = point_triangle(&beside);
+    assert_eq!(kind, Pair::PointLine(0, 1, 2));
+    assert!((d - 0.25).abs() < 1e-15);
+    let crossing = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.5, -0.5, 0.2],
+        [0.5, 0.5, 0.2],
+    ];
+    let (kind, d) = edge_edge(&crossing);
+    assert_eq!(kind, Pair::LineLine);
+    assert!((d - 0.04).abs() < 1e-15);
+}
+
+/// b, b′, b″ against central differences; all three vanish at d̂ (C² activation); the energy
+/// grows without bound as the distance closes.
+#[test]
+fn the_barrier_is_c2_at_its_threshold_and_unbounded_at_contact() {
+    let b = Barrier {
+        d_hat: 1e-2,
+        kappa: 3.0,
+    };
+    for d in [1e-6, 1e-4, 3e-3, 9e-3] {
+        let h = 1e-7 * d;
+        let [_, b1, b2] = b.eval(d);
+        let (p, m) = (b.eval(d + h), b.eval(d - h));
+        assert!(
+            ((p[0] - m[0]) / (2.0 * h) - b1).abs() < 1e-6 * b1.abs().max(1.0),
+            "{d}"
+        );
+        assert!(
+            ((p[1] - m[1]) / (2.0 * h) - b2).abs() < 1e-5 * b2.abs().max(1.0),
+            "{d}"
+        );
+    }
+    assert_eq!(b.eval(1e-2), [0.0; 3]);
+    let near = b.eval(1e-2 * (1.0 - 1e-6));
+    assert!(near[0].abs() < 1e-15 && near[1].abs() < 1e-10 && near[2].abs() < 1e-4);
+    assert!(b.eval(1e-12)[0] > b.eval(1e-8)[0] && b.eval(1e-8)[0] > b.eval(1e-4)[0]);
+}
+
+/// A pair's gradient and Hessian against differences of its energy and gradient, and the
+/// projection: its eigenvalues are ≥ 0, and a definite matrix is left as it is.
+#[test]
+fn a_pair_has_the_derivatives_of_its_energy_and_a_definite_projection() {
+    let barrier = Barrier {
+        d_hat: 0.09,
+        kappa: 1.0,
+    };
+    let x0 = [0.2, 0.3, 0.15, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let (e, g, h) = pair(&barrier, Pair::PointPlane, &x0).expect("active at 0.15 m");
+    assert!(e > 0.0);
+    let step = 1e-7;
+    for i in 0..12 {
+        let (mut xp, mut xm) = (x0, x0);
+        xp[i] += step;
+        xm[i] -= step;
+        let (ep, gp, _) = pair(&barrier, Pair::PointPlane, &xp).unwrap();
+        let (em, gm, _) = pair(&barrier, Pair::PointPlane, &xm).unwrap();
+        assert!(
+            ((ep - em) / (2.0 * step) - g[i]).abs() < 1e-6 * (1.0 + g[i].abs()),
+            "∂{i}"
+        );
+        for j in 0..12 {
+            let fd = (gp[j] - gm[j]) / (2.0 * step);
+            assert!(
+                (fd - h[12 * i + j]).abs() < 1e-5 * (1.0 + h[12 * i + j].abs()),
+                "∂²{i}{j}"
+            );
+        }
+    }
+    let mut p = h;
+    project_psd(&mut p);
+    let eig = nalgebra::SymmetricEigen::new(nalgebra::SMatrix::<f64, 12, 12>::from_row_slice(&p));
+    assert!(eig
+        .eigenvalues
+        .iter()
+        .all(|&l| l > -1e-12 * eig.eigenvalues.amax()));
+    let mut definite = [0.0; 144];
+    for i in 0..12 {
+        definite[13 * i] = 1.0 + i as f64;
+    }
+    let before = definite;
+    project_psd(&mut definite);
+    assert_eq!(definite, before);
+    assert!(pair(&barrier, Pair::PointPlane, &{
+        let mut far = x0;
+        far[2] = 0.31;
+        far
+    })
+    .is_none());
+}
