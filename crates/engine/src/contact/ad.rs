@@ -58,7 +58,7 @@ impl<const N: usize> D2<N> {
 
     /// `f(self)` from `f`, `f'` and `f''` at `self.v`: `∇f = f' ∇x`,
     /// `∇²f = f' ∇²x + f'' ∇x ∇xᵀ`.
-    fn chain(self, f: f64, f1: f64, f2: f64) -> Self {
+    pub fn chain(self, f: f64, f1: f64, f2: f64) -> Self {
         let mut out = Self::constant(f);
         for i in 0..N {
             out.g[i] = f1 * self.g[i];

@@ -7,7 +7,7 @@
 //! square of the activation distance and κ the stiffness (N·m⁻³ here: energy per m⁴ of
 //! squared distance).
 
-use super::ad::{variables, Real};
+use super::ad::{cross, dot, sub, variables, Real, D2};
 use super::distance::{of_pair, Pair};
 
 /// The barrier's parameters.
@@ -37,21 +37,39 @@ impl Barrier {
 }
 
 /// Energy, gradient (12) and Hessian (12 × 12, row-major) of one pair on the stencil
-/// coordinates `x` (4 points): `E = b(d)`, `∇E = b′ ∇d`, `∇²E = b′ ∇²d + b″ ∇d ∇dᵀ`. `None`
-/// when the pair is inactive (`d ≥ d̂`).
-pub fn pair(barrier: &Barrier, kind: Pair, x: &[f64; 12]) -> Option<(f64, [f64; 12], [f64; 144])> {
-    let d = of_pair(kind, &variables(x));
+/// coordinates `x` (4 points): `E = m b(d)`, its derivatives exact (forward AD). `None` when
+/// the pair is inactive (`d ≥ d̂`).
+///
+/// `mollifier`: for an edge–edge pair, IPC's `εx` (§4.3; `1e-3 |ea|²|eb|²` at rest, m²·m²):
+/// `m = (2 − c/εx) c/εx` for `c = |ea × eb|² < εx`, else 1, so that the energy stays C¹ where
+/// nearly parallel edges switch between the line–line and endpoint formulas; such edges are
+/// held apart by their endpoints' pairs. `None` (point–triangle): `m = 1`.
+pub fn pair(
+    barrier: &Barrier,
+    kind: Pair,
+    x: &[f64; 12],
+    mollifier: Option<f64>,
+) -> Option<(f64, [f64; 12], [f64; 144])> {
+    let v = variables(x);
+    let d = of_pair(kind, &v);
     if d.value() >= barrier.d_hat {
         return None;
     }
     let [b, b1, b2] = barrier.eval(d.v);
-    let mut h = [0.0; 144];
-    for i in 0..12 {
-        for j in 0..12 {
-            h[12 * i + j] = b1 * d.h[i][j] + b2 * d.g[i] * d.g[j];
+    let mut e = d.chain(b, b1, b2);
+    if let Some(eps) = mollifier {
+        let n = cross(sub(v[1], v[0]), sub(v[3], v[2]));
+        let c = dot(n, n);
+        if c.v < eps {
+            let r = c * (1.0 / eps);
+            e = e * (r * (D2::constant(2.0) - r));
         }
     }
-    Some((b, d.g.map(|g| b1 * g), h))
+    let mut h = [0.0; 144];
+    for i in 0..12 {
+        h[12 * i..12 * i + 12].copy_from_slice(&e.h[i]);
+    }
+    Some((e.v, e.g, h))
 }
 
 /// Replace the symmetric 12 × 12 `h` by its nearest positive semi-definite matrix (negative

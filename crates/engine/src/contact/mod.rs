@@ -8,14 +8,16 @@
 //! - [`distance`]: point–triangle and edge–edge squared distances, the feature pair that
 //!   realises each;
 //! - [`barrier`]: the log barrier on a squared distance and one pair's energy, gradient and
-//!   (projected positive semi-definite) Hessian.
+//!   (projected positive semi-definite) Hessian;
+//! - [`broad`]: the candidate pairs within a reach (an R*-tree of grown bounding boxes).
 //!
-//! Not yet built (docs/notes/contact-design-2026-12-07.md): the broad phase, the pair set's
+//! Not yet built (docs/notes/contact-design-2026-12-07.md): the pair set's
 //! sparsity in the step solver, the continuous collision check in the line search, and the
 //! force family that puts them into a model.
 
 pub mod ad;
 pub mod barrier;
+pub mod broad;
 pub mod distance;
 
 #[cfg(test)]

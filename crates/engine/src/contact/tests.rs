@@ -164,15 +164,15 @@ fn a_pair_has_the_derivatives_of_its_energy_and_a_definite_projection() {
         kappa: 1.0,
     };
     let x0 = [0.2, 0.3, 0.15, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
-    let (e, g, h) = pair(&barrier, Pair::PointPlane, &x0).expect("active at 0.15 m");
+    let (e, g, h) = pair(&barrier, Pair::PointPlane, &x0, None).expect("active at 0.15 m");
     assert!(e > 0.0);
     let step = 1e-7;
     for i in 0..12 {
         let (mut xp, mut xm) = (x0, x0);
         xp[i] += step;
         xm[i] -= step;
-        let (ep, gp, _) = pair(&barrier, Pair::PointPlane, &xp).unwrap();
-        let (em, gm, _) = pair(&barrier, Pair::PointPlane, &xm).unwrap();
+        let (ep, gp, _) = pair(&barrier, Pair::PointPlane, &xp, None).unwrap();
+        let (em, gm, _) = pair(&barrier, Pair::PointPlane, &xm, None).unwrap();
         assert!(
             ((ep - em) / (2.0 * step) - g[i]).abs() < 1e-6 * (1.0 + g[i].abs()),
             "∂{i}"
@@ -199,10 +199,155 @@ fn a_pair_has_the_derivatives_of_its_energy_and_a_definite_projection() {
     let before = definite;
     project_psd(&mut definite);
     assert_eq!(definite, before);
-    assert!(pair(&barrier, Pair::PointPlane, &{
-        let mut far = x0;
-        far[2] = 0.31;
-        far
-    })
+    assert!(pair(
+        &barrier,
+        Pair::PointPlane,
+        &{
+            let mut far = x0;
+            far[2] = 0.31;
+            far
+        },
+        None
+    )
     .is_none());
+}
+
+/// A crumpled sheet (a 9 × 9 grid of unit cells, nodes moved randomly by up to a cell): every
+/// point–triangle and edge–edge pair closer than the reach, found by brute force over all
+/// pairs, is a candidate, and the candidates are far fewer than all pairs.
+#[test]
+fn the_broad_phase_finds_every_pair_within_reach() {
+    use super::broad::{candidates, Candidate, Surface};
+    let mut rng = StdRng::seed_from_u64(3);
+    let n = 10;
+    let id = |i: usize, j: usize| i * n + j;
+    let mut x = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            x.extend([
+                i as f64 + rng.random_range(-0.5..0.5),
+                j as f64 + rng.random_range(-0.5..0.5),
+                rng.random_range(-1.0..1.0),
+            ]);
+        }
+    }
+    let mut s = Surface::default();
+    for i in 0..n - 1 {
+        for j in 0..n - 1 {
+            s.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            s.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            s.edges
+                .extend([[id(i, j), id(i + 1, j)], [id(i, j), id(i, j + 1)]]);
+            s.edges.push([id(i, j), id(i + 1, j + 1)]);
+        }
+    }
+    s.points = (0..n * n).collect();
+    let reach = 0.3;
+    let found: std::collections::HashSet<Candidate> =
+        candidates(&s, &x, reach).into_iter().collect();
+    let at =
+        |ids: [usize; 4]| -> [V<f64>; 4] { ids.map(|k| [x[3 * k], x[3 * k + 1], x[3 * k + 2]]) };
+    let (mut close, mut all) = (0, 0);
+    for &p in &s.points {
+        for t in &s.triangles {
+            if t.contains(&p) {
+                continue;
+            }
+            all += 1;
+            let ids = [p, t[0], t[1], t[2]];
+            if point_triangle(&at(ids)).1 < reach * reach {
+                close += 1;
+                assert!(found.contains(&Candidate::PointTriangle(ids)), "{ids:?}");
+            }
+        }
+    }
+    for (i, a) in s.edges.iter().enumerate() {
+        for b in &s.edges[i + 1..] {
+            if a.iter().any(|k| b.contains(k)) {
+                continue;
+            }
+            all += 1;
+            let ids = [a[0], a[1], b[0], b[1]];
+            if edge_edge(&at(ids)).1 < reach * reach {
+                close += 1;
+                assert!(found.contains(&Candidate::EdgeEdge(ids)), "{ids:?}");
+            }
+        }
+    }
+    assert!(close > 20, "the crumple brings {close} pairs within reach");
+    assert!(
+        found.len() < all / 20,
+        "{} candidates of {all} pairs",
+        found.len()
+    );
+}
+
+/// Nearly parallel edges: the mollified energy has the derivatives of its value (FD), and it
+/// joins the unmollified one with a continuous gradient where |ea × eb|² crosses εx.
+#[test]
+fn the_edge_mollifier_is_smooth_and_exact() {
+    let barrier = Barrier {
+        d_hat: 0.04,
+        kappa: 1.0,
+    };
+    // Edge a along x; edge b 0.1 above it, turned by angle θ about z, crossing over a's middle.
+    let at = |theta: f64| -> [f64; 12] {
+        let (c, s) = (theta.cos(), theta.sin());
+        [
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            0.5 - 0.5 * c,
+            -0.5 * s,
+            0.1,
+            0.5 + 0.5 * c,
+            0.5 * s,
+            0.1,
+        ]
+    };
+    let eps = 1e-3; // |ea|² |eb|² = 1
+    let energy = |x: &[f64; 12]| pair(&barrier, Pair::LineLine, x, Some(eps)).unwrap();
+    let x0 = at(0.02); // c = sin²θ = 4e-4 < εx: mollified
+    let (_, g, h) = energy(&x0);
+    let step = 1e-7;
+    for i in 0..12 {
+        let (mut xp, mut xm) = (x0, x0);
+        xp[i] += step;
+        xm[i] -= step;
+        let ((ep, gp, _), (em, gm, _)) = (energy(&xp), energy(&xm));
+        assert!(
+            ((ep - em) / (2.0 * step) - g[i]).abs() < 1e-6 * (1.0 + g[i].abs()),
+            "∂{i}"
+        );
+        for j in 0..12 {
+            let fd = (gp[j] - gm[j]) / (2.0 * step);
+            assert!(
+                (fd - h[12 * i + j]).abs() < 1e-5 * (1.0 + h[12 * i + j].abs()),
+                "∂²{i}{j}"
+            );
+        }
+    }
+    // Across c = εx (θ = asin √εx) the energy and its gradient are continuous.
+    let theta = eps.sqrt().asin();
+    let (below, above) = (energy(&at(theta - 1e-9)), energy(&at(theta + 1e-9)));
+    assert!((below.0 - above.0).abs() < 1e-9 * above.0.abs());
+    for i in 0..12 {
+        assert!(
+            (below.1[i] - above.1[i]).abs() < 1e-6 * (1.0 + above.1[i].abs()),
+            "∂{i}"
+        );
+    }
+    // Exactly parallel (measured from an endpoint, the line–line formula being 0/0), the
+    // energy is zero: the endpoints' own pairs hold such edges apart.
+    let parallel = at(0.0);
+    let (kind, d) = edge_edge(&points(&parallel));
+    assert!(
+        kind != Pair::LineLine && (d - 0.01).abs() < 1e-15,
+        "{kind:?} {d}"
+    );
+    let (e, g, _) = pair(&barrier, kind, &parallel, Some(eps)).unwrap();
+    assert!(e == 0.0 && g.iter().all(|v| v.is_finite()));
 }

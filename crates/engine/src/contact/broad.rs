@@ -1,0 +1,81 @@
+//! The broad phase: the pairs of primitives close enough to need their exact distance. Every
+//! triangle and edge gets its bounding box, grown by `reach` (the activation distance plus a
+//! bound on the motion before the pairs are taken again), in an R*-tree (the `rstar` crate,
+//! bulk-loaded); a point–triangle pair is a candidate when the point lies in the triangle's
+//! grown box, an edge–edge pair when the two grown boxes overlap. Pairs sharing a node are
+//! left out: neighbours touch by construction, and their elastic forces keep them apart.
+
+use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{RTree, AABB};
+
+/// The contact primitives of a model, by node index.
+#[derive(Debug, Clone, Default)]
+pub struct Surface {
+    /// Triangles (the canopy's cloth).
+    pub triangles: Vec<[usize; 3]>,
+    /// Edges (the cloth's and the lines' segments).
+    pub edges: Vec<[usize; 2]>,
+    /// Points tested against the triangles (the cloth's and the lines' nodes).
+    pub points: Vec<usize>,
+}
+
+/// A candidate pair: a point–triangle stencil `[p, t0, t1, t2]` or an edge–edge stencil
+/// `[a0, a1, b0, b1]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Candidate {
+    /// Point and triangle.
+    PointTriangle([usize; 4]),
+    /// Two edges.
+    EdgeEdge([usize; 4]),
+}
+
+type Boxed = GeomWithData<Rectangle<[f64; 3]>, usize>;
+
+fn node(x: &[f64], i: usize) -> [f64; 3] {
+    [x[3 * i], x[3 * i + 1], x[3 * i + 2]]
+}
+
+/// The box of nodes `ids`, grown by `reach` on every side.
+fn grown(x: &[f64], ids: &[usize], reach: f64, index: usize) -> Boxed {
+    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+    for &i in ids {
+        let p = node(x, i);
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k] - reach);
+            hi[k] = hi[k].max(p[k] + reach);
+        }
+    }
+    GeomWithData::new(Rectangle::from_corners(lo, hi), index)
+}
+
+/// The candidate pairs of `surface` at node positions `x` (3 per node) within `reach` (m),
+/// sorted (so the pair set, and what is built from it, does not depend on the tree's order).
+pub fn candidates(surface: &Surface, x: &[f64], reach: f64) -> Vec<Candidate> {
+    let mut out = Vec::new();
+    let tris: Vec<Boxed> = (surface.triangles.iter().enumerate())
+        .map(|(i, t)| grown(x, t, reach, i))
+        .collect();
+    let tree = RTree::bulk_load(tris);
+    for &p in &surface.points {
+        let at = node(x, p);
+        for hit in tree.locate_in_envelope_intersecting(&AABB::from_point(at)) {
+            let t = surface.triangles[hit.data];
+            if !t.contains(&p) {
+                out.push(Candidate::PointTriangle([p, t[0], t[1], t[2]]));
+            }
+        }
+    }
+    let edges: Vec<Boxed> = (surface.edges.iter().enumerate())
+        .map(|(i, e)| grown(x, e, 0.5 * reach, i))
+        .collect();
+    let tree = RTree::bulk_load(edges);
+    for (a, b) in tree.intersection_candidates_with_other_tree(&tree) {
+        let (ea, eb) = (surface.edges[a.data], surface.edges[b.data]);
+        let shared = ea.iter().any(|n| eb.contains(n));
+        if a.data < b.data && !shared {
+            out.push(Candidate::EdgeEdge([ea[0], ea[1], eb[0], eb[1]]));
+        }
+    }
+    out.sort_unstable();
+    out
+}
