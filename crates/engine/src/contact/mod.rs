@@ -9,15 +9,17 @@
 //!   realises each;
 //! - [`barrier`]: the log barrier on a squared distance and one pair's energy, gradient and
 //!   (projected positive semi-definite) Hessian;
-//! - [`broad`]: the candidate pairs within a reach (an R*-tree of grown bounding boxes).
+//! - [`broad`]: the candidate pairs within a reach (an R*-tree of grown bounding boxes);
+//! - [`ccd`]: how far a pair may move along an update before it closes (additive CCD).
 //!
 //! Not yet built (docs/notes/contact-design-2026-12-07.md): the pair set's
-//! sparsity in the step solver, the continuous collision check in the line search, and the
-//! force family that puts them into a model.
+//! sparsity in the step solver, the line search's use of the CCD bound, and the force family
+//! that puts them into a model.
 
 pub mod ad;
 pub mod barrier;
 pub mod broad;
+pub mod ccd;
 pub mod distance;
 
 #[cfg(test)]

@@ -351,3 +351,48 @@ fn the_edge_mollifier_is_smooth_and_exact() {
     let (e, g, _) = pair(&barrier, kind, &parallel, Some(eps)).unwrap();
     assert!(e == 0.0 && g.iter().all(|v| v.is_finite()));
 }
+
+/// The additive CCD bound, on straight-line motions: along the path up to the returned step
+/// (sampled every 1/2000), the pair's distance never falls below the fraction s of its start;
+/// a point shot through a triangle stops short of the plane; a motion that never closes the
+/// pair gets the whole step.
+#[test]
+fn the_ccd_step_keeps_every_pair_apart() {
+    use super::ccd::{max_step, Stencil};
+    let s = 0.2;
+    let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let x = [[0.2, 0.2, 0.5], tri[0], tri[1], tri[2]];
+    let mut dx = [[0.0; 3]; 4];
+    dx[0] = [0.0, 0.0, -1.0]; // reaches the plane at t = 0.5
+    let t = max_step(Stencil::PointTriangle, &x, &dx, s, 1.0);
+    assert!(t > 0.3 && t < 0.5, "{t}");
+    assert!(
+        0.5 - t >= s * 0.5 - 1e-12,
+        "stays {} from the plane",
+        0.5 - t
+    );
+    dx[0] = [1.0, 0.0, 0.0]; // sideways: never closer than its start
+    assert_eq!(max_step(Stencil::PointTriangle, &x, &dx, s, 1.0), 1.0);
+    let mut rng = StdRng::seed_from_u64(5);
+    for case in 0..200 {
+        let x = points(&random_points(&mut rng));
+        let dx = points(&random_points(&mut rng)).map(|p| p.map(|c| 2.0 * c));
+        for kind in [Stencil::PointTriangle, Stencil::EdgeEdge] {
+            let dist = |y: &[V<f64>; 4]| match kind {
+                Stencil::PointTriangle => point_triangle(y).1.sqrt(),
+                Stencil::EdgeEdge => edge_edge(y).1.sqrt(),
+            };
+            let d0 = dist(&x);
+            let t = max_step(kind, &x, &dx, s, 1.0);
+            assert!((0.0..=1.0).contains(&t));
+            for k in 0..=2000 {
+                let tk = t * k as f64 / 2000.0;
+                let y = std::array::from_fn(|i| std::array::from_fn(|c| x[i][c] + tk * dx[i][c]));
+                assert!(
+                    dist(&y) >= s * d0 * (1.0 - 1e-9),
+                    "case {case} {kind:?} at {tk} of {t}"
+                );
+            }
+        }
+    }
+}
