@@ -10,7 +10,8 @@
 //! - [`barrier`]: the log barrier on a squared distance and one pair's energy, gradient and
 //!   (projected positive semi-definite) Hessian;
 //! - [`broad`]: the candidate pairs within a reach (an R*-tree of grown bounding boxes);
-//! - [`ccd`]: how far a pair may move along an update before it closes (additive CCD).
+//! - [`ccd`]: how far a pair may move along an update before it closes (additive CCD);
+//! - [`intersect`]: whether the mesh passes through itself (exact predicates), the invariant.
 //!
 //! Not yet built (docs/notes/contact-design-2026-12-07.md): the pair set's
 //! sparsity in the step solver, the line search's use of the CCD bound, and the force family
@@ -21,6 +22,7 @@ pub mod barrier;
 pub mod broad;
 pub mod ccd;
 pub mod distance;
+pub mod intersect;
 
 #[cfg(test)]
 mod tests;

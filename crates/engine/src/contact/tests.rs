@@ -396,3 +396,65 @@ fn the_ccd_step_keeps_every_pair_apart() {
         }
     }
 }
+
+/// Two 4 × 4 sheets, one 0.5 m above the other: apart, no crossing; one node of the upper
+/// sheet pushed 0.5 m below the lower one, its edges pierce it; a segment through the middle
+/// of a triangle, along its plane, and past its edge, decided exactly.
+#[test]
+fn a_sheet_pushed_through_another_is_a_crossing() {
+    use super::broad::Surface;
+    use super::intersect::{first_crossing, segment_crosses_triangle};
+    let n = 5;
+    let mut s = Surface::default();
+    let mut x = Vec::new();
+    for (sheet, z) in [(0, 0.0), (1, 0.5)] {
+        let id = |i: usize, j: usize| sheet * n * n + i * n + j;
+        for i in 0..n {
+            for j in 0..n {
+                x.extend([i as f64, j as f64, z]);
+            }
+        }
+        for i in 0..n - 1 {
+            for j in 0..n - 1 {
+                s.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                s.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                s.edges
+                    .extend([[id(i, j), id(i + 1, j)], [id(i, j), id(i, j + 1)]]);
+                s.edges.push([id(i, j), id(i + 1, j + 1)]);
+            }
+        }
+    }
+    assert_eq!(first_crossing(&s, &x), None);
+    let pushed = n * n + 2 * n + 2; // the upper sheet's middle node
+    x[3 * pushed + 2] = -0.5;
+    let (e, t) = first_crossing(&s, &x).expect("the pushed node's edges pierce the lower sheet");
+    // Either an edge at the pushed node through a lower triangle, or a lower edge through a
+    // triangle at the pushed node (the first in edge order).
+    let (edge, tri) = (s.edges[e], s.triangles[t]);
+    let lower = |k: &usize| *k < n * n;
+    assert!(
+        (edge.contains(&pushed) && tri.iter().all(lower))
+            || (tri.contains(&pushed) && edge.iter().all(lower)),
+        "{edge:?} {tri:?}"
+    );
+    let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    assert!(segment_crosses_triangle(
+        [0.2, 0.2, 1.0],
+        [0.2, 0.2, -1.0],
+        tri
+    ));
+    assert!(!segment_crosses_triangle(
+        [0.7, 0.7, 1.0],
+        [0.7, 0.7, -1.0],
+        tri
+    ));
+    assert!(!segment_crosses_triangle(
+        [0.1, 0.1, 0.0],
+        [0.3, 0.1, 0.0],
+        tri
+    ));
+    assert!(
+        segment_crosses_triangle([0.2, 0.2, 0.0], [0.2, 0.2, -1.0], tri),
+        "touching"
+    );
+}

@@ -1,0 +1,73 @@
+//! Whether a mesh passes through itself: the invariant contact must keep. A segment crosses a
+//! triangle when its ends lie on opposite sides of the triangle's plane (or one on it) and it
+//! passes inside all three edges, decided with Shewchuk's adaptive exact `orient3d` (the
+//! `robust` crate), so a crossing is never missed or invented by rounding. Segments and
+//! triangles that share a node are not tested (they meet at that node by construction).
+
+use robust::{orient3d, Coord3D};
+use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{RTree, AABB};
+
+use super::ad::V;
+use super::broad::Surface;
+
+fn c(p: V<f64>) -> Coord3D<f64> {
+    Coord3D {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    }
+}
+
+fn side(a: V<f64>, b: V<f64>, d: V<f64>, e: V<f64>) -> f64 {
+    orient3d(c(a), c(b), c(d), c(e))
+}
+
+/// Whether segment `p`–`q` meets triangle `a, b, c` (touching counts).
+pub fn segment_crosses_triangle(p: V<f64>, q: V<f64>, [a, b, c]: [V<f64>; 3]) -> bool {
+    let (sp, sq) = (side(a, b, c, p), side(a, b, c, q));
+    if sp * sq > 0.0 || (sp == 0.0 && sq == 0.0) {
+        // Both ends on one side, or the segment lies in the plane (a fold flat on itself is
+        // caught by its other segments, which leave the plane).
+        return false;
+    }
+    let s = [side(p, q, a, b), side(p, q, b, c), side(p, q, c, a)];
+    s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
+}
+
+fn node(x: &[f64], i: usize) -> V<f64> {
+    [x[3 * i], x[3 * i + 1], x[3 * i + 2]]
+}
+
+/// The first edge of `surface` (by index) that crosses one of its triangles at node positions
+/// `x`, with that triangle's index; `None` when the mesh is free of intersections.
+pub fn first_crossing(surface: &Surface, x: &[f64]) -> Option<(usize, usize)> {
+    let boxes: Vec<GeomWithData<Rectangle<V<f64>>, usize>> = (surface.triangles.iter())
+        .enumerate()
+        .map(|(i, t)| {
+            let [a, b, d] = t.map(|k| node(x, k));
+            let lo = std::array::from_fn(|k| a[k].min(b[k]).min(d[k]));
+            let hi = std::array::from_fn(|k| a[k].max(b[k]).max(d[k]));
+            GeomWithData::new(Rectangle::from_corners(lo, hi), i)
+        })
+        .collect();
+    let tree = RTree::bulk_load(boxes);
+    for (ei, e) in surface.edges.iter().enumerate() {
+        let (p, q) = (node(x, e[0]), node(x, e[1]));
+        let env = AABB::from_corners(p, q);
+        let mut hits: Vec<usize> = (tree.locate_in_envelope_intersecting(&env))
+            .map(|h| h.data)
+            .filter(|&ti| {
+                let t = surface.triangles[ti];
+                !t.contains(&e[0])
+                    && !t.contains(&e[1])
+                    && segment_crosses_triangle(p, q, t.map(|k| node(x, k)))
+            })
+            .collect();
+        hits.sort_unstable();
+        if let Some(&ti) = hits.first() {
+            return Some((ei, ti));
+        }
+    }
+    None
+}
