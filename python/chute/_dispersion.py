@@ -75,8 +75,8 @@ def _read(out_dir: str, unfinished: list[str]) -> Dispersion:
     return Dispersion(out_dir, rows, footprint, unfinished)
 
 
-def _run_sample(index: int, path: str, out: str, count: int, set: list[str], force: bool):
-    """One Dask task: sample ``index`` of ``count``, as ``chute study --shard index/count``."""
+def _run_shard(index: int, path: str, out: str, count: int, set: list[str], force: bool):
+    """One Dask task: shard ``index`` of ``count``, as ``chute study --shard index/count``."""
     return _native.study(path, out, 1, set, force, None, (index, count))
 
 
@@ -91,9 +91,9 @@ def dispersion(
     """Run a study file's ``[dispersion]`` and return its :class:`Dispersion`.
 
     Without ``client`` the samples run here, ``jobs`` at a time (default one per core), as
-    ``chute study`` runs them. With a ``dask.distributed.Client`` every sample is one task
-    on its cluster (``chute study --shard i/N`` with N the number of samples), then the
-    samples are collected (``chute collect``). The workers must see ``out`` and the study's
+    ``chute study`` runs them. With a ``dask.distributed.Client`` the samples are split into
+    shards, up to four per worker thread, each one task on its cluster (``chute study --shard
+    i/N``), then collected (``chute collect``). The workers must see ``out`` and the study's
     files at the same paths (one machine, or a shared file system). Each sample's inputs come
     from (seed, its index) alone, so every way gives the same files, byte for byte.
 
@@ -114,9 +114,12 @@ def dispersion(
             if jobs is not None:
                 raise ScenarioError("jobs is for a run here: a Dask cluster has its own workers")
             os.makedirs(out_dir, exist_ok=True)
-            n = len(names)
+            # Every shard reads and checks the whole study, so not one per sample: four per
+            # worker thread balance the load without that cost growing as N².
+            threads = sum(client.nthreads().values()) or 1
+            n = min(len(names), 4 * threads)
             futures = client.map(
-                _run_sample,
+                _run_shard,
                 range(n),
                 path=os.path.abspath(study_file),
                 out=out_dir,

@@ -295,6 +295,9 @@ impl Study {
     /// The validated scenario of one case: the base file with the study-wide overrides, then
     /// the case's own, and the name `<study>-<case>`.
     pub fn scenario(&self, case: &Case, global_set: &[String]) -> Result<Scenario, AppError> {
+        if let Some(drawn) = &self.dispersion {
+            dispersion::refuse_drawn_overrides(drawn, global_set, "--set", true)?;
+        }
         let mut set: Vec<String> = global_set.to_vec();
         set.extend(case.set.iter().cloned());
         set.push(format!("name={}-{}", self.name, case.name));

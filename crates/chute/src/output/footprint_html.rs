@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use crate::study::footprint::{Footprint, Sensitivity, Settling};
 
 /// The page's parts: the landings `(sample, [x, y])`, their footprint, how it settles with N,
-/// the inputs ranked and the mean horizontal wind (when it is drawn).
+/// the inputs ranked, the release point and the wind.
 pub struct Page<'a> {
     /// The study's name.
     pub study: &'a str,
@@ -20,8 +20,8 @@ pub struct Page<'a> {
     pub settling: &'a [Settling],
     /// The inputs ranked by their share in the spread.
     pub sensitivity: &'a [Sensitivity],
-    /// The samples' mean wind `[x, y]` (m/s), for the arrow.
-    pub wind: Option<[f64; 2]>,
+    /// The release point and the wind's direction.
+    pub marks: super::footprint_plot::Marks,
 }
 
 /// Drawing size of the square plot (CSS pixels).
@@ -43,7 +43,7 @@ fn window(p: &Page) -> [f64; 3] {
     let f = p.footprint;
     let r = f.ellipses[2].semi_major_m;
     let pts = p.landings.iter().map(|l| l.1).chain([
-        [0.0, 0.0],
+        p.marks.release,
         [f.mean_m[0] - r, f.mean_m[1] - r],
         [f.mean_m[0] + r, f.mean_m[1] + r],
     ]);
@@ -106,17 +106,18 @@ fn markers(p: &Page, c: f64, len: f64) -> String {
         "<path class=\"mean\" d=\"M{} {} L{} {} M{} {} L{} {}\"><title>mean landing point</title></path>\n",
         mx - c, my - c, mx + c, my + c, mx - c, my + c, mx + c, my - c
     );
+    let [rx, ry] = p.marks.release;
     let _ = writeln!(
         s,
-        "<path class=\"release\" d=\"M0 {c} L{} {} L{c} {} Z\"><title>release point</title></path>",
-        -c, -c, -c
+        "<path class=\"release\" d=\"M{rx} {} L{} {} L{} {} Z\"><title>release point</title></path>",
+        ry + c, rx - c, ry - c, rx + c, ry - c
     );
-    if let Some(w) = p.wind.filter(|w| w[0].hypot(w[1]) > 0.0) {
+    if let Some(w) = p.marks.wind.filter(|w| w[0].hypot(w[1]) > 0.0) {
         let k = len / w[0].hypot(w[1]);
         let _ = writeln!(
             s,
-            "<line class=\"wind\" x1=\"0\" y1=\"0\" x2=\"{}\" y2=\"{}\"><title>wind direction</title></line>",
-            w[0] * k, w[1] * k
+            "<line class=\"wind\" x1=\"{rx}\" y1=\"{ry}\" x2=\"{}\" y2=\"{}\"><title>wind direction</title></line>",
+            rx + w[0] * k, ry + w[1] * k
         );
     }
     s
@@ -164,29 +165,40 @@ fn svg(p: &Page) -> String {
 /// The statistics under the plot.
 fn tables(p: &Page) -> String {
     let f = p.footprint;
+    // Four significant figures: a footprint may be kilometres or centimetres across.
+    let g = crate::scenario::derived::sig4;
     let mut s = format!(
-        "<table><tr><th>samples</th><td>{}</td></tr>\n<tr><th>mean landing point (m)</th><td>({:.2}, {:.2})</td></tr>\n",
-        f.samples, f.mean_m[0], f.mean_m[1]
+        "<table><tr><th>samples</th><td>{}</td></tr>\n<tr><th>mean landing point (m)</th><td>({}, {})</td></tr>\n",
+        f.samples, g(f.mean_m[0]), g(f.mean_m[1])
     );
     for e in &f.ellipses {
         let _ = writeln!(
             s,
-            "<tr><th>{}σ ellipse (m)</th><td>{:.2} × {:.2} at {:.1}°</td></tr>",
-            e.sigma, e.semi_major_m, e.semi_minor_m, e.angle_deg
+            "<tr><th>{}σ ellipse (m)</th><td>{} × {} at {:.1}°</td></tr>",
+            e.sigma,
+            g(e.semi_major_m),
+            g(e.semi_minor_m),
+            e.angle_deg
         );
     }
     let _ = writeln!(
         s,
-        "<tr><th>CEP50, CEP90 (m)</th><td>{:.2}, {:.2}</td></tr></table>",
-        f.cep50_m, f.cep90_m
+        "<tr><th>CEP50, CEP90 (m)</th><td>{}, {}</td></tr></table>",
+        g(f.cep50_m),
+        g(f.cep90_m)
     );
     s.push_str("<h2>With the number of samples</h2>\n<table id=\"settling\"><tr><th>N</th><th>mean (m) ± s.e.</th><th>1σ semi-axes (m) ± s.e.</th><th>CEP50 (m)</th></tr>\n");
     for t in p.settling {
+        let pm = |x: f64, e: f64| format!("{} ± {}", g(x), g(e));
         let _ = writeln!(
             s,
-            "<tr><td>{}</td><td>({:.1} ± {:.1}, {:.1} ± {:.1})</td><td>{:.1} ± {:.1}, {:.1} ± {:.1}</td><td>{:.1}</td></tr>",
-            t.samples, t.mean_m[0], t.mean_standard_error_m[0], t.mean_m[1], t.mean_standard_error_m[1],
-            t.semi_axes_m[0], t.semi_axes_standard_error_m[0], t.semi_axes_m[1], t.semi_axes_standard_error_m[1], t.cep50_m
+            "<tr><td>{}</td><td>({}, {})</td><td>{}, {}</td><td>{}</td></tr>",
+            t.samples,
+            pm(t.mean_m[0], t.mean_standard_error_m[0]),
+            pm(t.mean_m[1], t.mean_standard_error_m[1]),
+            pm(t.semi_axes_m[0], t.semi_axes_standard_error_m[0]),
+            pm(t.semi_axes_m[1], t.semi_axes_standard_error_m[1]),
+            g(t.cep50_m)
         );
     }
     s.push_str("</table>\n<h2>What drives the spread</h2>\n<p>Pearson correlation of each input with the landing's x and y, ranked by r_x² + r_y².</p>\n<table id=\"sensitivity\"><tr><th>input</th><th>r_x</th><th>r_y</th></tr>\n");

@@ -29,21 +29,31 @@ pub(crate) fn outline(e: &Ellipse, centre: [f64; 2]) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Draw `footprint.png` at `path`: the landings `points`, `fp`'s ellipses and mean, the
-/// release point (the origin: every run starts centred there) and, when given, the wind's
-/// horizontal direction `wind` as an arrow from it.
+/// Where the samples start and the wind they meet, for the pictures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Marks {
+    /// The samples' mean release point `[x, y]` (m).
+    pub release: [f64; 2],
+    /// The samples' mean horizontal wind `[x, y]` (m/s), drawn as an arrow from the release
+    /// point.
+    pub wind: Option<[f64; 2]>,
+}
+
+/// Draw `footprint.png` at `path`: the landings `points`, `fp`'s ellipses and mean, and the
+/// release point and wind direction of `marks`.
 pub fn footprint_plot(
     path: &Path,
     points: &[[f64; 2]],
     fp: &Footprint,
-    wind: Option<[f64; 2]>,
+    marks: &Marks,
 ) -> Result<(), PlotError> {
     let rings: Vec<Vec<(f64, f64)>> = fp.ellipses.iter().map(|e| outline(e, fp.mean_m)).collect();
+    let [rx, ry] = marks.release;
     let all = points
         .iter()
         .map(|p| (p[0], p[1]))
         .chain(rings.iter().flatten().copied())
-        .chain([(0.0, 0.0)]);
+        .chain([(rx, ry)]);
     let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
     for (x, y) in all {
         lo = [lo[0].min(x), lo[1].min(y)];
@@ -105,15 +115,15 @@ pub fn footprint_plot(
             .label("mean landing point")
             .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(2)));
         chart
-            .draw_series([TriangleMarker::new((0.0, 0.0), 8, GREEN.filled())])
+            .draw_series([TriangleMarker::new((rx, ry), 8, GREEN.filled())])
             .map_err(de)?
             .label("release point")
             .legend(|(x, y)| TriangleMarker::new((x + 10, y), 6, GREEN.filled()));
-        if let Some(w) = wind.filter(|w| w[0].hypot(w[1]) > 0.0) {
+        if let Some(w) = marks.wind.filter(|w| w[0].hypot(w[1]) > 0.0) {
             let len = 0.25 * half / w[0].hypot(w[1]);
-            let tip = (w[0] * len, w[1] * len);
+            let tip = (rx + w[0] * len, ry + w[1] * len);
             chart
-                .draw_series([PathElement::new([(0.0, 0.0), tip], GREEN.stroke_width(3))])
+                .draw_series([PathElement::new([(rx, ry), tip], GREEN.stroke_width(3))])
                 .map_err(de)?
                 .label("wind direction")
                 .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], GREEN.stroke_width(3)));

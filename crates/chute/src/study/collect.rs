@@ -61,7 +61,14 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
             )));
         }
         let mut table = table;
-        if let Some(study) = recorded_dispersion(dirs) {
+        let study = recorded_dispersion(dirs).transpose().unwrap_or_else(|why| {
+            table.notes.push(format!(
+                "{} and the footprint not written: {why}",
+                super::dispersion_out::DISPERSION_CSV
+            ));
+            None
+        });
+        if let Some(study) = study {
             let missing = super::dispersion_out::write_collected(&study, dirs, out)?;
             if !missing.is_empty() {
                 table.notes.push(format!(
@@ -86,9 +93,10 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, AppError> {
     result
 }
 
-/// The dispersion study that the first case found in `dirs` records, when it is one and its
-/// study file can still be read.
-fn recorded_dispersion(dirs: &[PathBuf]) -> Option<super::Study> {
+/// The dispersion study that the first case found in `dirs` records, when it is one: `None`
+/// for another study, an error saying why when the cases are a dispersion's samples (named
+/// `sample-…`) whose study file cannot be read back.
+fn recorded_dispersion(dirs: &[PathBuf]) -> Option<Result<super::Study, String>> {
     let done = dirs.iter().find_map(|d| {
         std::fs::read_dir(d)
             .ok()?
@@ -100,9 +108,13 @@ fn recorded_dispersion(dirs: &[PathBuf]) -> Option<super::Study> {
             })
     })?;
     let file = done["recipe"]["study_file"].as_str()?;
-    super::Study::load_recorded(Path::new(file))
-        .ok()
-        .filter(|st| st.dispersion.is_some())
+    match super::Study::load_recorded(Path::new(file)) {
+        Ok(st) => st.dispersion.is_some().then_some(Ok(st)),
+        Err(e) if done["case"].as_str()?.starts_with("sample-") => Some(Err(format!(
+            "the study file `{file}` the samples record cannot be read ({e})"
+        ))),
+        Err(_) => None,
+    }
 }
 
 /// Whether `dir` holds a study's case: a directory with a `done.json`, or whose run records

@@ -100,11 +100,15 @@ impl Target {
             });
         };
         let (k, i) = open;
-        let index = k[i + 1..].parse().map_err(|_| {
-            format!("`{key}`: the component must be a number, as in `fluid.wind_mps[0]`")
-        })?;
+        let digits = &k[i + 1..];
+        let index = (digits.bytes().all(|b| b.is_ascii_digit()))
+            .then(|| digits.parse().ok())
+            .flatten()
+            .ok_or_else(|| {
+                format!("`{key}`: the component must be a number, as in `fluid.wind_mps[0]`")
+            })?;
         Ok(Self {
-            key: k[..i].to_string(),
+            key: k[..i].trim().to_string(),
             index: Some(index),
         })
     }
@@ -114,9 +118,9 @@ impl DispersionSpec {
     /// The cases of the dispersion over `base` (which gives the other components of a vector
     /// key and checks every key).
     pub(super) fn cases(&self, base: &Path) -> Result<Vec<Case>, AppError> {
-        if self.samples == 0 || self.samples > MAX_SAMPLES {
+        if self.samples < 2 || self.samples > MAX_SAMPLES {
             return Err(input(format!(
-                "`dispersion.samples` = {}: give 1 to {MAX_SAMPLES}",
+                "`dispersion.samples` = {}: give 2 to {MAX_SAMPLES} (a footprint needs two landings)",
                 self.samples
             )));
         }
@@ -126,6 +130,7 @@ impl DispersionSpec {
             ));
         }
         let (targets, dists) = self.inputs()?;
+        refuse_drawn_overrides(&self.varied_keys(), &self.set, "`dispersion.set`", false)?;
         let vectors = base_vectors(base, &self.set, &targets, &dists)?;
         let sampler = Sampler {
             seed: self.seed,
@@ -144,9 +149,19 @@ impl DispersionSpec {
             .collect())
     }
 
-    /// The drawn keys as `dispersion.csv` names them (`key`, or `key[i]` for a component).
+    /// The drawn keys as `dispersion.csv` names them (`key`, or `key[i]` for a component),
+    /// written one way whatever the file's spelling (`fluid.wind_mps [00]` is
+    /// `fluid.wind_mps[0]`); a key that does not parse is refused by [`Self::cases`] first.
     pub(super) fn varied_keys(&self) -> Vec<String> {
-        self.vary.iter().map(|v| v.key.trim().to_string()).collect()
+        let name = |v: &VarySpec| match Target::parse(&v.key) {
+            Ok(Target {
+                key,
+                index: Some(i),
+            }) => format!("{key}[{i}]"),
+            Ok(Target { key, index: None }) => key,
+            Err(_) => v.key.trim().to_string(),
+        };
+        self.vary.iter().map(name).collect()
     }
 
     /// The varied keys and their distributions, checked.
@@ -229,6 +244,39 @@ fn base_vectors(
     let middle: Vec<f64> = dists.iter().map(|d| d.quantile(0.5)).collect();
     load(&overrides(targets, &middle, &vectors))?;
     Ok(vectors)
+}
+
+/// Refuse an override in `set` (named `what` in the message) of a key the dispersion draws:
+/// the draw would replace it silently. With `whole_vectors`, also an override of a vector a
+/// component of which is drawn: a study-wide `--set` comes before the sample's whole vector
+/// (made from the base and `dispersion.set`, which may give the other components).
+pub(crate) fn refuse_drawn_overrides(
+    drawn: &[String],
+    set: &[String],
+    what: &str,
+    whole_vectors: bool,
+) -> Result<(), AppError> {
+    for s in set {
+        let Some([key, _]) = super::split_override(s) else {
+            continue;
+        };
+        let hit = drawn.iter().find(|d| {
+            let component = (d.strip_prefix(key.as_str())).is_some_and(|r| r.starts_with('['));
+            **d == key || (whole_vectors && component)
+        });
+        if let Some(d) = hit {
+            let fix = match d == &key {
+                true => "drop one of the two".to_string(),
+                false => format!(
+                    "give `{key}`'s other components in `dispersion.set` or the base scenario"
+                ),
+            };
+            return Err(input(format!(
+                "{what} `{s}`: [dispersion] draws `{d}`, which would replace it: {fix}"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Zeros for a vector key the scenario leaves unset (its declared length).

@@ -8,6 +8,7 @@ use super::footprint::{footprint, sensitivity, settling, Footprint, Sensitivity,
 use super::{split_override, Study};
 use crate::app::AppError;
 use crate::output::atomic::write_atomic;
+use crate::output::footprint_plot::Marks;
 
 /// The last line of chute's `footprint.html` (a page without it is the user's).
 pub fn html_mark() -> String {
@@ -91,7 +92,20 @@ fn numbers(set: &[String]) -> Vec<(String, f64)> {
     out
 }
 
+/// The overrides a case's `done.json` records it ran with (`None` without a record): the inputs
+/// that go with its landing, even when the study file has changed since.
+fn recorded_set(case_dir: &Path) -> Option<Vec<String>> {
+    let text = crate::output::atomic::read_own_string(&case_dir.join(super::DONE_FILE)).ok()?;
+    let done: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let pairs = done["overrides"].as_array()?;
+    pairs
+        .iter()
+        .map(|p| Some(format!("{}={}", p.get(0)?.as_str()?, p.get(1)?.as_str()?)))
+        .collect()
+}
+
 fn read_sample(case_dir: Option<PathBuf>, name: &str, set: &[String], keys: &[String]) -> Sample {
+    let recorded = case_dir.as_deref().and_then(recorded_set);
     let summary = case_dir
         .and_then(|d| {
             crate::output::atomic::read_own_string(&d.join(crate::output::run_files::SUMMARY)).ok()
@@ -112,7 +126,7 @@ fn read_sample(case_dir: Option<PathBuf>, name: &str, set: &[String], keys: &[St
         .collect();
     Sample {
         name: name.to_string(),
-        inputs: inputs(set, keys),
+        inputs: inputs(recorded.as_deref().unwrap_or(set), keys),
         landing,
         fields,
     }
@@ -136,6 +150,28 @@ pub fn write_collected(
             .find(|c| c.join(super::DONE_FILE).is_file())
     };
     write_from(study, find, out)
+}
+
+/// The pictures' release point and wind: those of the scenario the first sample ran (its
+/// run's resolved scenario in `first_dir`, with every study-wide override), each drawn
+/// component replaced by its mean over the samples.
+fn marks(first_dir: Option<PathBuf>, keys: &[String], samples: &[Sample]) -> Marks {
+    let resolved = first_dir.map(|d| d.join(crate::output::run_files::RESOLVED_SCENARIO));
+    let first = resolved.and_then(|f| crate::scenario::Scenario::load(&f, &[]).ok());
+    let n = samples.len().max(1) as f64;
+    let mean_or = |key: &str, fixed: f64| match keys.iter().position(|k| k == key) {
+        Some(i) => samples.iter().map(|s| s.inputs[i].1).sum::<f64>() / n,
+        None => fixed,
+    };
+    let release = first
+        .as_ref()
+        .and_then(|s| s.canopy.release_point_m)
+        .unwrap_or([0.0; 2]);
+    let wind = first.as_ref().map_or([0.0; 3], |s| s.fluid.wind_mps);
+    Marks {
+        release: [0, 1].map(|k| mean_or(&format!("canopy.release_point_m[{k}]"), release[k])),
+        wind: Some([0, 1].map(|k| mean_or(&format!("fluid.wind_mps[{k}]"), wind[k]))),
+    }
 }
 
 fn write_from(
@@ -199,16 +235,10 @@ fn write_from(
     let Some(fp) = footprint(&points) else {
         return Ok(missing);
     };
-    // The wind arrow: the samples' mean horizontal wind when it is drawn.
-    let mean_of = |key: &str| {
-        let i = keys.iter().position(|k| k == key)?;
-        Some(samples.iter().map(|s| s.inputs[i].1).sum::<f64>() / samples.len() as f64)
-    };
-    let wind = mean_of("fluid.wind_mps[0]")
-        .zip(mean_of("fluid.wind_mps[1]"))
-        .map(|(x, y)| [x, y]);
+    let first_dir = study.cases.first().and_then(|c| case_dir(&c.name));
+    let marks = marks(first_dir, &keys, &samples);
     let png = out.join(FOOTPRINT_PNG);
-    crate::output::footprint_plot::footprint_plot(&png, &points, &fp, wind)
+    crate::output::footprint_plot::footprint_plot(&png, &points, &fp, &marks)
         .map_err(|e| AppError::RunFailed(format!("cannot draw {}: {e}", png.display())))?;
     let file = FootprintFile {
         written_by: WRITTEN_BY,
@@ -228,7 +258,7 @@ fn write_from(
         footprint: &file.footprint,
         settling: &file.settling,
         sensitivity: &file.sensitivity,
-        wind,
+        marks,
     });
     let html = html + &html_mark();
     let html_path = out.join(FOOTPRINT_HTML);

@@ -131,7 +131,11 @@ fn zero_spread_gives_identical_landings() {
     let vary =
         "[[dispersion.vary]]\nkey = \"fluid.wind_mps[0]\"\nuniform = { lo = 2.0, hi = 2.0 }\n";
     let file = study_file_varying(tmp.path(), vary);
-    let _ = run_file(tmp.path(), &file, "zero", &["-j", "2"]);
+    let release = ["-j", "2", "--set", "canopy.release_point_m=[100.0, 50.0]"];
+    let _ = run_file(tmp.path(), &file, "zero", &release);
+    // The pictures mark the release point the samples start from.
+    let html = std::fs::read_to_string(tmp.path().join("zero/footprint.html")).unwrap();
+    assert!(html.contains("class=\"release\" d=\"M100 "), "{html}");
     let rows = rows(&tmp.path().join("zero"));
     assert_eq!(rows.len(), 5);
     for r in &rows[2..] {
@@ -272,6 +276,16 @@ fn collected_shards_give_the_whole_footprint() {
     let read = |d: &str, f: &str| std::fs::read(tmp.path().join(d).join(f)).unwrap();
     assert_eq!(read("c", "dispersion.csv"), read("whole", "dispersion.csv"));
     assert_eq!(read("c", "footprint.json"), read("whole", "footprint.json"));
+    // The study file edited since (another seed): each landing keeps the inputs its run
+    // recorded, not the new draws.
+    let file = tmp.path().join("d.toml");
+    let text = std::fs::read_to_string(&file).unwrap();
+    std::fs::write(&file, text.replace("seed = 3", "seed = 4")).unwrap();
+    let _ = crate::common::chute(tmp.path(), &["collect", "s0", "s1", "--out", "edited"]);
+    assert_eq!(
+        read("edited", "dispersion.csv"),
+        read("whole", "dispersion.csv")
+    );
 }
 
 /// Run the bundled `scenario` into `dir/out` in the uniform `wind`, released moving with it.

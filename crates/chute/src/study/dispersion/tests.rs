@@ -64,6 +64,7 @@ fn bad_dispersions_are_refused_naming_the_entry() {
         ("key = \"fluid.wind_mps[3]\"\nuniform = { lo = 1.0, hi = 2.0 }", "3 components"),
         ("key = \"load.weight_n[0]\"\nuniform = { lo = 1.0, hi = 2.0 }", "not a list"),
         ("key = \"load.weight_n\"\nuniform = { lo = -5.0, hi = -1.0 }", "load.weight_n"),
+        ("key = \"fluid.wind_mps[+0]\"\nuniform = { lo = 1.0, hi = 2.0 }", "must be a number"),
     ];
     for (vary, what) in cases {
         let e = one(vary);
@@ -71,6 +72,16 @@ fn bad_dispersions_are_refused_naming_the_entry() {
     }
     let e = study("[dispersion]\nsamples = 0\nseed = 1\nvary = []\n").unwrap_err();
     assert!(e.contains("dispersion.samples"), "{e}");
+    // One sample has no footprint.
+    let e = study(&TWO.replace("samples = 20", "samples = 1")).unwrap_err();
+    assert!(e.contains("give 2 to"), "{e}");
+    // A shared override of a drawn key would be replaced by the draw.
+    let e =
+        study(&TWO.replace("seed = 5\n", "seed = 5\nset = [\"load.weight_n=50\"]\n")).unwrap_err();
+    assert!(
+        e.contains("dispersion.set") && e.contains("draws `load.weight_n`"),
+        "{e}"
+    );
     let e = study(&format!("{TWO}[grid]\n\"load.weight_n\" = [1.0]\n")).unwrap_err();
     assert!(e.contains("one of"), "{e}");
 }
@@ -115,4 +126,28 @@ fn shared_overrides_and_an_unset_vector_key() {
     )
     .unwrap_err();
     assert!(bad.contains("canopy.edge_length_m"), "{bad}");
+}
+
+/// A component is named one way in the outputs however the file spells it, and a study-wide
+/// override of a drawn key (or of the vector a drawn component belongs to) is refused.
+#[test]
+fn drawn_keys_are_named_one_way_and_not_overridden() {
+    let st = study(&TWO.replace("fluid.wind_mps[1]", "fluid.wind_mps [01]")).unwrap();
+    assert_eq!(
+        st.dispersion,
+        Some(vec![
+            "load.weight_n".to_string(),
+            "fluid.wind_mps[1]".to_string()
+        ])
+    );
+    for set in ["fluid.wind_mps=[0, 4, 0]", "load.weight_n=40"] {
+        let e = st
+            .scenario(&st.cases[0], &[set.to_string()])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--set") && e.contains("draws"), "{e}");
+    }
+    assert!(st
+        .scenario(&st.cases[0], &["fluid.drag_coefficient=1.2".into()])
+        .is_ok());
 }
