@@ -4,6 +4,7 @@
 //! (`study.csv`, `study.md`) with a row per case. See `docs/cli.md` §study.
 
 mod case_run;
+mod case_state;
 mod collect;
 mod dispersion;
 pub mod dispersion_out;

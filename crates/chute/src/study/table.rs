@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+pub use super::case_state::CaseState;
 use super::inputs::{Checker, InputsState};
 use super::{Study, DONE_FILE, LANDING_COLUMNS, METRIC_COLUMNS};
 use crate::app::AppError;
@@ -40,67 +41,8 @@ pub struct Row {
     pub inputs: InputsState,
 }
 
-/// Where a case of a study is, as its directory shows.
-#[derive(Debug, Clone, PartialEq)]
-pub enum CaseState {
-    /// Ran to the end (`done.json` complete, `summary.json` present).
-    Complete,
-    /// Stopped early; why.
-    Incomplete(String),
-    /// Could not run, or could not write its outputs; why.
-    Failed(String),
-    /// A process is running it now.
-    Running,
-    /// A run of it was killed (its `run.json` says running and no process holds it); what
-    /// the directory shows.
-    Abandoned(String),
-    /// Its directory has no finished run: not run yet (or by a shard whose directory was not
-    /// given), or its process was killed; what the directory shows.
-    Missing(String),
-    /// A file of it cannot be read; the file and the error.
-    Unreadable(String),
-}
-
-impl CaseState {
-    /// The `status` cell.
-    pub fn word(&self) -> &'static str {
-        match self {
-            CaseState::Complete => "complete",
-            CaseState::Incomplete(_) => "incomplete",
-            CaseState::Failed(_) => "failed",
-            CaseState::Running => "running",
-            CaseState::Abandoned(_) => "abandoned",
-            CaseState::Missing(_) => "missing",
-            CaseState::Unreadable(_) => "unreadable",
-        }
-    }
-
-    /// What happened to it, as a verb phrase after its name.
-    fn phrase(&self) -> &'static str {
-        match self {
-            CaseState::Complete => "is complete",
-            CaseState::Incomplete(_) => "stopped early",
-            CaseState::Failed(_) => "failed",
-            CaseState::Running => "is still running",
-            CaseState::Abandoned(_) => "was abandoned",
-            CaseState::Missing(_) => "is missing",
-            CaseState::Unreadable(_) => "cannot be read",
-        }
-    }
-
-    /// Why the case is not complete (`None` when it is).
-    pub fn why(&self) -> Option<String> {
-        match self {
-            CaseState::Complete => None,
-            CaseState::Running => Some("a process is running it now".into()),
-            CaseState::Incomplete(m)
-            | CaseState::Failed(m)
-            | CaseState::Abandoned(m)
-            | CaseState::Missing(m)
-            | CaseState::Unreadable(m) => Some(m.clone()),
-        }
-    }
-}
+/// Why the inputs of a case without a run cannot be judged.
+const NOT_RUN: &str = "it has not run";
 
 /// The study table: the override columns (in order of first appearance) and the rows.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -393,7 +335,7 @@ pub fn gather(
                 metrics: BTreeMap::new(),
                 complete: false,
                 state: CaseState::Missing(format!("not run: {why}")),
-                inputs: InputsState::Unknown("it has not run".into()),
+                inputs: InputsState::Unknown(NOT_RUN.into()),
             },
         );
     }
@@ -502,6 +444,12 @@ impl Table {
     /// the table's [`Table::notes`].
     pub fn input_warnings(&self) -> Vec<String> {
         let line = |r: &Row, what: &str, why: &str| format!("case `{}`: {what}: {why}", r.case);
+        // Cases not run yet (other shards') in one line: a sharded study of 10⁵ samples
+        // would otherwise print a line for each.
+        let not_run = |r: &&Row| matches!(&r.inputs, InputsState::Unknown(w) if w == NOT_RUN);
+        let waiting: Vec<&str> = (self.rows.iter().filter(not_run))
+            .map(|r| r.case.as_str())
+            .collect();
         let rows = self.rows.iter().filter_map(|r| match &r.inputs {
             InputsState::Current => None,
             InputsState::Changed(why) => Some(line(
@@ -509,11 +457,29 @@ impl Table {
                 "stale (its row is from other inputs; running the study again re-runs it)",
                 why,
             )),
+            InputsState::Unknown(why) if waiting.len() > 1 && why == NOT_RUN => None,
             InputsState::Unknown(why) => {
                 Some(line(r, "cannot tell whether its inputs are current", why))
             }
         });
-        rows.chain(self.notes.iter().cloned()).collect()
+        let shown = waiting.iter().take(10).map(|c| format!("`{c}`"));
+        let more = waiting.len().saturating_sub(10);
+        let grouped = (waiting.len() > 1).then(|| {
+            let tail = if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            };
+            let names: Vec<String> = shown.collect();
+            format!(
+                "{} cases have not run yet: {}{tail}",
+                waiting.len(),
+                names.join(", ")
+            )
+        });
+        rows.chain(grouped)
+            .chain(self.notes.iter().cloned())
+            .collect()
     }
 
     /// One line per case that is not complete (missing, running, failed, incomplete, or

@@ -120,6 +120,12 @@ fn a_sample_is_the_same_whether_the_study_runs_whole_or_in_shards() {
         assert!(!half.join(f).exists(), "{f}");
     }
     assert!(said.contains("2 of 4 samples have not landed"), "{said}");
+    // The other shard's samples share one warning line.
+    assert!(
+        said.contains("2 cases have not run yet: `sample-00001`, `sample-00003`"),
+        "{said}"
+    );
+    assert!(!said.contains("case `sample-00001`"), "{said}");
     let _ = run(tmp.path(), "shards", &["--shard", "1/2"]);
     assert_eq!(rows(&tmp.path().join("whole")), rows(&half));
     assert!(half.join("footprint.json").exists());
