@@ -206,7 +206,11 @@ fn base_vectors(
 ) -> Result<Vec<(String, Vec<toml::Value>)>, AppError> {
     let load = |set: &[String]| {
         Scenario::load(base, &[fixed, set].concat())
-            .map_err(|e| input(format!("[dispersion]: {e}")))
+            .map_err(|e| {
+                input(format!(
+                    "[dispersion] (the base scenario with `dispersion.set`, then each drawn key at the middle of its distribution, as overrides): {e}"
+                ))
+            })
     };
     let resolved: toml::Table =
         toml::from_str(&load(&[])?.to_toml()).map_err(|e| input(e.to_string()))?;
