@@ -125,7 +125,7 @@ pub fn ensure_dir(dir: &Path) -> Result<(), AppError> {
     // A fresh random name, created exclusively (never through a link) and removed on drop.
     crate::output::atomic::signals_held(|| {
         tempfile::Builder::new()
-            .prefix(".chute-probe.")
+            .prefix(crate::output::run_files::PROBE_PREFIX)
             .tempfile_in(dir)
             .map(drop)
     })

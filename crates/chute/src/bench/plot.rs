@@ -26,7 +26,7 @@ pub fn refuse_path(path: &Path) -> Result<(), crate::app::AppError> {
     }
     crate::app::out_dir::refuse_inside_run(path)?;
     tempfile::Builder::new()
-        .prefix(".chute-probe.")
+        .prefix(crate::output::run_files::PROBE_PREFIX)
         .tempfile_in(parent)
         .map(drop)
         .map_err(crate::output::atomic::without_temporary_name)

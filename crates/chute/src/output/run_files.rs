@@ -322,9 +322,15 @@ fn has_a_row(path: &Path) -> bool {
     header && lines.next().is_some_and(|r| r.is_ok_and(|r| !r.is_empty()))
 }
 
-/// Whether `name` belongs to the process holding the directory rather than to a run.
+/// The prefix of the file a command creates and removes at once to test that a directory
+/// takes files ([`crate::app::ensure_dir`]).
+pub const PROBE_PREFIX: &str = ".chute-probe.";
+
+/// Whether `name` belongs to the process holding the directory rather than to a run; also
+/// another process's passing probe, so that a command starting beside another is not
+/// refused for a file that is gone a moment later.
 pub fn is_holder_file(name: &str) -> bool {
-    top_entry(name).is_some_and(|f| f.role == Role::Holder)
+    name.starts_with(PROBE_PREFIX) || top_entry(name).is_some_and(|f| f.role == Role::Holder)
 }
 
 /// The file (or trash) by which `dir` holds a single run, if it does: [`is_run_dir`]'s, or a
@@ -530,6 +536,11 @@ mod tests {
         assert!(!is_frame_file("frame_.vtu") && !is_frame_file("mine.vtu"));
         assert!(is_holder_file(LOCK) && is_holder_file(RESERVE));
         assert!(!is_holder_file(SUMMARY));
+        // Another command's passing probe leaves a directory empty for a run (the two
+        // started together would otherwise both be refused).
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join(format!("{PROBE_PREFIX}x1y2z3")), "").unwrap();
+        assert!(is_holder_file(".chute-probe.x1y2z3") && is_empty(dir.path()));
     }
 
     /// `frames` as a symbolic link to a directory of the user's: clearing the run leaves that

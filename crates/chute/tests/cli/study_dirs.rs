@@ -462,18 +462,29 @@ fn a_run_and_a_study_started_together_never_share_a_directory() {
                 .current_dir(tmp.path())
                 .args(args)
                 .args(short)
-                .stderr(std::process::Stdio::null())
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::piped())
                 .spawn()
                 .unwrap()
         };
-        let mut run = spawn(vec!["run", rod.to_str().unwrap(), "--out", &out, "--quiet"]);
+        let run = spawn(vec!["run", rod.to_str().unwrap(), "--out", &out, "--quiet"]);
         std::thread::sleep(std::time::Duration::from_millis(i as u64 * 3));
-        let mut study = spawn(vec!["study", "other.toml", "--out", &out]);
-        let (r, s) = (run.wait().unwrap(), study.wait().unwrap());
+        let study = spawn(vec!["study", "other.toml", "--out", &out]);
+        let (r, s) = (
+            run.wait_with_output().unwrap(),
+            study.wait_with_output().unwrap(),
+        );
+        let said = format!(
+            "run {}: {}\nstudy {}: {}",
+            r.status,
+            String::from_utf8_lossy(&r.stderr),
+            s.status,
+            String::from_utf8_lossy(&s.stderr)
+        );
         let dir = tmp.path().join(&out);
         let mixed = dir.join("run.json").exists() && dir.join("20N").exists();
-        assert!(!mixed, "try {i}: run {r}, study {s}: both wrote `{out}`");
-        assert!(r.success() != s.success(), "try {i}: run {r}, study {s}");
+        assert!(!mixed, "try {i}: both wrote `{out}`: {said}");
+        assert!(r.status.success() != s.status.success(), "try {i}: {said}");
     }
 }
 
