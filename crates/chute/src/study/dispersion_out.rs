@@ -185,54 +185,20 @@ fn write_from(
         .iter()
         .map(|c| read_sample(case_dir(&c.name), &c.name, &c.set, &keys))
         .collect();
-    let mut text = format!(
-        "sample,{},landing_x_m,landing_y_m,{}\n",
-        keys.join(","),
-        LANDING.join(",")
-    );
-    for s in &samples {
-        let values: Vec<String> = s.inputs.iter().map(|(_, x)| x.to_string()).collect();
-        let point = s
-            .landing
-            .map_or([String::new(), String::new()], |p| p.map(|x| x.to_string()));
-        text += &format!(
-            "{},{},{},{}\n",
-            s.name,
-            values.join(","),
-            point.join(","),
-            s.fields.join(",")
-        );
-    }
     let csv = out.join(DISPERSION_CSV);
-    write_atomic(&csv, text.as_bytes()).map_err(|e| AppError::io(&csv, e))?;
+    write_atomic(&csv, table(&keys, &samples).as_bytes()).map_err(|e| AppError::io(&csv, e))?;
     let missing: Vec<String> = samples
         .iter()
         .filter(|s| s.landing.is_none())
         .map(|s| s.name.clone())
         .collect();
-    let json = out.join(FOOTPRINT_JSON);
-    if !missing.is_empty() {
+    let points: Vec<[f64; 2]> = samples.iter().filter_map(|s| s.landing).collect();
+    let fp = footprint(&points).filter(|_| missing.is_empty());
+    let Some(fp) = fp else {
         // A footprint of some samples would not be the study's: none, rather than a stale one.
         for f in [FOOTPRINT_JSON, FOOTPRINT_PNG, FOOTPRINT_HTML] {
             let _ = std::fs::remove_file(out.join(f));
         }
-        return Ok(missing);
-    }
-    let points: Vec<[f64; 2]> = samples.iter().filter_map(|s| s.landing).collect();
-    let columns: Vec<(String, Vec<f64>)> = keys
-        .iter()
-        .enumerate()
-        .map(|(i, k)| {
-            (
-                k.clone(),
-                samples
-                    .iter()
-                    .map(|s| s.inputs.get(i).map_or(f64::NAN, |v| v.1))
-                    .collect(),
-            )
-        })
-        .collect();
-    let Some(fp) = footprint(&points) else {
         return Ok(missing);
     };
     let first_dir = study.cases.first().and_then(|c| case_dir(&c.name));
@@ -246,14 +212,63 @@ fn write_from(
         settling: settling(&points),
         footprint: fp,
         sensitivity_method: "Pearson correlation with the landing's x and y, ranked by r_x² + r_y²",
-        sensitivity: sensitivity(&columns, &points),
+        sensitivity: sensitivity(&columns(&keys, &samples), &points),
     };
+    write_page(out, &file, &samples, marks)?;
+    let json = out.join(FOOTPRINT_JSON);
+    let body =
+        serde_json::to_string_pretty(&file).map_err(|e| AppError::RunFailed(e.to_string()))?;
+    write_atomic(&json, body.as_bytes()).map_err(|e| AppError::io(&json, e))?;
+    Ok(missing)
+}
+
+/// `dispersion.csv`: a row per sample, its drawn `keys`, landing point and landing fields.
+fn table(keys: &[String], samples: &[Sample]) -> String {
+    let mut text = format!(
+        "sample,{},landing_x_m,landing_y_m,{}\n",
+        keys.join(","),
+        LANDING.join(",")
+    );
+    for s in samples {
+        let values: Vec<String> = s.inputs.iter().map(|(_, x)| x.to_string()).collect();
+        let point = s
+            .landing
+            .map_or([String::new(), String::new()], |p| p.map(|x| x.to_string()));
+        text += &format!(
+            "{},{},{},{}\n",
+            s.name,
+            values.join(","),
+            point.join(","),
+            s.fields.join(",")
+        );
+    }
+    text
+}
+
+/// Each drawn key's values over the samples, for the sensitivity ranking.
+fn columns(keys: &[String], samples: &[Sample]) -> Vec<(String, Vec<f64>)> {
+    let column = |i: usize| -> Vec<f64> {
+        let value = |s: &Sample| s.inputs.get(i).map_or(f64::NAN, |v| v.1);
+        samples.iter().map(value).collect()
+    };
+    (keys.iter().enumerate())
+        .map(|(i, k)| (k.clone(), column(i)))
+        .collect()
+}
+
+/// `footprint.html` of `file`, the `samples`' landings and the pictures' `marks`.
+fn write_page(
+    out: &Path,
+    file: &FootprintFile,
+    samples: &[Sample],
+    marks: Marks,
+) -> Result<(), AppError> {
     let landings: Vec<(String, [f64; 2])> = samples
         .iter()
         .filter_map(|s| Some((s.name.clone(), s.landing?)))
         .collect();
     let html = crate::output::footprint_html::page(&crate::output::footprint_html::Page {
-        study: &study.name,
+        study: file.study,
         landings: &landings,
         footprint: &file.footprint,
         settling: &file.settling,
@@ -261,10 +276,6 @@ fn write_from(
         marks,
     });
     let html = html + &html_mark();
-    let html_path = out.join(FOOTPRINT_HTML);
-    write_atomic(&html_path, html.as_bytes()).map_err(|e| AppError::io(&html_path, e))?;
-    let body =
-        serde_json::to_string_pretty(&file).map_err(|e| AppError::RunFailed(e.to_string()))?;
-    write_atomic(&json, body.as_bytes()).map_err(|e| AppError::io(&json, e))?;
-    Ok(missing)
+    let path = out.join(FOOTPRINT_HTML);
+    write_atomic(&path, html.as_bytes()).map_err(|e| AppError::io(&path, e))
 }

@@ -46,6 +46,38 @@ fn check_derivatives(kind: Pair, x: &[f64; 12]) {
     }
 }
 
+type PairOut = (f64, [f64; 12], [f64; 144]);
+
+/// Central differences (step 1e-7) of a pair's energy against its gradient `g` and of its
+/// gradient against its Hessian `h` at `x0`.
+fn check_pair(
+    x0: &[f64; 12],
+    energy: impl Fn(&[f64; 12]) -> PairOut,
+    (g, h): ([f64; 12], [f64; 144]),
+) {
+    let step = 1e-7;
+    for i in 0..12 {
+        let (mut xp, mut xm) = (*x0, *x0);
+        xp[i] += step;
+        xm[i] -= step;
+        let ((ep, gp, _), (em, gm, _)) = (energy(&xp), energy(&xm));
+        let fd = (ep - em) / (2.0 * step);
+        assert!(
+            (fd - g[i]).abs() < 1e-6 * (1.0 + g[i].abs()),
+            "∂{i}: {fd} vs {}",
+            g[i]
+        );
+        for j in 0..12 {
+            let fd = (gp[j] - gm[j]) / (2.0 * step);
+            let want = h[12 * i + j];
+            assert!(
+                (fd - want).abs() < 1e-5 * (1.0 + want.abs()),
+                "∂²{i}{j}: {fd} vs {want}"
+            );
+        }
+    }
+}
+
 #[test]
 fn every_feature_pair_has_its_exact_gradient_and_hessian() {
     let mut rng = StdRng::seed_from_u64(7);
@@ -166,25 +198,11 @@ fn a_pair_has_the_derivatives_of_its_energy_and_a_definite_projection() {
     let x0 = [0.2, 0.3, 0.15, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
     let (e, g, h) = pair(&barrier, Pair::PointPlane, &x0, None).expect("active at 0.15 m");
     assert!(e > 0.0);
-    let step = 1e-7;
-    for i in 0..12 {
-        let (mut xp, mut xm) = (x0, x0);
-        xp[i] += step;
-        xm[i] -= step;
-        let (ep, gp, _) = pair(&barrier, Pair::PointPlane, &xp, None).unwrap();
-        let (em, gm, _) = pair(&barrier, Pair::PointPlane, &xm, None).unwrap();
-        assert!(
-            ((ep - em) / (2.0 * step) - g[i]).abs() < 1e-6 * (1.0 + g[i].abs()),
-            "∂{i}"
-        );
-        for j in 0..12 {
-            let fd = (gp[j] - gm[j]) / (2.0 * step);
-            assert!(
-                (fd - h[12 * i + j]).abs() < 1e-5 * (1.0 + h[12 * i + j].abs()),
-                "∂²{i}{j}"
-            );
-        }
-    }
+    check_pair(
+        &x0,
+        |x| pair(&barrier, Pair::PointPlane, x, None).unwrap(),
+        (g, h),
+    );
     let mut p = h;
     project_psd(&mut p);
     let eig = nalgebra::SymmetricEigen::new(nalgebra::SMatrix::<f64, 12, 12>::from_row_slice(&p));
@@ -312,24 +330,7 @@ fn the_edge_mollifier_is_smooth_and_exact() {
     let energy = |x: &[f64; 12]| pair(&barrier, Pair::LineLine, x, Some(eps)).unwrap();
     let x0 = at(0.02); // c = sin²θ = 4e-4 < εx: mollified
     let (_, g, h) = energy(&x0);
-    let step = 1e-7;
-    for i in 0..12 {
-        let (mut xp, mut xm) = (x0, x0);
-        xp[i] += step;
-        xm[i] -= step;
-        let ((ep, gp, _), (em, gm, _)) = (energy(&xp), energy(&xm));
-        assert!(
-            ((ep - em) / (2.0 * step) - g[i]).abs() < 1e-6 * (1.0 + g[i].abs()),
-            "∂{i}"
-        );
-        for j in 0..12 {
-            let fd = (gp[j] - gm[j]) / (2.0 * step);
-            assert!(
-                (fd - h[12 * i + j]).abs() < 1e-5 * (1.0 + h[12 * i + j].abs()),
-                "∂²{i}{j}"
-            );
-        }
-    }
+    check_pair(&x0, energy, (g, h));
     // Across c = εx (θ = asin √εx) the energy and its gradient are continuous.
     let theta = eps.sqrt().asin();
     let (below, above) = (energy(&at(theta - 1e-9)), energy(&at(theta + 1e-9)));
