@@ -59,6 +59,7 @@ pub mod force;
 pub(crate) mod linsolve;
 pub mod loads;
 pub mod model;
+pub(crate) mod real;
 #[cfg(feature = "reference")]
 pub mod reference;
 pub mod rod;

@@ -7,35 +7,7 @@
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// A number usable in the distance formulas: `f64`, or [`D2`] for value, gradient and Hessian.
-pub trait Real:
-    Copy
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Div<Output = Self>
-    + Neg<Output = Self>
-    + Mul<f64, Output = Self>
-{
-    /// A constant.
-    fn constant(x: f64) -> Self;
-    /// The value (without derivatives).
-    fn value(&self) -> f64;
-    /// √x.
-    fn sqrt(self) -> Self;
-}
-
-impl Real for f64 {
-    fn constant(x: f64) -> Self {
-        x
-    }
-    fn value(&self) -> f64 {
-        *self
-    }
-    fn sqrt(self) -> Self {
-        f64::sqrt(self)
-    }
-}
+pub(crate) use crate::real::Real;
 
 /// `v`, `∂v/∂x_i` and `∂²v/∂x_i∂x_j` over `N` variables.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,20 +48,57 @@ impl<const N: usize> D2<N> {
     }
 }
 
-impl<const N: usize> Real for D2<N> {
-    fn constant(v: f64) -> Self {
+impl<const N: usize> D2<N> {
+    /// A constant: zero gradient and Hessian.
+    pub fn constant(v: f64) -> Self {
         Self {
             v,
             g: [0.0; N],
             h: [[0.0; N]; N],
         }
     }
-    fn value(&self) -> f64 {
+}
+
+impl<const N: usize> Real for D2<N> {
+    fn cst(v: f64) -> Self {
+        Self::constant(v)
+    }
+    fn val(self) -> f64 {
         self.v
     }
     fn sqrt(self) -> Self {
         let s = self.v.sqrt();
         self.chain(s, 0.5 / s, -0.25 / (s * self.v))
+    }
+    fn sin(self) -> Self {
+        let (s, c) = self.v.sin_cos();
+        self.chain(s, c, -s)
+    }
+    fn cos(self) -> Self {
+        let (s, c) = self.v.sin_cos();
+        self.chain(c, -s, -c)
+    }
+    /// atan2's derivatives are those of atan(y/x) (or of −atan(x/y) where |y| > |x|, which
+    /// differs from it by a constant); its value is the quadrant-aware one.
+    fn atan2(self, x: Self) -> Self {
+        let atan = |u: Self| {
+            let d = 1.0 + u.v * u.v;
+            u.chain(u.v.atan(), 1.0 / d, -2.0 * u.v / (d * d))
+        };
+        let mut t = match x.v.abs() >= self.v.abs() {
+            true => atan(self / x),
+            false => -atan(x / self),
+        };
+        t.v = self.v.atan2(x.v);
+        t
+    }
+}
+
+impl<const N: usize> Add<f64> for D2<N> {
+    type Output = Self;
+    fn add(mut self, k: f64) -> Self {
+        self.v += k;
+        self
     }
 }
 
@@ -166,17 +175,17 @@ impl<const N: usize> Div for D2<N> {
 pub type V<T> = [T; 3];
 
 /// `a − b`.
-pub fn sub<T: Real>(a: V<T>, b: V<T>) -> V<T> {
+pub(crate) fn sub<T: Real>(a: V<T>, b: V<T>) -> V<T> {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 /// `a · b`.
-pub fn dot<T: Real>(a: V<T>, b: V<T>) -> T {
+pub(crate) fn dot<T: Real>(a: V<T>, b: V<T>) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// `a × b`.
-pub fn cross<T: Real>(a: V<T>, b: V<T>) -> V<T> {
+pub(crate) fn cross<T: Real>(a: V<T>, b: V<T>) -> V<T> {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -215,6 +224,39 @@ mod tests {
             assert!((f.g[i] - want_g[i]).abs() < 1e-14, "{:?}", f.g);
             for j in 0..2 {
                 assert!((f.h[i][j] - want_h[i][j]).abs() < 1e-14, "{:?}", f.h);
+            }
+        }
+    }
+
+    /// atan2 in every quadrant (both branches) and sin, cos: gradient and Hessian against
+    /// central differences of the same formula on f64 (step 1e-5: truncation ~1e-10).
+    #[test]
+    fn atan2_sin_and_cos_carry_exact_derivatives() {
+        fn f<T: Real>(x: T, y: T) -> T {
+            y.atan2(x) + x.sin() * y.cos() + 0.5
+        }
+        let h = 1e-5;
+        for (x0, y0) in [(0.8, 0.3), (-0.4, 0.9), (-0.7, -0.2), (0.1, -1.3)] {
+            let d = f(D2::<2>::variable(x0, 0), D2::<2>::variable(y0, 1));
+            assert!((d.v - f(x0, y0)).abs() < 1e-15);
+            let g = |x: f64, y: f64| {
+                let d = f(D2::<2>::variable(x, 0), D2::<2>::variable(y, 1));
+                d.g
+            };
+            let fd = [
+                (f(x0 + h, y0) - f(x0 - h, y0)) / (2.0 * h),
+                (f(x0, y0 + h) - f(x0, y0 - h)) / (2.0 * h),
+            ];
+            let hd = [
+                [g(x0 + h, y0), g(x0 - h, y0)],
+                [g(x0, y0 + h), g(x0, y0 - h)],
+            ];
+            for i in 0..2 {
+                assert!((d.g[i] - fd[i]).abs() < 1e-8, "({x0}, {y0}) ∂{i}");
+                for j in 0..2 {
+                    let want = (hd[i][0][j] - hd[i][1][j]) / (2.0 * h);
+                    assert!((d.h[i][j] - want).abs() < 1e-7, "({x0}, {y0}) ∂²{i}{j}");
+                }
             }
         }
     }

@@ -7,7 +7,7 @@
 //! square of the activation distance and κ the stiffness (N·m⁻³ here: energy per m⁴ of
 //! squared distance).
 
-use super::ad::{cross, dot, sub, variables, Real, D2};
+use super::ad::{cross, dot, sub, variables, D2};
 use super::distance::{of_pair, Pair};
 
 /// The barrier's parameters.
@@ -52,7 +52,7 @@ pub fn pair(
 ) -> Option<(f64, [f64; 12], [f64; 144])> {
     let v = variables(x);
     let d = of_pair(kind, &v);
-    if d.value() >= barrier.d_hat {
+    if d.v >= barrier.d_hat {
         return None;
     }
     let [b, b1, b2] = barrier.eval(d.v);

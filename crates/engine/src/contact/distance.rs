@@ -1,8 +1,8 @@
 //! Squared distances between the primitives of a mesh, after Li et al., "Incremental Potential
 //! Contact" (SIGGRAPH 2020), §4: the unsigned distance between a point and a triangle, or
 //! between two edges, is the smallest distance between a feature of one and a feature of the
-//! other. Each feature pair has a smooth formula ([`point_point`], [`point_line`],
-//! [`point_plane`], [`line_line`]); [`point_triangle`] and [`edge_edge`] pick the pair that
+//! other. Each feature pair has a smooth formula (`point_point`, `point_line`,
+//! `point_plane`, `line_line`, written once over the crate's `Real` scalar); [`point_triangle`] and [`edge_edge`] pick the pair that
 //! realises the distance, so the result is the true squared distance, and its gradient and
 //! Hessian are those of the smooth formula of the picked pair.
 //!
@@ -12,13 +12,13 @@
 use super::ad::{cross, dot, sub, Real, V};
 
 /// `|p − a|²`.
-pub fn point_point<T: Real>(p: V<T>, a: V<T>) -> T {
+pub(crate) fn point_point<T: Real>(p: V<T>, a: V<T>) -> T {
     let d = sub(p, a);
     dot(d, d)
 }
 
 /// Squared distance from `p` to the line through `a` and `b`: `|(a − p) × (b − p)|² / |b − a|²`.
-pub fn point_line<T: Real>(p: V<T>, a: V<T>, b: V<T>) -> T {
+pub(crate) fn point_line<T: Real>(p: V<T>, a: V<T>, b: V<T>) -> T {
     let c = cross(sub(a, p), sub(b, p));
     let e = sub(b, a);
     dot(c, c) / dot(e, e)
@@ -26,7 +26,7 @@ pub fn point_line<T: Real>(p: V<T>, a: V<T>, b: V<T>) -> T {
 
 /// Squared distance from `p` to the plane through `a`, `b`, `c`: `((p − a)·n)² / |n|²`,
 /// `n = (b − a) × (c − a)`.
-pub fn point_plane<T: Real>(p: V<T>, a: V<T>, b: V<T>, c: V<T>) -> T {
+pub(crate) fn point_plane<T: Real>(p: V<T>, a: V<T>, b: V<T>, c: V<T>) -> T {
     let n = cross(sub(b, a), sub(c, a));
     let s = dot(sub(p, a), n);
     s * s / dot(n, n)
@@ -34,7 +34,7 @@ pub fn point_plane<T: Real>(p: V<T>, a: V<T>, b: V<T>, c: V<T>) -> T {
 
 /// Squared distance between the line through `a0`, `a1` and the line through `b0`, `b1`:
 /// `((b0 − a0)·(ea × eb))² / |ea × eb|²` (undefined for parallel lines).
-pub fn line_line<T: Real>(a0: V<T>, a1: V<T>, b0: V<T>, b1: V<T>) -> T {
+pub(crate) fn line_line<T: Real>(a0: V<T>, a1: V<T>, b0: V<T>, b1: V<T>) -> T {
     let n = cross(sub(a1, a0), sub(b1, b0));
     let s = dot(sub(b0, a0), n);
     s * s / dot(n, n)
@@ -122,8 +122,8 @@ pub fn edge_edge(x: &[V<f64>; 4]) -> (Pair, f64) {
         .expect("four endpoints")
 }
 
-/// The squared distance of `pair` at the points `x`, on any [`Real`] (for its derivatives).
-pub fn of_pair<T: Real>(pair: Pair, x: &[V<T>; 4]) -> T {
+/// The squared distance of `pair` at the points `x`, on any `Real` (for its derivatives).
+pub(crate) fn of_pair<T: Real>(pair: Pair, x: &[V<T>; 4]) -> T {
     match pair {
         Pair::PointPoint(i, j) => point_point(x[i], x[j]),
         Pair::PointLine(i, j, k) => point_line(x[i], x[j], x[k]),
