@@ -69,6 +69,7 @@ impl ModelSpec {
     pub fn of(s: &Scenario) -> Self {
         let m = &s.material;
         let angle = m.warp_direction_deg.unwrap_or(0.0).to_radians();
+        let air = air(s);
         Self {
             kind: s.model.kind,
             canopy: s.canopy.clone(),
@@ -91,12 +92,12 @@ impl ModelSpec {
             lines: s.lines.clone(),
             line_drag_coefficient: s.lines.drag_coefficient.unwrap_or(s.fluid.drag_coefficient),
             fluid: s.fluid.clone(),
-            air: air(s),
+            initial_velocity: initial_velocity(s, &air),
+            air,
             incidence: crate::scenario::incidence_curve(s),
             gravity_mps2: s.fluid.gravity_mps2,
             control: s.control.clone(),
             guidance: s.guidance.clone(),
-            initial_velocity: initial_velocity(s),
             release_point: s.canopy.release_point_m.unwrap_or([0.0; 2]),
         }
     }
@@ -109,9 +110,9 @@ impl ModelSpec {
 
 /// Every node's velocity at t = 0: `canopy.initial_velocity_mps`, or the wind at the
 /// canopy's start height (model z = 0) when `canopy.released_with_wind`, or rest.
-fn initial_velocity(s: &Scenario) -> [f64; 3] {
+fn initial_velocity(s: &Scenario, air: &engine::aero::Fluid) -> [f64; 3] {
     match (s.canopy.released_with_wind, s.canopy.initial_velocity_mps) {
-        (true, _) => air(s).wind_at(0.0).velocity,
+        (true, _) => air.wind_at(0.0).velocity,
         (false, v) => v.unwrap_or([0.0; 3]),
     }
 }

@@ -230,6 +230,21 @@ fn a_pair_has_the_derivatives_of_its_energy_and_a_definite_projection() {
     .is_none());
 }
 
+/// The triangles and edges of an `n × n` grid of nodes numbered row by row from `first`:
+/// two triangles per cell, its two sides and one diagonal as edges.
+fn add_grid(s: &mut super::broad::Surface, n: usize, first: usize) {
+    let id = |i: usize, j: usize| first + i * n + j;
+    for i in 0..n - 1 {
+        for j in 0..n - 1 {
+            s.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            s.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            s.edges
+                .extend([[id(i, j), id(i + 1, j)], [id(i, j), id(i, j + 1)]]);
+            s.edges.push([id(i, j), id(i + 1, j + 1)]);
+        }
+    }
+}
+
 /// A crumpled sheet (a 9 × 9 grid of unit cells, nodes moved randomly by up to a cell): every
 /// point–triangle and edge–edge pair closer than the reach, found by brute force over all
 /// pairs, is a candidate, and the candidates are far fewer than all pairs.
@@ -238,7 +253,6 @@ fn the_broad_phase_finds_every_pair_within_reach() {
     use super::broad::{candidates, Candidate, Surface};
     let mut rng = StdRng::seed_from_u64(3);
     let n = 10;
-    let id = |i: usize, j: usize| i * n + j;
     let mut x = Vec::new();
     for i in 0..n {
         for j in 0..n {
@@ -250,15 +264,7 @@ fn the_broad_phase_finds_every_pair_within_reach() {
         }
     }
     let mut s = Surface::default();
-    for i in 0..n - 1 {
-        for j in 0..n - 1 {
-            s.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            s.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-            s.edges
-                .extend([[id(i, j), id(i + 1, j)], [id(i, j), id(i, j + 1)]]);
-            s.edges.push([id(i, j), id(i + 1, j + 1)]);
-        }
-    }
+    add_grid(&mut s, n, 0);
     s.points = (0..n * n).collect();
     let reach = 0.3;
     let found: std::collections::HashSet<Candidate> =
@@ -409,21 +415,12 @@ fn a_sheet_pushed_through_another_is_a_crossing() {
     let mut s = Surface::default();
     let mut x = Vec::new();
     for (sheet, z) in [(0, 0.0), (1, 0.5)] {
-        let id = |i: usize, j: usize| sheet * n * n + i * n + j;
         for i in 0..n {
             for j in 0..n {
                 x.extend([i as f64, j as f64, z]);
             }
         }
-        for i in 0..n - 1 {
-            for j in 0..n - 1 {
-                s.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                s.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-                s.edges
-                    .extend([[id(i, j), id(i + 1, j)], [id(i, j), id(i, j + 1)]]);
-                s.edges.push([id(i, j), id(i + 1, j + 1)]);
-            }
-        }
+        add_grid(&mut s, n, sheet * n * n);
     }
     assert_eq!(first_crossing(&s, &x), None);
     let pushed = n * n + 2 * n + 2; // the upper sheet's middle node
