@@ -213,6 +213,16 @@ pub enum StepError {
         /// The first offending DOF.
         dof: usize,
     },
+    /// The straight path from the step's start to its solution brings two contact surfaces
+    /// together (`Force::max_step` below 1 at the path gap): the step is refused.
+    #[error("the step's path brings two surfaces together (contact) at {fraction:.3} of the step")]
+    Crossing {
+        /// The fraction of the step reached before the pair closes.
+        fraction: f64,
+    },
+    /// The sparsity pattern could not be rebuilt after a force's stencils changed.
+    #[error("rebuilding the sparsity pattern failed: {0}")]
+    Pattern(String),
     /// The sparse factorisation failed (singular Jacobian).
     #[error("linear solve failed: {0}")]
     Linear(SparseError),
@@ -239,7 +249,7 @@ impl StepError {
                 Some(*worst_dof)
             }
             Self::NonFinite { dof, .. } => Some(*dof),
-            Self::Linear(_) => None,
+            Self::Linear(_) | Self::Crossing { .. } | Self::Pattern(_) => None,
             Self::Homotopy { last, .. } => last.as_ref().and_then(|e| e.dof()),
         }
     }

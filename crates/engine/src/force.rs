@@ -323,6 +323,25 @@ pub trait Force: Send + Sync {
     fn lag_coupling(&self, _q: &[f64], _v: &[f64]) -> Option<LagCoupling> {
         None
     }
+    /// Called before each step is solved, with the state `(q, v)` it starts from and its
+    /// length `dt` (s): a force whose stencils follow the state (contact pairs, taken by a
+    /// broad phase) takes them here. Returns true when its stencils changed, so that the step
+    /// solver rebuilds its sparsity pattern; false (the default) keeps it.
+    fn begin_step(&mut self, _q: &[f64], _v: &[f64], _dt: f64) -> bool {
+        false
+    }
+    /// Whether [`Force::max_step`] can return less than 1 (contact): the step solver then
+    /// bounds every move of an iterate by it.
+    fn bounds_steps(&self) -> bool {
+        false
+    }
+    /// The largest fraction `t ≤ 1` of the move `dq` from `q` (all DOFs) that the force
+    /// admits: along `q + s dq`, `s ∈ [0, t]`, nothing it guards closes below `gap` times its
+    /// distance at `q` (contact: no two surfaces meet). 1 (the default) for forces without
+    /// such a bound.
+    fn max_step(&self, _q: &[f64], _dq: &[f64], _gap: f64) -> f64 {
+        1.0
+    }
     /// Fresh output buffers for this force (with the [`LocalBlocks::scratch`] it uses, if
     /// any, and room for its low-rank part).
     fn new_blocks(&self) -> LocalBlocks {

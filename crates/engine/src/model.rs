@@ -130,6 +130,25 @@ impl Model {
         }
         Ok(())
     }
+    /// Let every force take its step-dependent stencils from the state a step of `dt` starts
+    /// from ([`Force::begin_step`]); true when any stencils changed.
+    pub fn begin_step(&mut self, q: &[f64], v: &[f64], dt: f64) -> bool {
+        let mut changed = false;
+        for f in &mut self.forces {
+            changed |= f.begin_step(q, v, dt);
+        }
+        changed
+    }
+    /// Whether any force bounds the moves of the step solver's iterates ([`Force::max_step`]).
+    pub fn bounds_steps(&self) -> bool {
+        self.forces.iter().any(|f| f.bounds_steps())
+    }
+    /// The largest fraction of the move `dq` from `q` every force admits ([`Force::max_step`]).
+    pub fn max_step(&self, q: &[f64], dq: &[f64], gap: f64) -> f64 {
+        (self.forces.iter().filter(|f| f.bounds_steps()))
+            .map(|f| f.max_step(q, dq, gap))
+            .fold(1.0, f64::min)
+    }
     /// Total potential energy of the conservative forces (J).
     pub fn energy(&self, q: &[f64]) -> f64 {
         self.forces.iter().filter_map(|f| f.energy(q)).sum()

@@ -17,16 +17,45 @@ pub struct Surface {
     pub edges: Vec<[usize; 2]>,
     /// Points tested against the triangles (the cloth's and the lines' nodes).
     pub points: Vec<usize>,
+    /// Line segments whose nodes are also tested against each other's segments (point–edge).
+    pub line_edges: Vec<[usize; 2]>,
 }
 
-/// A candidate pair: a point–triangle stencil `[p, t0, t1, t2]` or an edge–edge stencil
-/// `[a0, a1, b0, b1]`.
+impl Surface {
+    /// The surface of a cloth mesh `triangles` and line segments `lines`: every triangle, every
+    /// distinct edge of the triangles and every segment as edges, every node of either as a
+    /// point, and the segments as lines (point–edge pairs).
+    pub fn from_mesh(triangles: &[[usize; 3]], lines: &[[usize; 2]]) -> Self {
+        let mut edges: Vec<[usize; 2]> = (triangles.iter())
+            .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+            .chain(lines.iter().copied())
+            .map(|[a, b]| [a.min(b), a.max(b)])
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        let mut points: Vec<usize> = edges.iter().flatten().copied().collect();
+        points.sort_unstable();
+        points.dedup();
+        Self {
+            triangles: triangles.to_vec(),
+            edges,
+            points,
+            line_edges: lines.to_vec(),
+        }
+    }
+}
+
+/// A candidate pair: a point–triangle stencil `[p, t0, t1, t2]`, an edge–edge stencil
+/// `[a0, a1, b0, b1]` or a point–edge stencil `[p, a, b]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Candidate {
     /// Point and triangle.
     PointTriangle([usize; 4]),
     /// Two edges.
     EdgeEdge([usize; 4]),
+    /// A line's node and a line's edge: the mollified edge–edge energy vanishes for parallel
+    /// edges, so parallel lines are held apart by their nodes (IPC's codimensional form).
+    PointEdge([usize; 3]),
 }
 
 type Boxed = GeomWithData<Rectangle<[f64; 3]>, usize>;
@@ -76,6 +105,30 @@ pub fn candidates(surface: &Surface, x: &[f64], reach: f64) -> Vec<Candidate> {
             out.push(Candidate::EdgeEdge([ea[0], ea[1], eb[0], eb[1]]));
         }
     }
+    line_pairs(surface, x, reach, &mut out);
     out.sort_unstable();
     out
+}
+
+/// The point–edge candidates among the lines: every line node in the grown box of a line edge
+/// it is not an end of.
+fn line_pairs(surface: &Surface, x: &[f64], reach: f64, out: &mut Vec<Candidate>) {
+    if surface.line_edges.is_empty() {
+        return;
+    }
+    let boxes: Vec<Boxed> = (surface.line_edges.iter().enumerate())
+        .map(|(i, e)| grown(x, e, reach, i))
+        .collect();
+    let tree = RTree::bulk_load(boxes);
+    let mut nodes: Vec<usize> = surface.line_edges.iter().flatten().copied().collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    for p in nodes {
+        for hit in tree.locate_in_envelope_intersecting(&AABB::from_point(node(x, p))) {
+            let e = surface.line_edges[hit.data];
+            if !e.contains(&p) {
+                out.push(Candidate::PointEdge([p, e[0], e[1]]));
+            }
+        }
+    }
 }

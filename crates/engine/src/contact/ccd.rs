@@ -7,7 +7,7 @@
 //! line search that never steps past the smallest of these keeps every pair apart.
 
 use super::ad::V;
-use super::distance::{edge_edge, point_triangle};
+use super::distance::{edge_edge, point_edge, point_triangle};
 
 /// The kind of a pair's stencil (the same four points as in [`super::distance`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -16,6 +16,8 @@ pub enum Stencil {
     PointTriangle,
     /// `a0, a1, b0, b1`.
     EdgeEdge,
+    /// `p, a, b` (the fourth point is not used).
+    PointEdge,
 }
 
 /// Iterations at most: a pair that is not closing is passed in a handful of them.
@@ -27,6 +29,7 @@ fn distance(kind: Stencil, x: &[V<f64>; 4]) -> f64 {
     match kind {
         Stencil::PointTriangle => point_triangle(x).1,
         Stencil::EdgeEdge => edge_edge(x).1,
+        Stencil::PointEdge => point_edge(x).1,
     }
     .sqrt()
 }
@@ -40,11 +43,14 @@ fn norm(v: V<f64>) -> f64 {
 /// when nothing in between comes closer, 0 for a pair already touching.
 pub fn max_step(kind: Stencil, x: &[V<f64>; 4], dx: &[V<f64>; 4], s: f64, t_max: f64) -> f64 {
     // Only the relative motion matters: remove the mean displacement.
-    let mean: V<f64> = std::array::from_fn(|k| dx.iter().map(|p| p[k]).sum::<f64>() / 4.0);
+    let used = if kind == Stencil::PointEdge { 3 } else { 4 };
+    let mean: V<f64> =
+        std::array::from_fn(|k| dx[..used].iter().map(|p| p[k]).sum::<f64>() / used as f64);
     let p: [V<f64>; 4] = dx.map(|d| std::array::from_fn(|k| d[k] - mean[k]));
     let l_p = match kind {
         Stencil::PointTriangle => norm(p[0]) + norm(p[1]).max(norm(p[2])).max(norm(p[3])),
         Stencil::EdgeEdge => norm(p[0]).max(norm(p[1])) + norm(p[2]).max(norm(p[3])),
+        Stencil::PointEdge => norm(p[0]) + norm(p[1]).max(norm(p[2])),
     };
     let d0 = distance(kind, x);
     if l_p == 0.0 {

@@ -99,6 +99,12 @@ pub fn point_triangle(x: &[V<f64>; 4]) -> (Pair, f64) {
         .expect("three edges")
 }
 
+/// The pair realising the distance from point 0 to the segment of points 1, 2 (point 3 is
+/// not used: a point–edge stencil is padded to four points), and the squared distance.
+pub fn point_edge(x: &[V<f64>; 4]) -> (Pair, f64) {
+    point_segment(x, 0, 1, 2)
+}
+
 /// The pair realising the distance between edges 0–1 and 2–3, and the squared distance: the
 /// lines when their closest points lie inside both edges (and they are not parallel), else
 /// an endpoint against the other edge.

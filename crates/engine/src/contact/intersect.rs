@@ -10,6 +10,7 @@ use rstar::{RTree, AABB};
 
 use super::ad::V;
 use super::broad::Surface;
+use super::distance::edge_edge;
 
 fn c(p: V<f64>) -> Coord3D<f64> {
     Coord3D {
@@ -70,4 +71,39 @@ pub fn first_crossing(surface: &Surface, x: &[f64]) -> Option<(usize, usize)> {
         }
     }
     None
+}
+
+/// Whether segments `a` and `b`, each moving in a straight line from `start` to `end`
+/// (`[a0, a1, b0, b1]`), pass through each other on the way: the signed volume of the four
+/// points changes sign (the two lines meet) at an instant where the meeting point lies
+/// inside both segments (their distance vanishes there; lines that are parallel or meet
+/// beyond an end keep a distance). The instant is found by bisection of the volume (a cubic
+/// in time) between the ends, where Shewchuk's exact `orient3d` decides the signs. A pair whose
+/// volume returns to its sign within the motion (two meetings) is not reported.
+pub fn segments_pass_through(start: [V<f64>; 4], end: [V<f64>; 4]) -> bool {
+    let at = |t: f64| -> [V<f64>; 4] {
+        std::array::from_fn(|i| {
+            std::array::from_fn(|k| start[i][k] + t * (end[i][k] - start[i][k]))
+        })
+    };
+    let vol = |p: [V<f64>; 4]| side(p[0], p[1], p[2], p[3]);
+    let (v0, v1) = (vol(start), vol(end));
+    if v0 * v1 > 0.0 || (v0 == 0.0 && v1 == 0.0) {
+        return false;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if vol(at(mid)) * v0 > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    // At that instant the lines meet (unless parallel): the segments do when their own
+    // distance is nil to within the bisection's resolution of the motion.
+    let meet = at(0.5 * (lo + hi));
+    let len2 = |a: V<f64>, b: V<f64>| (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>();
+    let scale = len2(meet[0], meet[1]).max(len2(meet[2], meet[3]));
+    edge_edge(&meet).1 <= 1e-18 * scale
 }

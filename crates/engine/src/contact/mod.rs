@@ -22,7 +22,10 @@ pub mod barrier;
 pub mod broad;
 pub mod ccd;
 pub mod distance;
+pub mod force;
 pub mod intersect;
+
+pub use force::SelfContact;
 
 #[cfg(test)]
 mod tests;

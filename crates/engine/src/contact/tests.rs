@@ -384,10 +384,15 @@ fn the_ccd_step_keeps_every_pair_apart() {
     for case in 0..200 {
         let x = points(&random_points(&mut rng));
         let dx = points(&random_points(&mut rng)).map(|p| p.map(|c| 2.0 * c));
-        for kind in [Stencil::PointTriangle, Stencil::EdgeEdge] {
+        for kind in [
+            Stencil::PointTriangle,
+            Stencil::EdgeEdge,
+            Stencil::PointEdge,
+        ] {
             let dist = |y: &[V<f64>; 4]| match kind {
                 Stencil::PointTriangle => point_triangle(y).1.sqrt(),
                 Stencil::EdgeEdge => edge_edge(y).1.sqrt(),
+                Stencil::PointEdge => super::distance::point_edge(y).1.sqrt(),
             };
             let d0 = dist(&x);
             let t = max_step(kind, &x, &dx, s, 1.0);

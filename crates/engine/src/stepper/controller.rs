@@ -30,7 +30,7 @@ use super::stage::held;
 use super::stage::homotopy::{self, HomotopyBuffers};
 use super::stage::{continuation, newton, Core};
 use super::step_size::StepSizes;
-use super::workspace::{Target, Workspace};
+use super::workspace::{Target, Workspace, ITERATE_GAP, PATH_GAP};
 use crate::error::{EngineError, StepError};
 use crate::model::{Model, State};
 
@@ -218,6 +218,7 @@ impl ImplicitEuler {
         state: &mut State,
         dt: f64,
     ) -> Result<StepReport, StepError> {
+        self.begin_step(model, state, dt)?;
         let trial = self.try_step(model, state, dt)?;
         let report = trial.report();
         trial.commit(model, state);
@@ -237,6 +238,9 @@ impl ImplicitEuler {
     ) -> Attempt {
         let plan = sizes.plan(state.t, event);
         let h = plan.h;
+        if let Err(error) = self.begin_step(model, state, h) {
+            return Attempt::Failed { h, error };
+        }
         let trial = match self.try_step(model, state, h) {
             Ok(trial) => trial,
             Err(error) if sizes.solve_failed(h) => return Attempt::Halved { h, error },
@@ -253,6 +257,29 @@ impl ImplicitEuler {
         }
         sizes.accepted(h, next);
         Attempt::Accepted { h, report, err }
+    }
+
+    /// Let the forces take their step-dependent stencils (contact pairs) for a step of `dt`
+    /// from `state` ([`Model::begin_step`]); where they changed, rebuild the sparsity pattern
+    /// and its symbolic factorisation (the held factors are dropped, the counters kept).
+    pub fn begin_step(
+        &mut self,
+        model: &mut Model,
+        state: &State,
+        dt: f64,
+    ) -> Result<(), StepError> {
+        if !model.begin_step(&state.q, &state.v, dt) {
+            return Ok(());
+        }
+        let t0 = std::time::Instant::now();
+        let counters = self.core.ws.counters;
+        let history = self.core.ws.history.capacity();
+        self.core = Core::new(model, self.core.opts, history)
+            .map_err(|e| StepError::Pattern(e.to_string()))?;
+        self.core.ws.counters = counters;
+        self.core.ws.counters.pattern_rebuilds += 1;
+        self.core.ws.counters.pattern_s += t0.elapsed().as_secs_f64();
+        Ok(())
     }
 
     /// Solve the step of size `dt` from `state` by the ladder (module docs) without changing
@@ -274,6 +301,8 @@ impl ImplicitEuler {
             &mut self.q_tilde,
             &mut self.q_guess,
         );
+        // The guess on the near side of every surface (contact).
+        (self.core.ws).bound_move(model, &state.q, &mut self.q_guess, ITERATE_GAP);
         let q_tilde = std::mem::take(&mut self.q_tilde);
         let tg = Target {
             c_m: 1.0 / (dt * dt),
@@ -282,7 +311,9 @@ impl ImplicitEuler {
             q_n: &state.q,
             t: state.t + dt,
         };
-        let res = self.solve(model, &tg);
+        let res = self
+            .solve(model, &tg)
+            .and_then(|r| self.check_path(model, state, r));
         let filtered = res.is_ok() && self.finish_step(model, state, &tg);
         self.q_tilde = q_tilde;
         let report = res?;
@@ -364,6 +395,26 @@ impl ImplicitEuler {
             rep.factorizations = facts as usize;
             rep
         })
+    }
+
+    /// Refuse a solution whose straight path from the step's start brings two contact
+    /// surfaces together (`Force::max_step` at [`PATH_GAP`]): whichever stage solved it, no
+    /// surface passed through another during an accepted step.
+    fn check_path(
+        &mut self,
+        model: &Model,
+        state: &State,
+        report: StepReport,
+    ) -> Result<StepReport, StepError> {
+        let mut end = std::mem::take(&mut self.v_new);
+        end.copy_from_slice(&self.q_new);
+        let fraction = self.core.ws.bound_move(model, &state.q, &mut end, PATH_GAP);
+        self.v_new = end;
+        if fraction < 1.0 {
+            self.core.ws.counters.path_rejects += 1;
+            return Err(StepError::Crossing { fraction });
+        }
+        Ok(report)
     }
 
     /// After a converged solve: `v_{n+1}`, the raw local error estimate, and (with the

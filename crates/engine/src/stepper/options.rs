@@ -248,7 +248,11 @@ impl Counters {
             roundoff_accepts,
             noise_probes,
             error_filters,
-            error_filter_fallbacks
+            error_filter_fallbacks,
+            bounded_moves,
+            path_rejects,
+            pattern_rebuilds,
+            pattern_s
         )
     }
 }
@@ -328,4 +332,15 @@ pub struct Counters {
     pub error_filters: u64,
     /// Estimates left unfiltered (no factors for the step's own `dt`, or not finite).
     pub error_filter_fallbacks: u64,
+    /// Moves of an iterate shortened by a force's step bound (contact's CCD,
+    /// `Force::max_step`).
+    pub bounded_moves: u64,
+    /// Solved steps refused because the straight path from the step's start to its solution
+    /// brought two surfaces together (contact; the step is halved).
+    pub path_rejects: u64,
+    /// Rebuilds of the sparsity pattern and its symbolic factorisation after a force's
+    /// stencils changed (contact pairs).
+    pub pattern_rebuilds: u64,
+    /// Time spent in those rebuilds (s).
+    pub pattern_s: f64,
 }

@@ -56,9 +56,19 @@ pub(crate) struct Workspace {
     pub mass: Vec<f64>,
     /// `‖R‖∞` after each iteration of the last solve (the predictor first).
     pub history: Vec<f64>,
+    /// A move of an iterate (all DOFs), for the forces' step bound.
+    dir: Vec<f64>,
     /// What the solves did.
     pub counters: Counters,
 }
+
+/// A move of an iterate keeps every contact pair above this fraction of its distance
+/// (`Force::max_step`; IPC's line search keeps 0.1–0.2, Li et al. 2021, Algorithm 1).
+pub(crate) const ITERATE_GAP: f64 = 0.1;
+/// A step's solution is accepted only if the straight path to it from the step's start
+/// keeps every contact pair above this fraction of its distance: no surface passed through
+/// another during the step, whichever stage solved it.
+pub(crate) const PATH_GAP: f64 = 1e-3;
 
 impl Workspace {
     /// Allocate every buffer for `model` (its pattern is analysed here, once).
@@ -77,6 +87,11 @@ impl Workspace {
             saved: vec![0.0; nf],
             mass: asm.dof_of.iter().map(|&d| model.mass[d]).collect(),
             history: Vec::with_capacity(max_history),
+            dir: if model.bounds_steps() {
+                vec![0.0; n]
+            } else {
+                Vec::new()
+            },
             counters: Counters::default(),
             asm,
         }
@@ -236,6 +251,46 @@ impl Workspace {
         let norm = self.evaluate(model, &qt, tg, jac);
         self.q_trial = qt;
         norm
+    }
+
+    /// Shorten the move from `from` to `to` (all DOFs) to the fraction the model's forces
+    /// admit (`Force::max_step` with `gap`); returns that fraction (1: `to` unchanged).
+    pub fn bound_move(&mut self, model: &Model, from: &[f64], to: &mut [f64], gap: f64) -> f64 {
+        if self.dir.is_empty() {
+            return 1.0;
+        }
+        for (d, (a, b)) in self.dir.iter_mut().zip(from.iter().zip(to.iter())) {
+            *d = b - a;
+        }
+        let t = model.max_step(from, &self.dir, gap);
+        if t < 1.0 {
+            for (x, (a, d)) in to.iter_mut().zip(from.iter().zip(&self.dir)) {
+                *x = a + t * d;
+            }
+            self.counters.bounded_moves += 1;
+        }
+        t
+    }
+
+    /// The largest `α ≤ 1` the model's forces admit for the update `q + α Δ` (1 for a model
+    /// without step bounds).
+    pub fn max_alpha(&mut self, model: &Model, q: &[f64]) -> f64 {
+        if self.dir.is_empty() {
+            return 1.0;
+        }
+        self.dir.iter_mut().for_each(|x| *x = 0.0);
+        self.scatter_delta();
+        let t = model.max_step(q, &self.dir, ITERATE_GAP);
+        if t < 1.0 {
+            self.counters.bounded_moves += 1;
+        }
+        t
+    }
+
+    fn scatter_delta(&mut self) {
+        for (r, &d) in self.asm.dof_of.iter().enumerate() {
+            self.dir[d] = self.delta[r];
+        }
     }
 
     /// The free DOFs of `q` into `x`.

@@ -7,6 +7,7 @@
 //! Tolerances are those of `engine::conformance` (FD error < 1e-6 relative to the largest
 //! analytic entry with h = 1e-6; identities to 1e-12): a correct derivative passes by orders
 //! of magnitude, a missing term (∂n̂/∂x, a factor 2) fails by O(1).
+mod contact;
 mod fixtures;
 mod membranes;
 #[path = "../common/mesh.rs"]
@@ -453,3 +454,10 @@ force_conformance!(
         q[3..].copy_from_slice(&b);
     })
 );
+
+// Contact: the barrier of every pair kind, with its exact Hessian (the projected one is not a
+// derivative; its projection is checked in `contact::tests`).
+force_conformance!(self_contact, {
+    let (f, q) = contact::self_contact(false);
+    Case::new(f, q).perturb(0.2).trials(12)
+});

@@ -11,6 +11,7 @@ mod aero_stratified;
 mod aero_terminal;
 mod aero_wind;
 mod atmosphere;
+mod contact;
 #[path = "../common/mesh.rs"]
 mod mesh;
 mod rod_cantilever;

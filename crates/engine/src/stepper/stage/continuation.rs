@@ -15,7 +15,7 @@ use super::Ctx;
 use crate::error::StepError;
 use crate::stepper::convergence::Verdict;
 use crate::stepper::options::{Stage, StepReport};
-use crate::stepper::workspace::Target;
+use crate::stepper::workspace::{Target, ITERATE_GAP};
 
 /// First `τ`: the extra diagonal is `10 c_m M` (the inertia 11×, a pseudo step ~h/3).
 const TAU_START: f64 = 0.1;
@@ -34,6 +34,7 @@ pub(crate) fn run(
     budget: usize,
 ) -> Result<StepReport, StepError> {
     q.copy_from_slice(tg.q_tilde);
+    cx.ws.bound_move(cx.model, tg.q_n, q, ITERATE_GAP);
     let (mut rep, tol, mut norm) = cx.begin(Stage::Continuation, tg, q, true);
     let mut tau = TAU_START;
     loop {
@@ -49,7 +50,8 @@ pub(crate) fn run(
             what: "continuation update",
             dof,
         })?;
-        let trial = cx.ws.try_update(cx.model, q, tg, 1.0, true);
+        let alpha = cx.ws.max_alpha(cx.model, q);
+        let trial = cx.ws.try_update(cx.model, q, tg, alpha, true);
         if trial.is_finite() && trial < GROWTH_LIMIT * norm {
             q.copy_from_slice(&cx.ws.q_trial);
             tau = (tau * norm / trial.max(f64::MIN_POSITIVE)).clamp(TAU_MIN, TAU_MAX);

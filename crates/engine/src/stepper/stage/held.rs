@@ -73,7 +73,7 @@ pub(crate) fn run(cx: &mut Ctx<'_>, tg: &Target<'_>, q: &mut [f64]) -> Result<St
         }
         cx.lin.chord(cx.ws);
         rep.iterations += 1;
-        cx.mix.step(cx.ws, q);
+        cx.mix.step(cx.ws, cx.model, q);
         cx.ws.evaluate(cx.model, q, tg, false);
         let (r, _) = cx.ws.inf_norm();
         cx.ws.history.push(r);

@@ -16,7 +16,7 @@
 use super::{newton, Ctx};
 use crate::error::StepError;
 use crate::stepper::options::{Stage, StepReport};
-use crate::stepper::workspace::Target;
+use crate::stepper::workspace::{Target, ITERATE_GAP};
 
 /// Smallest increment of `s` before the stage gives up.
 const MIN_INCREMENT: f64 = 1.0 / 64.0;
@@ -67,6 +67,7 @@ pub(crate) fn run(
             *x = tg.q_n[d] + s * (tg.q_tilde[d] - tg.q_n[d]);
             q[d] = done[d] + (s - s_done) * (tg.q_tilde[d] - tg.q_n[d]);
         }
+        cx.ws.bound_move(cx.model, done, q, ITERATE_GAP);
         let sub = Target {
             c_m: tg.c_m / (s * s),
             c_v: tg.c_v / s,

@@ -22,7 +22,7 @@ use super::convergence::Convergence;
 use super::convergence::Tolerance;
 use super::linearization::Linearization;
 use super::options::{NewtonOptions, Stage, StepReport};
-use super::workspace::{Target, Workspace};
+use super::workspace::{Target, Workspace, ITERATE_GAP};
 use crate::model::Model;
 
 /// What every step solver owns for its stages (dynamics and statics alike): the options,
@@ -131,12 +131,18 @@ impl Mixing {
         ws.gather(q, &mut self.x);
     }
 
-    /// Move `q` by the chord update in `ws.delta`, mixed with the earlier ones.
-    pub fn step(&mut self, ws: &Workspace, q: &mut [f64]) {
+    /// Move `q` by the chord update in `ws.delta`, mixed with the earlier ones, no farther
+    /// than the model's forces admit (contact: `Force::max_step`).
+    pub fn step(&mut self, ws: &mut Workspace, model: &Model, q: &mut [f64]) {
         self.q_prev.copy_from_slice(q);
         self.f.copy_from_slice(&ws.delta);
         self.anderson.mix(&mut self.x, &self.f);
         ws.scatter(&self.x, q);
+        if ws.bound_move(model, &self.q_prev, q, ITERATE_GAP) < 1.0 {
+            // The iterate is no longer where the mixing put it: mixing restarts from here.
+            self.anderson.reset();
+            ws.gather(q, &mut self.x);
+        }
     }
 
     /// Put `q` back where it was before the last [`Mixing::step`] (its residual must be

@@ -45,7 +45,9 @@
 //! (Crisfield, *Non-linear finite element analysis of solids and structures* vol. 1, §9.3).
 //! The full update is kept when `φ'(1) ≤ 0.8 |φ'(0)|` (the merit still falls at its end, or
 //! has nearly reached its minimum on the line); otherwise the step shrinks to the secant root
-//! of `φ'` between 0 and the last trial (clamped to [0.1, 0.9] of it).
+//! of `φ'` between 0 and the last trial (clamped to [0.1, 0.9] of it). The search starts
+//! no farther than the forces' step bound admits (contact's CCD: no iterate passes through a
+//! surface, Li et al. 2020 §5).
 
 use super::Ctx;
 use crate::error::StepError;
@@ -158,7 +160,7 @@ pub(crate) fn run(
             what: "chord update",
             dof,
         })?;
-        cx.mix.step(cx.ws, q);
+        cx.mix.step(cx.ws, cx.model, q);
         cx.ws.evaluate(cx.model, q, tg, false);
         jac_at_q = false;
         let (r, _) = cx.ws.inf_norm();
@@ -194,7 +196,8 @@ fn newton_iteration(
         if descends || !cx.opts.line_search || tg.c_m <= 0.0 || shift >= MAX_SHIFT {
             break;
         }
-        if shift == 0.0 && newton_contracts(cx, tg, q, jac_at_trials) {
+        let bounded = cx.ws.max_alpha(cx.model, q) < 1.0;
+        if shift == 0.0 && !bounded && newton_contracts(cx, tg, q, jac_at_trials) {
             q.copy_from_slice(&cx.ws.q_trial);
             return Ok(1.0);
         }
@@ -235,7 +238,8 @@ fn line_search(
 ) -> f64 {
     let slope0 = cx.ws.slope();
     let search = cx.opts.line_search && slope0 < 0.0;
-    let mut alpha = 1.0;
+    // No farther than contact admits (`Force::max_step`): no iterate passes through.
+    let mut alpha = cx.ws.max_alpha(cx.model, q);
     let mut points = 0;
     loop {
         cx.ws.try_update(cx.model, q, tg, alpha, jac);

@@ -1,0 +1,289 @@
+//! Self-contact as a force family: IPC's barrier on every candidate pair of the broad phase
+//! (Li et al., SIGGRAPH 2020, §4; Li, Kaufman & Jiang 2021 for cloth and rods).
+//!
+//! **Pairs follow the state, the pattern does not each step.** Before each step
+//! ([`Force::begin_step`]) the pairs within `√d̂` plus the step's motion bound (twice the
+//! fastest node's `|v| dt`) are taken by the broad phase. When they are all among the pairs
+//! held, nothing changes; otherwise the held pairs are taken afresh within three times that reach,
+//! and the step solver rebuilds its sparsity pattern. Held pairs beyond `√d̂` cost a distance
+//! each and add nothing (the barrier is zero there), so the larger reach is hysteresis: the
+//! surface must move about a reach relative to itself (a rigid translation does not count)
+//! before the pattern changes.
+//!
+//! **No iterate passes through** ([`Force::max_step`]): every move of an iterate is bounded
+//! by additive CCD over the held pairs (`contact/ccd.rs`), and where the move reaches beyond
+//! what the held pairs cover (the nodes moved more than half their margin since the step
+//! started), over pairs taken afresh around the move.
+
+use super::ad::V;
+use super::barrier::{self, Barrier};
+use super::broad::{self, Candidate, Surface};
+use super::ccd::{self, Stencil};
+use super::distance::{edge_edge, point_edge, point_triangle, Pair};
+use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
+
+/// The held pairs are taken within this many times the reach a step needs (`√d̂` plus the
+/// step's motion): the pattern changes once the surface has moved about that reach relative
+/// to itself.
+const HYSTERESIS: f64 = 3.0;
+/// IPC's edge–edge mollifier threshold: `εx = MOLLIFIER |ea|²|eb|²` at rest (§4.3).
+const MOLLIFIER: f64 = 1e-3;
+
+/// Self-contact between the triangles, edges and line segments of a [`Surface`].
+pub struct SelfContact {
+    name: String,
+    surface: Surface,
+    barrier: Barrier,
+    /// Project each pair's Hessian to positive semi-definite (the step solver's setting);
+    /// false gives the exact Hessian (derivative checks).
+    project: bool,
+    /// Rest positions (all DOFs): the edge–edge mollifier's edge lengths.
+    rest: Vec<f64>,
+    /// The positions the held pairs were taken at (all DOFs).
+    taken_at: Vec<f64>,
+    /// The held pairs, sorted.
+    pairs: Vec<Candidate>,
+    /// 12 DOFs per held pair (a point–edge pair padded with its edge's first node).
+    stencils: Vec<usize>,
+    /// The reach (m) the held pairs were taken within.
+    reach: f64,
+}
+
+impl SelfContact {
+    /// Contact of `surface` (node indices of the model: node `i` has DOFs `3i..3i+3`) with
+    /// the barrier `barrier`, at rest positions `q` (every DOF); the pairs are held within
+    /// `reach` (m) of `q` until the first step takes them.
+    pub fn new(
+        name: &str,
+        surface: Surface,
+        barrier: Barrier,
+        q: &[f64],
+        reach: f64,
+        project: bool,
+    ) -> Self {
+        let mut c = Self {
+            name: name.to_string(),
+            surface,
+            barrier,
+            project,
+            rest: q.to_vec(),
+            taken_at: q.to_vec(),
+            pairs: Vec::new(),
+            stencils: Vec::new(),
+            reach: 0.0,
+        };
+        c.take_pairs(q, reach.max(barrier.d_hat.sqrt()));
+        c
+    }
+
+    /// The barrier.
+    pub fn barrier(&self) -> &Barrier {
+        &self.barrier
+    }
+
+    /// The pairs held.
+    pub fn pairs(&self) -> &[Candidate] {
+        &self.pairs
+    }
+
+    /// The surface it guards.
+    pub fn surface(&self) -> &Surface {
+        &self.surface
+    }
+
+    fn take_pairs(&mut self, q: &[f64], reach: f64) {
+        self.pairs = broad::candidates(&self.surface, q, reach);
+        self.stencils = self.pairs.iter().flat_map(|c| dofs(nodes(c))).collect();
+        self.taken_at.copy_from_slice(q);
+        self.reach = reach;
+    }
+
+    fn nodes(&self) -> impl Iterator<Item = usize> + '_ {
+        let s = &self.surface;
+        (s.points.iter().copied()).chain(s.line_edges.iter().flatten().copied())
+    }
+
+    /// The largest motion of a surface node relative to the surface's mean motion, from `a`
+    /// to `b + s db` (the largest of s = 0 and s = 1: the distance from a point is convex
+    /// along a line). A rigid translation moves no pair closer, so it is not counted.
+    fn relative_motion(&self, a: &[f64], b: &[f64], db: Option<&[f64]>) -> f64 {
+        let mut worst = 0.0f64;
+        for s in [0.0, 1.0] {
+            if s == 1.0 && db.is_none() {
+                break;
+            }
+            let at = |i: usize| -> V<f64> {
+                let (x, y) = (node(a, i), node(b, i));
+                let d = db.map_or([0.0; 3], |d| node(d, i));
+                std::array::from_fn(|k| y[k] + s * d[k] - x[k])
+            };
+            let (mut mean, mut n) = ([0.0; 3], 0.0);
+            for i in self.nodes() {
+                let m = at(i);
+                (0..3).for_each(|k| mean[k] += m[k]);
+                n += 1.0;
+            }
+            let mean = mean.map(|m| m / f64::max(n, 1.0));
+            for i in self.nodes() {
+                worst = worst.max(norm(sub(at(i), mean)));
+            }
+        }
+        worst
+    }
+
+    /// How far (m) the surface may move relative to itself from where the pairs were taken
+    /// before a pair that is not held can come within `√d̂`: a pair not held was farther than
+    /// the reach apart, and each of its sides moves by at most this.
+    fn covered(&self) -> f64 {
+        0.5 * (self.reach - self.barrier.d_hat.sqrt())
+    }
+
+    /// Energy, gradient and Hessian of held pair `i` at `q` (`None` when inactive).
+    fn pair_terms(&self, c: &Candidate, q: &[f64]) -> Option<(f64, [f64; 12], [f64; 144])> {
+        let ids = nodes(c);
+        let x: [f64; 12] = std::array::from_fn(|k| q[3 * ids[k / 3] + k % 3]);
+        let v: [V<f64>; 4] = ids.map(|i| node(q, i));
+        let (kind, d) = feature(c, &v);
+        if d >= self.barrier.d_hat || d <= 0.0 {
+            return None;
+        }
+        let mollifier = matches!(c, Candidate::EdgeEdge(_)).then(|| {
+            let r: [V<f64>; 4] = ids.map(|i| node(&self.rest, i));
+            let (a, b) = (sub(r[1], r[0]), sub(r[3], r[2]));
+            MOLLIFIER * dot(a, a) * dot(b, b)
+        });
+        barrier::pair(&self.barrier, kind, &x, mollifier)
+    }
+}
+
+fn node(x: &[f64], i: usize) -> V<f64> {
+    [x[3 * i], x[3 * i + 1], x[3 * i + 2]]
+}
+
+fn norm(a: V<f64>) -> f64 {
+    dot(a, a).sqrt()
+}
+
+fn dot(a: V<f64>, b: V<f64>) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn sub(a: V<f64>, b: V<f64>) -> V<f64> {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// The four stencil nodes of a pair (a point–edge pair padded with its edge's first node,
+/// which no formula of the pair reads).
+fn nodes(c: &Candidate) -> [usize; 4] {
+    match *c {
+        Candidate::PointTriangle(n) | Candidate::EdgeEdge(n) => n,
+        Candidate::PointEdge([p, a, b]) => [p, a, b, a],
+    }
+}
+
+fn dofs(n: [usize; 4]) -> impl Iterator<Item = usize> {
+    n.into_iter().flat_map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+}
+
+fn stencil_kind(c: &Candidate) -> Stencil {
+    match c {
+        Candidate::PointTriangle(_) => Stencil::PointTriangle,
+        Candidate::EdgeEdge(_) => Stencil::EdgeEdge,
+        Candidate::PointEdge(_) => Stencil::PointEdge,
+    }
+}
+
+/// The feature pair realising the pair's distance and the squared distance.
+fn feature(c: &Candidate, v: &[V<f64>; 4]) -> (Pair, f64) {
+    match c {
+        Candidate::PointTriangle(_) => point_triangle(v),
+        Candidate::EdgeEdge(_) => edge_edge(v),
+        Candidate::PointEdge(_) => point_edge(v),
+    }
+}
+
+/// The smallest CCD step of `pairs` along `dq` from `q`.
+fn ccd_bound(pairs: &[Candidate], q: &[f64], dq: &[f64], gap: f64) -> f64 {
+    let mut t = 1.0f64;
+    for c in pairs {
+        let ids = nodes(c);
+        let (x, dx) = (ids.map(|i| node(q, i)), ids.map(|i| node(dq, i)));
+        t = ccd::max_step(stencil_kind(c), &x, &dx, gap, t);
+        if t == 0.0 {
+            break;
+        }
+    }
+    t
+}
+
+impl Force for SelfContact {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn stencil_size(&self) -> usize {
+        12
+    }
+    fn stencils(&self) -> &[usize] {
+        &self.stencils
+    }
+    fn jacobian_kind(&self) -> JacobianKind {
+        JacobianKind::ELASTIC
+    }
+    fn conservative(&self) -> bool {
+        true
+    }
+    fn energy(&self, q: &[f64]) -> Option<f64> {
+        Some(
+            (self.pairs.iter())
+                .filter_map(|c| self.pair_terms(c, q).map(|t| t.0))
+                .sum(),
+        )
+    }
+    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
+        let q = input.q;
+        out.par_for_each(input.jacobian, |b| {
+            b.f.iter_mut().for_each(|x| *x = 0.0);
+            b.dfdq.iter_mut().for_each(|x| *x = 0.0);
+            let Some((_, g, mut h)) = self.pair_terms(&self.pairs[b.index], q) else {
+                return;
+            };
+            for (f, g) in b.f.iter_mut().zip(g) {
+                *f = -g;
+            }
+            if !b.dfdq.is_empty() {
+                if self.project {
+                    barrier::project_psd(&mut h);
+                }
+                for (j, h) in b.dfdq.iter_mut().zip(h) {
+                    *j = -h;
+                }
+            }
+        });
+    }
+    fn begin_step(&mut self, q: &[f64], v: &[f64], dt: f64) -> bool {
+        let motion = if dt.is_finite() {
+            // Twice the fastest relative speed over the step (once per step, not per iterate).
+            let rest = vec![0.0; v.len()];
+            2.0 * dt * self.relative_motion(&rest, v, None)
+        } else {
+            0.0
+        };
+        if self.relative_motion(&self.taken_at, q, None) + motion < self.covered() {
+            return false;
+        }
+        self.take_pairs(q, HYSTERESIS * (self.barrier.d_hat.sqrt() + motion));
+        true
+    }
+    fn bounds_steps(&self) -> bool {
+        true
+    }
+    fn max_step(&self, q: &[f64], dq: &[f64], gap: f64) -> f64 {
+        if self.relative_motion(&self.taken_at, q, Some(dq)) < self.covered() {
+            return ccd_bound(&self.pairs, q, dq, gap);
+        }
+        // The move leaves what the held pairs cover: take the pairs around it.
+        let far = self.nodes().map(|i| norm(node(dq, i))).fold(0.0, f64::max);
+        let around = broad::candidates(&self.surface, q, self.barrier.d_hat.sqrt() + 2.0 * far);
+        ccd_bound(&around, q, dq, gap)
+    }
+}
