@@ -22,6 +22,7 @@
 //! test ladder (`--tiny`), diagnostics (`--mem`, `--trace`) and the Newton experiment knobs
 //! for A/B comparisons ([`NewtonExperiment`]); docs/performance.md lists them.
 
+pub mod contact;
 pub mod elements;
 pub mod fabric;
 pub mod flight;
@@ -65,6 +66,10 @@ pub struct BenchArgs {
     /// law, per element and relative to springs / hinges (docs/performance.md).
     #[arg(long)]
     pub elements: bool,
+    /// Instead of the ladder: what self-contact costs on the `opening` scenario at three
+    /// meshes, at its peak force (docs/opening.md §Cost).
+    #[arg(long, conflicts_with = "elements")]
+    pub contact: bool,
     /// Resident memory after each stage, and the stepper's counters, on stderr.
     #[arg(long, hide = true)]
     pub mem: bool,
@@ -404,6 +409,16 @@ fn mean_vz(model: &engine::Model, v: &[f64]) -> f64 {
 pub fn main(args: &BenchArgs) -> Result<(), AppError> {
     if let Some(p) = &args.plot {
         plot::refuse_path(p)?;
+    }
+    if args.contact {
+        let costs = contact::measure()?;
+        if args.json {
+            let text = serde_json::to_string_pretty(&costs).expect("serialisable");
+            crate::out_line!("{text}");
+        } else {
+            crate::out_text!("{}", contact::table(&costs));
+        }
+        return Ok(());
     }
     if args.elements {
         let costs = elements::measure()?;

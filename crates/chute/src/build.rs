@@ -35,6 +35,11 @@ pub struct Built {
     pub planform_area_m2: f64,
     /// Horizontal position of the canopy's centre at t = 0 (m; `canopy.release_point_m`).
     pub release_point_m: [f64; 2],
+    /// A packed start (`[opening]`): the airspeed at line stretch (m/s); `None` when flat.
+    pub opening_speed_mps: Option<f64>,
+    /// The surface that self-contact guards (`[contact]`): the canopy's triangles and the
+    /// lines; `None` without contact.
+    pub contact: Option<engine::contact::broad::Surface>,
     /// Reference length for the Reynolds number (m): the canopy's largest dimension.
     pub reference_length_m: f64,
     /// Derived quantities for `chute check` (name, value with units).
@@ -49,10 +54,12 @@ pub struct Built {
 }
 
 mod canopy;
+pub mod contact;
 pub mod control;
 pub mod drag;
 pub mod imperfection;
 mod load;
+pub mod packing;
 mod sites;
 
 use crate::resolve::ModelSpec;
@@ -126,7 +133,20 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
     let mut model = Model::new(layout);
     let mut q: Vec<f64> = plan.positions.iter().flatten().copied().collect();
     q.resize(layout.len(), 0.0);
-    let handles = plan.rods.install(&mut model, &q, 0)?;
+    // A packed start: the lines (straight, at full length) are built where they start; the
+    // cloth's rest shape stays the flat disc.
+    let q_start = match &s.pack {
+        Some(pack) => {
+            let mut p = q.clone();
+            let lines: Vec<Vec<usize>> = (plan.payload_lines.iter())
+                .map(|&k| plan.rods.rods()[plan.line_rods[k]].nodes.clone())
+                .collect();
+            packing::apply(&mut p, pack, &geo.canopy_nodes, &plan.sites, &lines);
+            p
+        }
+        None => q.clone(),
+    };
+    let handles = plan.rods.install(&mut model, &q_start, 0)?;
     let wrinkle_probe = match &geo.tri_mesh {
         Some(tri) => canopy::install_shell(s, tri, &mut model, &q, plan.rods.n_edges())?,
         None => None,
@@ -148,6 +168,7 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
         - plan.site_mass_kg * g;
     let drag = drag::install(s, &geo, &plan, &handles, &mut model);
     let lines = plan.lines(s, &handles);
+    let mut q = q_start;
     if s.canopy.imperfection_m != 0.0 {
         imperfection::apply(&mut q, &geo.canopy_nodes, s.canopy.imperfection_m)?;
     }
@@ -157,13 +178,24 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
         node[0] += s.release_point[0];
         node[1] += s.release_point[1];
     }
+    let segments = plan.segments(&geo);
+    let contact = match &s.contact {
+        Some((distance, c)) => Some(contact::install(
+            &mut model,
+            &q,
+            (&geo.triangles(), &segments),
+            &geo.canopy_nodes,
+            (*distance, c.stop_speed_mps),
+        )?),
+        None => None,
+    };
     Ok(Built {
         state: initial_state(q, layout.n_nodes, s.initial_velocity),
         canopy_nodes: geo.canopy_nodes.clone(),
         payload_node: plan.payload_node,
         load_sites: plan.sites.clone(),
         triangles: geo.triangles(),
-        segments: plan.segments(&geo),
+        segments,
         rod_twists: plan.rods.n_edges(),
         drag_forces: drag.forces,
         triangle_drag: drag.triangle,
@@ -173,6 +205,12 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
         flat_drag_area_m2: drag.flat_cd_area,
         planform_area_m2: geo.planform_area,
         release_point_m: s.release_point,
+        contact,
+        opening_speed_mps: s.pack.map(|_| {
+            let w = s.air.wind_at(0.0).velocity;
+            let v = s.initial_velocity;
+            (0..3).map(|k| (v[k] - w[k]).powi(2)).sum::<f64>().sqrt()
+        }),
         reference_length_m: geo.reference_length,
         derived: Vec::new(),
         lines,

@@ -10,6 +10,7 @@
 pub mod descent;
 pub mod landing;
 pub mod loads;
+pub mod opening;
 
 /// Fraction of the run (by time, measured from the first sample) forming the final window.
 pub const FINAL_WINDOW_FRACTION: f64 = 0.2;

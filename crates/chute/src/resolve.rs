@@ -62,6 +62,10 @@ pub struct ModelSpec {
     pub initial_velocity: [f64; 3],
     /// Horizontal position of the canopy's centre at t = 0 (m; `canopy.release_point_m`).
     pub release_point: [f64; 2],
+    /// Self-contact (`[contact]`), its activation distance resolved (m).
+    pub contact: Option<(f64, crate::scenario::Contact)>,
+    /// The packed start (`[opening]`), its radius resolved.
+    pub pack: Option<crate::build::packing::Pack>,
 }
 
 impl ModelSpec {
@@ -99,6 +103,19 @@ impl ModelSpec {
             control: s.control.clone(),
             guidance: s.guidance.clone(),
             release_point: s.canopy.release_point_m.unwrap_or([0.0; 2]),
+            contact: s.contact.clone().map(|c| {
+                let d = c.distance_m.unwrap_or(
+                    s.canopy.edge_length_m * crate::scenario::sections::DISTANCE_PER_EDGE,
+                );
+                (d, c)
+            }),
+            pack: s.opening.as_ref().map(|o| crate::build::packing::Pack {
+                packing: o.pack,
+                radius_m: s.canopy.radius_m,
+                packed_radius_m: o.packed_radius_m.unwrap_or(
+                    s.canopy.radius_m * crate::scenario::sections::PACKED_RADIUS_PER_RADIUS,
+                ),
+            }),
         }
     }
 

@@ -34,6 +34,7 @@ pub mod error;
 mod incidence;
 pub mod keys;
 pub mod limits;
+mod opening;
 pub mod overrides;
 mod parse;
 pub mod plausibility;
@@ -58,10 +59,10 @@ pub use incidence::incidence_curve;
 /// The absolute directory against which a file's relative paths resolve.
 pub use parse::base_dir as source_dir;
 pub use sections::{
-    Atmosphere, AtmosphereModel, Bending, Canopy, CanopyProfile, CanopyShape, Control, DragLaw,
-    Fluid, Guidance, Lines, Load, LoadMode, Material, Membrane, MeshPattern, ModelKind,
-    ModelSection, Output, PullSide, Sensor, SensorKind, Shell, ShellDrag, SiteSet, Sites, Time,
-    Wind, WindLaw, DEFAULT_ERROR_TOLERANCE_M,
+    Atmosphere, AtmosphereModel, Bending, Canopy, CanopyProfile, CanopyShape, Contact, Control,
+    DragLaw, Fluid, Guidance, Lines, Load, LoadMode, Material, Membrane, MeshPattern, ModelKind,
+    ModelSection, Opening, Output, Packing, PullSide, Sensor, SensorKind, Shell, ShellDrag,
+    SiteSet, Sites, Time, Wind, WindLaw, DEFAULT_ERROR_TOLERANCE_M,
 };
 
 /// `--set` overrides that turn the bundled report shells (`scenarios/report-shell-*.toml`,
@@ -106,6 +107,12 @@ pub struct Scenario {
     /// A wind that varies with height (absent: `fluid.wind_mps` everywhere).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wind: Option<Wind>,
+    /// Self-contact of the canopy and its lines (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<Contact>,
+    /// A canopy that starts packed at line stretch (absent: flat).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub opening: Option<Opening>,
     /// Time stepping.
     #[serde(default)]
     pub time: Time,

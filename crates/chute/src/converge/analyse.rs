@@ -21,7 +21,9 @@ pub struct Quantity {
     /// Relative error per unit of relative unbalanced force ε_F (docs/convergence.md):
     /// v_t ∝ W^½ gives ½, C_D·A ∝ W/v² gives 1, a linear response of the shape to its
     /// loads gives 1, and the ±2 % band crossing moves by T δv/(0.02 |v_t|) ≤ 25 ε_F t;
-    /// a landing at terminal speed gives ½ for its speed and ½ for the flight time H/|v| and the drift ∫U dt.
+    /// a landing at terminal speed gives ½ for its speed and ½ for the flight time H/|v| and the drift ∫U dt;
+    /// the opening's peak force and load factor 1, its fill time and distance
+    /// `1/(1 − 0.95)` (a crossing of 95 % of the steady diameter).
     pub sensitivity: f64,
     /// Only reported when some level has it: the drop quantities of a run with a ground.
     pub optional: bool,
@@ -71,7 +73,35 @@ pub const QUANTITIES: &[Quantity] = &[
         sensitivity: 0.5,
         optional: true,
     },
+    Quantity {
+        name: "opening_peak_force_n",
+        label: "opening peak force (N)",
+        sensitivity: 1.0,
+        optional: true,
+    },
+    Quantity {
+        name: "opening_load_factor",
+        label: "opening-load factor",
+        sensitivity: 1.0,
+        optional: true,
+    },
+    Quantity {
+        name: "opening_fill_time_s",
+        label: "fill time (s)",
+        sensitivity: FILL_SENSITIVITY,
+        optional: true,
+    },
+    Quantity {
+        name: "opening_fill_distance_diameters",
+        label: "fill distance (D₀)",
+        sensitivity: FILL_SENSITIVITY,
+        optional: true,
+    },
 ];
+
+/// The fill time is a crossing of 95 % of the steady diameter: a relative error ε in the
+/// diameter moves it by at most ε/(1 − 0.95) of itself.
+const FILL_SENSITIVITY: f64 = 1.0 / (1.0 - crate::metrics::opening::FILLED);
 
 /// A level whose final extended height is off the finest level's by more than this fraction
 /// is in a qualitatively different state (another branch) and is left out of the fit.

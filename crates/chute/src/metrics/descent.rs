@@ -35,6 +35,8 @@ pub struct RecoverySeries<'a> {
     pub line_tension_n: &'a [f64],
     /// Payload–canopy axis angle from the vertical (degrees).
     pub axis_angle_deg: &'a [f64],
+    /// Projected canopy diameter (m).
+    pub canopy_diameter_m: &'a [f64],
     /// Exact peak line tension over every step: (time (s), tension (N)).
     pub peak_line_tension: (f64, f64),
     /// Exact peak payload acceleration over every step (m/s²).
@@ -58,6 +60,8 @@ pub struct RecoveryParams {
     pub payload: bool,
     /// Horizontal position of the canopy's centre at t = 0 (m).
     pub release_point_m: [f64; 2],
+    /// The opening of a packed canopy (`[opening]`; `None` for a flat start).
+    pub opening: Option<super::opening::OpeningParams>,
 }
 
 /// The recovery fields of `summary.json` (null when not defined).
@@ -97,6 +101,18 @@ pub struct Recovery {
     /// Distance from the touchdown to `guidance.target_m` (m); null without guidance or
     /// landing.
     pub landing_miss_m: Option<f64>,
+    /// Opening shock: the largest force of the lines on the payload (N); null without
+    /// `[opening]`.
+    pub opening_peak_force_n: Option<f64>,
+    /// `opening_peak_force_n` over the steady drag area times the dynamic pressure at line
+    /// stretch (Knacke's C_x X₁); null without `[opening]` or a steady descent.
+    pub opening_load_factor: Option<f64>,
+    /// From line stretch to the projected diameter's first reaching 95 % of its steady value
+    /// (s); null without `[opening]` or a steady descent.
+    pub opening_fill_time_s: Option<f64>,
+    /// The canopy's fall over the fill time, in nominal diameters √(4 S₀/π); null like the
+    /// fill time.
+    pub opening_fill_distance_diameters: Option<f64>,
 }
 
 /// Start of the final window of [`super::compute`] for the times `t` (s).
@@ -220,6 +236,15 @@ pub fn compute(
             r.peak_payload_acceleration_g = Some(l.peak_payload_acceleration_g);
             r.oscillation_angle_deg = Some(l.oscillation_angle_deg);
         }
+    }
+    if let Some(op) = &p.opening {
+        let series = (s.t_s, s.z_m, s.canopy_diameter_m);
+        let peak = r.peak_line_tension_n;
+        let o = super::opening::compute(series, peak, drag_area_m2, start, op);
+        r.opening_peak_force_n = o.peak_force_n;
+        r.opening_load_factor = o.load_factor;
+        r.opening_fill_time_s = o.fill_time_s;
+        r.opening_fill_distance_diameters = o.fill_distance_diameters;
     }
     r
 }

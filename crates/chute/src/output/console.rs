@@ -135,8 +135,32 @@ pub fn key_results(s: &Summary) -> Vec<(&'static str, String)> {
                 ))
         ),
     ));
+    if let Some(text) = opening_text(s) {
+        rows.push(("opening", text));
+    }
     rows.extend(s.triggers.iter().map(|r| ("sensor pull", trigger_text(r))));
     rows
+}
+
+/// The opening of a packed canopy: its shock, load factor, fill time and distance.
+fn opening_text(s: &Summary) -> Option<String> {
+    let r = &s.recovery;
+    let peak = r.opening_peak_force_n?;
+    let at = r
+        .time_of_peak_line_tension_s
+        .map_or(String::new(), |t| format!(" at {}", quantity(t, "s")));
+    let factor = r.opening_load_factor.map_or_else(
+        || "opening-load factor – (no steady descent)".to_string(),
+        |x| format!("opening-load factor {x:.3} (C_x·X₁)"),
+    );
+    let fill = match (r.opening_fill_time_s, r.opening_fill_distance_diameters) {
+        (Some(t), Some(d)) => format!("filled in {} over {d:.3} D₀", quantity(t, "s")),
+        _ => "fill time – (no steady diameter)".to_string(),
+    };
+    Some(format!(
+        "peak force {}{at}, {factor}, {fill}",
+        quantity(peak, "N")
+    ))
 }
 
 /// One sensor-started pull: which, and when and at what reading it fired.

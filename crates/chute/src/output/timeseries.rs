@@ -12,7 +12,7 @@ use std::path::Path;
 /// CSV header of `timeseries.csv`, in column order (units in the names).
 pub const HEADER: &str = "t_s,z_m,vz_mps,vx_mps,vy_mps,z_payload_m,vz_payload_mps,\
 extended_height_m,drag_x_n,drag_y_n,drag_z_n,newton_iterations,dt_s,line_tension_n,\
-payload_acceleration_mps2,axis_angle_deg";
+payload_acceleration_mps2,axis_angle_deg,canopy_diameter_m";
 
 /// Buffered rows are written to the file once they exceed this many bytes (~500 rows).
 const FLUSH_THRESHOLD_BYTES: usize = 64 * 1024;
@@ -62,6 +62,11 @@ pub struct Sample {
     /// (degrees, 0 = canopy straight above); 0 without a payload.
     #[serde(default)]
     pub axis_angle_deg: f64,
+    /// Projected diameter of the canopy: twice the largest horizontal distance of a canopy
+    /// node from the canopy's mass centre (m). (Absent in files written before the column
+    /// existed: read as 0.)
+    #[serde(default)]
+    pub canopy_diameter_m: f64,
 }
 
 impl Sample {
@@ -71,7 +76,7 @@ impl Sample {
         // Writing into a Vec cannot fail.
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             self.t_s,
             self.z_m,
             self.vz_mps,
@@ -87,7 +92,8 @@ impl Sample {
             self.dt_s,
             self.line_tension_n,
             self.payload_acceleration_mps2,
-            self.axis_angle_deg
+            self.axis_angle_deg,
+            self.canopy_diameter_m
         );
     }
 }
@@ -103,6 +109,8 @@ pub struct CanopyMeans {
     pub extended_height_m: f64,
     /// Σ mᵢ xᵢ / Σ mᵢ over canopy nodes (m): the canopy's mass centre.
     pub centre_m: [f64; 3],
+    /// Twice the largest horizontal distance of a canopy node from the mass centre (m).
+    pub diameter_m: f64,
 }
 
 /// Mass-weighted mean height and velocity, and extended height, over the nodes `nodes`.
@@ -128,11 +136,19 @@ pub fn canopy_means(
         z_min = z_min.min(x[2]);
         z_max = z_max.max(x[2]);
     }
-    (m_sum > 0.0).then(|| CanopyMeans {
+    if m_sum <= 0.0 {
+        return None;
+    }
+    let centre_m = mx.map(|s| s / m_sum);
+    let radius = (nodes.iter())
+        .map(|&i| (positions[i][0] - centre_m[0]).hypot(positions[i][1] - centre_m[1]))
+        .fold(0.0, f64::max);
+    Some(CanopyMeans {
         z_m: mz / m_sum,
         v_mps: mv.map(|s| s / m_sum),
         extended_height_m: z_max - z_min,
-        centre_m: mx.map(|s| s / m_sum),
+        centre_m,
+        diameter_m: 2.0 * radius,
     })
 }
 
@@ -248,10 +264,12 @@ pub struct DecimatedSeries {
     pub line_tension_n: Vec<f64>,
     /// Angle of the payload–canopy axis from the vertical (degrees).
     pub axis_angle_deg: Vec<f64>,
+    /// Projected canopy diameter (m).
+    pub canopy_diameter_m: Vec<f64>,
 }
 
 /// Number of columns of [`DecimatedSeries`].
-const COLUMNS: usize = 10;
+const COLUMNS: usize = 11;
 
 /// Default bound on retained samples.
 pub const DEFAULT_CAPACITY: usize = 20_000;
@@ -285,6 +303,7 @@ impl DecimatedSeries {
             z_payload_m: col(),
             line_tension_n: col(),
             axis_angle_deg: col(),
+            canopy_diameter_m: col(),
         }
     }
 
@@ -300,6 +319,7 @@ impl DecimatedSeries {
             &mut self.z_payload_m,
             &mut self.line_tension_n,
             &mut self.axis_angle_deg,
+            &mut self.canopy_diameter_m,
         ]
     }
 
@@ -328,6 +348,7 @@ impl DecimatedSeries {
             s.z_payload_m,
             s.line_tension_n,
             s.axis_angle_deg,
+            s.canopy_diameter_m,
         ]);
         self.tail_is_provisional = !k.is_multiple_of(self.stride);
         if !self.tail_is_provisional && self.t_s.len() >= self.capacity {
@@ -433,6 +454,7 @@ impl DecimatedSeries {
             z_payload_m: &self.z_payload_m,
             line_tension_n: &self.line_tension_n,
             axis_angle_deg: &self.axis_angle_deg,
+            canopy_diameter_m: &self.canopy_diameter_m,
             peak_line_tension: self.peak_line_tension,
             peak_payload_acceleration_mps2: self.peak_payload_acceleration_mps2,
         }

@@ -175,6 +175,7 @@ impl Observer {
             line_tension_n: norm(lines),
             payload_acceleration_mps2: accel,
             axis_angle_deg: angle,
+            canopy_diameter_m: m.diameter_m,
         }
     }
 }

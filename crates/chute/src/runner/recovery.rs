@@ -26,5 +26,11 @@ pub(super) fn params(b: &Built, cfg: &RunConfig) -> RecoveryParams {
         gravity_mps2: cfg.gravity_mps2,
         payload: b.payload_node.is_some(),
         release_point_m: b.release_point_m,
+        opening: b
+            .opening_speed_mps
+            .map(|v| crate::metrics::opening::OpeningParams {
+                nominal_diameter_m: (4.0 * b.planform_area_m2 / std::f64::consts::PI).sqrt(),
+                line_stretch_pressure_pa: 0.5 * cfg.air.at(0.0).density * v * v,
+            }),
     }
 }

@@ -10,6 +10,8 @@ use super::keys::{choice, key, section, when, Bound, Cond, KeyType, Kind, Sectio
 
 mod control;
 pub use control::{Control, Guidance, PullSide, Sensor, SensorKind};
+mod opening;
+pub use opening::{Contact, Opening, Packing, DISTANCE_PER_EDGE, PACKED_RADIUS_PER_RADIUS};
 mod time;
 pub use time::{ErrorNorm, Time, DEFAULT_ERROR_TOLERANCE_M};
 mod wind;
@@ -27,6 +29,8 @@ pub const SECTIONS: &[Section] = &[
     Section::table::<Fluid>("fluid"),
     Section::table::<Atmosphere>("atmosphere"),
     Section::optional::<Wind>("wind"),
+    Section::optional::<Contact>("contact").only_with(SHELL, SHELL_CONTACT),
+    Section::optional::<Opening>("opening").only_with(PAYLOAD, OPENING_ONLY),
     Section::table::<Time>("time"),
     Section::table::<Output>("output"),
     Section::array::<Sensor>("sensor").only_with(PAYLOAD, LINES_ONLY),
@@ -48,6 +52,10 @@ const ISA: Cond = when("atmosphere.model", "isa1976");
 const PAYLOAD: Cond = when("load.mode", "payload");
 /// Why.
 const LINES_ONLY: &str = " (a pull shortens suspension lines, which only the payload mode has)";
+/// Why contact needs a shell canopy.
+const SHELL_CONTACT: &str = " (contact acts between the cloth's triangles and the lines)";
+/// Why an opening needs the payload mode.
+const OPENING_ONLY: &str = " (a packed canopy opens on its lines, which only the payload mode has)";
 /// Why a permeability needs a shell canopy.
 const SHELL_ONLY: &str =
     " (leakage acts through the fabric's normal, which a rod strip does not have)";

@@ -109,6 +109,7 @@ pub fn validate(s: &Scenario, prov: &Provenance) -> Result<(), ScenarioError> {
     super::incidence::check(&mut c, s);
     super::wind::check(&mut c, s);
     super::round::check(&mut c, s);
+    super::opening::check(&mut c, s);
     atmosphere(&mut c, s);
     time_and_output(&mut c, s);
     super::control::check(&mut c, s);

@@ -90,7 +90,7 @@ fn a_full_file_system_leaves_whole_rows_and_a_record_of_why() {
     let dir = tmp.path().join("out/d");
     // Whole rows only, every one of them numbers.
     let rows = csv_rows(&dir.join("timeseries.csv"));
-    assert!(rows.len() > 100 && rows.iter().all(|r| r.len() == 16));
+    assert!(rows.len() > 100 && rows.iter().all(|r| r.len() == 17));
     let record = read_json(dir.join("run.json"));
     assert_eq!(record["status"], "failed", "{record}");
     // Naming the file that could not be written (a frame, the collection, the time series),

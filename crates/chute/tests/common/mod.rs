@@ -383,7 +383,7 @@ pub fn without_wall_times(mut j: serde_json::Value) -> serde_json::Value {
 }
 
 /// Every field of the `solver` object of `summary.json` (docs/outputs.md §solver).
-pub const SOLVER_FIELDS: [&str; 22] = [
+pub const SOLVER_FIELDS: [&str; 26] = [
     "assembly_s",
     "factor_s",
     "solve_s",
@@ -406,10 +406,14 @@ pub const SOLVER_FIELDS: [&str; 22] = [
     "noise_probes",
     "error_filters",
     "error_filter_fallbacks",
+    "bounded_moves",
+    "path_rejects",
+    "pattern_rebuilds",
+    "pattern_s",
 ];
 
 /// Every field documented in docs/outputs.md §summary.json.
-pub const SUMMARY_FIELDS: [&str; 53] = [
+pub const SUMMARY_FIELDS: [&str; 57] = [
     "summary_version",
     "scenario_name",
     "complete",
@@ -447,6 +451,10 @@ pub const SUMMARY_FIELDS: [&str; 53] = [
     "landing_point_m",
     "drift_m",
     "landing_miss_m",
+    "opening_peak_force_n",
+    "opening_load_factor",
+    "opening_fill_time_s",
+    "opening_fill_distance_diameters",
     "steps",
     "newton_iterations",
     "wall_time_s",

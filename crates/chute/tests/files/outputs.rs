@@ -51,6 +51,7 @@ fn sample(i: usize) -> Sample {
         line_tension_n: 50.0 + (i % 3) as f64,
         payload_acceleration_mps2: 0.5 * (i % 4) as f64,
         axis_angle_deg: (i % 11) as f64,
+        canopy_diameter_m: 3.0 - (i % 13) as f64 * 1e-3,
     }
 }
 

@@ -45,7 +45,7 @@ fn a_partial_last_row_is_not_read_as_data() {
     // What a reader sees while the writer is between two writes, or after it was killed.
     let dir = tempfile::tempdir().unwrap();
     let header = chute::output::timeseries::HEADER;
-    let row = "0.5,1,2,3,4,5,6,7,8,9,10,11,0.001,0,0,0\n";
+    let row = "0.5,1,2,3,4,5,6,7,8,9,10,11,0.001,0,0,0,3\n";
     let text = format!("{header}\n{row}{row}0.502,1,2,3,");
     std::fs::write(dir.path().join("timeseries.csv"), text).unwrap();
     let s = chute::output::run_dir::read_series(dir.path(), 100)

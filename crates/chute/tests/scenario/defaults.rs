@@ -147,6 +147,15 @@ fn schema_matches_the_serde_structs() {
         file: Some("w.csv".into()),
         ..Default::default()
     });
+    // Contact and a packed start (their sections absent by default).
+    s.contact = Some(chute::scenario::Contact {
+        distance_m: Some(0.01),
+        ..Default::default()
+    });
+    s.opening = Some(chute::scenario::Opening {
+        packed_radius_m: Some(0.1),
+        ..Default::default()
+    });
     let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();
     let mut keys = Vec::new();
     for (k, v) in &table {

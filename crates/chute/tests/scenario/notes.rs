@@ -55,6 +55,8 @@ const ROD: &str = "report-rod-200n";
 const FABRIC: &str = "round-fabric";
 const ROUND: &str = "round-solid";
 
+/// A packed round canopy with contact.
+const OPENING: &str = "opening";
 /// A canopy falling from altitude through a wind that grows with height.
 const WINDY: &str = "drop-wind";
 /// A payload canopy with ground, an altimeter and a pull it starts.
@@ -106,6 +108,18 @@ const CASES: &[Case] = &[
         ROUND,
         &["canopy.vent_radius_m=1.4"],
         Refused("edge_length_m"),
+    ),
+    case(
+        "contact.distance_m",
+        OPENING,
+        &["contact.distance_m=0.2"],
+        Refused("edge_length_m / 2"),
+    ),
+    case(
+        "opening.packed_radius_m",
+        OPENING,
+        &["opening.packed_radius_m=0.9"],
+        Refused("radius_m / 2"),
     ),
     case(
         "canopy.imperfection_m",

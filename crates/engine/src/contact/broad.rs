@@ -98,21 +98,68 @@ pub fn candidates(surface: &Surface, x: &[f64], reach: f64) -> Vec<Candidate> {
         .map(|(i, e)| grown(x, e, 0.5 * reach, i))
         .collect();
     let tree = RTree::bulk_load(edges);
+    let lines = LineGraph::of(surface);
     for (a, b) in tree.intersection_candidates_with_other_tree(&tree) {
         let (ea, eb) = (surface.edges[a.data], surface.edges[b.data]);
         let shared = ea.iter().any(|n| eb.contains(n));
-        if a.data < b.data && !shared {
+        if a.data < b.data
+            && !shared
+            && !(lines.is_line(ea) && lines.is_line(eb) && lines.adjacent(&ea, &eb))
+        {
             out.push(Candidate::EdgeEdge([ea[0], ea[1], eb[0], eb[1]]));
         }
     }
-    line_pairs(surface, x, reach, &mut out);
+    line_pairs(surface, &lines, x, reach, &mut out);
     out.sort_unstable();
     out
 }
 
+/// The lines' nodes and their neighbours along the lines. Lines meet by construction where
+/// they share a node (at the payload's confluence, at a load site) and converge there: line
+/// primitives whose nodes are within two line edges of each other are not paired (beyond
+/// IPC's rule of no shared node, which leaves converging lines in contact next to their
+/// confluence, closer there than any activation distance).
+struct LineGraph {
+    neighbours: std::collections::HashMap<usize, Vec<usize>>,
+}
+
+impl LineGraph {
+    fn of(surface: &Surface) -> Self {
+        let mut neighbours = std::collections::HashMap::<usize, Vec<usize>>::new();
+        for &[a, b] in &surface.line_edges {
+            neighbours.entry(a).or_default().push(b);
+            neighbours.entry(b).or_default().push(a);
+        }
+        Self { neighbours }
+    }
+
+    /// Whether line nodes `i` and `j` are at most two line edges apart.
+    fn near(&self, i: usize, j: usize) -> bool {
+        let (Some(a), Some(b)) = (self.neighbours.get(&i), self.neighbours.get(&j)) else {
+            return false;
+        };
+        i == j || a.contains(&j) || a.iter().any(|k| b.contains(k))
+    }
+
+    fn is_line(&self, [a, b]: [usize; 2]) -> bool {
+        self.neighbours.get(&a).is_some_and(|n| n.contains(&b))
+    }
+
+    /// Whether line primitives with nodes `a` and `b` are near each other along the lines.
+    fn adjacent(&self, a: &[usize], b: &[usize]) -> bool {
+        a.iter().any(|&i| b.iter().any(|&j| self.near(i, j)))
+    }
+}
+
 /// The point–edge candidates among the lines: every line node in the grown box of a line edge
-/// it is not an end of.
-fn line_pairs(surface: &Surface, x: &[f64], reach: f64, out: &mut Vec<Candidate>) {
+/// that is not within two line edges of it.
+fn line_pairs(
+    surface: &Surface,
+    lines: &LineGraph,
+    x: &[f64],
+    reach: f64,
+    out: &mut Vec<Candidate>,
+) {
     if surface.line_edges.is_empty() {
         return;
     }
@@ -126,7 +173,7 @@ fn line_pairs(surface: &Surface, x: &[f64], reach: f64, out: &mut Vec<Candidate>
     for p in nodes {
         for hit in tree.locate_in_envelope_intersecting(&AABB::from_point(node(x, p))) {
             let e = surface.line_edges[hit.data];
-            if !e.contains(&p) {
+            if !e.contains(&p) && !lines.adjacent(&[p], &e) {
                 out.push(Candidate::PointEdge([p, e[0], e[1]]));
             }
         }

@@ -1,0 +1,61 @@
+//! The rules of `[opening]` and `[contact]` between keys (docs/opening.md).
+
+use super::validate::Checker;
+use super::{CanopyProfile, CanopyShape, Scenario};
+
+/// A packed start needs a flat round canopy, a flat start's imperfection left out, and
+/// contact; the packed radius and the contact distance are bounded by the canopy and its mesh.
+pub(super) fn check(c: &mut Checker, s: &Scenario) {
+    let cn = &s.canopy;
+    if let Some(o) = &s.opening {
+        let pack = format!("\"{}\"", o.pack.name());
+        if cn.shape != CanopyShape::Circle {
+            c.fail(
+                "opening.pack",
+                &pack,
+                "packs a round canopy: set `canopy.shape = \"circle\"`",
+            );
+        } else if cn.profile.is_some_and(|p| p != CanopyProfile::Flat) {
+            c.fail(
+                "opening.pack",
+                &pack,
+                "packs a flat circular canopy (`canopy.profile = \"flat\"`)",
+            );
+        }
+        if s.contact.is_none() {
+            c.fail(
+                "opening.pack",
+                &pack,
+                "needs `[contact]`: the packed cloth and the lines would pass through each other",
+            );
+        }
+        if cn.imperfection_m != 0.0 {
+            c.fail(
+                "canopy.imperfection_m",
+                cn.imperfection_m,
+                "perturbs a flat start; a packed canopy (`[opening]`) starts folded",
+            );
+        }
+        if let Some(r) = o.packed_radius_m.filter(|&r| r >= 0.5 * cn.radius_m) {
+            c.fail(
+                "opening.packed_radius_m",
+                r,
+                format!(
+                    "must be below canopy.radius_m / 2 = {} m (a packed canopy)",
+                    0.5 * cn.radius_m
+                ),
+            );
+        }
+    }
+    let distance = s.contact.as_ref().and_then(|k| k.distance_m);
+    if let Some(d) = distance.filter(|&d| d >= 0.5 * cn.edge_length_m) {
+        c.fail(
+            "contact.distance_m",
+            d,
+            format!(
+                "must be below canopy.edge_length_m / 2 = {} m: neighbouring nodes of the mesh would repel",
+                0.5 * cn.edge_length_m
+            ),
+        );
+    }
+}
