@@ -11,6 +11,7 @@ mod failure;
 mod gci;
 mod lateral;
 mod metrics;
+mod opening;
 mod recovery;
 mod resume;
 mod round_symmetry;

@@ -1,14 +1,15 @@
 //! Self-contact as a force family: IPC's barrier on every candidate pair of the broad phase
 //! (Li et al., SIGGRAPH 2020, §4; Li, Kaufman & Jiang 2021 for cloth and rods).
 //!
-//! **Pairs follow the state, the pattern does not each step.** Before each step
-//! ([`Force::begin_step`]) the pairs within `√d̂` plus the step's motion bound (twice the
-//! fastest node's `|v| dt`) are taken by the broad phase. When they are all among the pairs
-//! held, nothing changes; otherwise the held pairs are taken afresh within three times that reach,
-//! and the step solver rebuilds its sparsity pattern. Held pairs beyond `√d̂` cost a distance
-//! each and add nothing (the barrier is zero there), so the larger reach is hysteresis: the
-//! surface must move about a reach relative to itself (a rigid translation does not count)
-//! before the pattern changes.
+//! **Pairs follow the state, the pattern does not each step.** A pair not held was farther
+//! apart than the reach when the pairs were taken, so the held pairs cover every pair that
+//! can come within `√d̂` until the surface has moved, relative to itself (a rigid translation
+//! does not count), by half the margin between the reach and `√d̂`. Before each step
+//! ([`Force::begin_step`]) that margin is compared with the motion so far plus twice the
+//! step's fastest relative motion `|v| dt`; when it no longer covers them, the pairs are taken
+//! afresh by the broad phase within three times `√d̂` plus that motion (hysteresis: held pairs
+//! beyond `√d̂` cost a distance each and add nothing), and the step solver rebuilds its
+//! sparsity pattern if they differ from those held.
 //!
 //! **No iterate passes through** ([`Force::max_step`]): every move of an iterate is bounded
 //! by additive CCD over the held pairs (`contact/ccd.rs`), and where the move reaches beyond
@@ -20,6 +21,7 @@ use super::barrier::{self, Barrier};
 use super::broad::{self, Candidate, Surface};
 use super::ccd::{self, Stencil};
 use super::distance::{edge_edge, point_edge, point_triangle, Pair};
+use crate::error::HistoryError;
 use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
 
 /// The held pairs are taken within this many times the reach a step needs (`√d̂` plus the
@@ -271,11 +273,32 @@ impl Force for SelfContact {
         if self.relative_motion(&self.taken_at, q, None) + motion < self.covered() {
             return false;
         }
+        let held = std::mem::take(&mut self.pairs);
         self.take_pairs(q, HYSTERESIS * (self.barrier.d_hat.sqrt() + motion));
-        true
+        // Taken afresh from here; the pattern changes only if the pairs did.
+        self.pairs != held
     }
     fn bounds_steps(&self) -> bool {
         true
+    }
+    /// The held pairs follow from where and within what reach they were taken: the reach,
+    /// then those positions (so a resumed run holds the same pairs in the same order).
+    fn history(&self) -> Vec<f64> {
+        std::iter::once(self.reach)
+            .chain(self.taken_at.iter().copied())
+            .collect()
+    }
+    fn restore_history(&mut self, h: &[f64]) -> Result<(), HistoryError> {
+        if h.len() != 1 + self.taken_at.len() {
+            return Err(HistoryError {
+                force: self.name.clone(),
+                got: h.len(),
+                expected: 1 + self.taken_at.len(),
+            });
+        }
+        let q = h[1..].to_vec();
+        self.take_pairs(&q, h[0]);
+        Ok(())
     }
     fn max_step(&self, q: &[f64], dq: &[f64], gap: f64) -> f64 {
         if self.relative_motion(&self.taken_at, q, Some(dq)) < self.covered() {

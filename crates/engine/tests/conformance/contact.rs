@@ -57,3 +57,22 @@ fn every_kind_of_pair_is_active() {
         "active pairs by kind: {active:?}"
     );
 }
+
+/// The pairs a step takes are history: restored on a freshly built force, they are the
+/// same pairs (and so the same pattern and the same bits after a resume).
+#[test]
+fn the_pairs_taken_are_restored_with_the_history() {
+    use engine::Force;
+    let (mut f, q) = self_contact(true);
+    // A step whose motion outruns the held reach takes the pairs afresh, here.
+    let mut moved = q.clone();
+    moved.iter_mut().step_by(3).for_each(|x| *x *= 1.5);
+    let v = vec![10.0; q.len()];
+    assert!(f.begin_step(&moved, &v, 0.1));
+    let (mut g, _) = self_contact(true);
+    assert_ne!(g.pairs(), f.pairs());
+    g.restore_history(&f.history()).unwrap();
+    assert_eq!(g.pairs(), f.pairs());
+    assert_eq!(g.stencils(), f.stencils());
+    assert!(g.restore_history(&[1.0]).is_err());
+}

@@ -1,0 +1,114 @@
+//! The opening of a packed round canopy (`scenarios/opening.toml`, docs/opening.md): its cloth
+//! and lines never pass through each other while it fills, and the run reports the opening
+//! shock in the handbook's terms.
+use chute::build::build;
+use chute::scenario::Scenario;
+use engine::contact::intersect::{first_crossing, segments_pass_through};
+
+use crate::common::{repo, run_complete};
+
+fn opening(set: &[&str]) -> Scenario {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    Scenario::load(&repo().join("scenarios/opening.toml"), &set).unwrap()
+}
+
+/// Whether a line segment passes through another between positions `a` and `b`.
+fn lines_cross(lines: &[[usize; 2]], a: &[f64], b: &[f64]) -> bool {
+    let p = |x: &[f64], i: usize| [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
+    lines.iter().enumerate().any(|(k, e)| {
+        lines[k + 1..].iter().any(|f| {
+            let ids = [e[0], e[1], f[0], f[1]];
+            !e.iter().any(|n| f.contains(n))
+                && segments_pass_through(ids.map(|i| p(a, i)), ids.map(|i| p(b, i)))
+        })
+    })
+}
+
+/// Both packings start free of intersections with the lines at full length; through the
+/// first 60 ms of the opening (the peak force at about 36 ms, the cloth folding as it fills)
+/// no edge passes through a triangle and no line through another after any accepted step,
+/// and the canopy has filled from its packed diameter to most of its flat one.
+#[test]
+fn a_packed_canopy_opens_without_passing_through_itself() {
+    let s = opening(&["opening.pack=bundle"]);
+    let b = build(&s).unwrap();
+    assert_eq!(
+        first_crossing(b.contact.as_ref().unwrap(), &b.state.q),
+        None
+    );
+    let s = opening(&[]);
+    let mut b = build(&s).unwrap();
+    let surface = b.contact.clone().unwrap();
+    let lines = surface.line_edges.clone();
+    let diameter = |q: &[f64]| {
+        let r = (b.canopy_nodes.iter())
+            .map(|&i| q[3 * i].hypot(q[3 * i + 1]))
+            .fold(0.0, f64::max);
+        2.0 * r
+    };
+    let d0 = diameter(&b.state.q);
+    assert!((d0 - 0.3).abs() < 1e-9, "packed diameter {d0}");
+    let mut stepper = engine::ImplicitEuler::new(&b.model, chute::resolve::newton(&s)).unwrap();
+    let mut dt = s.time.dt_s;
+    while b.state.t < 0.06 {
+        let before = b.state.q.clone();
+        match stepper.step(&mut b.model, &mut b.state, dt) {
+            Ok(_) => dt = s.time.dt_s.min(2.0 * dt),
+            Err(e) => {
+                dt *= 0.5;
+                assert!(dt > 1e-6, "step failed at t = {}: {e}", b.state.t);
+                continue;
+            }
+        }
+        let q = &b.state.q;
+        assert_eq!(first_crossing(&surface, q), None, "t = {}", b.state.t);
+        assert!(!lines_cross(&lines, &before, q), "t = {}", b.state.t);
+    }
+    let d = diameter(&b.state.q);
+    assert!(d > 0.6 * 3.0, "diameter {d} m after 60 ms");
+    assert!(stepper.counters().pattern_rebuilds > 0);
+}
+
+/// A whole opening to steady descent: the summary's opening fields are there and physical
+/// (the shock well above the weight, the load factor within the acceptance range of
+/// (0.05, 5), the fill within the first second), and the console says it.
+#[test]
+fn the_opening_shock_is_reported() {
+    let s = opening(&["time.duration_s=1.6", "output.snapshots_s=[]"]);
+    let dir = tempfile::tempdir().unwrap();
+    let (b, summary) = run_complete(&s, dir.path());
+    let w = b.total_weight_n;
+    let peak = summary["opening_peak_force_n"].as_f64().unwrap();
+    assert!(peak > 5.0 * w, "peak {peak} N, weight {w} N");
+    let factor = summary["opening_load_factor"].as_f64().unwrap();
+    assert!(factor > 0.05 && factor < 5.0, "{factor}");
+    let t_fill = summary["opening_fill_time_s"].as_f64().unwrap();
+    assert!(t_fill > 0.0 && t_fill < 1.0, "{t_fill}");
+    let fill = summary["opening_fill_distance_diameters"].as_f64().unwrap();
+    // Falling at 25 m/s at most over the fill: 25 t_fill / D₀ at most.
+    assert!(fill > 0.0 && fill <= 25.0 * t_fill / 3.0, "{fill}");
+    // The factor is the peak over C_D·S q at line stretch.
+    let cds = summary["drag_area_m2"].as_f64().unwrap();
+    let q = 0.5 * s.fluid.density_kg_m3 * 25.0 * 25.0;
+    assert!((factor - peak / (cds * q)).abs() < 1e-12 * factor);
+}
+
+/// What an opening needs, refused with exit status 2 naming the key: `[contact]`, a round
+/// canopy, a contact distance the packed start leaves room for, a packed radius below half
+/// the canopy's.
+#[test]
+fn an_opening_without_what_it_needs_is_refused() {
+    use crate::common::{assert_refused, check_bundled, chute};
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(repo().join("scenarios/opening.toml")).unwrap();
+    let bare = text.replace("[contact]", "");
+    std::fs::write(tmp.path().join("bare.toml"), bare).unwrap();
+    let o = chute(tmp.path(), &["check", "bare.toml"]);
+    assert_refused(&o, &["opening.pack", "[contact]"]);
+    let o = check_bundled("opening.toml", &["canopy.shape=hexagon"]);
+    assert_refused(&o, &["opening.pack", "round canopy"]);
+    let o = check_bundled("opening.toml", &["contact.distance_m=0.02"]);
+    assert_refused(&o, &["contact.distance_m", "closest parts"]);
+    let o = check_bundled("opening.toml", &["opening.packed_radius_m=0.8"]);
+    assert_refused(&o, &["opening.packed_radius_m", "radius_m / 2"]);
+}
