@@ -55,7 +55,7 @@ fn fastest(mut f: impl FnMut()) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// Measure every mesh of [`MESHES`].
+/// Measure every mesh (0.25, 0.18 and 0.125 m).
 pub fn measure() -> Result<Vec<ContactCost>, AppError> {
     MESHES.iter().map(|&h| measure_one(h)).collect()
 }
@@ -68,12 +68,14 @@ fn measure_one(h: f64) -> Result<ContactCost, AppError> {
     let mut stepper = engine::ImplicitEuler::new(&b.model, opts)
         .map_err(|e| AppError::RunFailed(e.to_string()))?;
     let dt = s.time.dt_s;
+    let mut step = dt;
     while b.state.t < STEP_TO_S {
-        if let Err(e) = stepper.step(&mut b.model, &mut b.state, dt) {
-            // A failed step is halved as a run would; the measurement needs only the state.
-            stepper
-                .step(&mut b.model, &mut b.state, 0.25 * dt)
-                .map_err(|_| AppError::RunFailed(format!("bench --contact: {e}")))?;
+        // A failed step is halved and the step grows back, as a run does; the measurement
+        // needs only the state.
+        match stepper.step(&mut b.model, &mut b.state, step) {
+            Ok(_) => step = dt.min(2.0 * step),
+            Err(_) if step > dt / 1024.0 => step *= 0.5,
+            Err(e) => return Err(AppError::RunFailed(format!("bench --contact: {e}"))),
         }
     }
     let (q, v) = (b.state.q.clone(), b.state.v.clone());

@@ -105,7 +105,10 @@ fn an_opening_without_what_it_needs_is_refused() {
     std::fs::write(tmp.path().join("bare.toml"), bare).unwrap();
     let o = chute(tmp.path(), &["check", "bare.toml"]);
     assert_refused(&o, &["opening.pack", "[contact]"]);
-    let o = check_bundled("opening.toml", &["canopy.shape=hexagon"]);
+    let o = check_bundled(
+        "opening.toml",
+        &["canopy.shape=hexagon", "load.sites=corners"],
+    );
     assert_refused(&o, &["opening.pack", "round canopy"]);
     let o = check_bundled("opening.toml", &["contact.distance_m=0.02"]);
     assert_refused(&o, &["contact.distance_m", "closest parts"]);

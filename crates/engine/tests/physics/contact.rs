@@ -78,16 +78,23 @@ fn folded_strip(contact: bool) -> (Model, Vec<f64>, Surface) {
     let masses = vec![5e-4; n];
     (0..n).for_each(|i| model.add_node_mass(i, masses[i]));
     (0..6 * ny).for_each(|i| model.fix_node(i));
-    let membrane = CstMembrane::new("membrane", &faces, &q, 1e8, 0.3, 1e-4).expect("mesh");
-    model.add_force(membrane);
     let nodes: Vec<usize> = (0..n).collect();
     model.add_force(Gravity::new(&nodes, &masses, [0.0, 0.0, -9.81]));
-    let surface = Surface::from_mesh(&faces, &[]);
+    let surface = cloth(&mut model, &faces, &q, 1e8, contact);
+    (model, q, surface)
+}
+
+/// A membrane of Young's modulus `e` (ν = 0.3, 0.1 mm) on `faces` at rest shape `q`, and
+/// contact of its surface when `contact`: the surface.
+fn cloth(model: &mut Model, faces: &[[usize; 3]], q: &[f64], e: f64, contact: bool) -> Surface {
+    let membrane = CstMembrane::new("membrane", faces, q, e, 0.3, 1e-4).expect("mesh");
+    model.add_force(membrane);
+    let surface = Surface::from_mesh(faces, &[]);
     if contact {
-        let c = SelfContact::new("contact", surface.clone(), BARRIER, &q, 0.0, true);
+        let c = SelfContact::new("contact", surface.clone(), BARRIER, q, 0.0, true);
         model.add_force(c);
     }
-    (model, q, surface)
+    surface
 }
 
 /// The upper half of a folded strip falls onto the lower half and comes to rest on it, no
@@ -214,19 +221,14 @@ fn tube(contact: bool) -> (Model, Vec<f64>, Surface) {
     let n = around * along;
     let mut model = Model::new(DofLayout::new(n, 0));
     (0..n).for_each(|i| model.add_node_mass(i, 5e-4));
-    let membrane = CstMembrane::new("membrane", &faces, &q, 1e4, 0.3, 1e-4).expect("mesh");
-    model.add_force(membrane);
     model.add_force(PointForces::new(&(0..n).collect::<Vec<_>>(), &push));
-    let surface = Surface::from_mesh(&faces, &[]);
-    if contact {
-        let c = SelfContact::new("contact", surface.clone(), BARRIER, &q, 0.0, true);
-        model.add_force(c);
-    }
+    let surface = cloth(&mut model, &faces, &q, 1e4, contact);
     (model, q, surface)
 }
 
 /// The tube crumples (its nodes' mean radius under three quarters of the tube's: each ring's
-/// 16 folded segments of 59 mm take room) without any edge passing through the membrane; without contact its walls pass through each other.
+/// 16 folded segments of 59 mm take room) without any edge passing through the membrane;
+/// without contact its walls pass through each other.
 #[test]
 fn a_tube_crumpled_by_an_inward_load_never_passes_through() {
     let (model, q, surface) = tube(true);
