@@ -115,3 +115,61 @@ fn an_opening_without_what_it_needs_is_refused() {
     let o = check_bundled("opening.toml", &["opening.packed_radius_m=0.8"]);
     assert_refused(&o, &["opening.packed_radius_m", "radius_m / 2"]);
 }
+
+/// A flat round canopy (round-fabric at 0.3 m, with contact) crumpled by a strong inward
+/// load: every canopy node pushed towards the axis by 20 × its weight. Over 0.15 s the cloth
+/// folds onto itself (its nodes' mean radius falls below half the flat one's) and no edge passes
+/// through a triangle after any accepted step.
+#[test]
+fn a_canopy_crumpled_by_a_strong_inward_load_never_passes_through_itself() {
+    let set: Vec<String> = ["contact.stop_speed_mps=10", "canopy.edge_length_m=0.3"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let s = Scenario::load(&repo().join("scenarios/round-fabric.toml"), &set).unwrap();
+    let mut b = build(&s).unwrap();
+    let surface = b.contact.clone().unwrap();
+    let q0 = b.state.q.clone();
+    let g = s.fluid.gravity_mps2;
+    let push: Vec<[f64; 3]> = (b.canopy_nodes.iter())
+        .map(|&i| {
+            let (x, y) = (q0[3 * i], q0[3 * i + 1]);
+            let r = x.hypot(y).max(1e-9);
+            let f = 20.0 * b.model.node_mass(i) * g;
+            [-f * x / r, -f * y / r, 0.0]
+        })
+        .collect();
+    let nodes = b.canopy_nodes.clone();
+    b.model
+        .add_force(engine::loads::PointForces::new(&nodes, &push));
+    let mut stepper = engine::ImplicitEuler::new(&b.model, chute::resolve::newton(&s)).unwrap();
+    let mut dt = s.time.dt_s;
+    while b.state.t < 0.15 {
+        match stepper.step(&mut b.model, &mut b.state, dt) {
+            Ok(_) => dt = s.time.dt_s.min(2.0 * dt),
+            Err(e) => {
+                dt *= 0.5;
+                assert!(dt > 1e-7, "step failed at t = {}: {e}", b.state.t);
+                continue;
+            }
+        }
+        assert_eq!(
+            first_crossing(&surface, &b.state.q),
+            None,
+            "t = {}",
+            b.state.t
+        );
+    }
+    let mean_radius = |q: &[f64]| {
+        let (cx, cy) = (q[0], q[1]);
+        let sum: f64 = (nodes.iter())
+            .map(|&i| (q[3 * i] - cx).hypot(q[3 * i + 1] - cy))
+            .sum();
+        sum / nodes.len() as f64
+    };
+    let (flat, crumpled) = (mean_radius(&q0), mean_radius(&b.state.q));
+    assert!(
+        crumpled < 0.5 * flat,
+        "mean radius {crumpled} m, flat {flat} m"
+    );
+}
