@@ -40,33 +40,47 @@ fn a_packed_canopy_opens_without_passing_through_itself() {
     let mut b = build(&s).unwrap();
     let surface = b.contact.clone().unwrap();
     let lines = surface.line_edges.clone();
+    let canopy = b.canopy_nodes.clone();
     let diameter = |q: &[f64]| {
-        let r = (b.canopy_nodes.iter())
+        let r = (canopy.iter())
             .map(|&i| q[3 * i].hypot(q[3 * i + 1]))
             .fold(0.0, f64::max);
         2.0 * r
     };
     let d0 = diameter(&b.state.q);
     assert!((d0 - 0.3).abs() < 1e-9, "packed diameter {d0}");
-    let mut stepper = engine::ImplicitEuler::new(&b.model, chute::resolve::newton(&s)).unwrap();
+    let rebuilds = step_until(&s, &mut b, 0.06, |t, before, q| {
+        assert_eq!(first_crossing(&surface, q), None, "t = {t}");
+        assert!(!lines_cross(&lines, before, q), "t = {t}");
+    });
+    let d = diameter(&b.state.q);
+    assert!(d > 0.6 * 3.0, "diameter {d} m after 60 ms");
+    assert!(rebuilds > 0);
+}
+
+/// Step `b` to `t_end` as a run does (a failed step halved, then grown back), calling
+/// `check(t, q before, q after)` after every accepted step; the pattern rebuilds it took.
+fn step_until(
+    s: &Scenario,
+    b: &mut chute::build::Built,
+    t_end: f64,
+    mut check: impl FnMut(f64, &[f64], &[f64]),
+) -> u64 {
+    let mut stepper = engine::ImplicitEuler::new(&b.model, chute::resolve::newton(s)).unwrap();
     let mut dt = s.time.dt_s;
-    while b.state.t < 0.06 {
+    while b.state.t < t_end {
         let before = b.state.q.clone();
         match stepper.step(&mut b.model, &mut b.state, dt) {
             Ok(_) => dt = s.time.dt_s.min(2.0 * dt),
             Err(e) => {
                 dt *= 0.5;
-                assert!(dt > 1e-6, "step failed at t = {}: {e}", b.state.t);
+                assert!(dt > 1e-7, "step failed at t = {}: {e}", b.state.t);
                 continue;
             }
         }
-        let q = &b.state.q;
-        assert_eq!(first_crossing(&surface, q), None, "t = {}", b.state.t);
-        assert!(!lines_cross(&lines, &before, q), "t = {}", b.state.t);
+        check(b.state.t, &before, &b.state.q);
     }
-    let d = diameter(&b.state.q);
-    assert!(d > 0.6 * 3.0, "diameter {d} m after 60 ms");
-    assert!(stepper.counters().pattern_rebuilds > 0);
+    stepper.counters().pattern_rebuilds
 }
 
 /// A whole opening to steady descent: the summary's opening fields are there and physical
@@ -142,24 +156,9 @@ fn a_canopy_crumpled_by_a_strong_inward_load_never_passes_through_itself() {
     let nodes = b.canopy_nodes.clone();
     b.model
         .add_force(engine::loads::PointForces::new(&nodes, &push));
-    let mut stepper = engine::ImplicitEuler::new(&b.model, chute::resolve::newton(&s)).unwrap();
-    let mut dt = s.time.dt_s;
-    while b.state.t < 0.15 {
-        match stepper.step(&mut b.model, &mut b.state, dt) {
-            Ok(_) => dt = s.time.dt_s.min(2.0 * dt),
-            Err(e) => {
-                dt *= 0.5;
-                assert!(dt > 1e-7, "step failed at t = {}: {e}", b.state.t);
-                continue;
-            }
-        }
-        assert_eq!(
-            first_crossing(&surface, &b.state.q),
-            None,
-            "t = {}",
-            b.state.t
-        );
-    }
+    step_until(&s, &mut b, 0.15, |t, _, q| {
+        assert_eq!(first_crossing(&surface, q), None, "t = {t}");
+    });
     let mean_radius = |q: &[f64]| {
         let (cx, cy) = (q[0], q[1]);
         let sum: f64 = (nodes.iter())
