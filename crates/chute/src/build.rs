@@ -135,13 +135,25 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
     q.resize(layout.len(), 0.0);
     // A packed start: the lines (straight, at full length) are built where they start; the
     // cloth's rest shape stays the flat disc.
+    let mut start_digest = None;
     let q_start = match &s.pack {
         Some(pack) => {
             let mut p = q.clone();
             let lines: Vec<Vec<usize>> = (plan.payload_lines.iter())
                 .map(|&k| plan.rods.rods()[plan.line_rods[k]].nodes.clone())
                 .collect();
-            packing::apply(&mut p, pack, &geo.canopy_nodes, &plan.sites, &lines);
+            let start = start_mesh(s, &geo)?;
+            let nodes = (&geo.canopy_nodes[..], &plan.sites[..]);
+            packing::apply(
+                &mut p,
+                pack,
+                nodes,
+                &lines,
+                start.as_ref().map(|m| &m.0[..]),
+            );
+            if let Some((_, digest)) = start {
+                start_digest = Some(digest);
+            }
             p
         }
         None => q.clone(),
@@ -206,7 +218,7 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
         planform_area_m2: geo.planform_area,
         release_point_m: s.release_point,
         contact,
-        opening_speed_mps: s.pack.map(|_| {
+        opening_speed_mps: s.pack.as_ref().map(|_| {
             let w = s.air.wind_at(0.0).velocity;
             let v = s.initial_velocity;
             (0..3).map(|k| (v[k] - w[k]).powi(2)).sum::<f64>().sqrt()
@@ -215,12 +227,39 @@ pub fn model(s: &ModelSpec) -> Result<Built, BuildError> {
         derived: Vec::new(),
         lines,
         model,
-        input_digests: geo
-            .mesh_digest
-            .iter()
+        input_digests: (geo.mesh_digest.iter())
             .map(|d| (crate::scenario::MESH_FILE_KEY, d.clone()))
+            .chain(start_digest.map(|d| (crate::scenario::START_MESH_FILE_KEY, d)))
             .collect(),
     })
+}
+
+/// A folded canopy's node positions (m) and the digest of the bytes read.
+type StartMesh = (Vec<[f64; 3]>, String);
+
+/// The folded canopy of `[opening] pack = "mesh"` (its positions and the digest of the bytes
+/// read), checked to be the canopy mesh's nodes and triangles; `None` for another packing.
+fn start_mesh(s: &ModelSpec, geo: &Geometry) -> Result<Option<StartMesh>, BuildError> {
+    let Some(path) = s.pack.as_ref().and_then(|p| p.mesh_file.as_ref()) else {
+        return Ok(None);
+    };
+    let key = crate::scenario::START_MESH_FILE_KEY;
+    let (mesh, digest) =
+        crate::mesh::read_file_digested(path).map_err(|e| BuildError::key(key, e.to_string()))?;
+    let (n, faces) = (geo.canopy_nodes.len(), geo.triangles());
+    if mesh.positions.len() != n || mesh.faces != faces {
+        return Err(BuildError::key(
+            key,
+            format!(
+                "{}: {} nodes and {} triangles, not the canopy mesh's {n} nodes and {} triangles in its order",
+                path.display(),
+                mesh.positions.len(),
+                mesh.faces.len(),
+                faces.len()
+            ),
+        ));
+    }
+    Ok(Some((mesh.positions, digest)))
 }
 
 /// The state at t = 0: positions `q`, every one of the `n_nodes` nodes at `velocity` (m/s),

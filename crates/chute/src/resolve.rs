@@ -115,6 +115,7 @@ impl ModelSpec {
                 packed_radius_m: o.packed_radius_m.unwrap_or(
                     s.canopy.radius_m * crate::scenario::sections::PACKED_RADIUS_PER_RADIUS,
                 ),
+                mesh_file: o.mesh_file.clone(),
             }),
         }
     }

@@ -201,6 +201,8 @@ fn read_bounded(path: &Path) -> Result<String, String> {
 
 /// The key of the imported mesh file, an input file a run records by digest.
 pub const MESH_FILE_KEY: &str = "canopy.mesh_file";
+/// The key of a packed start's mesh file (`[opening] pack = "mesh"`).
+pub const START_MESH_FILE_KEY: &str = "opening.mesh_file";
 
 /// Largest scenario file read (bytes, 16 MiB): scenarios are short text files; a larger one
 /// is refused before it is read into memory.
@@ -277,6 +279,9 @@ impl Scenario {
         }) = &self.wind
         {
             files.push((wind::WIND_FILE_KEY, p.clone()));
+        }
+        if let Some(p) = self.opening.as_ref().and_then(|o| o.mesh_file.as_ref()) {
+            files.push((START_MESH_FILE_KEY, p.clone()));
         }
         files
     }

@@ -10,6 +10,8 @@
 //! construction; the cloth is gathered around the axis (its rest shape stays the flat disc:
 //! a fabric without compression stiffness wrinkles there instead of pushing back). The
 //! suspension lines run straight from the packed skirt to the payload at their full length.
+//! `mesh` takes the folded canopy from a file instead (any shape, the flat mesh's nodes in
+//! order), and hangs the payload below its sites as a flat start does.
 
 use crate::scenario::Packing;
 
@@ -17,7 +19,7 @@ use crate::scenario::Packing;
 const LOBE_DEPTH: f64 = 0.5;
 
 /// How the canopy is packed.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Pack {
     /// The fold.
     pub packing: Packing,
@@ -25,23 +27,39 @@ pub struct Pack {
     pub radius_m: f64,
     /// The packed skirt's radius `c R` around the axis (m).
     pub packed_radius_m: f64,
+    /// `pack = "mesh"`: the folded canopy's file.
+    pub mesh_file: Option<std::path::PathBuf>,
 }
 
 /// Pack the canopy nodes `canopy` of the flat positions `q` (every DOF; the disc centred at
 /// `centre` in the plane z = 0) as the module docs say, and lay every line of `lines` (node
 /// chains from a load site to the payload, the payload last) straight from its packed site
 /// to the payload at the line's length. `sites` are the load sites (the lobes' tips).
-pub fn apply(q: &mut [f64], pack: &Pack, canopy: &[usize], sites: &[usize], lines: &[Vec<usize>]) {
+/// `pack = "mesh"` takes the canopy from `start` instead (node `k` of `canopy` at
+/// `start[k]`).
+pub fn apply(
+    q: &mut [f64],
+    pack: &Pack,
+    (canopy, sites): (&[usize], &[usize]),
+    lines: &[Vec<usize>],
+    start: Option<&[[f64; 3]]>,
+) {
+    let lengths: Vec<f64> = lines.iter().map(|l| chain_length(q, l)).collect();
+    let (a, n) = match (pack.packing, start) {
+        (Packing::Mesh, Some(start)) => {
+            for (&i, p) in canopy.iter().zip(start) {
+                q[3 * i..3 * i + 3].copy_from_slice(p);
+            }
+            return lay_lines(q, lines, sites, lengths.first().copied());
+        }
+        (Packing::Bundle, _) => (LOBE_DEPTH, sites.len() as f64),
+        _ => (0.0, 0.0),
+    };
     let c = pack.packed_radius_m / pack.radius_m;
     let depth = (1.0 - c * c).sqrt();
-    let (a, n) = match pack.packing {
-        Packing::Pulled => (0.0, 0.0),
-        Packing::Bundle => (LOBE_DEPTH, sites.len() as f64),
-    };
     let centre = centroid(q, canopy);
     let angle = |i: usize| (q[3 * i + 1] - centre[1]).atan2(q[3 * i] - centre[0]);
     let phi0 = sites.first().map_or(0.0, |&s| angle(s));
-    let lengths: Vec<f64> = lines.iter().map(|l| chain_length(q, l)).collect();
     for &i in canopy {
         let (x, y) = (q[3 * i] - centre[0], q[3 * i + 1] - centre[1]);
         let (r, phi) = (x.hypot(y), y.atan2(x));
@@ -60,6 +78,32 @@ pub fn apply(q: &mut [f64], pack: &Pack, canopy: &[usize], sites: &[usize], line
     let drop = (lengths[0] * lengths[0] - rho * rho).max(0.0).sqrt();
     let p = [centre[0], centre[1], q[3 * site + 2] - drop];
     q[3 * payload..3 * payload + 3].copy_from_slice(&p);
+    straighten(q, lines, p);
+}
+
+/// A folded start's lines: the payload below the sites' centroid where the line of the site
+/// farthest from it (horizontally) is `length` long from the highest site, as the flat
+/// start places it; every line straight.
+fn lay_lines(q: &mut [f64], lines: &[Vec<usize>], sites: &[usize], length: Option<f64>) {
+    let (Some(payload), Some(len)) = (lines.first().and_then(|l| l.last().copied()), length) else {
+        return;
+    };
+    let c = centroid(q, sites);
+    let top = sites.iter().map(|&i| q[3 * i + 2]).fold(f64::MIN, f64::max);
+    let r_max = (sites.iter())
+        .map(|&i| (q[3 * i] - c[0]).hypot(q[3 * i + 1] - c[1]))
+        .fold(0.0, f64::max);
+    let p = [
+        c[0],
+        c[1],
+        top - (len * len - r_max * r_max).max(0.0).sqrt(),
+    ];
+    q[3 * payload..3 * payload + 3].copy_from_slice(&p);
+    straighten(q, lines, p);
+}
+
+/// Every line straight from its site to the payload at `p`, its nodes evenly spaced.
+fn straighten(q: &mut [f64], lines: &[Vec<usize>], p: [f64; 3]) {
     for line in lines {
         let a: [f64; 3] = std::array::from_fn(|k| q[3 * line[0] + k]);
         let m = line.len() - 1;
@@ -124,13 +168,14 @@ mod tests {
                 packing,
                 radius_m: 1.5,
                 packed_radius_m: 0.15,
+                mesh_file: None,
             };
-            apply(&mut p, &pack, &canopy, &sites, &lines);
+            apply(&mut p, &pack, (&canopy, &sites), &lines, None);
             for &i in &rim {
                 let rho = p[3 * i].hypot(p[3 * i + 1]);
                 let (lo, hi) = match packing {
                     Packing::Pulled => (0.15 - 1e-12, 0.15 + 1e-12),
-                    Packing::Bundle => (0.075 - 1e-12, 0.225 + 1e-12),
+                    _ => (0.075 - 1e-12, 0.225 + 1e-12),
                 };
                 assert!(rho >= lo && rho <= hi, "{packing:?}: rim at {rho}");
             }

@@ -1,7 +1,7 @@
 //! The rules of `[opening]` and `[contact]` between keys (docs/opening.md).
 
 use super::validate::Checker;
-use super::{CanopyProfile, CanopyShape, Scenario};
+use super::{CanopyProfile, CanopyShape, Packing, Scenario};
 
 /// A packed start needs a flat round canopy, a flat start's imperfection left out, and
 /// contact; the packed radius and the contact distance are bounded by the canopy and its mesh.
@@ -9,13 +9,15 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
     let cn = &s.canopy;
     if let Some(o) = &s.opening {
         let pack = format!("\"{}\"", o.pack.name());
-        if cn.shape != CanopyShape::Circle {
+        // A folded canopy read from a file may be any shell canopy.
+        let folded = o.pack == Packing::Mesh;
+        if cn.shape != CanopyShape::Circle && !folded {
             c.fail(
                 "opening.pack",
                 &pack,
-                "packs a round canopy: set `canopy.shape = \"circle\"`",
+                "packs a round canopy: set `canopy.shape = \"circle\"`, or give it folded (`pack = \"mesh\"`)",
             );
-        } else if cn.profile.is_some_and(|p| p != CanopyProfile::Flat) {
+        } else if cn.profile.is_some_and(|p| p != CanopyProfile::Flat) && !folded {
             c.fail(
                 "opening.pack",
                 &pack,

@@ -84,7 +84,8 @@ pub fn parse_scenario(
         .try_into()
         .map_err(|e: toml::de::Error| conversion(e, &prov))?;
     let wind_file = s.wind.as_mut().and_then(|w| w.file.as_mut());
-    for p in [s.canopy.mesh_file.as_mut(), wind_file]
+    let start_file = s.opening.as_mut().and_then(|o| o.mesh_file.as_mut());
+    for p in [s.canopy.mesh_file.as_mut(), wind_file, start_file]
         .into_iter()
         .flatten()
     {

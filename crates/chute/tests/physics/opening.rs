@@ -172,3 +172,42 @@ fn a_canopy_crumpled_by_a_strong_inward_load_never_passes_through_itself() {
         "mean radius {crumpled} m, flat {flat} m"
     );
 }
+
+/// `pack = "mesh"` takes the folded canopy from a file: the pulled start written as an OBJ
+/// (the canopy's nodes in order, its triangles) and read back gives the same start, lines and
+/// payload included; a file that is not the canopy's mesh is refused naming the key.
+#[test]
+fn a_folded_canopy_is_read_from_a_mesh_file() {
+    use crate::common::{assert_refused, check_bundled};
+    use std::fmt::Write;
+    let pulled = build(&opening(&[])).unwrap();
+    let mut obj = String::new();
+    for &i in &pulled.canopy_nodes {
+        let p = &pulled.state.q[3 * i..3 * i + 3];
+        writeln!(obj, "v {} {} {}", p[0], p[1], p[2]).unwrap();
+    }
+    for t in &pulled.triangles {
+        writeln!(obj, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1).unwrap();
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("folded.obj");
+    std::fs::write(&file, &obj).unwrap();
+    let set = format!("opening.mesh_file={}", file.display());
+    let folded = build(&opening(&["opening.pack=mesh", &set])).unwrap();
+    let (a, b) = (&pulled.state.q, &folded.state.q);
+    let worst = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "starts differ by {worst} m");
+    // Its first triangle dropped: not the canopy's mesh.
+    let cut: String = obj
+        .lines()
+        .filter(|l| *l != obj.lines().find(|l| l.starts_with('f')).unwrap())
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&file, cut).unwrap();
+    let o = check_bundled("opening.toml", &["opening.pack=mesh", &set]);
+    assert_refused(&o, &["opening.mesh_file", "not the canopy mesh"]);
+}

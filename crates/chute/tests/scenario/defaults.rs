@@ -154,6 +154,7 @@ fn schema_matches_the_serde_structs() {
     });
     s.opening = Some(chute::scenario::Opening {
         packed_radius_m: Some(0.1),
+        mesh_file: Some("folded.obj".into()),
         ..Default::default()
     });
     let table: toml::Table = toml::from_str(&s.to_toml()).unwrap();

@@ -116,6 +116,15 @@ const CASES: &[Case] = &[
         Refused("edge_length_m / 2"),
     ),
     case(
+        "opening.mesh_file",
+        OPENING,
+        &[
+            "opening.pack=mesh",
+            "opening.mesh_file=../crates/chute/data/meshes/hexparachute_n6_python.txt",
+        ],
+        Unbuildable("not the canopy mesh"),
+    ),
+    case(
         "opening.packed_radius_m",
         OPENING,
         &["opening.packed_radius_m=0.9"],

@@ -1,7 +1,12 @@
 //! `[contact]` and `[opening]`: self-contact of the canopy and its lines, and a canopy that
 //! starts packed at line stretch (docs/opening.md).
 
-use super::super::keys::{choice, key, section};
+use std::path::PathBuf;
+
+use super::super::keys::{choice, key, section, when, Cond};
+
+/// The condition of the start-mesh key.
+const FROM_FILE: Cond = when("opening.pack", "mesh");
 
 /// Default `contact.distance_m` over `canopy.edge_length_m`: half the spacing of the packed
 /// canopy's gathered cloth at the default packed radius (a ring's nodes, about one edge apart
@@ -19,6 +24,8 @@ choice! {
         /// The gores gathered into lobes around the axis: the cone's cross-section a star
         /// with one lobe per load site.
         Bundle = "bundle",
+        /// Every canopy node where `opening.mesh_file` puts it (the flat mesh folded).
+        Mesh = "mesh",
     }
 }
 
@@ -44,8 +51,17 @@ section! {
     /// `canopy.initial_velocity_mps` (absent: flat, as in the report).
     pub struct Opening {
         /// how the canopy is packed
-        pack: Packing = Packing::Pulled => key()
-            .required("say how the canopy is packed: `pack = \"pulled\"` or \"bundle\""),
+        pack: Packing = Packing::Pulled => key().required(
+            "say how the canopy is packed: `pack = \"pulled\"`, \"bundle\" or \"mesh\""
+        ),
+        /// `pack = "mesh"`: the start's canopy (`.obj` or DisMech `.txt`): the canopy mesh's
+        /// nodes in its order, folded, with its triangles; relative paths resolve against
+        /// the scenario file's directory (stored absolute)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        mesh_file: Option<PathBuf> = None => key()
+            .only_with(FROM_FILE, "")
+            .required_with(FROM_FILE, "reads the folded canopy from a mesh file (.obj or .txt)")
+            .note("the canopy's nodes and triangles, folded"),
         /// radius of the packed canopy's skirt around its axis
         #[serde(skip_serializing_if = "Option::is_none")]
         packed_radius_m: Option<f64> = None => key()
