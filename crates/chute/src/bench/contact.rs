@@ -64,20 +64,16 @@ fn measure_one(h: f64) -> Result<ContactCost, AppError> {
     let set = [format!("canopy.edge_length_m={h}")];
     let s = crate::scenario::Scenario::from_str_with_name(OPENING, OPENING_PATH, &set)?;
     let mut b = crate::build::build(&s).map_err(|e| AppError::Input(e.to_string()))?;
-    let opts = crate::resolve::newton(&s);
-    let mut stepper = engine::ImplicitEuler::new(&b.model, opts)
-        .map_err(|e| AppError::RunFailed(e.to_string()))?;
-    let dt = s.time.dt_s;
-    let mut step = dt;
-    while b.state.t < STEP_TO_S {
-        // A failed step is halved and the step grows back, as a run does; the measurement
-        // needs only the state.
-        match stepper.step(&mut b.model, &mut b.state, step) {
-            Ok(_) => step = dt.min(2.0 * step),
-            Err(_) if step > dt / 1024.0 => step *= 0.5,
-            Err(e) => return Err(AppError::RunFailed(format!("bench --contact: {e}"))),
-        }
-    }
+    let cfg = crate::resolve::run_config(&s, false);
+    let fail = |e: String| AppError::RunFailed(format!("bench --contact: {e}"));
+    let mut stepper =
+        crate::runner::new_stepper(&b.model, &cfg).map_err(|e| fail(e.to_string()))?;
+    // As a run steps (a failed solve halved); the measurement needs only the state.
+    crate::runner::Driver::new(&cfg)
+        .map_err(|e| fail(e.to_string()))?
+        .advance_to(&mut stepper, &mut b, STEP_TO_S)
+        .map_err(|e| fail(e.to_string()))?;
+    let dt = cfg.stepping.dt_s;
     let (q, v) = (b.state.q.clone(), b.state.v.clone());
     let input = EvalInput {
         q: &q,
@@ -96,7 +92,12 @@ fn measure_one(h: f64) -> Result<ContactCost, AppError> {
     }
     let surface = b.contact.as_ref().expect("contact surface");
     let force = &b.model.forces[contact];
-    let reach = 3.0 * s.canopy.edge_length_m * crate::scenario::sections::DISTANCE_PER_EDGE;
+    // The reach a retake uses when the step's motion is small (docs/opening.md §Contact).
+    let distance = crate::resolve::ModelSpec::of(&s)
+        .contact
+        .expect("the opening has contact")
+        .0;
+    let reach = engine::contact::force::HYSTERESIS * distance;
     let dq: Vec<f64> = v.iter().map(|x| x * dt).collect();
     Ok(ContactCost {
         edge_length_m: h,
@@ -106,9 +107,9 @@ fn measure_one(h: f64) -> Result<ContactCost, AppError> {
         other_forces_ms: times.iter().sum::<f64>() - times[contact],
         broad_phase_ms: fastest(|| drop(candidates(surface, &q, reach))),
         ccd_ms: fastest(|| {
-            std::hint::black_box(force.max_step(&q, &dq, 0.1));
+            std::hint::black_box(force.max_step(&q, &dq, engine::stepper::ITERATE_GAP));
         }),
-        rebuild_ms: fastest(|| drop(engine::ImplicitEuler::new(&b.model, opts))),
+        rebuild_ms: fastest(|| drop(crate::runner::new_stepper(&b.model, &cfg))),
     })
 }
 

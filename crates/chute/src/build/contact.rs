@@ -3,8 +3,7 @@
 
 use super::BuildError;
 use engine::contact::barrier::Barrier;
-use engine::contact::broad::{candidates, Candidate, Surface};
-use engine::contact::distance::{edge_edge, point_edge, point_triangle};
+use engine::contact::broad::{candidates, Surface};
 use engine::contact::intersect::first_crossing;
 use engine::contact::SelfContact;
 use engine::Model;
@@ -58,13 +57,8 @@ pub fn install(
 /// The smallest distance (m) between two parts of `surface` that share no node, among the
 /// pairs within `reach`; `reach` when none is closer.
 fn closest_pair(surface: &Surface, q: &[f64], reach: f64) -> f64 {
-    let at = |n: [usize; 4]| n.map(|i| [q[3 * i], q[3 * i + 1], q[3 * i + 2]]);
     (candidates(surface, q, reach).iter())
-        .map(|c| match *c {
-            Candidate::PointTriangle(n) => point_triangle(&at(n)).1,
-            Candidate::EdgeEdge(n) => edge_edge(&at(n)).1,
-            Candidate::PointEdge([p, a, b]) => point_edge(&at([p, a, b, a])).1,
-        })
+        .map(|c| c.squared_distance(q))
         .fold(reach * reach, f64::min)
         .sqrt()
 }

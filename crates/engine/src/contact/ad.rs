@@ -184,6 +184,16 @@ pub(crate) fn dot<T: Real>(a: V<T>, b: V<T>) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// `|a|`.
+pub(crate) fn norm(a: V<f64>) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Node `i` of positions `x` (3 per node).
+pub(crate) fn node(x: &[f64], i: usize) -> V<f64> {
+    [x[3 * i], x[3 * i + 1], x[3 * i + 2]]
+}
+
 /// `a × b`.
 pub(crate) fn cross<T: Real>(a: V<T>, b: V<T>) -> V<T> {
     [

@@ -5,6 +5,8 @@
 //! grown box, an edge–edge pair when the two grown boxes overlap. Pairs sharing a node are
 //! left out: neighbours touch by construction, and their elastic forces keep them apart.
 
+use super::ad::{node, V};
+use super::distance::{edge_edge, point_edge, point_triangle, Pair};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{RTree, AABB};
 
@@ -58,11 +60,33 @@ pub enum Candidate {
     PointEdge([usize; 3]),
 }
 
-type Boxed = GeomWithData<Rectangle<[f64; 3]>, usize>;
+impl Candidate {
+    /// The four stencil nodes of the pair (a point–edge pair padded with its edge's first
+    /// node, which no formula of the pair reads).
+    pub fn nodes(&self) -> [usize; 4] {
+        match *self {
+            Candidate::PointTriangle(n) | Candidate::EdgeEdge(n) => n,
+            Candidate::PointEdge([p, a, b]) => [p, a, b, a],
+        }
+    }
 
-fn node(x: &[f64], i: usize) -> [f64; 3] {
-    [x[3 * i], x[3 * i + 1], x[3 * i + 2]]
+    /// The feature pair realising the pair's distance at the stencil points `v`, and the
+    /// squared distance.
+    pub fn feature(&self, v: &[V<f64>; 4]) -> (Pair, f64) {
+        match self {
+            Candidate::PointTriangle(_) => point_triangle(v),
+            Candidate::EdgeEdge(_) => edge_edge(v),
+            Candidate::PointEdge(_) => point_edge(v),
+        }
+    }
+
+    /// The pair's squared distance (m²) at node positions `x` (3 per node).
+    pub fn squared_distance(&self, x: &[f64]) -> f64 {
+        self.feature(&self.nodes().map(|i| node(x, i))).1
+    }
 }
+
+type Boxed = GeomWithData<Rectangle<[f64; 3]>, usize>;
 
 /// The box of nodes `ids`, grown by `reach` on every side.
 fn grown(x: &[f64], ids: &[usize], reach: f64, index: usize) -> Boxed {
@@ -114,11 +138,13 @@ pub fn candidates(surface: &Surface, x: &[f64], reach: f64) -> Vec<Candidate> {
     out
 }
 
-/// The lines' nodes and their neighbours along the lines. Lines meet by construction where
-/// they share a node (at the payload's confluence, at a load site) and converge there: line
-/// primitives whose nodes are within two line edges of each other are not paired (beyond
-/// IPC's rule of no shared node, which leaves converging lines in contact next to their
-/// confluence, closer there than any activation distance).
+/// The lines' nodes and their neighbours along the lines. Lines meet by construction at a
+/// *junction*, a node of three or more line edges (the payload's confluence), and converge
+/// there: line primitives joined through a junction (a junction and its neighbour, or two
+/// neighbours of one junction) are not paired, beyond IPC's rule of no shared node, which
+/// would leave converging lines in contact next to their confluence, closer there than any
+/// activation distance. Along one line (nodes of two edges) IPC's rule alone holds, so a line
+/// cannot pass through itself.
 struct LineGraph {
     neighbours: std::collections::HashMap<usize, Vec<usize>>,
 }
@@ -133,26 +159,32 @@ impl LineGraph {
         Self { neighbours }
     }
 
-    /// Whether line nodes `i` and `j` are at most two line edges apart.
+    fn is_junction(&self, i: usize) -> bool {
+        self.neighbours.get(&i).is_some_and(|n| n.len() >= 3)
+    }
+
+    /// Whether line nodes `i` and `j` are joined through a junction (or are one node).
     fn near(&self, i: usize, j: usize) -> bool {
         let (Some(a), Some(b)) = (self.neighbours.get(&i), self.neighbours.get(&j)) else {
             return false;
         };
-        i == j || a.contains(&j) || a.iter().any(|k| b.contains(k))
+        i == j
+            || (a.contains(&j) && (self.is_junction(i) || self.is_junction(j)))
+            || a.iter().any(|&k| self.is_junction(k) && b.contains(&k))
     }
 
     fn is_line(&self, [a, b]: [usize; 2]) -> bool {
         self.neighbours.get(&a).is_some_and(|n| n.contains(&b))
     }
 
-    /// Whether line primitives with nodes `a` and `b` are near each other along the lines.
+    /// Whether line primitives with nodes `a` and `b` are joined through a junction.
     fn adjacent(&self, a: &[usize], b: &[usize]) -> bool {
         a.iter().any(|&i| b.iter().any(|&j| self.near(i, j)))
     }
 }
 
 /// The point–edge candidates among the lines: every line node in the grown box of a line edge
-/// that is not within two line edges of it.
+/// it is not joined to through a junction ([`LineGraph`]).
 fn line_pairs(
     surface: &Surface,
     lines: &LineGraph,

@@ -16,18 +16,17 @@
 //! what the held pairs cover (the nodes moved more than half their margin since the step
 //! started), over pairs taken afresh around the move.
 
-use super::ad::V;
+use super::ad::{dot, node, norm, sub, V};
 use super::barrier::{self, Barrier};
 use super::broad::{self, Candidate, Surface};
 use super::ccd::{self, Stencil};
-use super::distance::{edge_edge, point_edge, point_triangle, Pair};
 use crate::error::HistoryError;
 use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
 
 /// The held pairs are taken within this many times the reach a step needs (`√d̂` plus the
 /// step's motion): the pattern changes once the surface has moved about that reach relative
 /// to itself.
-const HYSTERESIS: f64 = 3.0;
+pub const HYSTERESIS: f64 = 3.0;
 /// IPC's edge–edge mollifier threshold: `εx = MOLLIFIER |ea|²|eb|²` at rest (§4.3).
 const MOLLIFIER: f64 = 1e-3;
 
@@ -95,7 +94,7 @@ impl SelfContact {
 
     fn take_pairs(&mut self, q: &[f64], reach: f64) {
         self.pairs = broad::candidates(&self.surface, q, reach);
-        self.stencils = self.pairs.iter().flat_map(|c| dofs(nodes(c))).collect();
+        self.stencils = self.pairs.iter().flat_map(|c| dofs(c.nodes())).collect();
         self.taken_at.copy_from_slice(q);
         self.reach = reach;
     }
@@ -105,32 +104,33 @@ impl SelfContact {
         (s.points.iter().copied()).chain(s.line_edges.iter().flatten().copied())
     }
 
-    /// The largest motion of a surface node relative to the surface's mean motion, from `a`
-    /// to `b + s db` (the largest of s = 0 and s = 1: the distance from a point is convex
-    /// along a line). A rigid translation moves no pair closer, so it is not counted.
-    fn relative_motion(&self, a: &[f64], b: &[f64], db: Option<&[f64]>) -> f64 {
-        let mut worst = 0.0f64;
-        for s in [0.0, 1.0] {
-            if s == 1.0 && db.is_none() {
-                break;
-            }
-            let at = |i: usize| -> V<f64> {
-                let (x, y) = (node(a, i), node(b, i));
-                let d = db.map_or([0.0; 3], |d| node(d, i));
-                std::array::from_fn(|k| y[k] + s * d[k] - x[k])
-            };
-            let (mut mean, mut n) = ([0.0; 3], 0.0);
-            for i in self.nodes() {
-                let m = at(i);
-                (0..3).for_each(|k| mean[k] += m[k]);
-                n += 1.0;
-            }
-            let mean = mean.map(|m| m / f64::max(n, 1.0));
-            for i in self.nodes() {
-                worst = worst.max(norm(sub(at(i), mean)));
-            }
+    /// The largest of `|f(i) − mean f|` over the surface's nodes: how far a node moves
+    /// relative to the surface's mean motion when it moves by `f(i)` (a rigid translation
+    /// moves no pair closer, so it does not count).
+    fn spread(&self, f: impl Fn(usize) -> V<f64>) -> f64 {
+        let (mut mean, mut n) = ([0.0; 3], 0.0);
+        for i in self.nodes() {
+            let m = f(i);
+            (0..3).for_each(|k| mean[k] += m[k]);
+            n += 1.0;
         }
-        worst
+        let mean = mean.map(|m| m / f64::max(n, 1.0));
+        self.nodes()
+            .map(|i| norm(sub(f(i), mean)))
+            .fold(0.0, f64::max)
+    }
+
+    /// The surface's relative motion ([`SelfContact::spread`]) from where its pairs were
+    /// taken to `q + s dq`, largest over `s ∈ [0, 1]`: at an end, the motion being affine in
+    /// `s` and its norm convex.
+    fn drift(&self, q: &[f64], dq: &[f64]) -> f64 {
+        let at = |s: f64| {
+            move |i: usize| -> V<f64> {
+                let (t, x, d) = (node(&self.taken_at, i), node(q, i), node(dq, i));
+                std::array::from_fn(|k| x[k] + s * d[k] - t[k])
+            }
+        };
+        self.spread(at(0.0)).max(self.spread(at(1.0)))
     }
 
     /// How far (m) the surface may move relative to itself from where the pairs were taken
@@ -142,10 +142,10 @@ impl SelfContact {
 
     /// Energy, gradient and Hessian of held pair `i` at `q` (`None` when inactive).
     fn pair_terms(&self, c: &Candidate, q: &[f64]) -> Option<(f64, [f64; 12], [f64; 144])> {
-        let ids = nodes(c);
+        let ids = c.nodes();
         let x: [f64; 12] = std::array::from_fn(|k| q[3 * ids[k / 3] + k % 3]);
         let v: [V<f64>; 4] = ids.map(|i| node(q, i));
-        let (kind, d) = feature(c, &v);
+        let (kind, d) = c.feature(&v);
         if d >= self.barrier.d_hat || d <= 0.0 {
             return None;
         }
@@ -155,31 +155,6 @@ impl SelfContact {
             MOLLIFIER * dot(a, a) * dot(b, b)
         });
         barrier::pair(&self.barrier, kind, &x, mollifier)
-    }
-}
-
-fn node(x: &[f64], i: usize) -> V<f64> {
-    [x[3 * i], x[3 * i + 1], x[3 * i + 2]]
-}
-
-fn norm(a: V<f64>) -> f64 {
-    dot(a, a).sqrt()
-}
-
-fn dot(a: V<f64>, b: V<f64>) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn sub(a: V<f64>, b: V<f64>) -> V<f64> {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-/// The four stencil nodes of a pair (a point–edge pair padded with its edge's first node,
-/// which no formula of the pair reads).
-fn nodes(c: &Candidate) -> [usize; 4] {
-    match *c {
-        Candidate::PointTriangle(n) | Candidate::EdgeEdge(n) => n,
-        Candidate::PointEdge([p, a, b]) => [p, a, b, a],
     }
 }
 
@@ -195,20 +170,11 @@ fn stencil_kind(c: &Candidate) -> Stencil {
     }
 }
 
-/// The feature pair realising the pair's distance and the squared distance.
-fn feature(c: &Candidate, v: &[V<f64>; 4]) -> (Pair, f64) {
-    match c {
-        Candidate::PointTriangle(_) => point_triangle(v),
-        Candidate::EdgeEdge(_) => edge_edge(v),
-        Candidate::PointEdge(_) => point_edge(v),
-    }
-}
-
 /// The smallest CCD step of `pairs` along `dq` from `q`.
 fn ccd_bound(pairs: &[Candidate], q: &[f64], dq: &[f64], gap: f64) -> f64 {
     let mut t = 1.0f64;
     for c in pairs {
-        let ids = nodes(c);
+        let ids = c.nodes();
         let (x, dx) = (ids.map(|i| node(q, i)), ids.map(|i| node(dq, i)));
         t = ccd::max_step(stencil_kind(c), &x, &dx, gap, t);
         if t == 0.0 {
@@ -264,13 +230,13 @@ impl Force for SelfContact {
     }
     fn begin_step(&mut self, q: &[f64], v: &[f64], dt: f64) -> bool {
         let motion = if dt.is_finite() {
-            // Twice the fastest relative speed over the step (once per step, not per iterate).
-            let rest = vec![0.0; v.len()];
-            2.0 * dt * self.relative_motion(&rest, v, None)
+            // Twice the fastest relative speed over the step.
+            2.0 * dt * self.spread(|i| node(v, i))
         } else {
             0.0
         };
-        if self.relative_motion(&self.taken_at, q, None) + motion < self.covered() {
+        let so_far = self.spread(|i| sub(node(q, i), node(&self.taken_at, i)));
+        if so_far + motion < self.covered() {
             return false;
         }
         let held = std::mem::take(&mut self.pairs);
@@ -301,7 +267,7 @@ impl Force for SelfContact {
         Ok(())
     }
     fn max_step(&self, q: &[f64], dq: &[f64], gap: f64) -> f64 {
-        if self.relative_motion(&self.taken_at, q, Some(dq)) < self.covered() {
+        if self.drift(q, dq) < self.covered() {
             return ccd_bound(&self.pairs, q, dq, gap);
         }
         // The move leaves what the held pairs cover: take the pairs around it.

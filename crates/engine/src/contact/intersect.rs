@@ -8,7 +8,7 @@ use robust::{orient3d, Coord3D};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{RTree, AABB};
 
-use super::ad::V;
+use super::ad::{node, V};
 use super::broad::Surface;
 use super::distance::edge_edge;
 
@@ -34,10 +34,6 @@ pub fn segment_crosses_triangle(p: V<f64>, q: V<f64>, [a, b, c]: [V<f64>; 3]) ->
     }
     let s = [side(p, q, a, b), side(p, q, b, c), side(p, q, c, a)];
     s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
-}
-
-fn node(x: &[f64], i: usize) -> V<f64> {
-    [x[3 * i], x[3 * i + 1], x[3 * i + 2]]
 }
 
 /// The first edge of `surface` (by index) that crosses one of its triangles at node positions
@@ -106,4 +102,21 @@ pub fn segments_pass_through(start: [V<f64>; 4], end: [V<f64>; 4]) -> bool {
     let len2 = |a: V<f64>, b: V<f64>| (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>();
     let scale = len2(meet[0], meet[1]).max(len2(meet[2], meet[3]));
     edge_edge(&meet).1 <= 1e-18 * scale
+}
+
+/// The first two of `segments` (node pairs; by index) that share no node and pass through
+/// each other ([`segments_pass_through`]) as the nodes move in straight lines from positions
+/// `a` to `b` (3 per node); `None` when no two do.
+pub fn segments_passing(segments: &[[usize; 2]], a: &[f64], b: &[f64]) -> Option<(usize, usize)> {
+    for (i, e) in segments.iter().enumerate() {
+        for (j, f) in segments.iter().enumerate().skip(i + 1) {
+            let ids = [e[0], e[1], f[0], f[1]];
+            if !e.iter().any(|n| f.contains(n))
+                && segments_pass_through(ids.map(|k| node(a, k)), ids.map(|k| node(b, k)))
+            {
+                return Some((i, j));
+            }
+        }
+    }
+    None
 }

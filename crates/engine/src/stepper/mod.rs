@@ -26,3 +26,4 @@ pub use options::{Counters, NewtonOptions, Predictor, Stage, StageCounts, StepRe
 pub use statics::StaticSolver;
 pub use step_size::{Plan, SizeState, StepSizes, StepSizing};
 pub use unit_costs::UnitCosts;
+pub use workspace::{ITERATE_GAP, PATH_GAP};

@@ -64,11 +64,11 @@ pub(crate) struct Workspace {
 
 /// A move of an iterate keeps every contact pair above this fraction of its distance
 /// (`Force::max_step`; IPC's line search keeps 0.1–0.2, Li et al. 2021, Algorithm 1).
-pub(crate) const ITERATE_GAP: f64 = 0.1;
+pub const ITERATE_GAP: f64 = 0.1;
 /// A step's solution is accepted only if the straight path to it from the step's start
 /// keeps every contact pair above this fraction of its distance: no surface passed through
 /// another during the step, whichever stage solved it.
-pub(crate) const PATH_GAP: f64 = 1e-3;
+pub const PATH_GAP: f64 = 1e-3;
 
 impl Workspace {
     /// Allocate every buffer for `model` (its pattern is analysed here, once).
