@@ -116,6 +116,7 @@ impl ModelSpec {
                     s.canopy.radius_m * crate::scenario::sections::PACKED_RADIUS_PER_RADIUS,
                 ),
                 mesh_file: o.mesh_file.clone(),
+                attitude_rad: o.attitude_deg.to_radians(),
             }),
         }
     }

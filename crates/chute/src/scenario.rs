@@ -60,9 +60,9 @@ pub use incidence::incidence_curve;
 pub use parse::base_dir as source_dir;
 pub use sections::{
     Atmosphere, AtmosphereModel, Bending, Canopy, CanopyProfile, CanopyShape, Contact, Control,
-    DragLaw, Fluid, Guidance, Lines, Load, LoadMode, Material, Membrane, MeshPattern, ModelKind,
-    ModelSection, Opening, Output, Packing, PullSide, Sensor, SensorKind, Shell, ShellDrag,
-    SiteSet, Sites, Time, Wind, WindLaw, DEFAULT_ERROR_TOLERANCE_M,
+    DragLaw, Fluid, Guidance, InflationSpeed, Lines, Load, LoadMode, Material, Membrane,
+    MeshPattern, ModelKind, ModelSection, Opening, Output, Packing, PullSide, Sensor, SensorKind,
+    Shell, ShellDrag, SiteSet, Sites, Time, Wind, WindLaw, DEFAULT_ERROR_TOLERANCE_M,
 };
 
 /// `--set` overrides that turn the bundled report shells (`scenarios/report-shell-*.toml`,

@@ -54,6 +54,10 @@ pub trait Element: Send + Sync + 'static {
     /// Advance the history after an accepted step at `(q, v)` (see [`Force::commit`]).
     fn commit(&mut self, _els: &mut [Self::Data], _stencils: &[usize], _q: &[f64], _v: &[f64]) {}
 
+    /// Read what the element holds over the step about to be solved from the state `(q, v)`
+    /// that starts it (see [`Force::begin_step`]); its stencils stay.
+    fn begin_step(&mut self, _stencils: &[usize], _q: &[f64], _v: &[f64]) {}
+
     /// Length of [`Element::history`] for a family of `n_elements`.
     fn history_len(&self, _n_elements: usize) -> usize {
         0
@@ -194,6 +198,10 @@ impl<E: Element> Force for Family<E> {
     }
     fn commit(&mut self, q: &[f64], v: &[f64]) {
         self.law.commit(&mut self.data, &self.stencils, q, v);
+    }
+    fn begin_step(&mut self, q: &[f64], v: &[f64], _dt: f64) -> bool {
+        self.law.begin_step(&self.stencils, q, v);
+        false
     }
     fn history(&self) -> Vec<f64> {
         self.law.history(&self.data)

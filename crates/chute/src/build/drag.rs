@@ -3,7 +3,7 @@
 use super::canopy::Geometry;
 use super::load::Plan;
 use crate::resolve::ModelSpec;
-use crate::scenario::{DragLaw, Material, ModelKind, ShellDrag};
+use crate::scenario::{DragLaw, InflationSpeed, Material, ModelKind, ShellDrag};
 use engine::aero::atmosphere::sutherland;
 use engine::aero::{
     AddedMass, Fabric, IncidencePressure, InflationPressure, LinearDrag, NodeDrag, PressureDrag,
@@ -126,12 +126,16 @@ pub fn install(
                     }
                     let rest = rest_q(geo, model);
                     match (s.incidence.clone(), fabric) {
-                        (None, None) => {
-                            model.add_force(InflationPressure::new(&faces, &rest, cd, fluid))
+                        (None, fab) => {
+                            let mut p = InflationPressure::new(&faces, &rest, cd, fluid);
+                            if let Some(fab) = fab {
+                                p = p.with_fabric(fab);
+                            }
+                            if f.inflation_speed == Some(InflationSpeed::Canopy) {
+                                p = p.with_canopy_speed();
+                            }
+                            model.add_force(p)
                         }
-                        (None, Some(fab)) => model.add_force(
-                            InflationPressure::new(&faces, &rest, cd, fluid).with_fabric(fab),
-                        ),
                         (Some(c), None) => {
                             model.add_force(IncidencePressure::new(&faces, &rest, cd, c, fluid))
                         }

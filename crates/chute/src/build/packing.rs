@@ -29,6 +29,8 @@ pub struct Pack {
     pub packed_radius_m: f64,
     /// `pack = "mesh"`: the folded canopy's file.
     pub mesh_file: Option<std::path::PathBuf>,
+    /// The packed system's tilt from the vertical about the y axis through the apex (rad).
+    pub attitude_rad: f64,
 }
 
 /// Pack the canopy nodes `canopy` of the flat positions `q` (every DOF; the disc centred at
@@ -38,6 +40,37 @@ pub struct Pack {
 /// `pack = "mesh"` takes the canopy from `start` instead (node `k` of `canopy` at
 /// `start[k]`).
 pub fn apply(
+    q: &mut [f64],
+    pack: &Pack,
+    (canopy, sites): (&[usize], &[usize]),
+    lines: &[Vec<usize>],
+    start: Option<&[[f64; 3]]>,
+) {
+    let apex = centroid(q, canopy);
+    pack_vertical(q, pack, (canopy, sites), lines, start);
+    let mut moved: Vec<usize> = canopy
+        .iter()
+        .chain(lines.iter().flatten())
+        .copied()
+        .collect();
+    moved.sort_unstable();
+    moved.dedup();
+    tilt(q, &moved, apex, pack.attitude_rad);
+}
+
+/// Turn `nodes` by `angle` about the y axis through `pivot`: the vertical axis goes to
+/// `(−sin, 0, cos)`·(−1), the apex stays.
+fn tilt(q: &mut [f64], nodes: &[usize], pivot: [f64; 3], angle: f64) {
+    let (s, c) = angle.sin_cos();
+    for &i in nodes {
+        let (dx, dz) = (q[3 * i] - pivot[0], q[3 * i + 2] - pivot[2]);
+        q[3 * i] = pivot[0] + c * dx + s * dz;
+        q[3 * i + 2] = pivot[2] - s * dx + c * dz;
+    }
+}
+
+/// [`apply`] with the axis vertical.
+fn pack_vertical(
     q: &mut [f64],
     pack: &Pack,
     (canopy, sites): (&[usize], &[usize]),
@@ -169,6 +202,7 @@ mod tests {
                 radius_m: 1.5,
                 packed_radius_m: 0.15,
                 mesh_file: None,
+                attitude_rad: 0.0,
             };
             apply(&mut p, &pack, (&canopy, &sites), &lines, None);
             for &i in &rim {

@@ -9,7 +9,9 @@ use std::path::PathBuf;
 use super::keys::{choice, key, section, when, Bound, Cond, KeyType, Kind, Section};
 
 mod control;
+mod drag;
 pub use control::{Control, Guidance, PullSide, Sensor, SensorKind};
+pub use drag::{InflationSpeed, ShellDrag};
 mod opening;
 pub use opening::{Contact, Opening, Packing, DISTANCE_PER_EDGE, PACKED_RADIUS_PER_RADIUS};
 mod time;
@@ -470,23 +472,6 @@ choice! {
     }
 }
 
-choice! {
-    /// Shell drag model.
-    pub enum ShellDrag {
-        /// Report §II.D: normal (C_D) and tangential (C_t) quadratic drag per triangle.
-        Report = "report",
-        /// DisMech-style pressure drag on the normal velocity only, coefficient C_D.
-        Pressure = "pressure",
-        /// Inflation pressure C_D ½ρw² (w: descent speed through the air) on every triangle's
-        /// inside normal whatever its angle to the flow (the trapped air of an inflated
-        /// canopy), plus the report's tangential drag C_t.
-        Inflation = "inflation",
-        /// The inflation pressure plus a windward excess that gives the canopy the normal-force
-        /// curve `incidence_cn` against `incidence_alpha_deg`: it swings and glides.
-        Incidence = "incidence",
-    }
-}
-
 section! {
     /// `[fluid]`.
     pub struct Fluid {
@@ -514,6 +499,13 @@ section! {
         /// normal, plus tangential C_t) or `incidence` (`inflation` plus the windward excess of
         /// a tabulated C_N(α))
         shell_drag: ShellDrag = ShellDrag::Report => key(),
+        /// `shell_drag = "inflation"`: the descent speed w of the pressure, each triangle's
+        /// own (`panel`) or the canopy's, held over each step (`canopy`; a packed or tilted
+        /// canopy, docs/aero.md §InflationPressure)
+        #[serde(skip_serializing_if = "Option::is_none")]
+        inflation_speed: Option<InflationSpeed> = None => key()
+            .only_with(when("fluid.shell_drag", "inflation"), "")
+            .default_doc("`\"panel\"`"),
         /// `shell_drag = "incidence"`: angles of attack α of the normal-force table, from
         /// −90° to 90°, increasing
         #[serde(skip_serializing_if = "Option::is_none")]

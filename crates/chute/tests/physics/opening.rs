@@ -46,6 +46,48 @@ fn a_packed_canopy_opens_without_passing_through_itself() {
     assert!(rebuilds > 0);
 }
 
+/// Tilted 30° from the vertical and falling vertically (the flow 30° off its axis): the start
+/// is the vertical one turned about the apex (the payload on the tilted axis, the skirt at the
+/// packed radius around it), and through the first 60 ms nothing passes through anything
+/// while the canopy fills to most of its flat diameter.
+#[test]
+fn a_tilted_canopy_opens_without_passing_through_itself() {
+    let s = opening(&["opening.attitude_deg=30"]);
+    let mut b = build(&s).unwrap();
+    let (surface, payload) = (b.contact.clone().unwrap(), b.payload_node.unwrap());
+    let lines = surface.line_edges.clone();
+    let at = |q: &[f64], i: usize| nalgebra::Vector3::new(q[3 * i], q[3 * i + 1], q[3 * i + 2]);
+    let q0 = b.state.q.clone();
+    let apex = *(b.canopy_nodes.iter())
+        .max_by(|&&i, &&j| {
+            let d = |k| (at(&q0, k) - at(&q0, payload)).norm();
+            d(i).total_cmp(&d(j))
+        })
+        .unwrap();
+    let canopy = b.canopy_nodes.clone();
+    // The largest distance of the cloth from the axis through the apex and the payload.
+    let radius = |q: &[f64]| {
+        let a = at(q, apex);
+        let e = (at(q, payload) - a).normalize();
+        (canopy.iter())
+            .map(|&i| (at(q, i) - a).cross(&e).norm())
+            .fold(0.0, f64::max)
+    };
+    let e = (at(&q0, payload) - at(&q0, apex)).normalize();
+    assert!((-e.z - 30f64.to_radians().cos()).abs() < 1e-9, "axis {e}");
+    assert!(
+        (radius(&q0) - 0.15).abs() < 1e-9,
+        "packed radius {}",
+        radius(&q0)
+    );
+    step_until(&s, &mut b, 0.06, |t, before, q| {
+        assert_eq!(first_crossing(&surface, q), None, "t = {t}");
+        assert_eq!(segments_passing(&lines, before, q), None, "t = {t}");
+    });
+    let r = radius(&b.state.q);
+    assert!(2.0 * r > 0.6 * 3.0, "diameter {} m after 60 ms", 2.0 * r);
+}
+
 /// Step `b` to `t_end` as a run does (a failed step halved, then grown back), calling
 /// `check(t, q before, q after)` after every accepted step; the pattern rebuilds it took.
 fn step_until(

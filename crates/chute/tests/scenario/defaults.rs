@@ -131,6 +131,7 @@ fn schema_matches_the_serde_structs() {
     // The incidence table (with its law only).
     s.fluid.incidence_alpha_deg = Some(vec![-90.0, 90.0]);
     s.fluid.incidence_cn = Some(vec![0.0, 0.0]);
+    s.fluid.inflation_speed = Some(chute::scenario::InflationSpeed::Canopy);
     // The pull and guidance sections (payload mode only): set them directly too.
     s.control.push(chute::scenario::Control {
         hold_s: Some(1.0),

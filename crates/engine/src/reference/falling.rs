@@ -99,6 +99,9 @@ pub enum Body {
     SheetPressure,
     /// The same sheet with [`InflationPressure`] (`C_p = C_D`).
     SheetInflation,
+    /// The same sheet with [`InflationPressure::with_canopy_speed`]: the speed held over
+    /// each step.
+    SheetInflationCanopy,
     /// 2 m × 0.5 m strip of 11 nodes with [`NodeDrag`] (`A_k = 2 r_d l̄_k`, `r_d` = width/2).
     StripNodes,
 }
@@ -107,12 +110,18 @@ pub enum Body {
 pub fn build(body: Body, fluid: &Fluid) -> (Model, State) {
     let m = mass_for_vt(fluid);
     match body {
-        Body::SheetTriangle | Body::SheetPressure | Body::SheetInflation => {
+        Body::SheetTriangle
+        | Body::SheetPressure
+        | Body::SheetInflation
+        | Body::SheetInflationCanopy => {
             let s = sheet(3, 3, 1.0, 1.0, 10.0);
             let mut model = rigid_sheet(&s, m);
             match body {
                 Body::SheetTriangle => model.add_force(TriangleDrag::new(&s.tris, CD, CD_T, fluid)),
                 Body::SheetPressure => model.add_force(PressureDrag::new(&s.tris, &s.q, CD, fluid)),
+                Body::SheetInflationCanopy => model.add_force(
+                    InflationPressure::new(&s.tris, &s.q, CD, fluid).with_canopy_speed(),
+                ),
                 _ => model.add_force(InflationPressure::new(&s.tris, &s.q, CD, fluid)),
             };
             (model, State::at_rest(s.q))

@@ -188,6 +188,14 @@ drag_matrix! {
     incidence_pressure_sheared: Incidence, sheared, None;
 }
 
+// Inflation pressure at the canopy's speed: held from one draw (in stratified air with a
+// vertical wind), evaluated at another; no velocity Jacobian.
+force_conformance!(inflation_pressure_canopy_speed, {
+    let (tris, q) = grid(3, 2.0);
+    let law = InflationPressure::new(&tris, &q, 1.4, &stratified()).with_canopy_speed();
+    Case::new(law, q).perturb(0.4).velocities(10.0).trials(20)
+});
+
 // The air's added mass: committed at one random draw (its lagged M_a, weights and P_n
 // from there, in air whose density varies with height), evaluated at another; its velocity
 // Jacobian is all low-rank part.

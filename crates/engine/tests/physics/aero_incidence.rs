@@ -170,9 +170,76 @@ fn a_flat_sheet_at_incidence_gets_no_excess_and_a_shallow_one_a_faded_one() {
     );
 }
 
-/// The law's total force on every DOF at `(q, v)` after committing there, and the product
-/// of its own Jacobians with `(dq, dv)`.
-fn committed_force(law: &mut IncidencePressure, q: &[f64], v: &[f64]) -> Vec<f64> {
+#[test]
+fn the_lag_coupling_completes_the_jacobian_of_the_unlagged_law() {
+    // At incidence and at zero incidence (where ĉ turns with the perturbation).
+    let (tris, q0) = cap(6, 16, PI / 3.0);
+    let n = q0.len() / 3;
+    for deg in [0.0_f64, 12.0, 33.0] {
+        let a = deg.to_radians();
+        let v0 = uniform(n, [6.0 * a.sin(), 0.0, -6.0 * a.cos()]);
+        let mut law = IncidencePressure::new(&tris, &q0, CP, curve(), &Fluid::air());
+        assert_lag_coupling_completes(&mut law, &q0, &v0, &format!("{deg}°"));
+    }
+}
+
+/// `F(x)`, the force of `law` with its held quantities read at `x` itself: its derivative
+/// is the stencils' Jacobians plus [`Force::lag_coupling`], against central differences
+/// along random directions from `(q0, v0)`.
+pub fn assert_lag_coupling_completes(law: &mut dyn Force, q0: &[f64], v0: &[f64], what: &str) {
+    let mut seed = 11_u64;
+    let mut rnd = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let base = committed_force(law, q0, v0);
+    let coupling = (law.lag_coupling(q0, v0)).expect("the law holds a state's function");
+    let mut blocks = law.new_blocks();
+    law.evaluate(&EvalInput::outside_step(q0, v0, 0.0, true), &mut blocks);
+    let k = law.stencil_size();
+    for _ in 0..3 {
+        let dq: Vec<f64> = (0..q0.len()).map(|_| 0.1 * rnd()).collect();
+        let dv: Vec<f64> = (0..q0.len()).map(|_| rnd()).collect();
+        let mut want = vec![0.0; q0.len()];
+        for (s, st) in law.stencils().chunks(k).enumerate() {
+            for r in 0..k {
+                for c in 0..k {
+                    let at = s * k * k + r * k + c;
+                    want[st[r]] += blocks.dfdq[at] * dq[st[c]] + blocks.dfdv[at] * dv[st[c]];
+                }
+            }
+        }
+        for (j, u) in coupling.u.iter().enumerate() {
+            let w: f64 = (coupling.dofs.iter().enumerate())
+                .map(|(i, &d)| coupling.wq[j][i] * dq[d] + coupling.wv[j][i] * dv[d])
+                .sum();
+            for (i, &d) in coupling.dofs.iter().enumerate() {
+                want[d] += u[i] * w;
+            }
+        }
+        let h = 1e-5;
+        let mut shifted = |s: f64| {
+            let q: Vec<f64> = q0.iter().zip(&dq).map(|(x, d)| x + s * d).collect();
+            let v: Vec<f64> = v0.iter().zip(&dv).map(|(x, d)| x + s * d).collect();
+            committed_force(law, &q, &v)
+        };
+        let (p, m) = (shifted(h), shifted(-h));
+        let scale = base.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+        for d in 0..q0.len() {
+            let fd = (p[d] - m[d]) / (2.0 * h);
+            assert!(
+                (fd - want[d]).abs() < 1e-6 * scale,
+                "{what}, DOF {d}: {fd} against {}",
+                want[d]
+            );
+        }
+    }
+}
+
+/// The law's total force on every DOF at `(q, v)` after committing there.
+fn committed_force(law: &mut dyn Force, q: &[f64], v: &[f64]) -> Vec<f64> {
     law.commit(q, v);
     let mut b = law.new_blocks();
     law.evaluate(&EvalInput::outside_step(q, v, 0.0, false), &mut b);
@@ -181,71 +248,4 @@ fn committed_force(law: &mut IncidencePressure, q: &[f64], v: &[f64]) -> Vec<f64
         total[*d] += f;
     }
     total
-}
-
-#[test]
-fn the_lag_coupling_completes_the_jacobian_of_the_unlagged_law() {
-    // F(x) = the force with the held quantities read at x itself: its derivative is the
-    // stencils' Jacobians plus the coupling, against central differences along random
-    // directions, at incidence and at zero incidence (where ĉ turns with the perturbation).
-    let (tris, q0) = cap(6, 16, PI / 3.0);
-    let n = q0.len() / 3;
-    let mut seed = 11_u64;
-    let mut rnd = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    for deg in [0.0_f64, 12.0, 33.0] {
-        let a = deg.to_radians();
-        let v0 = uniform(n, [6.0 * a.sin(), 0.0, -6.0 * a.cos()]);
-        let mut law = IncidencePressure::new(&tris, &q0, CP, curve(), &Fluid::air());
-        let base = committed_force(&mut law, &q0, &v0);
-        let coupling = law
-            .lag_coupling(&q0, &v0)
-            .expect("the incidence law is coupled");
-        let mut blocks = law.new_blocks();
-        law.evaluate(&EvalInput::outside_step(&q0, &v0, 0.0, true), &mut blocks);
-        for _ in 0..3 {
-            let dq: Vec<f64> = (0..q0.len()).map(|_| 0.1 * rnd()).collect();
-            let dv: Vec<f64> = (0..q0.len()).map(|_| rnd()).collect();
-            let mut want = vec![0.0; q0.len()];
-            for (s, st) in law.stencils().chunks(9).enumerate() {
-                for r in 0..9 {
-                    for c in 0..9 {
-                        let at = s * 81 + r * 9 + c;
-                        want[st[r]] += blocks.dfdq[at] * dq[st[c]] + blocks.dfdv[at] * dv[st[c]];
-                    }
-                }
-            }
-            for (j, u) in coupling.u.iter().enumerate() {
-                let w: f64 = coupling
-                    .dofs
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &d)| coupling.wq[j][i] * dq[d] + coupling.wv[j][i] * dv[d])
-                    .sum();
-                for (i, &d) in coupling.dofs.iter().enumerate() {
-                    want[d] += u[i] * w;
-                }
-            }
-            let h = 1e-5;
-            let shifted = |s: f64, law: &mut IncidencePressure| {
-                let q: Vec<f64> = q0.iter().zip(&dq).map(|(x, d)| x + s * d).collect();
-                let v: Vec<f64> = v0.iter().zip(&dv).map(|(x, d)| x + s * d).collect();
-                committed_force(law, &q, &v)
-            };
-            let (p, m) = (shifted(h, &mut law), shifted(-h, &mut law));
-            let scale = base.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
-            for d in 0..q0.len() {
-                let fd = (p[d] - m[d]) / (2.0 * h);
-                assert!(
-                    (fd - want[d]).abs() < 1e-6 * scale,
-                    "{deg}°, DOF {d}: {fd} against {}",
-                    want[d]
-                );
-            }
-        }
-    }
 }

@@ -4,7 +4,8 @@
 //! dome whose rim stays in a plane feels exactly the flat canopy's force, normal to the rim's
 //! plane, whatever the flow's horizontal part. Only the descent `w = max(0, −u_z)` inflates.
 //! Exact identities: round-off tolerance.
-use engine::aero::{resultant, Fluid, InflationPressure, TriangleDrag};
+use engine::aero::{resultant, Fluid, InflationPressure, Profile, TriangleDrag};
+use engine::force::Force;
 use engine::reference::sheet;
 use engine::DofLayout;
 use rand::{rngs::StdRng, Rng, SeedableRng};
@@ -135,4 +136,58 @@ fn orientation_is_fixed_at_rest_so_flipping_a_triangle_changes_nothing() {
     );
     assert_eq!(a, b);
     assert!(a[2] > 0.0, "{a:?}");
+}
+
+#[test]
+fn the_canopy_speed_is_the_panel_speed_of_a_uniform_motion_and_a_fold_moving_alone_keeps_it() {
+    // Moving together, every triangle's own speed is the canopy's: the same force. One node
+    // then moving down alone changes each panel's own speed but barely the canopy's: the
+    // held law keeps its pressure (the panel law's rises on the panels round that node).
+    let mut rng = StdRng::seed_from_u64(3);
+    let (s, q) = dome(&mut rng);
+    let layout = DofLayout::new(s.n_nodes, 0);
+    let mut v = uniform(s.n_nodes, [1.0, -2.0, -5.0]);
+    let own = InflationPressure::new(&s.tris, &s.q, CP, &Fluid::air());
+    let mut held = InflationPressure::new(&s.tris, &s.q, CP, &Fluid::air()).with_canopy_speed();
+    held.begin_step(&q, &v, 1e-3);
+    let (a, b) = (
+        resultant(&own, &layout, &q, &v),
+        resultant(&held, &layout, &q, &v),
+    );
+    for k in 0..3 {
+        assert!((a[k] - b[k]).abs() <= 1e-12 * a[2].abs(), "{a:?} vs {b:?}");
+    }
+    v[3 * 7 + 2] = -25.0;
+    let (c, d) = (
+        resultant(&own, &layout, &q, &v),
+        resultant(&held, &layout, &q, &v),
+    );
+    assert!(
+        c[2] > 1.5 * a[2],
+        "the panel law feels the node: {c:?} vs {a:?}"
+    );
+    assert_eq!(b, d, "held over the step");
+}
+
+#[test]
+fn the_canopy_speeds_lag_coupling_completes_its_jacobian() {
+    let mut rng = StdRng::seed_from_u64(5);
+    let stratified = Fluid {
+        profile: Profile::Exponential { scale_height: 0.8 },
+        wind: [1.0, 2.0, 0.0],
+        ..Fluid::air()
+    };
+    for (trial, air) in [Fluid::air(), stratified].into_iter().enumerate() {
+        let (s, q) = dome(&mut rng);
+        let v: Vec<f64> = (0..q.len())
+            .map(|d| rng.random_range(-3.0..3.0) - if d % 3 == 2 { 6.0 } else { 0.0 })
+            .collect();
+        let mut law = InflationPressure::new(&s.tris, &s.q, CP, &air).with_canopy_speed();
+        super::aero_incidence::assert_lag_coupling_completes(
+            &mut law,
+            &q,
+            &v,
+            &format!("air {trial}"),
+        );
+    }
 }

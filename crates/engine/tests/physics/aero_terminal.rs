@@ -51,5 +51,7 @@ tanh_law_tests! {
     flat_sheet_with_triangle_drag_follows_tanh_law: SheetTriangle;
     flat_sheet_with_pressure_drag_follows_tanh_law: SheetPressure;
     flat_sheet_with_inflation_pressure_follows_tanh_law: SheetInflation;
+    // The speed lagged by a step: explicit in the drag, still first order, same fixed point.
+    flat_sheet_with_the_canopy_speed_follows_tanh_law: SheetInflationCanopy;
     straight_strip_with_node_drag_follows_tanh_law: StripNodes;
 }

@@ -69,5 +69,8 @@ section! {
             .positive("a radius")
             .default_doc("`canopy.radius_m` / 10")
             .note("< `canopy.radius_m` / 2"),
+        /// the packed canopy's axis tilted from the vertical (turned about the y axis through
+        /// the apex, lines and payload with it; 0: apex straight up, payload below)
+        attitude_deg: f64 = 0.0 => key().unit("deg").between(-90.0, 90.0, "a tilt from the vertical"),
     }
 }
