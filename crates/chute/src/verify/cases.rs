@@ -78,6 +78,7 @@ pub fn all() -> Vec<Case> {
         c("symmetric-canopy-no-spin", true, system::no_spin),
         c("dismech-hex-n6", true, system::dismech_hex),
         c("real-cd0", true, real::cd0),
+        c("real-t10-descent", true, real::t10),
         c("stability", true, stability::stability),
     ]
 }

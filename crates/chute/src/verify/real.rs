@@ -10,6 +10,10 @@
 //! weight and `S₀` the constructed surface, vent included. The transient flies a restoring
 //! `C_N(α)` so that it stays near the symmetric state at any speed; at zero incidence the
 //! table gives no force, so the equilibrium is the same under any table.
+//!
+//! `real-t10-descent`: a fielded troop canopy, the US Army T-10 (35 ft nominal, 30 gores and
+//! lines of 25.5 ft, a 20 in vent, MIL-C-7020 Type I cloth of about 100 cfm, 360 lb at most
+//! below it), flown as a flat circular canopy of its nominal diameter from the same start.
 
 use super::Check;
 use crate::build::build;
@@ -84,4 +88,46 @@ pub fn cd0(quick: bool) -> Result<Vec<Check>, String> {
         ));
     }
     Ok(out)
+}
+
+/// The T-10's published descent: 19–23 ft/s "depending on jumper weight and air density"
+/// (GlobalSecurity's T-10 page, after FM 57-220); the check takes the range's midpoint as
+/// reference and its half-width as tolerance.
+const T10_FT_S: (f64, f64) = (19.0, 23.0);
+/// Feet to metres.
+const FT: f64 = 0.3048;
+
+/// `real-t10-descent`: the steady descent of the T-10 at its largest suspended weight (0.9 m
+/// mesh with `--quick`, 6 % above the converged speed, else 0.4 m, within 0.6 % of it; the
+/// ladder and its GCI: docs/validation.md §Real parachutes).
+pub fn t10(quick: bool) -> Result<Vec<Check>, String> {
+    let edge = if quick { 0.9 } else { 0.4 };
+    let mut sets: Vec<String> = RESTORING.iter().map(|k| k.to_string()).collect();
+    sets.extend(
+        [
+            "canopy.radius_m=5.33",              // 35 ft nominal diameter
+            "canopy.vent_radius_m=0.254",        // 20 in vent
+            "load.rim_site_count=30",            // 30 gores and lines
+            "lines.length_m=7.77",               // 25.5 ft
+            "load.weight_n=1601",                // 360 lb, the largest suspended weight
+            "material.air_permeability_cfm=100", // MIL-C-7020 Type I, nominal
+            "canopy.imperfection_m=0",
+            "time.duration_s=3",
+        ]
+        .map(String::from),
+    );
+    sets.push(format!("canopy.edge_length_m={edge}"));
+    let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
+    let s = super::system::round_solid(&sets)?;
+    let r = crate::steady::steady(&s).map_err(|e| e.to_string())?;
+    let (lo, hi) = (T10_FT_S.0 * FT, T10_FT_S.1 * FT);
+    let mid = 0.5 * (lo + hi);
+    Ok(vec![Check::new(
+        "real-t10-descent",
+        &format!("T-10 descent speed at 360 lb, {edge} m (m/s)"),
+        mid,
+        "GlobalSecurity T-10 (FM 57-220): 19–23 ft/s, midpoint; tolerance the half-range",
+        r.terminal_velocity_mps.abs(),
+        (hi - mid) / mid,
+    )])
 }

@@ -56,6 +56,7 @@ fn quick_suite_passes_and_json_has_the_documented_fields() {
         "shell-canopy-force-balance",
         "symmetric-canopy-no-spin",
         "dismech-hex-n6",
+        "real-t10-descent",
     ] {
         assert!(
             checks
