@@ -1,10 +1,11 @@
 //! The rules of `[opening]` and `[contact]` between keys (docs/opening.md).
 
 use super::validate::Checker;
-use super::{CanopyProfile, CanopyShape, Packing, Scenario};
+use super::{CanopyProfile, CanopyShape, InflationSpeed, Packing, Scenario, ShellDrag};
 
 /// A packed start needs a flat round canopy, a flat start's imperfection left out, and
-/// contact; the packed radius and the contact distance are bounded by the canopy and its mesh.
+/// contact; the packed radius and the contact distance are bounded by the canopy and its mesh;
+/// a tilted one needs the inflation pressure at the canopy's speed.
 pub(super) fn check(c: &mut Checker, s: &Scenario) {
     let cn = &s.canopy;
     if let Some(o) = &s.opening {
@@ -36,6 +37,15 @@ pub(super) fn check(c: &mut Checker, s: &Scenario) {
                 "canopy.imperfection_m",
                 cn.imperfection_m,
                 "perturbs a flat start; a packed canopy (`[opening]`) starts folded",
+            );
+        }
+        let held = s.fluid.shell_drag == ShellDrag::Inflation
+            && s.fluid.inflation_speed == Some(InflationSpeed::Canopy);
+        if o.attitude_deg != 0.0 && !held {
+            c.fail(
+                "opening.attitude_deg",
+                o.attitude_deg,
+                "needs `fluid.shell_drag = \"inflation\"` with `fluid.inflation_speed = \"canopy\"`: with each triangle's own speed a tilted canopy's folds are pushed harder the faster they fall, and the opening fails (docs/opening.md §Attitude)",
             );
         }
         if let Some(r) = o.packed_radius_m.filter(|&r| r >= 0.5 * cn.radius_m) {

@@ -139,7 +139,7 @@ fn the_opening_shock_is_reported() {
 
 /// What an opening needs, refused with exit status 2 naming the key: `[contact]`, a round
 /// canopy, a contact distance the packed start leaves room for, a packed radius below half
-/// the canopy's.
+/// the canopy's, the canopy's speed for a tilted start.
 #[test]
 fn an_opening_without_what_it_needs_is_refused() {
     use crate::common::{assert_refused, check_bundled, chute};
@@ -158,6 +158,12 @@ fn an_opening_without_what_it_needs_is_refused() {
     assert_refused(&o, &["contact.distance_m", "closest parts"]);
     let o = check_bundled("opening.toml", &["opening.packed_radius_m=0.8"]);
     assert_refused(&o, &["opening.packed_radius_m", "radius_m / 2"]);
+    let panel = ["opening.attitude_deg=30", "fluid.inflation_speed=\"panel\""];
+    let o = check_bundled("opening.toml", &panel);
+    assert_refused(
+        &o,
+        &["opening.attitude_deg", "inflation_speed = \"canopy\""],
+    );
 }
 
 /// A flat round canopy (round-fabric at 0.3 m, with contact) crumpled by a strong inward

@@ -131,6 +131,12 @@ const CASES: &[Case] = &[
         Refused("radius_m / 2"),
     ),
     case(
+        "opening.attitude_deg",
+        OPENING,
+        &["opening.attitude_deg=20", "fluid.inflation_speed=\"panel\""],
+        Refused("inflation_speed = \"canopy\""),
+    ),
+    case(
         "canopy.imperfection_m",
         SHELL,
         &["canopy.imperfection_m=0.5"],

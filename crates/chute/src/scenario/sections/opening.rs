@@ -71,6 +71,9 @@ section! {
             .note("< `canopy.radius_m` / 2"),
         /// the packed canopy's axis tilted from the vertical (turned about the y axis through
         /// the apex, lines and payload with it; 0: apex straight up, payload below)
-        attitude_deg: f64 = 0.0 => key().unit("deg").between(-90.0, 90.0, "a tilt from the vertical"),
+        attitude_deg: f64 = 0.0 => key()
+            .unit("deg")
+            .between(-90.0, 90.0, "a tilt from the vertical")
+            .note("≠ 0 needs `fluid.inflation_speed = \"canopy\"`"),
     }
 }
