@@ -11,7 +11,8 @@
 //! a fabric without compression stiffness wrinkles there instead of pushing back). The
 //! suspension lines run straight from the packed skirt to the payload at their full length.
 //! `mesh` takes the folded canopy from a file instead (any shape, the flat mesh's nodes in
-//! order), and hangs the payload below its sites as a flat start does.
+//! order), and hangs the payload below its sites as a flat start does. Any of them is then
+//! tilted by `attitude` about the apex, lines and payload with it.
 
 use crate::scenario::Packing;
 
@@ -29,7 +30,8 @@ pub struct Pack {
     pub packed_radius_m: f64,
     /// `pack = "mesh"`: the folded canopy's file.
     pub mesh_file: Option<std::path::PathBuf>,
-    /// The packed system's tilt from the vertical about the y axis through the apex (rad).
+    /// The packed system's tilt from the vertical about the y axis through the flat canopy's
+    /// centre (the apex of `pulled` and `bundle`) (rad).
     pub attitude_rad: f64,
 }
 
@@ -58,8 +60,8 @@ pub fn apply(
     tilt(q, &moved, apex, pack.attitude_rad);
 }
 
-/// Turn `nodes` by `angle` about the y axis through `pivot`: the vertical axis goes to
-/// `(−sin, 0, cos)`·(−1), the apex stays.
+/// Turn `nodes` by `angle` about the y axis through `pivot` (the apex): the downward axis
+/// (apex to payload, −e_z) goes to `(−sin θ, 0, −cos θ)`.
 fn tilt(q: &mut [f64], nodes: &[usize], pivot: [f64; 3], angle: f64) {
     let (s, c) = angle.sin_cos();
     for &i in nodes {
