@@ -24,6 +24,16 @@ pub const RESTORING: [&str; 2] = [
     "fluid.incidence_cn=[-0.5,-0.4330,-0.3214,-0.1710,-0.0868,0.0,0.0868,0.1710,0.3214,0.4330,0.5]",
 ];
 
+/// The keys of a symmetric start flown for `duration_s` (s) at mesh `edge_m` (m) under
+/// [`RESTORING`], before `chute steady` solves its equilibrium.
+fn symmetric_start(duration_s: f64, edge_m: f64) -> Vec<String> {
+    let mut sets: Vec<String> = RESTORING.iter().map(|k| k.to_string()).collect();
+    sets.push("canopy.imperfection_m=0".into());
+    sets.push(format!("time.duration_s={duration_s}"));
+    sets.push(format!("canopy.edge_length_m={edge_m}"));
+    sets
+}
+
 /// A canopy type: its keys and Knacke's C_D0 band.
 struct Type {
     name: &'static str,
@@ -55,13 +65,7 @@ pub fn cd0(quick: bool) -> Result<Vec<Check>, String> {
     let edge = if quick { 0.35 } else { 0.18 };
     let mut out = Vec::new();
     for t in &TYPES {
-        let mut sets = vec![
-            RESTORING[0].to_string(),
-            RESTORING[1].to_string(),
-            "canopy.imperfection_m=0".to_string(),
-            "time.duration_s=1.5".to_string(),
-            format!("canopy.edge_length_m={edge}"),
-        ];
+        let mut sets = symmetric_start(1.5, edge);
         sets.extend(t.keys.iter().map(|k| k.to_string()));
         let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
         let s = super::system::round_solid(&sets)?;
@@ -102,7 +106,7 @@ const FT: f64 = 0.3048;
 /// ladder and its GCI: docs/validation.md §Real parachutes).
 pub fn t10(quick: bool) -> Result<Vec<Check>, String> {
     let edge = if quick { 0.9 } else { 0.4 };
-    let mut sets: Vec<String> = RESTORING.iter().map(|k| k.to_string()).collect();
+    let mut sets = symmetric_start(3.0, edge);
     sets.extend(
         [
             "canopy.radius_m=5.33",              // 35 ft nominal diameter
@@ -111,12 +115,9 @@ pub fn t10(quick: bool) -> Result<Vec<Check>, String> {
             "lines.length_m=7.77",               // 25.5 ft
             "load.weight_n=1601",                // 360 lb, the largest suspended weight
             "material.air_permeability_cfm=100", // MIL-C-7020 Type I, nominal
-            "canopy.imperfection_m=0",
-            "time.duration_s=3",
         ]
         .map(String::from),
     );
-    sets.push(format!("canopy.edge_length_m={edge}"));
     let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
     let s = super::system::round_solid(&sets)?;
     let r = crate::steady::steady(&s).map_err(|e| e.to_string())?;

@@ -44,7 +44,7 @@
 //! drag laws' business, not this one's.
 
 use super::fluid::Fluid;
-use super::geometry::area_vector;
+use super::geometry::{area_vector, centroid_height};
 use crate::error::HistoryError;
 use crate::force::{EvalInput, Force, JacobianKind, LocalBlocks};
 use crate::vec3::V3;
@@ -118,7 +118,7 @@ impl AddedMass {
             let a = n.norm();
             vector_area += n;
             area += a;
-            height += a * (x[0].z + x[1].z + x[2].z) / 3.0;
+            height += a * centroid_height(&x);
             for i in t {
                 let j = self.nodes.binary_search(i).expect("a canopy node");
                 self.weights[j] += a / 3.0;

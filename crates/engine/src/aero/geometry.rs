@@ -31,6 +31,13 @@ pub(crate) fn corners(g: &[f64], st: &[usize]) -> [V3; 3] {
     [0, 1, 2].map(|i| stencil_vec(g, st, i))
 }
 
+/// The height z (m) of the centroid of the triangle with corners `x`: where the air and the
+/// wind acting on it are taken.
+#[inline]
+pub(crate) fn centroid_height(x: &[V3; 3]) -> f64 {
+    (x[0].z + x[1].z + x[2].z) / 3.0
+}
+
 /// The mean of the triangle's corner velocities (its centroid's velocity).
 #[inline]
 pub(crate) fn centroid_velocity(v: &[f64], st: &[usize]) -> V3 {

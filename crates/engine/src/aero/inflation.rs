@@ -39,7 +39,8 @@
 //! **The canopy's speed** ([`InflationPressure::with_canopy_speed`]): every triangle takes
 //! the canopy's descent speed `w̄ = max(0, −ū_z)`, `ū = Σ sₜ uₜ` the mean of the triangles'
 //! velocities through the air weighted by their shares `sₜ` of the rest area (the cloth's
-//! centre-of-mass velocity for a uniform fabric). The trapped air's pressure is set by the
+//! centre-of-mass velocity for a uniform fabric; rest weights, unlike the incidence law's
+//! current ones, keep `∂w̄/∂v` constant and `∂w̄/∂x` down to the wind's shear). The trapped air's pressure is set by the
 //! flow into the mouth, not by a panel's own motion: with each triangle's own `w`, a fold
 //! whose inside faces down is pushed harder the faster it moves down (∂f/∂v along its
 //! normal ∝ −σ n_z), a negative damping that a packed canopy whose folds are not vertical
@@ -56,7 +57,8 @@
 
 use super::fluid::{Fluid, LocalFluid};
 use super::geometry::{
-    area_vector, area_vector_jacobians, centroid_velocity, corners, same_force_on_nodes, same_rows,
+    area_vector, area_vector_jacobians, centroid_height, centroid_velocity, corners,
+    same_force_on_nodes, same_rows,
 };
 use super::permeability::{leakage_in, Fabric};
 use super::wind::add_shear;
@@ -172,7 +174,7 @@ impl Element for InflationPressureLaw {
     fn evaluate(&self, &sigma: &f64, st: &[usize], input: &EvalInput<'_>, mut b: BlockMut<'_>) {
         let (q, v) = (input.q, input.v);
         let x = corners(q, st);
-        let zc = (x[0].z + x[1].z + x[2].z) / 3.0;
+        let zc = centroid_height(&x);
         let (air, wind) = (self.fluid.at(zc), self.fluid.wind_at(zc));
         let u = centroid_velocity(v, st) - V3::from(wind.velocity);
         let nv = area_vector(&x);
@@ -235,7 +237,7 @@ impl InflationPressureLaw {
     fn canopy_descent(&self, stencils: &[usize], q: &[f64], v: &[f64]) -> f64 {
         let uz: f64 = (stencils.chunks_exact(9).zip(&self.share))
             .map(|(st, s)| {
-                let zc = corners(q, st).iter().map(|x| x.z).sum::<f64>() / 3.0;
+                let zc = centroid_height(&corners(q, st));
                 s * (centroid_velocity(v, st).z - self.fluid.wind_at(zc).velocity[2])
             })
             .sum();
@@ -258,7 +260,7 @@ impl InflationPressureLaw {
         let moving = w > 0.0;
         for ((st, &sg), &s) in stencils.chunks_exact(9).zip(sigma).zip(&self.share) {
             let x = corners(q, st);
-            let zc = (x[0].z + x[1].z + x[2].z) / 3.0;
+            let zc = centroid_height(&x);
             let (_, dp_w, _) = self.pressure(w, &self.fluid.at(zc));
             let f = (sg * dp_w / 3.0) * area_vector(&x);
             let shear_z = self.fluid.wind_at(zc).shear[2];

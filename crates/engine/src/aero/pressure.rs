@@ -28,7 +28,7 @@
 //! `∂f_i/∂v_i = −(A₀/3) Δp_w n̂ n̂ᵀ` and `∂f_i/∂n̂ = −(A₀/3) (φ_i I + Δp_w n̂ u_iᵀ)`.
 
 use super::fluid::{Fluid, LocalFluid};
-use super::geometry::{area_vector, area_vector_jacobians, corners, stencil_vec};
+use super::geometry::{area_vector, area_vector_jacobians, centroid_height, corners, stencil_vec};
 use super::permeability::{leakage_in, Fabric};
 use super::wind::add_shear;
 use crate::element::{node_stencils, Element, Family};
@@ -139,7 +139,7 @@ impl Element for PressureDragLaw {
             b.f.fill(0.0);
             return;
         }
-        let zc = (x[0].z + x[1].z + x[2].z) / 3.0;
+        let zc = centroid_height(&x);
         let (air, wind) = (self.fluid.at(zc), self.fluid.wind_at(zc));
         let wind_v = V3::from(wind.velocity);
         let stratified = !self.fluid.is_uniform();

@@ -29,7 +29,9 @@
 //! `∂f_n/∂N = −φ I − ∂φ/∂s N ((u − s n̂)/A)ᵀ`.
 
 use super::fluid::{Fluid, LocalFluid};
-use super::geometry::{area_vector, area_vector_jacobians, centroid_velocity, corners};
+use super::geometry::{
+    area_vector, area_vector_jacobians, centroid_height, centroid_velocity, corners,
+};
 use super::permeability::{leakage, Fabric};
 use super::regularize::{quadratic, reg_norm, DEFAULT_EPSILON};
 use super::wind::{add_shear, LocalWind};
@@ -229,7 +231,7 @@ impl TriangleDragLaw {
     #[inline]
     fn kinematics(&self, q: &[f64], v: &[f64], st: &[usize]) -> ([V3; 3], V3, V3, LocalWind) {
         let x = corners(q, st);
-        let wind = self.fluid.wind_at((x[0].z + x[1].z + x[2].z) / 3.0);
+        let wind = self.fluid.wind_at(centroid_height(&x));
         let u = centroid_velocity(v, st) - V3::from(wind.velocity);
         (x, area_vector(&x), u, wind)
     }
@@ -237,7 +239,7 @@ impl TriangleDragLaw {
     /// The drag of one triangle in the fluid at its centroid: `F` and, when `jac`, `∂F/∂u`,
     /// `∂F/∂N` and `∂F/∂z̄` (zero in a uniform fluid).
     fn drag(&self, x: &[V3; 3], n: &V3, u: &V3, jac: bool) -> (TriDrag, V3) {
-        let air = self.fluid.at((x[0].z + x[1].z + x[2].z) / 3.0);
+        let air = self.fluid.at(centroid_height(x));
         let c_n = 0.5 * air.density * self.cd_n;
         let c_t = 0.5 * air.density * self.cd_t;
         let eps = self.epsilon;

@@ -1,7 +1,7 @@
 //! The canopy's axis, crossflow and incidence, read from a state once per accepted step.
 
 use crate::aero::fluid::Fluid;
-use crate::aero::geometry::{area_vector, centroid_velocity, corners};
+use crate::aero::geometry::{area_vector, centroid_height, centroid_velocity, corners};
 use crate::vec3::V3;
 
 /// What the incidence law holds fixed over a step, read from the state that starts it.
@@ -85,7 +85,7 @@ pub(crate) fn frame(
         let u = centroid_velocity(v, st);
         vector_area += sg * n;
         mean_u += n.norm() * u;
-        mean_z += n.norm() * (x[0].z + x[1].z + x[2].z) / 3.0;
+        mean_z += n.norm() * centroid_height(&x);
         area += n.norm();
     }
     let scale = vector_area.norm();
