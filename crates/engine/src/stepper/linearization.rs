@@ -73,9 +73,12 @@ pub(crate) struct Linearization {
     /// The held factors are of the Jacobian now in the workspace's values (a Newton update
     /// can be corrected against it).
     current: bool,
-    /// `μ` of the added inertia `μ c_m M` already in the workspace's values (since the last
-    /// evaluation with a Jacobian).
+    /// `μ` of the shift `μ W` already in the workspace's values (since the last evaluation
+    /// with a Jacobian).
     values_shift: f64,
+    /// The shift's diagonal metric `W_r = max(c_m m_r, |J_rr|)` (free DOFs), taken from the
+    /// unshifted Jacobian when it is first shifted ([`Linearization::refresh`]).
+    metric: Vec<f64>,
     /// The held factors are not completed with the Jacobian's low-rank part (its Woodbury
     /// matrix was singular): a Newton update must be checked against the full `J`.
     incomplete: bool,
@@ -109,6 +112,7 @@ impl Linearization {
             key: None,
             current: false,
             values_shift: 0.0,
+            metric: vec![0.0; a.n_free],
             incomplete: false,
         })
     }
@@ -132,15 +136,24 @@ impl Linearization {
         self.values_shift = 0.0;
     }
 
-    /// Factorise `J_s + σ c_m M` from the Jacobian in `ws.values`, which is shifted in place
-    /// to `J + σ c_m M` (so that a Newton update solves the shifted system; a later call with
-    /// another `σ` on the same Jacobian adds only the difference).
+    /// Factorise `J_s + σ W` from the Jacobian in `ws.values`, which is shifted in place to
+    /// `J + σ W` (so that a Newton update solves the shifted system; a later call with another
+    /// `σ` on the same Jacobian adds only the difference). `W = max(c_m M, |diag J|)` per DOF:
+    /// the inertia, or the DOF's own stiffness where that is larger. A mass metric alone
+    /// cannot shift a DOF of negligible inertia (mid-edge bending's edge angles, whose energy
+    /// is not convex in a sharp fold: docs/engine.md §Descent); the diagonal is Marquardt's
+    /// scaling (Marquardt 1963, J. SIAM 11(2)).
     pub fn refresh(&mut self, ws: &mut Workspace, tg: &Target<'_>, shift: f64) -> Factorization {
         let extra = shift - self.values_shift;
         if extra != 0.0 {
             let a = &ws.asm;
-            for (r, &k) in a.diag.iter().enumerate() {
-                ws.values[k] += extra * tg.c_m * ws.mass[r];
+            if self.values_shift == 0.0 {
+                for ((w, &k), &m) in self.metric.iter_mut().zip(&a.diag).zip(&ws.mass) {
+                    *w = (tg.c_m * m).max(ws.values[k].abs());
+                }
+            }
+            for (&k, &w) in a.diag.iter().zip(&self.metric) {
+                ws.values[k] += extra * w;
             }
             self.values_shift = shift;
         }

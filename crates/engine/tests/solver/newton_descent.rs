@@ -86,3 +86,67 @@ fn an_uphill_newton_update_that_converges_is_taken_unshifted() {
         );
     }
 }
+
+/// Depth of the double well (J).
+const WELL: f64 = 1.0;
+/// Inertia of the angle (kg·m²): negligible, as a mid-edge bending angle's is.
+const ANGLE_INERTIA: f64 = 1e-12;
+
+/// `E(ψ) = WELL (ψ² − 1)²` on one angle DOF: wells at `ψ = ±1`, a maximum at 0, not convex
+/// for `|ψ| < 1/√3` (as mid-edge bending's energy in its edge angle is in a sharp fold).
+struct DoubleWell([usize; 1]);
+
+impl Force for DoubleWell {
+    fn name(&self) -> &str {
+        "double-well"
+    }
+    fn stencil_size(&self) -> usize {
+        1
+    }
+    fn stencils(&self) -> &[usize] {
+        &self.0
+    }
+    fn jacobian_kind(&self) -> JacobianKind {
+        JacobianKind::ELASTIC
+    }
+    fn evaluate(&self, input: &EvalInput<'_>, out: &mut LocalBlocks) {
+        let p = input.q[self.0[0]];
+        out.f[0] = -4.0 * WELL * p * (p * p - 1.0);
+        if input.jacobian {
+            out.dfdq[0] = -WELL * (12.0 * p * p - 4.0);
+        }
+    }
+}
+
+/// An angle of negligible inertia starting at rest where its energy is concave (ψ = 0.45):
+/// the step's matrix is `E''(ψ) < 0` there, and the full Newton update overshoots without
+/// reducing the residual. A shift in the mass metric (`μ c_m m`, at most 1e-5 here) could not
+/// make it descend; the shift by the DOF's own diagonal does, and the step ends in the well
+/// at ψ ≈ 1 (the minimum that descent reaches), not at the maximum ψ = 0 nor across it in
+/// the far well ψ = −1, where the unshifted uphill updates of a mass-metric shift ended.
+#[test]
+fn a_massless_dof_on_a_concave_energy_is_shifted_into_its_well() {
+    let mut model = Model::new(DofLayout::new(1, 1));
+    model.mass.iter_mut().for_each(|m| *m = M);
+    let angle = model.layout.twist(0);
+    model.mass[angle] = ANGLE_INERTIA;
+    model.add_force(DoubleWell([angle]));
+    let mut q = vec![0.0; 4];
+    q[angle] = 0.45;
+    let mut state = State::at_rest(q);
+    let opts = NewtonOptions {
+        force_tol_abs: Some(1e-12),
+        force_tol_rel: 0.0,
+        ..NewtonOptions::default()
+    }
+    .strict();
+    let mut st = ImplicitEuler::new(&model, opts).unwrap();
+    st.step(&mut model, &mut state, H)
+        .expect("the step converges");
+    let c = st.counters();
+    assert!(c.indefinite_factorizations >= 1, "{c:?}");
+    // The well, moved by the angle's inertia: c_m m (ψ − 0.45) + E'(ψ) = 0 with c_m m = 1e-8
+    // puts it within 1e-8 of ψ = 1.
+    let p = state.q[angle];
+    assert!((p - 1.0).abs() < 1e-6, "ψ = {p}, {c:?}");
+}

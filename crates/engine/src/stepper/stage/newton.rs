@@ -28,10 +28,12 @@
 //! uncorrected update then crawled), and within [1e-12, 1e-3].
 //!
 //! **Descent.** Where the symmetric part is indefinite (a membrane buckling within the step)
-//! its LBLᵀ update may point uphill (`R · Δ ≥ 0`). The matrix is then shifted by an added
-//! inertia `μ c_m M` (μ = 1, 4, 16 …, at most [`MAX_SHIFT`]) and refactorised until the update
-//! descends: a Levenberg–Marquardt step in the mass metric, shorter and towards the nearest
-//! solution of the step instead of a saddle. Statics (`c_m = 0`) has no such shift.
+//! its LBLᵀ update may point uphill (`R · Δ ≥ 0`). The matrix is then shifted by `μ W`,
+//! `W = max(c_m M, |diag J|)` per DOF (μ = 1, 4, 16 …, at most [`MAX_SHIFT`]), and
+//! refactorised until the update descends: a Levenberg–Marquardt step, shorter and towards
+//! the nearest solution of the step instead of a saddle. The mass metric alone cannot shift
+//! a DOF of negligible inertia whose energy is not convex (mid-edge bending's edge angle in
+//! a sharp fold); the diagonal there is Marquardt's scaling. Statics (`c_m = 0`) has no shift.
 //! Except where the unshifted update at least halves `‖R‖∞` (one trial residual): with
 //! follower loads (the inflation pressure) the step's solution itself can have an indefinite
 //! symmetric part, and there the shifted iteration `(J + μ c_m M)⁻¹ J` has negative
@@ -60,7 +62,7 @@ const LINE_TOL: f64 = 0.8;
 /// An uphill Newton update is taken unshifted when it reduces `‖R‖∞` at least this much
 /// (module docs, §Descent).
 const CONTRACTS: f64 = 0.5;
-/// Largest added inertia `μ` of a descent shift (module docs).
+/// Largest `μ` of a descent shift (module docs).
 const MAX_SHIFT: f64 = 1024.0;
 /// Largest forcing term of a Newton update (`Linearization::newton`): with chord iterations
 /// to follow, a contraction of 1e-3 per update is plenty.
