@@ -76,7 +76,7 @@ pub(crate) struct Linearization {
     /// `μ` of the shift `μ W` already in the workspace's values (since the last evaluation
     /// with a Jacobian).
     values_shift: f64,
-    /// The shift's diagonal metric `W_r = max(c_m m_r, |J_rr|)` (free DOFs), taken from the
+    /// The shift's diagonal metric `W_r = max(c_m m_r, −J_rr)` (free DOFs), taken from the
     /// unshifted Jacobian when it is first shifted ([`Linearization::refresh`]).
     metric: Vec<f64>,
     /// The held factors are not completed with the Jacobian's low-rank part (its Woodbury
@@ -138,18 +138,19 @@ impl Linearization {
 
     /// Factorise `J_s + σ W` from the Jacobian in `ws.values`, which is shifted in place to
     /// `J + σ W` (so that a Newton update solves the shifted system; a later call with another
-    /// `σ` on the same Jacobian adds only the difference). `W = max(c_m M, |diag J|)` per DOF:
-    /// the inertia, or the DOF's own stiffness where that is larger. A mass metric alone
-    /// cannot shift a DOF of negligible inertia (mid-edge bending's edge angles, whose energy
-    /// is not convex in a sharp fold: docs/engine.md §Descent); the diagonal is Marquardt's
-    /// scaling (Marquardt 1963, J. SIAM 11(2)).
+    /// `σ` on the same Jacobian adds only the difference). `W = max(c_m M, −diag J)` per DOF:
+    /// the inertia, or the diagonal's own negative curvature where that is larger, so that no
+    /// diagonal entry of `J + σW` is negative for `σ ≥ 1`. A mass metric alone cannot shift a
+    /// DOF of negligible inertia (mid-edge bending's edge angle, whose energy is concave in a
+    /// sharp fold: docs/engine.md §Descent); where the diagonal is positive (stiffness, drag)
+    /// the shift stays the inertia's, which a stronger one would only slow.
     pub fn refresh(&mut self, ws: &mut Workspace, tg: &Target<'_>, shift: f64) -> Factorization {
         let extra = shift - self.values_shift;
         if extra != 0.0 {
             let a = &ws.asm;
             if self.values_shift == 0.0 {
                 for ((w, &k), &m) in self.metric.iter_mut().zip(&a.diag).zip(&ws.mass) {
-                    *w = (tg.c_m * m).max(ws.values[k].abs());
+                    *w = (tg.c_m * m).max(-ws.values[k]);
                 }
             }
             for (&k, &w) in a.diag.iter().zip(&self.metric) {

@@ -121,7 +121,7 @@ impl Force for DoubleWell {
 /// An angle of negligible inertia starting at rest where its energy is concave (ψ = 0.45):
 /// the step's matrix is `E''(ψ) < 0` there, and the full Newton update overshoots without
 /// reducing the residual. A shift in the mass metric (`μ c_m m`, at most 1e-5 here) could not
-/// make it descend; the shift by the DOF's own diagonal does, and the step ends in the well
+/// make it descend; the shift by its own negative diagonal does, and the step ends in the well
 /// at ψ ≈ 1 (the minimum that descent reaches), not at the maximum ψ = 0 nor across it in
 /// the far well ψ = −1, where the unshifted uphill updates of a mass-metric shift ended.
 #[test]

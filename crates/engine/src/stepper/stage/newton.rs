@@ -29,11 +29,11 @@
 //!
 //! **Descent.** Where the symmetric part is indefinite (a membrane buckling within the step)
 //! its LBLᵀ update may point uphill (`R · Δ ≥ 0`). The matrix is then shifted by `μ W`,
-//! `W = max(c_m M, |diag J|)` per DOF (μ = 1, 4, 16 …, at most [`MAX_SHIFT`]), and
+//! `W = max(c_m M, −diag J)` per DOF (μ = 1, 4, 16 …, at most [`MAX_SHIFT`]), and
 //! refactorised until the update descends: a Levenberg–Marquardt step, shorter and towards
 //! the nearest solution of the step instead of a saddle. The mass metric alone cannot shift
-//! a DOF of negligible inertia whose energy is not convex (mid-edge bending's edge angle in
-//! a sharp fold); the diagonal there is Marquardt's scaling. Statics (`c_m = 0`) has no shift.
+//! a DOF of negligible inertia whose energy is concave (mid-edge bending's edge angle in a
+//! sharp fold); its own negative diagonal can. Statics (`c_m = 0`) has no shift.
 //! Except where the unshifted update at least halves `‖R‖∞` (one trial residual): with
 //! follower loads (the inflation pressure) the step's solution itself can have an indefinite
 //! symmetric part, and there the shifted iteration `(J + μ c_m M)⁻¹ J` has negative
