@@ -62,17 +62,7 @@ fn an_uphill_newton_update_that_converges_is_taken_unshifted() {
     model.add_force(Follower);
     let mut state = State::at_rest(vec![0.0; 3]);
     state.v[0] = 1.0;
-    let opts = NewtonOptions {
-        force_tol_abs: Some(1e-9),
-        force_tol_rel: 0.0,
-        ..NewtonOptions::default()
-    }
-    .strict();
-    let mut st = ImplicitEuler::new(&model, opts).unwrap();
-    st.step(&mut model, &mut state, H)
-        .expect("the step converges");
-    let c = st.counters();
-    assert!(c.indefinite_factorizations >= 1, "{c:?}");
+    let c = one_strict_step(&mut model, &mut state, 1e-9);
     assert_eq!((c.factorizations, c.iterations), (1, 1), "{c:?}");
     // q = C J⁻¹ q̃ with q̃ = (H, 0, 0) and J⁻¹ = [[C, −B], [B, −C]] / (B² − C²) on x, y.
     let det = B * B - C * C;
@@ -134,19 +124,25 @@ fn a_massless_dof_on_a_concave_energy_is_shifted_into_its_well() {
     let mut q = vec![0.0; 4];
     q[angle] = 0.45;
     let mut state = State::at_rest(q);
-    let opts = NewtonOptions {
-        force_tol_abs: Some(1e-12),
-        force_tol_rel: 0.0,
-        ..NewtonOptions::default()
-    }
-    .strict();
-    let mut st = ImplicitEuler::new(&model, opts).unwrap();
-    st.step(&mut model, &mut state, H)
-        .expect("the step converges");
-    let c = st.counters();
-    assert!(c.indefinite_factorizations >= 1, "{c:?}");
+    let c = one_strict_step(&mut model, &mut state, 1e-12);
     // The well, moved by the angle's inertia: c_m m (ψ − 0.45) + E'(ψ) = 0 with c_m m = 1e-8
     // puts it within 1e-8 of ψ = 1.
     let p = state.q[angle];
     assert!((p - 1.0).abs() < 1e-6, "ψ = {p}, {c:?}");
+}
+
+/// One step of `H` by plain Newton to the absolute force tolerance `tol` (N), which must
+/// converge and meet an indefinite matrix on the way (what these tests are about).
+fn one_strict_step(model: &mut Model, state: &mut State, tol: f64) -> engine::Counters {
+    let opts = NewtonOptions {
+        force_tol_abs: Some(tol),
+        force_tol_rel: 0.0,
+        ..NewtonOptions::default()
+    }
+    .strict();
+    let mut st = ImplicitEuler::new(model, opts).unwrap();
+    st.step(model, state, H).expect("the step converges");
+    let c = *st.counters();
+    assert!(c.indefinite_factorizations >= 1, "{c:?}");
+    c
 }
