@@ -2,10 +2,11 @@
 //! its factors turn a residual into an update.
 //!
 //! **What is factorised.** The symmetric part `J_s = ½ (J + Jᵀ)` of the step's Jacobian (it
-//! is `J` itself unless drag makes `J` non-symmetric), optionally with an added inertia
-//! `σ c_m M` (the continuation stage), by Cholesky LLᵀ, or LBLᵀ on the same structure
-//! where it is indefinite. Never LU: on the bundled shells an LU costs about 8 LLᵀ and needs
-//! its own structure several times the Cholesky factor's size (docs/performance.md).
+//! is `J` itself unless drag makes `J` non-symmetric), optionally shifted by `σ W` (the
+//! descent shift and the continuation stage; [`Linearization::refresh`]), by Cholesky LLᵀ,
+//! or LBLᵀ on the same structure where it is indefinite. Never LU: on the bundled shells an
+//! LU costs about 8 LLᵀ and needs its own structure several times the Cholesky factor's size
+//! (docs/performance.md).
 //!
 //! **Updates.** The *chord* update `Δ = −J_s⁻¹ R` needs only the held factors (the held
 //! stage, and modified-Newton iterations). The *Newton* update solves `J Δ = −R` with the
@@ -61,7 +62,7 @@ pub(crate) fn precision(opts: &crate::stepper::options::NewtonOptions) -> Precis
 /// The held factorisation and what it was computed for.
 pub(crate) struct Linearization {
     solver: LinearSolver,
-    /// `J_s` (+ `σ c_m M`) in the pattern's values (empty when `J` is symmetric).
+    /// `J_s` (+ `σ W`) in the pattern's values (empty when `J` is symmetric).
     sym: Vec<f64>,
     /// `J Δ + R`, the linearised residual of an update (free DOFs).
     linear_residual: Vec<f64>,

@@ -17,11 +17,12 @@ use crate::stepper::convergence::Verdict;
 use crate::stepper::options::{Stage, StepReport};
 use crate::stepper::workspace::{Target, ITERATE_GAP};
 
-/// First `τ`: the extra diagonal is `10 c_m M` (the inertia 11×, a pseudo step ~h/3).
+/// First `τ`: the extra diagonal is `10 W` (`W = max(c_m M, −diag J)`, `Linearization::refresh`:
+/// the inertia 11×, a pseudo step ~h/3).
 const TAU_START: f64 = 0.1;
 /// An update that raises `‖R‖₂` by more than this factor is undone.
 const GROWTH_LIMIT: f64 = 10.0;
-/// Bounds of `τ` (past the upper one the extra diagonal is below round-off of `c_m M`).
+/// Bounds of `τ` (past the upper one the extra diagonal is below round-off of `W`).
 const TAU_MIN: f64 = 1e-8;
 const TAU_MAX: f64 = 1e16;
 

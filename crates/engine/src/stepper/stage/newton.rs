@@ -36,7 +36,7 @@
 //! sharp fold); its own negative diagonal can. Statics (`c_m = 0`) has no shift.
 //! Except where the unshifted update at least halves `‖R‖∞` (one trial residual): with
 //! follower loads (the inflation pressure) the step's solution itself can have an indefinite
-//! symmetric part, and there the shifted iteration `(J + μ c_m M)⁻¹ J` has negative
+//! symmetric part, and there the shifted iteration `(J + μ W)⁻¹ J` has negative
 //! eigenvalues along the soft modes and walks away from the solution that Newton converges
 //! to quadratically (measured on the guided round canopy: residual 5e-3 N growing to 9e-2 N
 //! over 12 shifted iterations).
